@@ -1,0 +1,95 @@
+"""Compiled time loops of the play/stop operators (eqs. 3, 5, 11) and the PI sum (eq. 4).
+
+All kernels take contiguous float64 arrays, mutate only the output arrays and
+the play-state vector they are handed (a copy made by the caller), and never
+allocate per time step.
+
+The play update is the exact solution of eq. 3 for an input that is monotone
+between two samples::
+
+    x_j[t] = min(max(x_j[t-1], y[t] - r_j), y[t] + r_j)
+
+It is written once here, so every caller shares bit-identical play states.
+The weighted sum over elements may be reassociated by the compiler (fastmath
+``reassoc``); it is deterministic for a given bank, so chunked and whole runs
+agree bit for bit.
+"""
+
+from __future__ import annotations
+
+import numba as nb
+import numpy as np
+
+# Only the sum may be reordered/contracted; no NaN or inf reaches a kernel
+# (inputs are validated on entry), so 'nnan'/'ninf' let min/max compile to
+# single vector instructions.
+_FASTMATH = {"reassoc", "contract", "nnan", "ninf", "nsz"}
+
+
+@nb.njit(cache=True, fastmath=_FASTMATH)
+def play_outputs(y, threshold, x, out):  # pragma: no cover - compiled
+    """Write the play states x_j(t) into ``out`` (T, N); ``x`` holds the prior state."""
+    n_time = y.shape[0]
+    n_el = threshold.shape[0]
+    for t in range(n_time):
+        yt = y[t]
+        for j in range(n_el):
+            xj = min(max(x[j], yt - threshold[j]), yt + threshold[j])
+            x[j] = xj
+            out[t, j] = xj
+
+
+def _stop_sum(y, threshold, weight, x, out):  # pragma: no cover - compiled
+    """Weighted stop sum out[t] = sum_j w_j (y[t] - x_j[t]) (eq. 4 with eq. 5).
+
+    ``x`` holds the play state before the first sample and is updated in place
+    to the state after the last one.
+    """
+    n_time = y.shape[0]
+    n_el = threshold.shape[0]
+    for t in range(n_time):
+        yt = y[t]
+        acc = 0.0
+        for j in range(n_el):
+            xj = min(max(x[j], yt - threshold[j]), yt + threshold[j])
+            x[j] = xj
+            acc += weight[j] * (yt - xj)
+        out[t] = acc
+
+
+# Two compilations of the same loop: LLVM's full fast-math mode vectorises the
+# element loop of large banks better, the narrower flag set keeps short banks
+# (a few elements) tighter. The play update is identical in both.
+_stop_sum_short = nb.njit(cache=True, fastmath=_FASTMATH)(_stop_sum)
+_stop_sum_long = nb.njit(cache=True, fastmath=True)(_stop_sum)
+LONG_BANK = 16
+
+
+def stop_sum(y, threshold, weight, x, out):
+    """Dispatch to the compilation suited to the bank size (see `_stop_sum`)."""
+    kernel = _stop_sum_long if threshold.shape[0] >= LONG_BANK else _stop_sum_short
+    kernel(y, threshold, weight, x, out)
+
+
+@nb.njit(cache=True)
+def motion_direction(y, previous_input, previous_direction, out):  # pragma: no cover
+    """Sign of the last nonzero increment of ``y`` (0 before any motion).
+
+    Returns the direction after the last sample.
+    """
+    prev = previous_input
+    d = previous_direction
+    for t in range(y.shape[0]):
+        yt = y[t]
+        if yt > prev:
+            d = 1.0
+        elif yt < prev:
+            d = -1.0
+        prev = yt
+        out[t] = d
+    return d
+
+
+def empty_outputs(n_time: int, n_el: int) -> np.ndarray:
+    """C-ordered (T, N) float64 buffer for per-element outputs."""
+    return np.empty((n_time, n_el), dtype=np.float64)

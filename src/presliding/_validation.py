@@ -1,0 +1,183 @@
+"""The one home of input validation and its wording.
+
+Every public constructor and function of presliding checks its inputs on entry
+with these helpers, so that a bad input is reported in one sentence naming the
+parameter, the rule and the value received, for example::
+
+    ValueError: `stiffness` must be positive; got -3.0 at index 1.
+
+Nothing is clipped silently, and no NaN is ever returned in place of an error.
+"""
+
+from __future__ import annotations
+
+import numbers
+from typing import Any
+
+import numpy as np
+
+__all__ = [
+    "as_choice",
+    "as_real_scalar",
+    "as_nonnegative_scalar",
+    "as_parameter_vector",
+    "as_positive_scalar",
+    "as_real_vector",
+    "as_signal",
+    "as_state_vector",
+    "check_same_length",
+    "fmt",
+]
+
+
+def fmt(value: Any) -> str:
+    """Format a received value for an error message (short, unambiguous)."""
+    if isinstance(value, (float, np.floating)):
+        return repr(float(value))
+    if isinstance(value, np.ndarray):
+        if value.size > 6:
+            return f"an array of shape {value.shape}"
+        return repr(value.tolist())
+    text = repr(value)
+    return text if len(text) <= 60 else text[:57] + "..."
+
+
+def _real_array(name: str, value: Any) -> np.ndarray:
+    """Convert to a float64 array, rejecting booleans, strings, complex and objects."""
+    if value is None:
+        raise TypeError(f"`{name}` must be a real number or array of real numbers; got None.")
+    if isinstance(value, (str, bytes)):
+        raise TypeError(f"`{name}` must be a real number or array of real numbers; got {fmt(value)}.")
+    arr = np.asarray(value)
+    if arr.dtype == object or arr.dtype.kind not in "iuf":
+        raise TypeError(
+            f"`{name}` must be a real number or array of real numbers; "
+            f"got dtype {arr.dtype}."
+        )
+    return np.array(arr, dtype=np.float64, copy=True)
+
+
+def _first_bad(arr: np.ndarray, bad: np.ndarray) -> str:
+    idx = np.argwhere(bad)[0]
+    where = "" if arr.ndim == 0 else f" at index {idx[0] if arr.ndim == 1 else tuple(idx.tolist())}"
+    return f"got {fmt(arr[tuple(idx)])}{where}"
+
+
+def _check_finite(name: str, arr: np.ndarray) -> None:
+    bad = ~np.isfinite(arr)
+    if bad.any():
+        raise ValueError(f"`{name}` must be finite; {_first_bad(arr, bad)}.")
+
+
+def as_signal(name: str, value: Any, *, min_length: int = 1) -> np.ndarray:
+    """A sampled signal: 1-D, finite, float64, with at least `min_length` samples."""
+    arr = _real_array(name, value)
+    if arr.ndim != 1:
+        raise ValueError(f"`{name}` must be one-dimensional (shape (T,)); got shape {arr.shape}.")
+    if arr.shape[0] < min_length:
+        rule = "must not be empty" if min_length == 1 else f"must have at least {min_length} samples"
+        raise ValueError(f"`{name}` {rule}; got {arr.shape[0]} samples.")
+    _check_finite(name, arr)
+    return np.ascontiguousarray(arr)
+
+
+def _as_scalar(name: str, value: Any) -> float:
+    if isinstance(value, bool) or not isinstance(value, (numbers.Real, np.ndarray, np.generic)):
+        raise TypeError(f"`{name}` must be a real number; got {fmt(value)}.")
+    arr = _real_array(name, value)
+    if arr.ndim != 0:
+        raise ValueError(f"`{name}` must be a scalar; got shape {arr.shape}.")
+    _check_finite(name, arr)
+    return float(arr)
+
+
+def as_nonnegative_scalar(name: str, value: Any) -> float:
+    """A finite real number >= 0."""
+    x = _as_scalar(name, value)
+    if x < 0:
+        raise ValueError(f"`{name}` must be nonnegative; got {fmt(x)}.")
+    return x
+
+
+def as_positive_scalar(name: str, value: Any) -> float:
+    """A finite real number > 0."""
+    x = _as_scalar(name, value)
+    if not x > 0:
+        raise ValueError(f"`{name}` must be positive; got {fmt(x)}.")
+    return x
+
+
+def as_real_scalar(name: str, value: Any) -> float:
+    """A finite real number."""
+    return _as_scalar(name, value)
+
+
+def as_parameter_vector(
+    name: str,
+    value: Any,
+    *,
+    positive: bool = True,
+    allow_empty: bool = False,
+) -> np.ndarray:
+    """A read-only 1-D float64 vector of finite, positive (or nonnegative) parameters.
+
+    A scalar is accepted and becomes a vector of length one.
+    """
+    arr = _real_array(name, value)
+    if arr.ndim == 0:
+        arr = arr.reshape(1)
+    if arr.ndim != 1:
+        raise ValueError(f"`{name}` must be a scalar or one-dimensional; got shape {arr.shape}.")
+    if arr.shape[0] == 0 and not allow_empty:
+        raise ValueError(f"`{name}` must not be empty; got 0 elements.")
+    _check_finite(name, arr)
+    bad = ~(arr > 0) if positive else arr < 0
+    if bad.any():
+        rule = "positive" if positive else "nonnegative"
+        raise ValueError(f"`{name}` must be {rule}; {_first_bad(arr, bad)}.")
+    arr = np.ascontiguousarray(arr)
+    arr.setflags(write=False)
+    return arr
+
+
+def as_real_vector(name: str, value: Any, *, allow_empty: bool = False) -> np.ndarray:
+    """A read-only, finite, 1-D float64 vector of any sign (a scalar becomes length one)."""
+    arr = _real_array(name, value)
+    if arr.ndim == 0:
+        arr = arr.reshape(1)
+    if arr.ndim != 1:
+        raise ValueError(f"`{name}` must be a scalar or one-dimensional; got shape {arr.shape}.")
+    if arr.shape[0] == 0 and not allow_empty:
+        raise ValueError(f"`{name}` must not be empty; got 0 elements.")
+    _check_finite(name, arr)
+    arr = np.ascontiguousarray(arr)
+    arr.setflags(write=False)
+    return arr
+
+
+def as_state_vector(name: str, value: Any, size: int) -> np.ndarray:
+    """A finite float64 vector of exactly `size` entries (a scalar is broadcast)."""
+    arr = _real_array(name, value)
+    if arr.ndim == 0:
+        arr = np.full(size, float(arr))
+    if arr.shape != (size,):
+        raise ValueError(f"`{name}` must have shape ({size},); got shape {arr.shape}.")
+    _check_finite(name, arr)
+    return np.ascontiguousarray(arr)
+
+
+def check_same_length(**arrays: np.ndarray) -> None:
+    """All given arrays have the same length along their first axis."""
+    lengths = {k: len(v) for k, v in arrays.items()}
+    if len(set(lengths.values())) > 1:
+        listing = ", ".join(f"`{k}` has {n}" for k, n in lengths.items())
+        raise ValueError(f"{' and '.join(f'`{k}`' for k in lengths)} must have the same length; "
+                         f"{listing}.")
+
+
+def as_choice(name: str, value: Any, choices: tuple[str, ...]) -> str:
+    """One of a fixed set of strings."""
+    if not isinstance(value, str) or value not in choices:
+        options = ", ".join(repr(c) for c in choices)
+        raise ValueError(f"`{name}` must be one of {options}; got {fmt(value)}.")
+    return value

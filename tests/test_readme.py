@@ -1,0 +1,25 @@
+"""The README's two commands and the CI script stay in step."""
+
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def _readme_commands() -> list[str]:
+    text = (ROOT / "README.md").read_text(encoding="utf-8")
+    block = text.split("```bash", 1)[1].split("```", 1)[0]
+    return [ln.strip() for ln in block.splitlines() if ln.strip() and not ln.startswith("#")]
+
+
+def test_readme_opens_with_demo_and_test_commands():
+    first, second = _readme_commands()[:2]
+    assert first.endswith("presliding demo")
+    assert "pip install" in first and "pip install" in second
+    assert ".[test]" in second
+
+
+def test_ci_runs_the_readme_test_command():
+    test_cmd = _readme_commands()[1].rsplit("&&", 1)[1].strip()
+    ci = (ROOT / ".ci" / "run").read_text(encoding="utf-8")
+    run_lines = [ln.strip() for ln in ci.splitlines() if not ln.strip().startswith("#")]
+    assert test_cmd in run_lines
