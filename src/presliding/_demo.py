@@ -4,8 +4,6 @@ from __future__ import annotations
 
 from pathlib import Path
 
-import numpy as np
-
 from .friction import PIFriction
 from .signals import FIGURE3_TURNING_POINTS, piecewise_linear
 
@@ -31,9 +29,7 @@ def figure3_loops(out_dir: Path) -> Path:
     forces = [m.force(y)[0] for m in figure3_models()]
     fig = Figure(figsize=(6.4, 4.8))
     ax = fig.add_subplot()
-    plot_hysteresis(
-        y, forces, labels=[f"$k_1$ = {k:g}" for k in FIGURE3_FIRST_STIFFNESS], ax=ax
-    )
+    plot_hysteresis(y, forces, labels=[f"$k_1$ = {k:g}" for k in FIGURE3_FIRST_STIFFNESS], ax=ax)
     ax.set_title("Presliding hysteresis, 3 stop elements, c = [1, 1, 1] (Figure 3)")
     path = out_dir / "figure3_loops.png"
     save_figure(fig, path)

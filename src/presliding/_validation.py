@@ -18,10 +18,10 @@ import numpy as np
 
 __all__ = [
     "as_choice",
-    "as_real_scalar",
     "as_nonnegative_scalar",
     "as_parameter_vector",
     "as_positive_scalar",
+    "as_real_scalar",
     "as_real_vector",
     "as_signal",
     "as_state_vector",
@@ -44,15 +44,14 @@ def fmt(value: Any) -> str:
 
 def _real_array(name: str, value: Any) -> np.ndarray:
     """Convert to a float64 array, rejecting booleans, strings, complex and objects."""
-    if value is None:
-        raise TypeError(f"`{name}` must be a real number or array of real numbers; got None.")
-    if isinstance(value, (str, bytes)):
-        raise TypeError(f"`{name}` must be a real number or array of real numbers; got {fmt(value)}.")
+    if value is None or isinstance(value, (str, bytes)):
+        raise TypeError(
+            f"`{name}` must be a real number or array of real numbers; got {fmt(value)}."
+        )
     arr = np.asarray(value)
     if arr.dtype == object or arr.dtype.kind not in "iuf":
         raise TypeError(
-            f"`{name}` must be a real number or array of real numbers; "
-            f"got dtype {arr.dtype}."
+            f"`{name}` must be a real number or array of real numbers; got dtype {arr.dtype}."
         )
     return np.array(arr, dtype=np.float64, copy=True)
 
@@ -75,7 +74,9 @@ def as_signal(name: str, value: Any, *, min_length: int = 1) -> np.ndarray:
     if arr.ndim != 1:
         raise ValueError(f"`{name}` must be one-dimensional (shape (T,)); got shape {arr.shape}.")
     if arr.shape[0] < min_length:
-        rule = "must not be empty" if min_length == 1 else f"must have at least {min_length} samples"
+        rule = (
+            "must not be empty" if min_length == 1 else f"must have at least {min_length} samples"
+        )
         raise ValueError(f"`{name}` {rule}; got {arr.shape[0]} samples.")
     _check_finite(name, arr)
     return np.ascontiguousarray(arr)
@@ -171,8 +172,9 @@ def check_same_length(**arrays: np.ndarray) -> None:
     lengths = {k: len(v) for k, v in arrays.items()}
     if len(set(lengths.values())) > 1:
         listing = ", ".join(f"`{k}` has {n}" for k, n in lengths.items())
-        raise ValueError(f"{' and '.join(f'`{k}`' for k in lengths)} must have the same length; "
-                         f"{listing}.")
+        raise ValueError(
+            f"{' and '.join(f'`{k}`' for k in lengths)} must have the same length; {listing}."
+        )
 
 
 def as_choice(name: str, value: Any, choices: tuple[str, ...]) -> str:

@@ -38,7 +38,10 @@ def _build_parser() -> argparse.ArgumentParser:
 
     demo = sub.add_parser("demo", help="run the built-in main job and write its figures")
     demo.add_argument(
-        "-o", "--output", type=Path, default=Path("presliding-demo"),
+        "-o",
+        "--output",
+        type=Path,
+        default=Path("presliding-demo"),
         help="output folder (default: ./presliding-demo)",
     )
     demo.set_defaults(handler=_cmd_demo)

@@ -71,8 +71,10 @@ class PIFriction:
             if self.breakaway is None and k.shape[0] == 0:
                 c = r = k
             else:
-                raise TypeError("give exactly one of `breakaway` and `threshold`; got "
-                                + ("both." if self.breakaway is not None else "neither."))
+                raise TypeError(
+                    "give exactly one of `breakaway` and `threshold`; got "
+                    + ("both." if self.breakaway is not None else "neither.")
+                )
         elif self.breakaway is not None:
             c = as_parameter_vector("breakaway", self.breakaway, allow_empty=True)
             _same_length(k, c, "breakaway")
@@ -226,9 +228,7 @@ class PIFriction:
         direction, elastic, final = self._run(y, state)
         return elastic + self.coulomb * direction, final
 
-    def _run(
-        self, y: FloatArray, state: PIState | None
-    ) -> tuple[FloatArray, FloatArray, PIState]:
+    def _run(self, y: FloatArray, state: PIState | None) -> tuple[FloatArray, FloatArray, PIState]:
         x, prev, d0 = start_memory(y, self.threshold, state)
         elastic = np.empty(y.shape[0])
         _kernels.stop_sum(y, self.threshold, self.stiffness, x, elastic)

@@ -22,6 +22,7 @@ with bit-identical results.
 from __future__ import annotations
 
 from dataclasses import dataclass
+
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
@@ -106,8 +107,7 @@ class PIState:
         n = threshold.shape[0]
         if self.play.shape != (n,):
             raise ValueError(
-                f"`{name}` must hold {n} play states for this operator; "
-                f"got {self.play.shape[0]}."
+                f"`{name}` must hold {n} play states for this operator; got {self.play.shape[0]}."
             )
         excess = np.abs(self.last_input - self.play) - threshold
         bad = excess > _SLACK * (abs(self.last_input) + threshold)

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import itertools
+
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
@@ -35,7 +37,7 @@ def piecewise_linear(turning_points: ArrayLike, step: float) -> NDArray[np.float
     tp = as_signal("turning_points", turning_points, min_length=2)
     h = as_positive_scalar("step", step)
     pieces = [tp[:1]]
-    for a, b in zip(tp[:-1], tp[1:]):
+    for a, b in itertools.pairwise(tp):
         n = max(1, int(np.ceil(abs(b - a) / h)))
         pieces.append(np.linspace(a, b, n + 1)[1:])
     return np.concatenate(pieces)
