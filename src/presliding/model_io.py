@@ -1,0 +1,206 @@
+"""Model files: friction parameters, mass and simulation settings in TOML (or JSON).
+
+Schema (units in brackets; any consistent unit set works, SI shown)::
+
+    [friction]
+    coulomb = 0.5                  # c1 [N], Coulomb element (eq. 8)
+    stiffness = [500.0, 10.0, 4.0] # k_j [N/m]
+    breakaway = [1.0, 1.0, 1.0]    # c_j [N]; or threshold = [...] r_j [m] (eq. 6)
+
+    [motion]                       # optional: what `presliding simulate` runs
+    mass = 1.0                     # m [kg]
+    initial_velocity = 1.0         # [m/s]
+    initial_position = 0.0         # [m]
+    initial_state = "relaxed"      # "relaxed" or "saturated"
+    applied_force = 0.0            # u [N], constant (a CSV can be given on the command line)
+    t_end = 2.0                    # [s]
+    samples = 2001                 # output samples on [0, t_end]
+
+A JSON file with the same structure is accepted too. Unknown keys are errors,
+so a misspelt parameter is never ignored.
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from ._io import write_text
+from .friction import PIFriction
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # pragma: no cover
+    import tomli as tomllib
+
+__all__ = ["ModelFile", "MotionSettings", "load_model", "model_to_toml", "save_model"]
+
+_FRICTION_KEYS = {"coulomb", "stiffness", "breakaway", "threshold"}
+_MOTION_DEFAULTS: dict[str, Any] = {
+    "mass": 1.0,
+    "initial_velocity": 0.0,
+    "initial_position": 0.0,
+    "initial_state": "relaxed",
+    "applied_force": 0.0,
+    "t_end": 1.0,
+    "samples": 2001,
+}
+
+
+class ModelFileError(ValueError):
+    """A model file that cannot be read: the message names the file and the field."""
+
+
+@dataclass(frozen=True)
+class MotionSettings:
+    """The `[motion]` table: mass and the free/forced motion to simulate."""
+
+    mass: float = 1.0
+    initial_velocity: float = 0.0
+    initial_position: float = 0.0
+    initial_state: str = "relaxed"
+    applied_force: float = 0.0
+    t_end: float = 1.0
+    samples: int = 2001
+
+
+@dataclass(frozen=True)
+class ModelFile:
+    """A friction model and its motion settings as read from a file."""
+
+    model: PIFriction
+    motion: MotionSettings
+
+
+def _read_mapping(path: Path) -> dict[str, Any]:
+    try:
+        raw = path.read_bytes()
+    except FileNotFoundError:
+        raise ModelFileError(f"{path}: no such file.") from None
+    except OSError as exc:
+        raise ModelFileError(f"{path}: cannot be read ({exc.strerror}).") from None
+    try:
+        if path.suffix.lower() == ".json":
+            data = json.loads(raw.decode("utf-8"))
+        else:
+            data = tomllib.loads(raw.decode("utf-8"))
+    except (json.JSONDecodeError, tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
+        kind = "JSON" if path.suffix.lower() == ".json" else "TOML"
+        raise ModelFileError(f"{path}: not valid {kind} ({exc}).") from None
+    if not isinstance(data, dict):
+        raise ModelFileError(f"{path}: the top level must be a table; got {type(data).__name__}.")
+    return data
+
+
+def _table(path: Path, data: dict[str, Any], name: str, allowed: set[str]) -> dict[str, Any]:
+    table = data.get(name, {})
+    if not isinstance(table, dict):
+        raise ModelFileError(f"{path}: `{name}` must be a table; got {type(table).__name__}.")
+    unknown = sorted(set(table) - allowed)
+    if unknown:
+        raise ModelFileError(
+            f"{path}: unknown key `{name}.{unknown[0]}`; allowed keys are "
+            f"{', '.join(sorted(allowed))}."
+        )
+    return table
+
+
+def load_model(path: str | Path) -> ModelFile:
+    """Read a model file (TOML, or JSON by its suffix); see the module docstring.
+
+    Raises
+    ------
+    ModelFileError
+        (a ValueError) naming the file and the field for any problem.
+    """
+    path = Path(path)
+    data = _read_mapping(path)
+    unknown = sorted(set(data) - {"friction", "motion"})
+    if unknown:
+        raise ModelFileError(
+            f"{path}: unknown table `{unknown[0]}`; allowed tables are friction, motion."
+        )
+    if "friction" not in data:
+        raise ModelFileError(f"{path}: missing table `friction` (with coulomb, stiffness, ...).")
+    fr = _table(path, data, "friction", _FRICTION_KEYS)
+    if "coulomb" not in fr:
+        raise ModelFileError(f"{path}: missing `friction.coulomb` (the Coulomb element c1, N).")
+    try:
+        model = PIFriction(
+            fr["coulomb"],
+            fr.get("stiffness", []),
+            fr.get("breakaway"),
+            threshold=fr.get("threshold"),
+        )
+    except (TypeError, ValueError) as exc:
+        raise ModelFileError(f"{path}: [friction] {exc}") from None
+    mo = {**_MOTION_DEFAULTS, **_table(path, data, "motion", set(_MOTION_DEFAULTS))}
+    for key, default in _MOTION_DEFAULTS.items():
+        value = mo[key]
+        ok = (
+            isinstance(value, str)
+            if isinstance(default, str)
+            else isinstance(value, (int, float)) and not isinstance(value, bool)
+        )
+        if not ok:
+            want = "a string" if isinstance(default, str) else "a number"
+            raise ModelFileError(f"{path}: `motion.{key}` must be {want}; got {value!r}.")
+    if not float(mo["mass"]) > 0:
+        raise ModelFileError(f"{path}: `motion.mass` must be positive; got {mo['mass']!r}.")
+    if not float(mo["t_end"]) > 0:
+        raise ModelFileError(f"{path}: `motion.t_end` must be positive; got {mo['t_end']!r}.")
+    if int(mo["samples"]) != mo["samples"] or mo["samples"] < 2:
+        raise ModelFileError(
+            f"{path}: `motion.samples` must be a whole number >= 2; got {mo['samples']!r}."
+        )
+    if mo["initial_state"] not in ("relaxed", "saturated"):
+        raise ModelFileError(
+            f"{path}: `motion.initial_state` must be 'relaxed' or 'saturated'; "
+            f"got {mo['initial_state']!r}."
+        )
+    settings = MotionSettings(**{k: (int(v) if k == "samples" else v) for k, v in mo.items()})
+    return ModelFile(model, settings)
+
+
+def _toml_value(value: Any) -> str:
+    if isinstance(value, str):
+        return json.dumps(value)
+    if isinstance(value, (list, tuple)):
+        return "[" + ", ".join(_toml_value(v) for v in value) + "]"
+    return repr(float(value)) if not isinstance(value, int) else str(value)
+
+
+def model_to_toml(model: PIFriction, motion: MotionSettings | None = None) -> str:
+    """The TOML text of a model (and optional motion settings), with units in comments."""
+    lines = [
+        "[friction]",
+        f"coulomb = {_toml_value(model.coulomb)}  # c1 [N]",
+        f"stiffness = {_toml_value(model.stiffness.tolist())}  # k_j [N/m]",
+        f"breakaway = {_toml_value(model.breakaway.tolist())}  # c_j [N]",
+    ]
+    if motion is not None:
+        lines += ["", "[motion]"]
+        lines += [f"{k} = {_toml_value(getattr(motion, k))}" for k in _MOTION_DEFAULTS]
+    return "\n".join(lines) + "\n"
+
+
+def save_model(
+    path: str | Path,
+    model: PIFriction,
+    motion: MotionSettings | None = None,
+    *,
+    overwrite: bool = False,
+) -> None:
+    """Write a model file atomically (temporary file, then rename).
+
+    An existing file is replaced only with ``overwrite=True``.
+    """
+    path = Path(path)
+    if path.exists() and not overwrite:
+        raise FileExistsError(
+            f"{path}: already exists; choose another path or pass overwrite=True."
+        )
+    write_text(path, model_to_toml(model, motion))
