@@ -13,12 +13,20 @@ It is written once here, so every caller shares bit-identical play states.
 The weighted sum over elements may be reassociated by the compiler (fastmath
 ``reassoc``); it is deterministic for a given bank, so chunked and whole runs
 agree bit for bit.
+
+`stop_sum` runs the time-blocked kernel of `presliding._fused` on the bank
+padded to a multiple of `LANES` elements (padding elements have weight 0 and
+add exact zeros); `_stop_sum_short` and `_stop_sum_long` are the
+straightforward loops it is tested against (same play states, sums within
+1e-12 of F_m).
 """
 
 from __future__ import annotations
 
 import numba as nb
 import numpy as np
+
+from ._fused import stop_sum_blocked
 
 # Only the sum may be reordered/contracted; no NaN or inf reaches a kernel
 # (inputs are validated on entry), so 'nnan'/'ninf' let min/max compile to
@@ -65,10 +73,28 @@ _stop_sum_long = nb.njit(cache=True, fastmath=True)(_stop_sum)
 LONG_BANK = 16
 
 
+#: banks are padded to a multiple of this many elements (two AVX2 vectors of
+#: float64), so the element loop never ends in a scalar remainder
+LANES = 8
+
+
 def stop_sum(y, threshold, weight, x, out):
-    """Dispatch to the compilation suited to the bank size (see `_stop_sum`)."""
-    kernel = _stop_sum_long if threshold.shape[0] >= LONG_BANK else _stop_sum_short
-    kernel(y, threshold, weight, x, out)
+    """Weighted stop sum out[t] = Σ_j w_j (y[t] − x_j[t]) (eq. 4), state ``x`` updated in place.
+
+    Same play states as `_stop_sum` bit for bit; the sum is accumulated in a
+    different (fixed) order. Every output depends only on the bank and the
+    state before it, not on where a chunk starts, so chunked = whole.
+    """
+    n = threshold.shape[0]
+    pad = -n % LANES
+    if pad == 0:
+        stop_sum_blocked(y, threshold, weight, x, out)
+        return
+    r = np.concatenate((threshold, np.ones(pad)))
+    w = np.concatenate((weight, np.zeros(pad)))
+    xp = np.concatenate((x, np.full(pad, y[0])))
+    stop_sum_blocked(y, r, w, xp, out)
+    x[:] = xp[:n]
 
 
 @nb.njit(cache=True)

@@ -18,6 +18,7 @@ import numpy as np
 
 __all__ = [
     "as_choice",
+    "as_count",
     "as_nonnegative_scalar",
     "as_parameter_vector",
     "as_positive_scalar",
@@ -25,6 +26,7 @@ __all__ = [
     "as_real_vector",
     "as_signal",
     "as_state_vector",
+    "check_increasing",
     "check_same_length",
     "fmt",
 ]
@@ -183,3 +185,27 @@ def as_choice(name: str, value: Any, choices: tuple[str, ...]) -> str:
         options = ", ".join(repr(c) for c in choices)
         raise ValueError(f"`{name}` must be one of {options}; got {fmt(value)}.")
     return value
+
+
+def check_increasing(name: str, arr: np.ndarray, after: float | None = None) -> None:
+    """A 1-D array that is strictly increasing (and starts above `after` when given)."""
+    bad = np.diff(arr) <= 0
+    if bad.any():
+        i = int(np.argmax(bad)) + 1
+        raise ValueError(
+            f"`{name}` must be strictly increasing; got {fmt(arr[i])} after {fmt(arr[i - 1])} "
+            f"at index {i}."
+        )
+    if after is not None and arr.shape[0] and not arr[0] > after:
+        raise ValueError(
+            f"`{name}` must start after the state's time {fmt(after)}; got {fmt(arr[0])}."
+        )
+
+
+def as_count(name: str, value: Any) -> int:
+    """A nonnegative integer (a count of elements or samples); bools are rejected."""
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Integral):
+        raise TypeError(f"`{name}` must be an integer; got {fmt(value)}.")
+    if value < 0:
+        raise ValueError(f"`{name}` must be nonnegative; got {fmt(value)}.")
+    return int(value)

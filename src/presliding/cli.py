@@ -1,7 +1,13 @@
-"""The ``presliding`` command line.
+"""The ``presliding`` command line (also ``python -m presliding``).
 
-User errors (a bad file, a bad parameter) print one line on stderr and exit
-with code 2; ``--debug`` shows the traceback instead.
+Subcommands: ``demo`` (the built-in main job), ``simulate`` (a model file to a
+motion CSV and figure), ``analyze`` (stop analysis of a model file, eqs. 7, 9,
+14–16) and ``fit`` (identification from a CSV file, section 4).
+
+User errors (a bad file, a missing column, a bad parameter) print one line on
+stderr naming the file or field and the fix, and exit with code 2; ``--debug``
+shows the traceback instead. Outputs are written atomically and never onto an
+input file.
 """
 
 from __future__ import annotations
@@ -11,70 +17,232 @@ import sys
 from collections.abc import Sequence
 from pathlib import Path
 
+from ._cli_common import UserError
 from ._version import __version__
+
+__all__ = ["UserError", "main"]
 
 EXAMPLES = """\
 examples:
-  presliding demo                      # the main job, written to ./presliding-demo
-  presliding demo -o out/              # the same, into out/
+  presliding demo                          # the main job, written to ./presliding-demo
+  presliding demo -o out/                  # the same, into out/
+  presliding simulate model.toml -o run/   # motion of the model file: run/simulation.csv, .png
+  presliding simulate model.toml --applied-force u.csv --hold linear -o run.csv
+  presliding analyze model.toml            # F_c, F_m, eq. 7 stiffness, y_e, stop test
+  presliding analyze model.toml --json
+  presliding fit loops.csv --kind presliding --elements 4 -o fit/
+  presliding fit run.csv --kind response --columns velocity='v [m/s]' -o fit/
+
+model files (TOML, or JSON with the same tables; units in brackets):
+  [friction]
+  coulomb = 0.3                    # c1 [N], the Coulomb element (eq. 8)
+  stiffness = [2e4, 5e3, 1.5e3]    # k_j [N/m]
+  breakaway = [0.2, 0.2, 0.3]      # c_j [N]  (or threshold = [...] r_j [m], eq. 6)
+  [motion]                         # optional
+  mass = 1.0                       # m [kg]
+  initial_velocity = 0.05          # [m/s]
+  initial_state = "saturated"      # or "relaxed"
+  t_end = 0.2                      # [s]
+  samples = 2001
+  A continuous density instead of elements (section 3, eq. 10):
+  [friction.density]
+  kind = "uniform"                 # height [N/m^2], max_threshold [m]
+  (or kind = "exponential": height, length, max_threshold; or "piecewise_constant":
+  breaks [m], heights [N/m^2])
+
+exit status: 0 success, 1 a computation that did not succeed (see its message),
+2 a user error (bad file, column or parameter), 130 interrupted.
 """
-
-
-class UserError(Exception):
-    """An error the user can fix: reported in one line, exit code 2."""
 
 
 def _build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="presliding",
-        description="Dry friction with presliding hysteresis (Prandtl–Ishlinskii operators).",
+        description="Dry friction with presliding hysteresis (Prandtl–Ishlinskii operators): "
+        "simulation with exact stiction, stop analysis and identification.",
         epilog=EXAMPLES,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     parser.add_argument("--version", action="version", version=f"presliding {__version__}")
     parser.add_argument("--debug", action="store_true", help="show tracebacks for errors")
-    parser.add_argument("--quiet", action="store_true", help="print nothing but errors")
-    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
-
-    demo = sub.add_parser("demo", help="run the built-in main job and write its figures")
-    demo.add_argument(
-        "-o",
-        "--output",
-        type=Path,
-        default=Path("presliding-demo"),
-        help="output folder (default: ./presliding-demo)",
+    parser.add_argument(
+        "--quiet", action="store_true", help="print nothing but errors (no progress bars)"
     )
+    # The same two options after the subcommand name (`presliding demo --quiet`);
+    # SUPPRESS keeps a value given before it.
+    common = argparse.ArgumentParser(add_help=False)
+    common.add_argument("--debug", action="store_true", default=argparse.SUPPRESS,
+                        help="show tracebacks for errors")  # fmt: skip
+    common.add_argument("--quiet", action="store_true", default=argparse.SUPPRESS,
+                        help="print nothing but errors (no progress bars)")  # fmt: skip
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+    fmt = argparse.RawDescriptionHelpFormatter
+
+    demo = sub.add_parser(
+        "demo",
+        help="run the built-in main job and write its figures and report",
+        description="The paper's Figure 3 loops, a free stop with reversals (Figures 4, 5) "
+        "against the stop analysis (eqs. 15-16), a continuous density and an "
+        "identification round trip; PNGs, report.md and report.html in the output folder.",
+        epilog="example:\n  presliding demo -o out/",
+        formatter_class=fmt,
+        parents=[common],
+    )
+    demo.add_argument(
+        "-o", "--output", type=Path, default=Path("presliding-demo"),
+        help="output folder (default: ./presliding-demo)",
+    )  # fmt: skip
     demo.set_defaults(handler=_cmd_demo)
+
+    simulate = sub.add_parser(
+        "simulate",
+        help="simulate the motion of a model file (CSV and PNG)",
+        description="Simulate m·ÿ + c1·Sign(ẏ) + F_el(y) = u (eq. 17) for the [friction] and "
+        "[motion] tables of a model file, with exact stiction. Writes the samples as CSV "
+        "(time, position, velocity, acceleration, friction_force, applied_force; units in "
+        "the header) and a figure.",
+        epilog="examples:\n  presliding simulate model.toml -o run/\n"
+        "  presliding simulate model.toml --applied-force u.csv -o run.csv",
+        formatter_class=fmt,
+        parents=[common],
+    )
+    simulate.add_argument("model", type=Path, help="model file (.toml, or .json)")
+    simulate.add_argument(
+        "--applied-force", type=Path, metavar="CSV",
+        help="applied force u(t): a CSV file with columns time,value [s, N] (replaces "
+        "motion.applied_force)",
+    )  # fmt: skip
+    simulate.add_argument(
+        "--hold", choices=("zoh", "linear"), default="zoh",
+        help="how the applied-force samples are held: zoh (piecewise constant, default; exact "
+        "event method) or linear (implicit method)",
+    )  # fmt: skip
+    simulate.add_argument(
+        "--method", choices=("auto", "event", "implicit"), default="auto",
+        help="simulation method (default auto: event whenever it applies)",
+    )  # fmt: skip
+    simulate.add_argument(
+        "-o", "--output", type=Path, required=True,
+        help="output folder (simulation.csv and simulation.png in it), or a .csv path "
+        "(the figure next to it with the suffix .png)",
+    )  # fmt: skip
+    simulate.set_defaults(handler=_cmd_simulate)
+
+    analyze = sub.add_parser(
+        "analyze",
+        help="stop analysis of a model file (F_c, F_m, eq. 7, y_e, stop test, reversals)",
+        description="Key quantities of a model file: Coulomb level F_c (eq. 9), maximal "
+        "elastic force F_m, stiffness after a reversal (eq. 7), the second turning point y_e "
+        "(eq. 15), the stop test (eq. 16) and the number of reversals of a free motion from "
+        "a saturated start.",
+        epilog="examples:\n  presliding analyze model.toml\n  presliding analyze model.toml "
+        "--json > analysis.json",
+        formatter_class=fmt,
+        parents=[common],
+    )
+    analyze.add_argument("model", type=Path, help="model file (.toml, or .json)")
+    analyze.add_argument("--json", action="store_true", help="print JSON for machines")
+    analyze.set_defaults(handler=_cmd_analyze)
+
+    fit = sub.add_parser(
+        "fit",
+        help="identify a model from measured data (CSV): model TOML, report, plots",
+        description="Identify friction parameters (section 4) from a CSV file with a header "
+        "line. --kind presliding: friction force against displacement (columns position, "
+        "friction_force); motion: eq. 17 as a regression (time, position, applied_force; "
+        "velocity and acceleration are estimated when absent); response: simulated against "
+        "measured free response (time, velocity and/or position, optional applied_force). "
+        "Columns are found by name (units in brackets ignored: 'position [m]' is position); "
+        "--columns names them otherwise.",
+        epilog="examples:\n  presliding fit loops.csv --kind presliding --elements 4 -o fit/\n"
+        "  presliding fit data.csv --kind motion --viscous --offset --columns "
+        "applied_force=u -o fit/",
+        formatter_class=fmt,
+        parents=[common],
+    )
+    fit.add_argument("data", type=Path, help="measured data (CSV with a header line)")
+    fit.add_argument(
+        "--kind", choices=("presliding", "motion", "response"), required=True,
+        help="what to fit (see above)",
+    )  # fmt: skip
+    fit.add_argument(
+        "--columns", nargs="+", metavar="SIGNAL=COLUMN", default=(),
+        help="column names by signal: time, position, velocity, acceleration, "
+        "applied_force, friction_force",
+    )  # fmt: skip
+    fit.add_argument(
+        "--scale", nargs="+", metavar="SIGNAL=FACTOR", default=(),
+        help="unit factors applied on reading, e.g. position=1e-3 for mm",
+    )  # fmt: skip
+    fit.add_argument("--elements", type=int, default=None, metavar="N",
+                     help="number of elasto-plastic elements (default: 3 presliding, "
+                     "0 motion, 4 response)")  # fmt: skip
+    fit.add_argument("--viscous", action="store_true", help="motion: add a viscous term F_v·ẏ")
+    fit.add_argument("--offset", action="store_true", help="add a constant force offset")
+    fit.add_argument("--mass", type=float, default=None,
+                     help="response/motion: known mass m [kg] (held fixed)")  # fmt: skip
+    fit.add_argument(
+        "--cutoff", type=float, default=None, metavar="HZ",
+        help="motion: low-pass cut-off for the velocity/acceleration estimate "
+        "(default: a tenth of the sampling rate)",
+    )  # fmt: skip
+    fit.add_argument("-o", "--output", type=Path, required=True, help="output folder")
+    fit.set_defaults(handler=_cmd_fit)
     return parser
 
 
 def _cmd_demo(args: argparse.Namespace) -> int:
+    from ._cli_common import prepare_folder
     from ._demo import run_demo
 
-    out = args.output
-    if out.exists() and not out.is_dir():
-        raise UserError(f"{out}: is a file, not a folder; pass another path with -o.")
-    paths = run_demo(out)
+    out = prepare_folder(args.output)
+    paths = run_demo(out, quiet=args.quiet)
     if not args.quiet:
         print(f"presliding demo: wrote {len(paths)} files to {out.resolve()}")
         for p in paths:
-            print(f"  {p}")
+            print(f"  {p.name}")
+        print(f"open {(out / 'report.html').resolve()} to see them together.")
     return 0
 
 
+def _cmd_simulate(args: argparse.Namespace) -> int:
+    from ._cli_simulate import run
+
+    return run(args)
+
+
+def _cmd_analyze(args: argparse.Namespace) -> int:
+    from ._cli_analyze import run
+
+    return run(args)
+
+
+def _cmd_fit(args: argparse.Namespace) -> int:
+    from ._cli_fit import run
+
+    return run(args)
+
+
 def main(argv: Sequence[str] | None = None) -> int:
-    """Run the command line; returns the exit code."""
+    """Run the command line with `argv` (default: sys.argv[1:]); return the exit code."""
     parser = _build_parser()
-    args = parser.parse_args(argv)
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as exc:  # --help, --version, or a usage error (code 2)
+        return int(exc.code or 0)
     if args.command is None:
         parser.print_help()
         return 0
     try:
         return int(args.handler(args))
+    except KeyboardInterrupt:
+        print(f"presliding {args.command}: interrupted", file=sys.stderr)
+        return 130
     except (UserError, ValueError, TypeError, OSError) as exc:
         if args.debug:
             raise
-        print(f"presliding {args.command}: error: {exc}", file=sys.stderr)
+        text = " ".join(str(exc).split()) or type(exc).__name__
+        print(f"presliding {args.command}: error: {text}", file=sys.stderr)
         return 2
 
 

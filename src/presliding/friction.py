@@ -9,6 +9,10 @@ each elasto-plastic element j has stiffness k_j, break-away force c_j and play
 operator x_j with threshold r_j (eq. 3). At unidirectional motion the force
 saturates at the Coulomb level F_c = c1 + Σ c_j (eq. 9); right after every
 reversal the elastic part has stiffness Σ k_j (eq. 7).
+
+With ``density=`` the elements form a continuum with distribution μ (section
+3, eq. 10): F(y, ẏ) = c1·sign(ẏ) + ∫_0^R (y − x(y, r)) dμ(r), evaluated exactly
+by `GeneralPIOperator` with a `MemoryState`.
 """
 
 from __future__ import annotations
@@ -20,6 +24,8 @@ from numpy.typing import ArrayLike, NDArray
 
 from . import _kernels
 from ._validation import as_nonnegative_scalar, as_parameter_vector, as_signal, fmt
+from .densities import Density, Discrete
+from .general_pi import GeneralPIOperator, MemoryState, run_density
 from .operators import PIOperator, PIState, start_memory
 
 __all__ = ["PIFriction"]
@@ -43,6 +49,12 @@ class PIFriction:
     threshold : array_like, shape (N,), optional, keyword only
         Thresholds r_j = c_j / k_j > 0 [m] (eq. 6), the presliding displacement
         at which element j starts to slide.
+    density : Density, optional, keyword only
+        Instead of elements: the distribution μ of eq. 10 (`Uniform`,
+        `Exponential`, ...). A `Discrete` density gives the finite-element
+        model with its stiffnesses and thresholds. For any other density
+        ``stiffness``, ``breakaway`` and ``threshold`` are None, states are
+        `MemoryState` objects, and ``n_elements`` raises.
 
     Notes
     -----
@@ -63,26 +75,31 @@ class PIFriction:
     stiffness: FloatArray = field(default_factory=lambda: np.empty(0))
     breakaway: FloatArray | None = None
     threshold: FloatArray | None = field(default=None, kw_only=True)
+    density: Density | None = field(default=None, kw_only=True)
 
     def __post_init__(self) -> None:
         c1 = as_nonnegative_scalar("coulomb", self.coulomb)
+        if self.density is not None and _take_density(self, c1):
+            return
         k = as_parameter_vector("stiffness", self.stiffness, allow_empty=True)
         if (self.breakaway is None) == (self.threshold is None):
             if self.breakaway is None and k.shape[0] == 0:
                 c = r = k
             else:
                 raise TypeError(
-                    "give exactly one of `breakaway` and `threshold`; got "
+                    "`breakaway` or `threshold` must be given, not both; got "
                     + ("both." if self.breakaway is not None else "neither.")
                 )
         elif self.breakaway is not None:
             c = as_parameter_vector("breakaway", self.breakaway, allow_empty=True)
             _same_length(k, c, "breakaway")
-            r = c / k
+            with np.errstate(over="ignore", under="ignore"):  # reported below
+                r = c / k
         else:
             r = as_parameter_vector("threshold", self.threshold, allow_empty=True)
             _same_length(k, r, "threshold")
-            c = k * r
+            with np.errstate(over="ignore", under="ignore"):  # reported below
+                c = k * r
         for name, arr in (("breakaway", c), ("threshold", r)):
             if not np.all(np.isfinite(arr)) or not np.all(arr > 0):
                 j = int(np.argmax(~(np.isfinite(arr) & (arr > 0))))
@@ -92,8 +109,8 @@ class PIFriction:
                 )
         if c1 == 0 and k.shape[0] == 0:
             raise ValueError(
-                "the model has no friction: `coulomb` must be positive when there are no "
-                "elements; got coulomb 0.0 and an empty `stiffness`."
+                "`coulomb` must be positive when `stiffness` is empty (a model without "
+                "elements); got 0.0."
             )
         for arr in (c, r):
             arr = np.asarray(arr)
@@ -102,16 +119,30 @@ class PIFriction:
         object.__setattr__(self, "stiffness", k)
         object.__setattr__(self, "breakaway", c)
         object.__setattr__(self, "threshold", r)
+        if self.density is None:
+            object.__setattr__(self, "density", Discrete(k, r))
 
     # ------------------------------------------------------------------ properties
     @property
+    def is_discrete(self) -> bool:
+        """True for finite elements (eq. 8), False for a continuous density (eq. 10)."""
+        return self.stiffness is not None
+
+    @property
     def n_elements(self) -> int:
         """Number of elasto-plastic elements (the Coulomb element not counted)."""
+        if self.stiffness is None:
+            raise TypeError(
+                f"a model with a continuous density has no finite number of elements; "
+                f"got density {self.density!r}."
+            )
         return int(self.stiffness.shape[0])
 
     @property
     def max_elastic_force(self) -> float:
-        """F_m = Σ c_j, the largest force the elastic elements can carry."""
+        """F_m = Σ c_j = ∫ r dμ(r), the largest force the elastic elements can carry."""
+        if self.breakaway is None:
+            return self.density.max_elastic_force  # type: ignore[union-attr]
         return float(np.sum(self.breakaway))
 
     @property
@@ -121,17 +152,27 @@ class PIFriction:
 
     @property
     def initial_stiffness(self) -> float:
-        """Σ k_j (eq. 7): the elastic stiffness right after every reversal."""
+        """Σ k_j = μ([0, R]) (eq. 7): the elastic stiffness right after every reversal.
+
+        Finite for every density provided here (a density not integrable at
+        r = 0 would give inf: an infinitely stiff start).
+        """
+        if self.stiffness is None:
+            return self.density.total_stiffness  # type: ignore[union-attr]
         return float(np.sum(self.stiffness))
 
     @property
-    def operator(self) -> PIOperator:
-        """The elastic part as a PI operator (eq. 4) with weights k_j."""
+    def operator(self) -> PIOperator | GeneralPIOperator:
+        """The elastic part: a PI operator (eq. 4) with weights k_j, or the general one."""
+        if self.stiffness is None:
+            return GeneralPIOperator(self.density)  # type: ignore[arg-type]
         return PIOperator(self.threshold, self.stiffness)
 
     def __eq__(self, other: object) -> bool:
         if not isinstance(other, PIFriction):
             return NotImplemented
+        if not (self.is_discrete and other.is_discrete):
+            return self.coulomb == other.coulomb and self.density == other.density
         return (
             self.coulomb == other.coulomb
             and np.array_equal(self.stiffness, other.stiffness)
@@ -142,20 +183,26 @@ class PIFriction:
     __hash__ = None  # type: ignore[assignment]
 
     def __repr__(self) -> str:
+        if not self.is_discrete:
+            return f"PIFriction(coulomb={self.coulomb!r}, density={self.density!r})"
         return (
             f"PIFriction(coulomb={self.coulomb!r}, stiffness={self.stiffness.tolist()!r}, "
             f"breakaway={self.breakaway.tolist()!r})"
         )
 
     # ------------------------------------------------------------------ states
-    def relaxed_state(self, position: float = 0.0) -> PIState:
+    def relaxed_state(self, position: float = 0.0) -> PIState | MemoryState:
         """Virgin state at `position`: no elastic deformation, no motion yet."""
+        if not self.is_discrete:
+            return MemoryState.relaxed(position)
         return PIState.relaxed(position, self.n_elements)
 
-    def saturated_state(self, position: float = 0.0, direction: float = 1.0) -> PIState:
+    def saturated_state(
+        self, position: float = 0.0, direction: float = 1.0
+    ) -> PIState | MemoryState:
         """Every element sliding after motion in `direction`: elastic force direction·F_m."""
-        if self.n_elements == 0:
-            return PIState(position, np.empty(0), direction)
+        if not self.is_discrete:
+            return MemoryState.saturated(position, direction, self.density.max_threshold)
         return PIState.saturated(position, self.threshold, direction)
 
     # ------------------------------------------------------------------ curves
@@ -173,16 +220,21 @@ class PIFriction:
         elastic_only : bool
             Leave out the Coulomb element c1·sign(y).
         """
+        if not isinstance(elastic_only, (bool, np.bool_)):
+            raise TypeError(f"`elastic_only` must be True or False; got {fmt(elastic_only)}.")
         scalar = np.ndim(displacement) == 0
         y = as_signal("displacement", np.atleast_1d(displacement))
         ay = np.abs(y)
-        elastic = np.minimum(ay[:, None], self.threshold[None, :]) @ self.stiffness
+        if not self.is_discrete:
+            elastic = self.density.virgin_curve(ay)  # type: ignore[union-attr]
+        else:
+            elastic = np.minimum(ay[:, None], self.threshold[None, :]) @ self.stiffness
         out = np.sign(y) * (elastic if elastic_only else elastic + self.coulomb)
         return out[0] if scalar else out
 
     def elastic_force(
-        self, displacement: ArrayLike, state: PIState | None = None
-    ) -> tuple[FloatArray, PIState]:
+        self, displacement: ArrayLike, state: PIState | MemoryState | None = None
+    ) -> tuple[FloatArray, PIState | MemoryState]:
         """Elastic part Σ k_j (y − x_j) along a sampled displacement (eq. 4, eq. 5).
 
         Parameters
@@ -201,8 +253,8 @@ class PIFriction:
         return self._run(y, state)[1:]
 
     def force(
-        self, displacement: ArrayLike, state: PIState | None = None
-    ) -> tuple[FloatArray, PIState]:
+        self, displacement: ArrayLike, state: PIState | MemoryState | None = None
+    ) -> tuple[FloatArray, PIState | MemoryState]:
         """Total friction force c1·sign(ẏ) + Σ k_j (y − x_j) along a displacement (eq. 8).
 
         The Coulomb element contributes c1 times the sign of the last nonzero
@@ -228,7 +280,15 @@ class PIFriction:
         direction, elastic, final = self._run(y, state)
         return elastic + self.coulomb * direction, final
 
-    def _run(self, y: FloatArray, state: PIState | None) -> tuple[FloatArray, FloatArray, PIState]:
+    def _run(
+        self, y: FloatArray, state: PIState | MemoryState | None
+    ) -> tuple[FloatArray, FloatArray, PIState | MemoryState]:
+        if not self.is_discrete:
+            elastic, _, final = run_density(self.density, y, state)  # type: ignore[arg-type]
+            prev, d0 = (float(y[0]), 0.0) if state is None else (state.last_input, state.direction)
+            direction = np.empty(y.shape[0])
+            _kernels.motion_direction(y, prev, d0, direction)
+            return direction, elastic, final
         x, prev, d0 = start_memory(y, self.threshold, state)
         elastic = np.empty(y.shape[0])
         _kernels.stop_sum(y, self.threshold, self.stiffness, x, elastic)
@@ -237,9 +297,29 @@ class PIFriction:
         return direction, elastic, PIState(float(y[-1]), x, d)
 
 
+def _take_density(model: PIFriction, c1: float) -> bool:
+    """Set up a model given by `density`; True when it is continuous (no elements)."""
+    dens = model.density
+    if not isinstance(dens, Density):
+        raise TypeError(f"`density` must be a Density; got {type(dens).__name__}.")
+    if np.size(model.stiffness) or model.breakaway is not None or model.threshold is not None:
+        raise TypeError(
+            "give either `density` or the elements (`stiffness` with `breakaway` or "
+            "`threshold`), not both."
+        )
+    if isinstance(dens, Discrete):
+        object.__setattr__(model, "stiffness", dens.stiffness)
+        object.__setattr__(model, "threshold", dens.threshold)
+        return False
+    object.__setattr__(model, "coulomb", c1)
+    for name in ("stiffness", "breakaway", "threshold"):
+        object.__setattr__(model, name, None)
+    return True
+
+
 def _same_length(k: FloatArray, other: FloatArray, name: str) -> None:
     if other.shape != k.shape:
         raise ValueError(
-            f"`stiffness` and `{name}` must have the same length; "
-            f"`stiffness` has {k.shape[0]}, `{name}` has {other.shape[0]}."
+            f"`{name}` must have the same length as `stiffness` ({k.shape[0]}); "
+            f"got {other.shape[0]}."
         )

@@ -7,6 +7,12 @@ Schema (units in brackets; any consistent unit set works, SI shown)::
     stiffness = [500.0, 10.0, 4.0] # k_j [N/m]
     breakaway = [1.0, 1.0, 1.0]    # c_j [N]; or threshold = [...] r_j [m] (eq. 6)
 
+    [friction.density]             # instead of stiffness/breakaway: a continuous μ (eq. 10)
+    kind = "uniform"               # height a [N/m²], max_threshold R [m]
+    # kind = "exponential"         # height a [N/m²], length b [m], max_threshold R [m]
+    #                              #   (optional; default inf: untruncated)
+    # kind = "piecewise_constant"  # breaks [m] (m + 1 values), heights [N/m²] (m values)
+
     [motion]                       # optional: what `presliding simulate` runs
     mass = 1.0                     # m [kg]
     initial_velocity = 1.0         # [m/s]
@@ -29,6 +35,7 @@ from pathlib import Path
 from typing import Any
 
 from ._io import write_text
+from .densities import Density, Exponential, PiecewiseConstant, Uniform
 from .friction import PIFriction
 
 if sys.version_info >= (3, 11):
@@ -38,7 +45,13 @@ else:  # pragma: no cover
 
 __all__ = ["ModelFile", "MotionSettings", "load_model", "model_to_toml", "save_model"]
 
-_FRICTION_KEYS = {"coulomb", "stiffness", "breakaway", "threshold"}
+_FRICTION_KEYS = {"coulomb", "stiffness", "breakaway", "threshold", "density"}
+#: Density kinds of ``[friction.density]``: class and its keys (required, optional).
+_DENSITIES: dict[str, tuple[type[Density], tuple[str, ...], tuple[str, ...]]] = {
+    "uniform": (Uniform, ("height", "max_threshold"), ()),
+    "exponential": (Exponential, ("height", "length"), ("max_threshold",)),
+    "piecewise_constant": (PiecewiseConstant, ("breaks", "heights"), ()),
+}
 _MOTION_DEFAULTS: dict[str, Any] = {
     "mass": 1.0,
     "initial_velocity": 0.0,
@@ -129,13 +142,18 @@ def load_model(path: str | Path) -> ModelFile:
     if "coulomb" not in fr:
         raise ModelFileError(f"{path}: missing `friction.coulomb` (the Coulomb element c1, N).")
     try:
-        model = PIFriction(
-            fr["coulomb"],
-            fr.get("stiffness", []),
-            fr.get("breakaway"),
-            threshold=fr.get("threshold"),
-        )
+        if "density" in fr:
+            model = _density_model(path, fr)
+        else:
+            model = PIFriction(
+                fr["coulomb"],
+                fr.get("stiffness", []),
+                fr.get("breakaway"),
+                threshold=fr.get("threshold"),
+            )
     except (TypeError, ValueError) as exc:
+        if isinstance(exc, ModelFileError):
+            raise
         raise ModelFileError(f"{path}: [friction] {exc}") from None
     mo = {**_MOTION_DEFAULTS, **_table(path, data, "motion", set(_MOTION_DEFAULTS))}
     for key, default in _MOTION_DEFAULTS.items():
@@ -165,6 +183,63 @@ def load_model(path: str | Path) -> ModelFile:
     return ModelFile(model, settings)
 
 
+def _density_model(path: Path, fr: dict[str, Any]) -> PIFriction:
+    """The model of a ``[friction.density]`` table (no elements beside it)."""
+    both = sorted({"stiffness", "breakaway", "threshold"} & set(fr))
+    if both:
+        raise ModelFileError(
+            f"{path}: `friction.{both[0]}` and `friction.density` exclude each other; give "
+            "the elements or a density."
+        )
+    table = fr["density"]
+    if not isinstance(table, dict):
+        raise ModelFileError(
+            f"{path}: `friction.density` must be a table; got {type(table).__name__}."
+        )
+    kind = table.get("kind")
+    if kind not in _DENSITIES:
+        raise ModelFileError(
+            f"{path}: `friction.density.kind` must be one of {', '.join(_DENSITIES)}; got {kind!r}."
+        )
+    cls, required, optional = _DENSITIES[kind]
+    unknown = sorted(set(table) - {"kind", *required, *optional})
+    if unknown:
+        raise ModelFileError(
+            f"{path}: unknown key `friction.density.{unknown[0]}` for kind {kind!r}; allowed "
+            f"keys are {', '.join(('kind', *required, *optional))}."
+        )
+    missing = [k for k in required if k not in table]
+    if missing:
+        raise ModelFileError(
+            f"{path}: missing `friction.density.{missing[0]}` (kind {kind!r} needs "
+            f"{', '.join(required)})."
+        )
+    try:
+        density = cls(**{k: table[k] for k in (*required, *optional) if k in table})
+    except (TypeError, ValueError) as exc:
+        raise ModelFileError(f"{path}: [friction.density] {exc}") from None
+    return PIFriction(fr["coulomb"], density=density)
+
+
+def _density_lines(density: Density) -> list[str]:
+    for kind, (cls, required, optional) in _DENSITIES.items():
+        if type(density) is cls:
+            lines = ["", "[friction.density]", f"kind = {_toml_value(kind)}"]
+            units = {"height": "[N/m²]", "heights": "[N/m²]", "length": "[m]",
+                     "max_threshold": "[m]", "breaks": "[m]"}  # fmt: skip
+            for key in (*required, *optional):
+                value = getattr(density, key)
+                if isinstance(value, float) and value == float("inf"):
+                    continue  # the default: untruncated
+                value = value.tolist() if hasattr(value, "tolist") else value
+                lines.append(f"{key} = {_toml_value(value)}  # {units[key]}")
+            return lines
+    raise ValueError(
+        f"`model` has a {type(density).__name__} density, which a model file cannot hold; "
+        f"use one of {', '.join(_DENSITIES)} (or its discretisation)."
+    )
+
+
 def _toml_value(value: Any) -> str:
     if isinstance(value, str):
         return json.dumps(value)
@@ -175,12 +250,14 @@ def _toml_value(value: Any) -> str:
 
 def model_to_toml(model: PIFriction, motion: MotionSettings | None = None) -> str:
     """The TOML text of a model (and optional motion settings), with units in comments."""
-    lines = [
-        "[friction]",
-        f"coulomb = {_toml_value(model.coulomb)}  # c1 [N]",
-        f"stiffness = {_toml_value(model.stiffness.tolist())}  # k_j [N/m]",
-        f"breakaway = {_toml_value(model.breakaway.tolist())}  # c_j [N]",
-    ]
+    lines = ["[friction]", f"coulomb = {_toml_value(model.coulomb)}  # c1 [N]"]
+    if model.is_discrete:
+        lines += [
+            f"stiffness = {_toml_value(model.stiffness.tolist())}  # k_j [N/m]",
+            f"breakaway = {_toml_value(model.breakaway.tolist())}  # c_j [N]",
+        ]
+    else:
+        lines += _density_lines(model.density)
     if motion is not None:
         lines += ["", "[motion]"]
         lines += [f"{k} = {_toml_value(getattr(motion, k))}" for k in _MOTION_DEFAULTS]

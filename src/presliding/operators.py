@@ -14,6 +14,11 @@ is exact whenever the input is monotone between consecutive samples, because
 the operators are rate independent: only the turning points of the input
 matter, not how fast it moves between them.
 
+Accuracy: the play outputs are stored as absolute positions, so each carries the
+rounding of the input, ulp(|y|). Forces are accurate to about Σ k_j·ulp(|y|),
+i.e. to ~1e-16·|y|/r relative; choose the origin of y near the motion
+when |y| exceeds the thresholds by many orders of magnitude.
+
 State is explicit: every function takes the memory it starts from and returns
 the memory it ends in (`PIState`), so a long signal can be processed in chunks
 with bit-identical results.
@@ -21,13 +26,14 @@ with bit-identical results.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from . import _kernels
 from ._validation import (
+    as_count,
     as_parameter_vector,
     as_real_scalar,
     as_real_vector,
@@ -67,16 +73,17 @@ class PIState:
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "last_input", as_real_scalar("last_input", self.last_input))
-        if np.ndim(self.play) != 1:
+        scalar_play = np.ndim(self.play) == 0
+        play = as_real_vector("play", self.play, allow_empty=True)  # types first
+        if scalar_play:
             raise ValueError(
                 f"`play` must be one-dimensional (shape (N,)); got shape {np.shape(self.play)}."
             )
-        play = as_real_vector("play", self.play, allow_empty=True)
         object.__setattr__(self, "play", play)
-        d = self.direction
-        if isinstance(d, bool) or d not in (-1, 0, 1):
+        d = as_real_scalar("direction", self.direction)
+        if d not in (-1, 0, 1):
             raise ValueError(f"`direction` must be -1, 0 or 1; got {fmt(d)}.")
-        object.__setattr__(self, "direction", float(d))
+        object.__setattr__(self, "direction", d)
 
     @property
     def deformation(self) -> FloatArray:
@@ -87,7 +94,7 @@ class PIState:
     def relaxed(cls, position: float, n_elements: int) -> PIState:
         """The relaxed (virgin) state: every play output equals the input, f_j = 0."""
         position = as_real_scalar("position", position)
-        return cls(position, np.full(n_elements, position), 0.0)
+        return cls(position, np.full(as_count("n_elements", n_elements), position), 0.0)
 
     @classmethod
     def saturated(cls, position: float, threshold: ArrayLike, direction: float) -> PIState:
@@ -97,10 +104,11 @@ class PIState:
         stiffnesses k_j carries its maximal elastic force direction·Σ k_j r_j.
         """
         position = as_real_scalar("position", position)
-        r = as_parameter_vector("threshold", threshold)
-        if direction not in (-1, 1) or isinstance(direction, bool):
-            raise ValueError(f"`direction` must be -1 or 1; got {fmt(direction)}.")
-        return cls(position, position - direction * r, float(direction))
+        r = as_parameter_vector("threshold", threshold, allow_empty=True)
+        d = as_real_scalar("direction", direction)
+        if d not in (-1, 1):
+            raise ValueError(f"`direction` must be -1 or 1; got {fmt(d)}.")
+        return cls(position, position - d * r, d)
 
     def check_against(self, threshold: FloatArray, name: str = "state") -> None:
         """Check that this state fits a bank with the given thresholds."""
@@ -115,7 +123,8 @@ class PIState:
             j = int(np.argmax(bad))
             raise ValueError(
                 f"`{name}` must satisfy |last_input − play_j| <= threshold_j; "
-                f"got |{self.last_input!r} − {self.play[j]!r}| > {threshold[j]!r} at index {j}."
+                f"got |{fmt(self.last_input)} − {fmt(self.play[j])}| > {fmt(threshold[j])} "
+                f"at index {j}."
             )
 
 
@@ -185,6 +194,10 @@ class PIOperator:
     weight : array_like, shape (N,)
         Weights w_j (the stiffnesses k_j for a friction bank). Any finite real
         number; a physical (dissipative) bank has w_j > 0.
+    linear : float, keyword only, default 0.0
+        Coefficient a of an added linear term, F = a·y + Σ w_j (y − x_j). A
+        friction bank has a = 0; a > 0 makes a positive-weight operator
+        invertible on all inputs (see `inverse`).
 
     Examples
     --------
@@ -197,14 +210,16 @@ class PIOperator:
 
     threshold: FloatArray
     weight: FloatArray
+    linear: float = field(default=0.0, kw_only=True)
 
     def __post_init__(self) -> None:
         r = as_parameter_vector("threshold", self.threshold)
         w = as_real_vector("weight", self.weight)
+        object.__setattr__(self, "linear", as_real_scalar("linear", self.linear))
         if w.shape != r.shape:
             raise ValueError(
-                f"`threshold` and `weight` must have the same length; "
-                f"`threshold` has {r.shape[0]}, `weight` has {w.shape[0]}."
+                f"`weight` must have the same length as `threshold` ({r.shape[0]}); "
+                f"got {w.shape[0]}."
             )
         object.__setattr__(self, "threshold", r)
         object.__setattr__(self, "weight", w)
@@ -232,7 +247,7 @@ class PIOperator:
         Returns
         -------
         output : ndarray, shape (T,)
-            Σ_j w_j (y − x_j) at each sample.
+            a·y + Σ_j w_j (y − x_j) at each sample (a = `linear`).
         final_state : PIState
             Memory after the last sample; passing it to the next call on the
             continuation of the signal gives bit-identical output to one call.
@@ -241,8 +256,21 @@ class PIOperator:
         x, prev, direction = start_memory(yv, self.threshold, state)
         out = np.empty(yv.shape[0])
         _kernels.stop_sum(yv, self.threshold, self.weight, x, out)
+        if self.linear != 0.0:
+            out += self.linear * yv
         d = _kernels.motion_direction(yv, prev, direction, np.empty(yv.shape[0]))
         return out, PIState(float(yv[-1]), x, d)
+
+    def inverse(self) -> PIOperator:
+        """The inverse PI operator, y = inverse(F) (see `presliding.inverse.pi_inverse`).
+
+        Defined when every slope of the initial loading curve is positive, e.g.
+        ``linear > 0`` with positive weights; raises ValueError otherwise. Start
+        it from ``presliding.inverse.inverse_state(self, state)``.
+        """
+        from .inverse import pi_inverse
+
+        return pi_inverse(self)
 
 
 def start_memory(

@@ -12,7 +12,17 @@ from numpy.typing import ArrayLike
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
 
-__all__ = ["new_axes", "plot_hysteresis", "save_figure"]
+__all__ = [
+    "new_axes",
+    "plot_density",
+    "plot_fit",
+    "plot_forces",
+    "plot_hysteresis",
+    "plot_motion",
+    "plot_reversal_counts",
+    "plot_sweep",
+    "save_figure",
+]
 
 
 def new_axes(ax: Axes | None = None, **subplot_kw: Any) -> Axes:
@@ -60,9 +70,215 @@ def plot_hysteresis(
     return ax
 
 
-def save_figure(fig: Any, path: Any, dpi: int = 120) -> None:
-    """Write a figure as PNG atomically (temporary file in the same folder, then rename)."""
+def save_figure(fig: Any, path: Any, dpi: int = 120, *, tight: bool = True) -> None:
+    """Write a figure as PNG atomically (temporary file in the same folder, then rename).
+
+    ``tight=True`` crops the image to the drawn content; ``tight=False`` keeps
+    the figure size exactly (figsize × dpi pixels; use a constrained layout).
+    """
     from ._io import atomic_path
 
     with atomic_path(path) as tmp:
-        fig.savefig(tmp, dpi=dpi, format="png", bbox_inches="tight")
+        fig.savefig(tmp, dpi=dpi, format="png", bbox_inches="tight" if tight else None)
+
+
+def plot_fit(
+    abscissa: ArrayLike,
+    measured: ArrayLike,
+    fitted: ArrayLike,
+    *,
+    ax: Axes | None = None,
+    xlabel: str = "sample",
+    ylabel: str = "signal",
+    title: str | None = None,
+) -> Axes:
+    """Measured against fitted signal, with the residual (measured − fitted) in a panel below.
+
+    The residual panel is appended under `ax` (sharing its x axis); the main
+    axes are returned.
+    """
+    from mpl_toolkits.axes_grid1 import make_axes_locatable
+
+    ax = new_axes(ax)
+    x = np.asarray(abscissa, dtype=float)
+    m = np.asarray(measured, dtype=float)
+    f = np.asarray(fitted, dtype=float)
+    ax.plot(x, m, ".", ms=2.5, color="0.45", label="measured")
+    ax.plot(x, f, lw=1.3, color="C1", label="fitted")
+    ax.set_ylabel(ylabel)
+    ax.grid(True, alpha=0.3)
+    ax.legend(frameon=False)
+    if title:
+        ax.set_title(title)
+    res_ax = make_axes_locatable(ax).append_axes("bottom", size="30%", pad=0.08, sharex=ax)
+    res_ax.plot(x, m - f, ".", ms=2.0, color="C3")
+    res_ax.axhline(0.0, color="0.6", lw=0.8)
+    res_ax.set_ylabel("residual")
+    res_ax.set_xlabel(xlabel)
+    res_ax.grid(True, alpha=0.3)
+    ax.tick_params(labelbottom=False)
+    return ax
+
+
+def plot_sweep(
+    axes: Sequence[ArrayLike],
+    values: ArrayLike,
+    names: Sequence[str],
+    *,
+    ax: Axes | None = None,
+    label: str = "value",
+    cmap: str = "viridis",
+) -> Axes:
+    """Values of a sweep over a 1-D grid (a curve) or a 2-D grid (a colour map).
+
+    Parameters
+    ----------
+    axes : sequence of 1 or 2 arrays
+        The grid axes; ``values[i, j]`` belongs to ``(axes[0][i], axes[1][j])``.
+        The first axis is drawn along x.
+    values : array_like, shape (len(axes[0]),) or (len(axes[0]), len(axes[1]))
+    names : sequence of str
+        Axis labels.
+    label : str
+        Name of the values (y label, or colour-bar label).
+    """
+    ax = new_axes(ax)
+    v = np.asarray(values, dtype=float)
+    if len(axes) == 1:
+        ax.plot(np.asarray(axes[0], dtype=float), v, lw=1.6)
+        ax.set_xlabel(names[0])
+        ax.set_ylabel(label)
+        ax.grid(True, alpha=0.3)
+        return ax
+    x, y = (np.asarray(a, dtype=float) for a in axes)
+    mesh = ax.pcolormesh(x, y, v.T, shading="nearest", cmap=cmap)
+    ax.figure.colorbar(mesh, ax=ax, label=label)
+    ax.set_xlabel(names[0])
+    ax.set_ylabel(names[1])
+    return ax
+
+
+def plot_motion(result: Any, *, kind: str = "time", ax: Axes | None = None) -> Axes:
+    """A simulated motion (`presliding.motion.MotionResult`).
+
+    kind "time": velocity over time, turning points and the stop marked (the
+    paper's Figures 4, 5a); "phase": velocity against position (Figure 5b);
+    "loop": friction force against position (the presliding loops).
+    """
+    from ._validation import as_choice
+
+    kind = as_choice("kind", kind, ("time", "phase", "loop"))
+    ax = new_axes(ax)
+    t, y, v = result.time, result.position, result.velocity
+    if kind == "time":
+        ax.plot(t, v, lw=1.4, color="C0", label="velocity")
+        ax.set_xlabel("time t [s]")
+        ax.set_ylabel("velocity [m/s]")
+        if result.reversal_times.size:
+            ax.plot(result.reversal_times, np.zeros(result.reversal_times.shape), "o",
+                    ms=4, color="C1", label="reversal")  # fmt: skip
+        if result.stop_time is not None:
+            ax.axvline(result.stop_time, color="C3", lw=0.9, ls="--", label="stop")
+    elif kind == "phase":
+        ax.plot(y, v, lw=1.4, color="C0")
+        if result.stop_time is not None:
+            ax.plot([result.rest_position], [0.0], "s", ms=5, color="C3", label="rest")
+        ax.set_xlabel("position y [m]")
+        ax.set_ylabel("velocity [m/s]")
+    else:
+        ax.plot(y, result.friction_force, lw=1.4, color="C0")
+        ax.set_xlabel("position y [m]")
+        ax.set_ylabel("friction force [N]")
+    ax.axhline(0.0, color="0.8", lw=0.8, zorder=0)
+    ax.grid(True, alpha=0.3)
+    if kind != "loop" and ax.get_legend_handles_labels()[0]:
+        ax.legend(frameon=False)
+    return ax
+
+
+def plot_forces(result: Any, *, ax: Axes | None = None) -> Axes:
+    """Friction force and applied force u of a motion (`MotionResult`) over time."""
+    ax = new_axes(ax)
+    t = result.time
+    ax.plot(t, result.friction_force, lw=1.4, color="C3", label="friction force")
+    ax.plot(t, result.applied_force, lw=1.1, color="0.35", ls="--", label="applied force u")
+    if result.stop_time is not None:
+        ax.axvline(result.stop_time, color="C3", lw=0.9, ls=":", label="stop")
+    ax.axhline(0.0, color="0.8", lw=0.8, zorder=0)
+    ax.set_xlabel("time t [s]")
+    ax.set_ylabel("force [N]")
+    ax.grid(True, alpha=0.3)
+    ax.legend(frameon=False)
+    return ax
+
+
+def plot_reversal_counts(
+    abscissa: ArrayLike,
+    predicted: ArrayLike,
+    simulated: ArrayLike | None = None,
+    *,
+    ax: Axes | None = None,
+    xlabel: str = "c1 / F_m",
+) -> Axes:
+    """Number of reversals before a stop: predicted (stop analysis) against simulated.
+
+    Parameters
+    ----------
+    abscissa : array_like, shape (n,)
+        The swept quantity (e.g. the ratio c1/F_m of eqs. 15, 16).
+    predicted : array_like of int, shape (n,)
+        Counts from the energy analysis (eqs. 12–16).
+    simulated : array_like of int, shape (n,), optional
+        Counts from time simulations of the same motions.
+    """
+    ax = new_axes(ax)
+    x = np.asarray(abscissa, dtype=float)
+    ax.step(x, np.asarray(predicted, dtype=float), where="mid", lw=1.8, color="C1",
+            label="predicted (energy analysis, eqs. 15–16)")  # fmt: skip
+    if simulated is not None:
+        ax.plot(x, np.asarray(simulated, dtype=float), "o", ms=4.5, mfc="none", color="C0",
+                label="simulated (exact event method)")  # fmt: skip
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel("reversals before the stop")
+    ax.yaxis.get_major_locator().set_params(integer=True)
+    ax.grid(True, alpha=0.3)
+    ax.legend(frameon=False)
+    return ax
+
+
+def plot_density(
+    density: Any,
+    *,
+    ax: Axes | None = None,
+    max_threshold: float | None = None,
+    n_cells: int = 200,
+    threshold_unit: str = "m",
+    label: str | None = None,
+    color: str = "C2",
+) -> Axes:
+    """The distribution dμ/dr of a `presliding.densities.Density` over the thresholds r.
+
+    Drawn as the mean density μ(cell)/width on `n_cells` equal cells of
+    [0, R]; `max_threshold` sets R for an unbounded support (default: four
+    times the mean threshold ∫r² dμ / ∫r dμ).
+    """
+    ax = new_axes(ax)
+    big_r = max_threshold
+    if big_r is None:
+        big_r = float(getattr(density, "max_threshold", np.inf))
+        if not np.isfinite(big_r):
+            big_r = 4.0 * float(density.M2(np.inf)) / float(density.max_elastic_force)
+    edges = np.linspace(0.0, big_r, n_cells + 1)
+    support = float(getattr(density, "max_threshold", np.inf))
+    if 0.0 < support < big_r:  # a cell edge at the end of the support: no straddling cell
+        edges = np.union1d(edges, [support])
+    mass = -np.diff(np.asarray(density.tail(edges), dtype=float))
+    ax.stairs(mass / np.diff(edges), edges, fill=True, alpha=0.25, color=color)
+    ax.stairs(mass / np.diff(edges), edges, color=color, lw=1.4, label=label)
+    ax.set_xlabel(f"threshold r [{threshold_unit}]")
+    ax.set_ylabel(f"dμ/dr [N/{threshold_unit}²]")
+    ax.set_xlim(0.0, big_r)
+    ax.grid(True, alpha=0.3)
+    if label is not None:
+        ax.legend(frameon=False)
+    return ax

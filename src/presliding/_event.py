@@ -1,0 +1,224 @@
+"""Exact event-driven motion of a mass with finite-element PI friction (eqs. 8, 17).
+
+Between two events the equation of motion (17),
+
+    m·ÿ + c1·s + Σ_sliding c_j·s + Σ_elastic k_j (y − x_j) = u,     s = sign(ẏ),
+
+is linear with constant coefficients: m·d̈ + K·d = F0, where d is the displacement
+since the start of the piece, K = Σ_elastic k_j the stiffness of the elements
+that stick (eq. 7 right after a reversal) and F0 the net force at the start. Its
+solution is harmonic (ω = sqrt(K/m)) or, when every element slides, parabolic:
+
+    d(t) = v0·sin(ωt)/ω + a0·2·(sin(ωt/2)/ω)²,    a0 = F0/m,
+
+written so that ω → 0 gives v0·t + a0·t²/2 without cancellation. Events:
+
+* an elastic element reaches its threshold, s·f_j = r_j: the smallest distance
+  D = s·r_j − f_j is reached at t = 2·atan(D·ω / (v + sqrt(v² + 2aD − ω²D²)))/ω
+  (the root of the closed form in tan(ωt/2); v, a, D mirrored to the direction s);
+* the velocity reaches zero, at t = atan2(v·ω, −a)/ω, after the displacement
+  d_max = v²/(sqrt(a² + ω²v²) − a);
+* the applied force changes (piecewise-constant u).
+
+At zero velocity the mass sticks iff |u − F_el| <= c1 (set-valued sign; equality
+sticks) and stays exactly put until u changes; otherwise it moves in the
+direction of u − F_el. Element deformations f_j = y − x_j are set exactly to
+s·r_j when an element starts to slide, so the element classification never
+depends on rounding.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numba as nb
+import numpy as np
+
+STATUS_OK = 0
+STATUS_EVENT_LIMIT = -1
+
+_JIT = {"cache": True, "error_model": "numpy"}
+
+
+@nb.njit(**_JIT)
+def closed_form(v0, a0, w, t):  # pragma: no cover - compiled
+    """Displacement, velocity and acceleration after time t of one piece."""
+    if w == 0.0:
+        return v0 * t + 0.5 * a0 * t * t, v0 + a0 * t, a0
+    wt = w * t
+    sn = math.sin(wt)
+    cs = math.cos(wt)
+    sh = math.sin(0.5 * wt) / w
+    s1 = sn / w
+    return v0 * s1 + a0 * 2.0 * sh * sh, v0 * cs + a0 * s1, a0 * cs - v0 * w * sn
+
+
+@nb.njit(**_JIT)
+def reach(vp, ap, w):  # pragma: no cover - compiled
+    """Displacement until the velocity vanishes (mirrored: vp >= 0), inf if never."""
+    if w == 0.0:
+        return vp * vp / (-2.0 * ap) if ap < 0.0 else np.inf
+    q = math.sqrt(ap * ap + w * w * vp * vp)
+    if ap < 0.0:
+        return vp * vp / (q - ap)
+    return (ap + q) / (w * w)
+
+
+@nb.njit(**_JIT)
+def time_to_rest(vp, ap, w):  # pragma: no cover - compiled
+    """Time until the velocity vanishes (mirrored: vp >= 0), inf if never."""
+    if w == 0.0:
+        return vp / (-ap) if ap < 0.0 else np.inf
+    return math.atan2(vp * w, -ap) / w
+
+
+@nb.njit(**_JIT)
+def time_to_reach(vp, ap, w, dist):  # pragma: no cover - compiled
+    """Time to travel `dist` (0 < dist <= reach) from velocity vp, acceleration ap."""
+    disc = vp * vp + 2.0 * ap * dist - w * w * dist * dist
+    den = vp + math.sqrt(max(disc, 0.0))
+    if w == 0.0:
+        return 2.0 * dist / den
+    return 2.0 * math.atan(dist * w / den) / w
+
+
+@nb.njit(**_JIT)
+def run_events(  # pragma: no cover - compiled
+    m, c1, k, r, f, y, v, last_dir, u_t, u_val, t_eval, t_end, max_events,
+    o_y, o_v, o_a, o_fel, o_u, o_eel, o_dis, o_work, rev_t, rev_y,
+):  # fmt: skip
+    """Event-driven exact motion from time u_t[0]; samples written at t_eval.
+
+    ``f`` (deformations, shape (N,)) is updated in place to the final state.
+    u is u_val[i] on [u_t[i], u_t[i+1]), the last value held forever. Reversals
+    beyond the capacity of rev_t/rev_y are counted but not recorded.
+
+    Returns (status, n_samples, n_rev, stop_time (nan if moving at the end),
+    y, v, last_dir, n_events, dissipated, work, t).
+    """
+    n = k.shape[0]
+    n_u = u_t.shape[0]
+    n_eval = t_eval.shape[0]
+    t = u_t[0]
+    iu = 0
+    ie = 0
+    n_rev = 0
+    n_ev = 0
+    dis = 0.0
+    work = 0.0
+    rest_start = np.nan
+    status = STATUS_OK
+    while True:
+        u = u_val[iu]
+        t_u = u_t[iu + 1] if iu + 1 < n_u else np.inf
+        fel = 0.0
+        eel = 0.0
+        for j in range(n):
+            fel += k[j] * f[j]
+            eel += k[j] * f[j] * f[j]
+        s = 1.0 if v > 0.0 else (-1.0 if v < 0.0 else 0.0)
+        if s == 0.0:
+            g = u - fel
+            if abs(g) <= c1:  # sticks: exactly at rest until u changes
+                if np.isnan(rest_start):
+                    rest_start = t
+                t1 = min(t_u, t_end)
+                while ie < n_eval and (t_eval[ie] < t1 or (t1 == t_end and t_eval[ie] <= t1)):
+                    o_y[ie] = y
+                    o_v[ie] = 0.0
+                    o_a[ie] = 0.0
+                    o_fel[ie] = fel
+                    o_u[ie] = u
+                    o_eel[ie] = 0.5 * eel
+                    o_dis[ie] = dis
+                    o_work[ie] = work
+                    ie += 1
+                if t_u >= t_end:
+                    t = t_end
+                    break
+                t = t_u
+                iu += 1
+                continue
+            s = 1.0 if g > 0.0 else -1.0
+            if last_dir != 0.0 and s != last_dir:
+                if n_rev < rev_t.shape[0]:
+                    rev_t[n_rev] = t
+                    rev_y[n_rev] = y
+                n_rev += 1
+            last_dir = s
+        rest_start = np.nan
+        n_ev += 1
+        if n_ev > max_events:
+            status = STATUS_EVENT_LIMIT
+            break
+        # the piece: stiffness of the sticking elements, nearest threshold
+        kk = 0.0
+        csl = 0.0
+        pel = 0.0
+        dmin = np.inf
+        for j in range(n):
+            if s * f[j] >= r[j]:
+                csl += k[j] * r[j]
+            else:
+                kk += k[j]
+                pel += k[j] * f[j]
+                dj = r[j] - s * f[j]
+                dmin = min(dmin, dj)
+        a0 = (u - c1 * s - fel) / m
+        w = math.sqrt(kk / m)
+        vp = abs(v)  # s·v >= 0; abs also clears a signed zero (atan2 tells -0.0 apart)
+        ap = s * a0
+        dmax = reach(vp, ap, w)
+        kind = 0  # 0: element, 1: rest, 2: change of u, 3: end
+        if dmin < dmax:
+            dt = time_to_reach(vp, ap, w, dmin)
+        else:
+            kind = 1
+            dt = time_to_rest(vp, ap, w)
+        if t + dt >= t_u and t_u < t_end:
+            kind = 2
+            dt = t_u - t
+        if t + dt >= t_end and kind != 2:
+            kind = 3
+            dt = t_end - t
+        t1 = t + dt if kind < 2 else (t_u if kind == 2 else t_end)
+        dfric = c1 + csl
+        while ie < n_eval and (t_eval[ie] < t1 or (kind == 3 and t_eval[ie] <= t1)):
+            d, vv, aa = closed_form(v, a0, w, t_eval[ie] - t)
+            o_y[ie] = y + d
+            o_v[ie] = vv
+            o_a[ie] = aa
+            o_fel[ie] = fel + kk * d
+            o_u[ie] = u
+            o_eel[ie] = 0.5 * (eel + 2.0 * d * pel + kk * d * d)
+            o_dis[ie] = dis + dfric * s * d
+            o_work[ie] = work + u * d
+            ie += 1
+        if kind == 0:
+            d = s * dmin
+            v = closed_form(v, a0, w, dt)[1]
+        elif kind == 1:
+            d = s * dmax
+            v = 0.0
+        else:
+            d, v, _ = closed_form(v, a0, w, dt)
+        if s * v <= 0.0:
+            v = 0.0
+        hit = kind == 0 or (kind == 1 and dmin == dmax)
+        for j in range(n):
+            if s * f[j] < r[j]:
+                fj = f[j] + d
+                # an element reaching its threshold is set exactly (rounding only)
+                if s * fj >= r[j] or (hit and r[j] - s * f[j] == dmin):
+                    fj = s * r[j]
+                f[j] = fj
+        y += d
+        dis += dfric * s * d
+        work += u * d
+        t = t1
+        if kind == 2:
+            iu += 1
+        elif kind == 3:
+            break
+    stop = rest_start if v == 0.0 else np.nan
+    return status, ie, n_rev, stop, y, v, last_dir, n_ev, dis, work, t

@@ -1,0 +1,426 @@
+"""Least-squares machinery shared by the ``fit_*`` functions, and their `FitResult`.
+
+Every identification in presliding minimises a sum of squared residuals over
+named parameters with scipy.optimize.least_squares (trust-region reflective,
+bounds respected). Parameters may be held *fixed* at a value or *tied* to
+another one (p = factor·q); only the remaining *free* parameters are varied.
+
+Uncertainty follows the usual linearisation at the optimum: with the Jacobian
+J of the residuals with respect to the free parameters, n residuals and p free
+parameters, the covariance is s²·(JᵀJ)⁻¹ with s² = ‖r‖²/(n − p); tied
+parameters inherit it through their factor, fixed ones have zero error. The
+confidence interval is value ± t_{n−p}·SE (Student t at the chosen level). It
+is exact for parameters that enter linearly and Gaussian independent noise, a
+first-order approximation otherwise. A direction of parameter space that the
+data do not determine (a singular JᵀJ) makes the affected errors infinite and
+the status ``"not_identifiable"``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from ._validation import fmt
+from .friction import PIFriction
+
+if TYPE_CHECKING:  # pragma: no cover
+    from matplotlib.axes import Axes
+
+__all__ = ["FitResult", "fit_statistics", "solve_least_squares"]
+
+FloatArray = NDArray[np.float64]
+Tie = str | tuple[str, float]
+
+#: Status values of a fit: only "converged" is a success.
+STATUSES = ("converged", "not_identifiable", "max_evaluations", "failed")
+_RANK_TOL = 1e-7  # relative singular value below which a direction counts as undetermined
+
+
+# ---------------------------------------------------------------------- statistics
+def fit_statistics(measured: ArrayLike, fitted: ArrayLike) -> tuple[float, float, float]:
+    """Residual RMS, NRMSE and the relative residual of a fit.
+
+    NRMSE = RMS(measured − fitted) / (max(measured) − min(measured)), the RMS
+    normalised by the range of the measured signal. The relative residual
+    ‖measured − fitted‖ / ‖measured − mean(measured)‖ is 0 for a perfect fit and
+    1 for a fit no better than the mean (1 − FIT/100 of the "fit percentage").
+    Both are inf for a constant measured signal.
+    """
+    m = np.asarray(measured, dtype=float)
+    r = m - np.asarray(fitted, dtype=float)
+    rms = float(np.sqrt(np.mean(r * r)))
+    span = float(np.ptp(m))
+    spread = float(np.linalg.norm(m - np.mean(m)))
+    nrmse = rms / span if span > 0 else float("inf")
+    return rms, nrmse, (float(np.linalg.norm(r)) / spread if spread > 0 else float("inf"))
+
+
+# ---------------------------------------------------------------------- parameters
+@dataclass(frozen=True)
+class _Map:
+    """full = T @ free + const, for the free/fixed/tied split of named parameters."""
+
+    names: tuple[str, ...]
+    free: tuple[str, ...]
+    matrix: FloatArray
+    const: FloatArray
+
+    def full(self, free: FloatArray) -> FloatArray:
+        return self.matrix @ free + self.const
+
+
+def _parameter_map(
+    names: tuple[str, ...],
+    fixed: Mapping[str, float],
+    tied: Mapping[str, Tie],
+) -> _Map:
+    for label, spec in (("fixed", fixed), ("tied", tied)):
+        for n in spec:
+            if n not in names:
+                raise ValueError(f"`{label}` names unknown parameter {n!r}; known: {list(names)}.")
+    both = set(fixed) & set(tied)
+    if both:
+        raise ValueError(f"a parameter cannot be both fixed and tied; got {sorted(both)}.")
+    for n, v in fixed.items():
+        if isinstance(v, bool) or not np.isfinite(float(v)):
+            raise ValueError(f"`fixed` value of {n!r} must be a finite number; got {fmt(v)}.")
+    free = tuple(n for n in names if n not in fixed and n not in tied)
+    col = {n: i for i, n in enumerate(free)}
+    matrix = np.zeros((len(names), len(free)))
+    const = np.zeros(len(names))
+
+    def resolve(n: str, seen: tuple[str, ...]) -> tuple[FloatArray, float]:
+        if n in seen:
+            raise ValueError(f"`tied` must not form a cycle; got {' -> '.join((*seen, n))}.")
+        if n in fixed:
+            return np.zeros(len(free)), float(fixed[n])
+        if n not in tied:
+            row = np.zeros(len(free))
+            row[col[n]] = 1.0
+            return row, 0.0
+        spec = tied[n]
+        target, factor = (spec, 1.0) if isinstance(spec, str) else spec
+        if target not in names:
+            raise ValueError(f"`tied` target of {n!r} must be a parameter; got {target!r}.")
+        row, c = resolve(target, (*seen, n))
+        return float(factor) * row, float(factor) * c
+
+    for i, n in enumerate(names):
+        matrix[i], const[i] = resolve(n, ())
+    return _Map(names, free, matrix, const)
+
+
+def _free_bounds(pm: _Map, lower: FloatArray, upper: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """Bounds on the free parameters implied by the bounds of every parameter."""
+    lo = np.full(len(pm.free), -np.inf)
+    hi = np.full(len(pm.free), np.inf)
+    for i in range(len(pm.names)):
+        row = pm.matrix[i]
+        nz = np.flatnonzero(row)
+        if nz.size != 1:
+            continue
+        j, f = int(nz[0]), row[nz[0]]
+        a, b = (lower[i] - pm.const[i]) / f, (upper[i] - pm.const[i]) / f
+        lo[j], hi[j] = max(lo[j], min(a, b)), min(hi[j], max(a, b))
+    return lo, hi
+
+
+# ---------------------------------------------------------------------- solver
+@dataclass(frozen=True)
+class Solution:
+    """Outcome of `solve_least_squares` (values and errors of every parameter)."""
+
+    values: dict[str, float]
+    standard_error: dict[str, float]
+    confidence_interval: dict[str, tuple[float, float]]
+    level: float
+    fixed: tuple[str, ...]
+    tied: tuple[str, ...]
+    residual: FloatArray
+    status: str
+    message: str
+    n_evaluations: int
+
+
+def solve_least_squares(
+    residual: Callable[[FloatArray], FloatArray],
+    initial: Mapping[str, float],
+    *,
+    jacobian: Callable[[FloatArray], FloatArray] | None = None,
+    bounds: Mapping[str, tuple[float, float]] | None = None,
+    fixed: Mapping[str, float] | None = None,
+    tied: Mapping[str, Tie] | None = None,
+    level: float = 0.95,
+    max_evaluations: int | None = None,
+    tolerance: float = 1e-8,
+    difference: str = "3-point",
+) -> Solution:
+    """Minimise ‖residual(p)‖² over named parameters, some fixed or tied.
+
+    Parameters
+    ----------
+    residual : callable
+        ``residual(p) -> r`` with p the vector of *all* parameters, in the
+        order of `initial`.
+    initial : mapping name -> float
+        Start values (fixed parameters take their `fixed` value instead).
+    jacobian : callable, optional
+        ``jacobian(p) -> (len(r), len(p))`` array; default: 3-point differences.
+    bounds : mapping name -> (lower, upper), optional
+    fixed : mapping name -> value, optional
+    tied : mapping name -> target or (target, factor), optional
+        ``{"b": "a"}`` keeps b = a; ``{"b": ("a", 0.5)}`` keeps b = 0.5·a.
+    level : float
+        Confidence level of the intervals.
+    max_evaluations : int, optional
+    tolerance : float
+        ftol, xtol and gtol of scipy.optimize.least_squares.
+    difference : {"3-point", "2-point"}
+        Finite-difference scheme when no `jacobian` is given.
+    """
+    from scipy import optimize, stats
+
+    names = tuple(initial)
+    fixed, tied, bounds = dict(fixed or {}), dict(tied or {}), dict(bounds or {})
+    if not 0 < level < 1:
+        raise ValueError(f"`level` must be between 0 and 1; got {fmt(level)}.")
+    for n in bounds:
+        if n not in names:
+            raise ValueError(f"`bounds` names unknown parameter {n!r}; known: {list(names)}.")
+    pm = _parameter_map(names, fixed, tied)
+    lower = np.array([bounds.get(n, (-np.inf, np.inf))[0] for n in names], dtype=float)
+    upper = np.array([bounds.get(n, (-np.inf, np.inf))[1] for n in names], dtype=float)
+    for n, v in fixed.items():
+        i = names.index(n)
+        if not lower[i] <= v <= upper[i]:
+            raise ValueError(
+                f"`fixed` value of {n!r} must lie in [{fmt(lower[i])}, {fmt(upper[i])}]; "
+                f"got {fmt(float(v))}."
+            )
+    lo, hi = _free_bounds(pm, lower, upper)
+    x0 = np.array([float(initial[n]) for n in pm.free])
+    x0 = np.where(np.isfinite(x0), x0, 0.0)
+    x0 = np.clip(x0, lo, hi)  # start values of the caller's default guesses only
+    evaluations = 0
+    if pm.free:
+
+        def fun(x: FloatArray) -> FloatArray:
+            return residual(pm.full(x))
+
+        jac: Any = difference
+        if jacobian is not None:
+
+            def jac(x: FloatArray) -> FloatArray:
+                return jacobian(pm.full(x)) @ pm.matrix
+
+        try:
+            res = optimize.least_squares(
+                fun, x0, jac=jac, bounds=(lo, hi), method="trf", x_scale="jac", tr_solver="exact",
+                ftol=tolerance, xtol=tolerance, gtol=tolerance, max_nfev=max_evaluations,
+            )  # fmt: skip
+        except (ValueError, np.linalg.LinAlgError, FloatingPointError) as exc:
+            return _failed(pm, x0, fixed, tied, level, f"the optimiser failed: {exc}")
+        x, r, jac_free, evaluations = res.x, res.fun, res.jac, int(res.nfev)
+        status = "max_evaluations" if res.status == 0 else "converged"
+        message = (
+            "stopped at the evaluation limit before convergence"
+            if res.status == 0
+            else f"converged ({res.message.rstrip('.')})"
+        )
+        if not np.all(np.isfinite(r)):
+            return _failed(pm, x, fixed, tied, level, "the residual is not finite at the optimum")
+        if not np.any(jac_free):
+            return _failed(
+                pm, x, fixed, tied, level,
+                "the residual does not change with any parameter (insensitive or failed model)",
+            )  # fmt: skip
+    else:
+        x, r, jac_free = x0, residual(pm.full(x0)), np.zeros((0, 0))
+        status, message = "converged", "all parameters are fixed; nothing was fitted"
+    cov, undetermined = _covariance(jac_free, r)
+    full = pm.full(x)
+    var = np.einsum("ij,jk,ik->i", pm.matrix, cov, pm.matrix) if pm.free else np.zeros(len(names))
+    se = np.sqrt(np.maximum(var, 0.0))
+    for j in undetermined:
+        se[pm.matrix[:, j] != 0] = np.inf
+    if undetermined and status == "converged":
+        status = "not_identifiable"
+        which = sorted({names[i] for j in undetermined for i in np.flatnonzero(pm.matrix[:, j])})
+        message = f"the data do not determine {', '.join(which)} (singular Jacobian)"
+    dof = max(r.shape[0] - len(pm.free), 1)
+    q = float(stats.t.ppf(0.5 + level / 2, dof))
+    return Solution(
+        values=dict(zip(names, full.tolist(), strict=True)),
+        standard_error=dict(zip(names, se.tolist(), strict=True)),
+        confidence_interval={
+            n: (v - q * s, v + q * s) for n, v, s in zip(names, full, se, strict=True)
+        },
+        level=level,
+        fixed=tuple(fixed),
+        tied=tuple(tied),
+        residual=r,
+        status=status,
+        message=message,
+        n_evaluations=evaluations,
+    )
+
+
+def _covariance(jac: FloatArray, r: FloatArray) -> tuple[FloatArray, list[int]]:
+    """s²·(JᵀJ)⁻¹ on the determined subspace, and the undetermined free parameters."""
+    n, p = jac.shape
+    if p == 0:
+        return np.zeros((0, 0)), []
+    if n <= p:
+        return np.zeros((p, p)), list(range(p))
+    norms = np.linalg.norm(jac, axis=0)
+    dead = norms == 0
+    scale = np.where(dead, 1.0, norms)
+    _, s, vt = np.linalg.svd(jac / scale, full_matrices=False)
+    keep = s > _RANK_TOL * s[0] if s[0] > 0 else np.zeros_like(s, dtype=bool)
+    s2 = float(r @ r) / (n - p)
+    inv = (vt[keep].T / s[keep] ** 2) @ vt[keep]
+    cov = s2 * inv / np.outer(scale, scale)
+    undetermined = set(np.flatnonzero(dead).tolist())
+    for row in vt[~keep]:
+        undetermined |= set(np.flatnonzero(np.abs(row) > 1e-3).tolist())
+    return cov, sorted(undetermined)
+
+
+def _failed(pm: _Map, x: FloatArray, fixed: Any, tied: Any, level: float, msg: str) -> Solution:
+    full = pm.full(x)
+    inf = dict.fromkeys(pm.names, float("inf"))
+    return Solution(
+        values=dict(zip(pm.names, full.tolist(), strict=True)),
+        standard_error=inf,
+        confidence_interval={n: (-np.inf, np.inf) for n in pm.names},
+        level=level,
+        fixed=tuple(fixed),
+        tied=tuple(tied),
+        residual=np.zeros(0),
+        status="failed",
+        message=msg,
+        n_evaluations=0,
+    )
+
+
+# ---------------------------------------------------------------------- result
+@dataclass(frozen=True, eq=False)
+class FitResult:
+    """Outcome of a ``fit_*`` function.
+
+    Attributes
+    ----------
+    model : PIFriction or None
+        The identified friction model, ready to simulate (None if the fit failed
+        or the parameters do not form a valid model).
+    parameters, standard_error : dict name -> float
+        Every parameter (free, fixed and tied) and its standard error (0 for
+        fixed parameters, inf where the data do not determine it).
+    confidence_interval : dict name -> (lower, upper)
+        At `confidence_level`.
+    fixed, tied : tuple of str
+    abscissa, measured, fitted : ndarray
+        What was fitted (only the samples used in the fit), against `abscissa`.
+    residual_rms, nrmse, relative_residual : float
+        RMS of measured − fitted, that RMS over the range of the measured
+        signal, and ‖measured − fitted‖/‖measured − mean‖ (see `fit_statistics`).
+    status : str
+        ``"converged"``, ``"not_identifiable"``, ``"max_evaluations"`` or ``"failed"``.
+    message : str
+    n_evaluations : int
+    derived : dict name -> float
+        Quantities computed from the parameters (e.g. the Coulomb level F_c, eq. 9).
+    """
+
+    model: PIFriction | None
+    parameters: dict[str, float]
+    standard_error: dict[str, float]
+    confidence_interval: dict[str, tuple[float, float]]
+    confidence_level: float
+    fixed: tuple[str, ...]
+    tied: tuple[str, ...]
+    abscissa: FloatArray
+    measured: FloatArray
+    fitted: FloatArray
+    residual_rms: float
+    nrmse: float
+    relative_residual: float
+    status: str
+    message: str
+    n_evaluations: int
+    kind: str = "least-squares"
+    abscissa_label: str = "sample"
+    signal_label: str = "signal"
+    derived: dict[str, float] = field(default_factory=dict)
+
+    @classmethod
+    def from_solution(
+        cls, sol: Solution, model: PIFriction | None, abscissa: Any, measured: Any, fitted: Any,
+        **labels: Any,
+    ) -> FitResult:  # fmt: skip
+        """Assemble a result from a `Solution` and the fitted signal."""
+        rms, nrmse, relative = fit_statistics(measured, fitted)
+        return cls(
+            model=model, parameters=sol.values, standard_error=sol.standard_error,
+            confidence_interval=sol.confidence_interval, confidence_level=sol.level,
+            fixed=sol.fixed, tied=sol.tied, abscissa=np.asarray(abscissa, dtype=float),
+            measured=np.asarray(measured, dtype=float), fitted=np.asarray(fitted, dtype=float),
+            residual_rms=rms, nrmse=nrmse, relative_residual=relative, status=sol.status,
+            message=sol.message, n_evaluations=sol.n_evaluations, **labels,
+        )  # fmt: skip
+
+    @property
+    def success(self) -> bool:
+        """True when the fit converged and every parameter is determined."""
+        return self.status == "converged"
+
+    @property
+    def residual(self) -> FloatArray:
+        """measured − fitted."""
+        return self.measured - self.fitted
+
+    @property
+    def mass(self) -> float | None:
+        """The identified mass m (eq. 17), or None if the fit has none."""
+        return self.parameters.get("mass")
+
+    def report(self) -> str:
+        """A readable summary: status, parameters with errors and intervals, fit quality."""
+        pct = f"{100 * self.confidence_level:g} %"
+        lines = [
+            f"{self.kind} fit: {self.status} — {self.message}",
+            f"{self.measured.shape[0]} samples, {self.n_evaluations} evaluations",
+            "",
+            f"{'parameter':<16}{'value':>14}{'std. error':>13}   {pct + ' interval':<30}",
+        ]
+        for n, v in self.parameters.items():
+            se = self.standard_error[n]
+            lo, hi = self.confidence_interval[n]
+            note = " (fixed)" if n in self.fixed else (" (tied)" if n in self.tied else "")
+            lines.append(f"{n:<16}{v:>14.6g}{se:>13.3g}   [{lo:.6g}, {hi:.6g}]{note}")
+        if self.derived:
+            lines.append("")
+            lines += [f"{n:<16}{v:>14.6g}" for n, v in self.derived.items()]
+        lines += [
+            "",
+            f"residual RMS: {self.residual_rms:.6g} ({self.signal_label})",
+            f"NRMSE (RMS / range): {100 * self.nrmse:.3f} %; "
+            f"relative residual ‖r‖/‖y − ȳ‖: {100 * self.relative_residual:.3f} %",
+            f"model: {self.model!r}",
+        ]
+        return "\n".join(lines)
+
+    def plot(self, ax: Axes | None = None) -> Axes:
+        """Measured and fitted signal, with the residual in a panel below; returns the axes."""
+        from .plotting import plot_fit
+
+        return plot_fit(
+            self.abscissa, self.measured, self.fitted, ax=ax,
+            xlabel=self.abscissa_label, ylabel=self.signal_label,
+            title=f"{self.kind} fit (NRMSE {100 * self.nrmse:.2f} %)",
+        )  # fmt: skip

@@ -1,0 +1,291 @@
+"""Motion of a mass with PI friction and exact stiction (eqs. 12, 17).
+
+    m·ÿ + c1·Sign(ẏ) + Σ_j k_j (y − x_j(y, r_j)) = u(t)            (eq. 17)
+
+with the set-valued sign Sign(0) = [−1, 1]: at zero velocity the Coulomb element
+c1 carries any force up to c1, so the mass *sticks* iff |u − F_el| <= c1 (equality
+sticks) and stays exactly put, bit for bit, until that fails. Two methods:
+
+``"event"``
+    Exact for finite elements and a piecewise-constant u (a constant, or samples
+    with ``hold="zoh"``): the motion is solved in closed form between events and
+    the events (an element starting to slide, the velocity vanishing, a change of
+    u) are located analytically (see `presliding._event`). Results are exact to
+    rounding at every time of `t_eval`.
+``"implicit"``
+    Any u(t) (callable, or samples with ``hold="linear"``): an implicit step that
+    solves the inclusion exactly (see `presliding._implicit`); first order in the
+    step, stable for any step, no chatter and no creep at rest.
+
+``"auto"`` picks "event" whenever it applies.
+
+Stop. The mass *stops* when its velocity vanishes while |u − F_el| <= c1. For
+free motion (u constant) it then stays exactly at rest forever after:
+nothing changes any more, so the simulation ends there and the remaining
+samples repeat the rest state. ``stop_time`` is the start of the rest that lasts
+until ``t_end`` (None if the mass moves at ``t_end``); with a varying u a later
+change of u may set it in motion again.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from . import _batch
+from . import _motion_run as _run
+from ._forcing import as_forcing
+from ._motion_result import MotionBatch, MotionEnergy, MotionResult
+from ._validation import as_choice, as_positive_scalar, as_real_scalar, fmt
+from .friction import PIFriction
+from .operators import PIState
+
+__all__ = [
+    "MotionBatch",
+    "MotionEnergy",
+    "MotionResult",
+    "free_response",
+    "simulate",
+    "simulate_batch",
+]
+
+FloatArray = NDArray[np.float64]
+METHODS = ("auto", "event", "implicit")
+
+
+def simulate(
+    model: PIFriction,
+    mass: float,
+    applied_force: float | ArrayLike | Any = 0.0,
+    initial_position: float = 0.0,
+    initial_velocity: float = 0.0,
+    initial_state: str | PIState = "relaxed",
+    t_end: float | None = None,
+    t_eval: ArrayLike | None = None,
+    method: str = "auto",
+    hold: str = "zoh",
+    step: float | None = None,
+    *,
+    t_start: float = 0.0,
+    max_events: int = 10_000_000,
+) -> MotionResult:
+    """Simulate m·ÿ + c1·Sign(ẏ) + F_el(y) ∋ u(t) (eq. 17) with exact stiction.
+
+    Parameters
+    ----------
+    model : PIFriction
+        The friction model (eq. 8).
+    mass : float
+        m > 0 [kg].
+    applied_force : float, callable or (time, value) pair
+        u [N]: a constant; a function u(t) (called with an array of times; a
+        scalar function is vectorised); or samples held as `hold` says.
+    initial_position, initial_velocity : float
+        y(t_start) [m], ẏ(t_start) [m/s].
+    initial_state : "relaxed", "saturated" or PIState
+        Friction memory at the start. "relaxed": no elastic deformation.
+        "saturated": every element at its threshold after sliding in the
+        direction of the initial velocity, or of u(t_start) when the velocity is
+        zero (steady sliding before t_start). A PIState must have
+        ``last_input == initial_position``.
+    t_end : float
+        End time (> t_start); default ``t_eval[-1]``.
+    t_eval : array_like, optional
+        Strictly increasing sample times in [t_start, t_end]; default 1001
+        uniform samples.
+    method : "auto", "event" or "implicit"
+    hold : "zoh" or "linear"
+        How samples of u are held between sample times.
+    step : float, optional
+        Largest step of the implicit method; default (t_end − t_start)/10⁴.
+        The grid contains every sample time.
+    t_start : float, keyword only
+    max_events : int, keyword only
+        Event limit of the event method (status -1 when reached).
+
+    Returns
+    -------
+    MotionResult
+
+    Examples
+    --------
+    >>> import presliding as ps
+    >>> model = ps.PIFriction(coulomb=1.0, stiffness=[100.0], breakaway=[2.0])
+    >>> res = ps.simulate(model, mass=1.0, initial_velocity=1.0,
+    ...                   initial_state="saturated", t_end=2.0)
+    >>> round(res.stop_time, 12), res.n_reversals        # 1/3 + π·sqrt(m/k)/1: one reversal
+    (0.647492598692, 1)
+    """
+    _run.check_model(model)
+    m = as_positive_scalar("mass", mass)
+    y0 = as_real_scalar("initial_position", initial_position)
+    v0 = as_real_scalar("initial_velocity", initial_velocity)
+    t0 = as_real_scalar("t_start", t_start)
+    forcing = as_forcing(applied_force, hold, t0)
+    method = as_choice("method", method, METHODS)
+    t_end, times = _run.time_grid(t0, t_end, t_eval)
+    max_events = _run.as_count("max_events", max_events)
+    if method == "auto":
+        method = "event" if forcing.piecewise_constant else "implicit"
+    if method == "event" and not forcing.piecewise_constant:
+        raise ValueError(
+            "`method` 'event' needs a piecewise-constant `applied_force` (a constant, or "
+            f"samples with hold='zoh'); got a {forcing.kind} force with hold={forcing.hold!r}."
+        )
+    h = (t_end - t0) / 1e4 if step is None else as_positive_scalar("step", step)
+    u0 = float(forcing(np.array([t0]))[0])
+    f, last_dir = _run.initial_deformation(model, initial_state, y0, v0, u0)
+    k = np.ascontiguousarray(model.stiffness, dtype=np.float64)
+    r = np.ascontiguousarray(model.threshold, dtype=np.float64)
+    c1 = float(model.coulomb)
+    if method == "event":
+        out = _run.run_event(m, c1, k, r, f, y0, v0, last_dir, forcing, times, t0, t_end,
+                             max_events)  # fmt: skip
+    else:
+        out = _run.run_implicit(m, c1, k, r, f, y0, v0, last_dir, forcing, times, t0, t_end, h)
+    e0 = 0.5 * m * v0 * v0 + 0.5 * float(np.dot(k * f, f))
+    kinetic = 0.5 * m * out["velocity"] ** 2
+    energy = MotionEnergy(
+        kinetic=kinetic,
+        elastic=out["e_el"],
+        dissipated=out["dissipated"],
+        work=out["work"],
+        residual=kinetic + out["e_el"] + out["dissipated"] - out["work"] - e0,
+        initial=e0,
+    )
+    stop = None if np.isnan(out["stop"]) else float(out["stop"])
+    y_end = float(out["y"])
+    n = out["n"]
+    return MotionResult(
+        time=times[:n],
+        position=out["position"],
+        velocity=out["velocity"],
+        acceleration=out["acceleration"],
+        friction_force=out["friction"],
+        elastic_force=out["elastic"],
+        applied_force=out["applied"],
+        reversal_times=out["rev_t"],
+        reversal_positions=out["rev_y"],
+        stop_time=stop,
+        rest_position=None if stop is None else y_end,
+        energy=energy,
+        final_state=PIState(y_end, y_end - out["f"], out["dir"]),
+        final_velocity=float(out["v"]),
+        status=int(out["status"]),
+        message=out["message"],
+        method=method,
+        n_events=int(out["count"]),
+        mass=m,
+        model=model,
+    )
+
+
+def simulate_batch(
+    models: PIFriction | Sequence[PIFriction] | None = None,
+    mass: float | ArrayLike = 1.0,
+    initial_velocity: float | ArrayLike = 0.0,
+    *,
+    coulomb: ArrayLike | None = None,
+    stiffness: ArrayLike | None = None,
+    breakaway: ArrayLike | None = None,
+    threshold: ArrayLike | None = None,
+    applied_force: float | tuple[ArrayLike, ArrayLike] = 0.0,
+    initial_position: float | ArrayLike = 0.0,
+    initial_state: str = "relaxed",
+    t_end: float | None = None,
+    t_eval: ArrayLike | None = None,
+    t_start: float = 0.0,
+    max_events: int = 10_000_000,
+) -> MotionBatch:
+    """Exact motions of many parameter sets and/or initial velocities, in parallel.
+
+    Give either `models` (one PIFriction or a sequence; members with fewer
+    elements are padded with inert ones) or parameter arrays `coulomb` (B,),
+    `stiffness` (B, N) and `breakaway` or `threshold` (B, N). `mass`,
+    `initial_velocity` and `initial_position` are scalars or arrays of length B;
+    everything broadcasts to the batch size B. The applied force is shared: a
+    constant, or (time, value) samples held piecewise constant. Every member
+    is solved by the exact event method (see `simulate`).
+
+    Returns
+    -------
+    MotionBatch
+    """
+    if models is not None:
+        if coulomb is not None or stiffness is not None:
+            raise TypeError("give `models` or parameter arrays (`coulomb`, ...), not both.")
+        c1, k, r = _run.stack_models(models)
+    else:
+        c1, k, r = _run.stack_parameters(coulomb, stiffness, breakaway, threshold)
+    t0 = as_real_scalar("t_start", t_start)
+    forcing = as_forcing(applied_force, "zoh", t0)
+    if not forcing.piecewise_constant:
+        raise ValueError(
+            "`applied_force` of a batch must be a constant or (time, value) samples; got a "
+            "callable."
+        )
+    t_end, times = _run.time_grid(t0, t_end, t_eval)
+    u0 = float(forcing(np.array([t0]))[0])
+    sizes = {"models": c1.shape[0]}
+    arrays = {}
+    for name, val in (("mass", mass), ("initial_velocity", initial_velocity),
+                      ("initial_position", initial_position)):  # fmt: skip
+        arr = _run.as_batch_vector(name, val, positive=name == "mass")
+        arrays[name] = arr
+        sizes[name] = arr.shape[0]
+    n_b = _run.batch_size(sizes)
+    c1, k, r = (np.ascontiguousarray(np.broadcast_to(a, (n_b, *a.shape[1:]))) for a in (c1, k, r))
+    m, v0, y0 = (np.ascontiguousarray(np.broadcast_to(arrays[n], (n_b,))) for n in
+                 ("mass", "initial_velocity", "initial_position"))  # fmt: skip
+    f0, last_dir = _run.batch_deformation(initial_state, r, v0, u0)
+    u_t, u_val = forcing.pieces(t0, t_end)
+    return _run.run_batch(m, c1, k, r, f0, y0, v0, last_dir, u_t, u_val, times, t_end,
+                          _run.as_count("max_events", max_events))  # fmt: skip
+
+
+def free_response(
+    mass: float,
+    coulomb: float,
+    stiffness: ArrayLike,
+    threshold: ArrayLike,
+    initial_velocity: float,
+    time_step: float,
+    n_samples: int,
+    *,
+    initial_position: float = 0.0,
+    initial_state: str = "saturated",
+    applied_force: float = 0.0,
+) -> tuple[FloatArray, FloatArray]:
+    """Exact position and velocity at t = i·time_step, i < n_samples (compiled, fast).
+
+    The parameter-vector form for least-squares losses: mass m, Coulomb element
+    c1, stiffnesses k_j and thresholds r_j (eq. 6) of eq. 17 with a constant
+    applied force (default 0: free motion). "saturated" starts with every
+    element at its threshold in the direction of the initial velocity (steady
+    sliding before t = 0, as in the paper's experiments), "relaxed" with none
+    deformed.
+
+    Returns
+    -------
+    position, velocity : ndarray, shape (n_samples,)
+    """
+    m = as_positive_scalar("mass", mass)
+    c1 = float(coulomb)
+    if not c1 >= 0 or not np.isfinite(c1):
+        raise ValueError(f"`coulomb` must be finite and nonnegative; got {fmt(coulomb)}.")
+    k = np.ascontiguousarray(stiffness, dtype=np.float64)
+    r = np.ascontiguousarray(threshold, dtype=np.float64)
+    _run.check_bank(k, r)
+    v0 = as_real_scalar("initial_velocity", initial_velocity)
+    y0 = as_real_scalar("initial_position", initial_position)
+    dt = as_positive_scalar("time_step", time_step)
+    n_t = _run.as_count("n_samples", n_samples)
+    u = as_real_scalar("applied_force", applied_force)
+    f0, last_dir = _run.batch_deformation(initial_state, r[None, :], np.array([v0]), u)
+    if c1 == 0.0 and k.shape[0] == 0:
+        raise ValueError("the model has no friction: `coulomb` must be positive with no elements.")
+    y, v, _, _, _ = _batch.free_kernel(m, c1, k, r, f0[0], y0, v0, float(last_dir[0]), u, dt, n_t)
+    return y, v
