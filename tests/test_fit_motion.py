@@ -37,6 +37,16 @@ def test_noise_free_round_trip():
                                _measurement().applied_force, atol=1e-8)  # fmt: skip
 
 
+def test_round_trip_without_viscous_and_offset_terms():
+    elastic, _ = MODEL.elastic_force(Y)
+    u = 3.0 * A + 2.0 * np.sign(V) + elastic
+    res = fit_motion(Measurement(T, position=Y, velocity=V, acceleration=A, applied_force=u), 2)
+    assert res.success, res.message
+    assert "viscous" not in res.parameters and "offset" not in res.parameters
+    for name in ("mass", "coulomb", "stiffness_1", "stiffness_2", "threshold_1", "threshold_2"):
+        assert res.parameters[name] == pytest.approx(TRUTH[name], rel=1e-8), name
+
+
 def test_noisy_round_trip_within_confidence_intervals():
     res = fit_motion(_measurement(noise=0.2, seed=3), 2, viscous=True, offset=True, level=0.99)
     for name, value in TRUTH.items():

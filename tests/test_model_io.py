@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from presliding import PIFriction
+from presliding.densities import Exponential, PiecewiseConstant, Uniform
 from presliding.model_io import MotionSettings, load_model, model_to_toml, save_model
 
 
@@ -73,3 +74,70 @@ def test_save_never_overwrites_by_default(tmp_path):
 def test_toml_text_states_units():
     text = model_to_toml(PIFriction(0.5, [10.0], [1.0]))
     assert "[N/m]" in text and "c1 [N]" in text
+
+
+# ---------------------------------------------------------------------- densities (eq. 10)
+@pytest.mark.parametrize(
+    "make",
+    [
+        lambda: Uniform(height=3.5e7, max_threshold=2e-4),
+        lambda: Exponential(height=7e7, length=1e-4),
+        lambda: Exponential(height=7e7, length=1e-4, max_threshold=5e-4),
+        lambda: PiecewiseConstant(breaks=[0.0, 1e-4, 3e-4], heights=[2e7, 5e6]),
+    ],
+    ids=["uniform", "exponential", "truncated", "piecewise"],
+)
+def test_density_round_trip(tmp_path, make):
+    dens = make()
+    model = PIFriction(0.1, density=dens)
+    path = tmp_path / "d.toml"
+    save_model(path, model, MotionSettings(mass=2.0))
+    loaded = load_model(path)
+    assert loaded.model == model and not loaded.model.is_discrete
+    assert loaded.model.max_elastic_force == model.max_elastic_force
+    assert "[friction.density]" in path.read_text() and "[N/m²]" in path.read_text()
+    assert loaded.motion.mass == 2.0
+
+
+def test_density_in_json(tmp_path):
+    data = {"friction": {"coulomb": 0.2, "density": {"kind": "uniform", "height": 2.0,
+                                                     "max_threshold": 0.5}}}  # fmt: skip
+    model = load_model(_write(tmp_path, "d.json", json.dumps(data))).model
+    assert model.max_elastic_force == pytest.approx(2.0 * 0.5**2 / 2)
+
+
+@pytest.mark.parametrize(
+    ("density", "needle"),
+    [
+        ('kind = "gauss"', "friction.density.kind"),
+        ('kind = "uniform"\nheight = 1.0', "missing `friction.density.max_threshold`"),
+        ('kind = "uniform"\nheight = 1.0\nmax_threshold = 1.0\nlength = 2.0',
+         "friction.density.length"),
+        ('kind = "uniform"\nheight = -1.0\nmax_threshold = 1.0', "[friction.density] `height`"),
+        ('kind = "piecewise_constant"\nbreaks = [0.0, 1.0]\nheights = [1.0, 2.0]', "breaks"),
+    ],
+)  # fmt: skip
+def test_density_errors_name_file_and_field(tmp_path, density, needle):
+    path = _write(
+        tmp_path, "bad.toml", f"[friction]\ncoulomb = 0.1\n[friction.density]\n{density}\n"
+    )
+    with pytest.raises(ValueError, match=r"bad\.toml") as info:
+        load_model(path)
+    assert needle in str(info.value)
+
+
+def test_density_and_elements_exclude_each_other(tmp_path):
+    text = (
+        "[friction]\ncoulomb = 0.1\nstiffness = [1.0]\nbreakaway = [1.0]\n"
+        '[friction.density]\nkind = "uniform"\nheight = 1.0\nmax_threshold = 1.0\n'
+    )
+    with pytest.raises(ValueError, match="exclude each other"):
+        load_model(_write(tmp_path, "both.toml", text))
+
+
+def test_tabulated_density_cannot_be_saved(tmp_path):
+    from presliding.densities import Density
+
+    model = PIFriction(0.1, density=Density.from_function(lambda r: 1.0 + r, 1.0))
+    with pytest.raises(ValueError, match="Tabulated"):
+        model_to_toml(model)

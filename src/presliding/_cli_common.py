@@ -21,7 +21,7 @@ FloatArray = NDArray[np.float64]
 CSV_BLOCK = 50_000
 
 
-class UserError(Exception):
+class UserError(ValueError):
     """An error the user can fix: reported in one line, exit code 2."""
 
 
@@ -209,6 +209,17 @@ def new_figure(ncols: int = 1, nrows: int = 1, size: tuple[float, float] = (6.4,
     return fig, axes
 
 
+def tidy_fit_axes(fig: Any, ax: Any, ylabel: str, unit: str) -> None:
+    """Units on a `plot_fit` panel and its residual panel (the last axes of `fig`),
+    with both y labels aligned clear of the tick labels."""
+    residual = fig.axes[-1]
+    ax.set_ylabel(f"{ylabel} [{unit}]")
+    residual.set_ylabel(f"residual [{unit}]")
+    residual.ticklabel_format(axis="y", style="sci", scilimits=(-2, 3), useMathText=True)
+    for a in (ax, residual):
+        a.yaxis.set_label_coords(-0.09, 0.5)
+
+
 def check_options(pairs: Sequence[str] | None, option: str, allowed: Sequence[str]) -> dict:
     """Parse ``KEY=VALUE`` command-line items; keys must be in `allowed`."""
     out: dict[str, str] = {}
@@ -237,5 +248,6 @@ __all__ = [
     "new_figure",
     "prepare_folder",
     "read_table",
+    "tidy_fit_axes",
     "write_csv",
 ]

@@ -16,6 +16,7 @@ from ._cli_common import (
     new_figure,
     prepare_folder,
     read_table,
+    tidy_fit_axes,
 )
 from ._progress import progress
 
@@ -134,8 +135,12 @@ def _motion_settings(args: argparse.Namespace, sig: dict[str, np.ndarray], resul
     u = sig.get("applied_force")
     return MotionSettings(
         mass=float(mass),
-        initial_velocity=float(v[0]),
-        initial_position=float(sig["position"][0]) if "position" in sig else 0.0,
+        initial_velocity=float(result.parameters.get("initial_velocity", v[0])),
+        initial_position=float(
+            result.parameters.get(
+                "initial_position", sig["position"][0] if "position" in sig else 0.0
+            )
+        ),
         initial_state="saturated",
         applied_force=float(u[0]) if u is not None and np.all(u == u[0]) else 0.0,
         t_end=float(t[-1] - t[0]),
@@ -167,17 +172,19 @@ def run(args: argparse.Namespace) -> int:
         _save_fit_figure(args, sig, result, paths["figure"])
         written = [paths["figure"]]
         if result.model is not None:
-            save_model(paths["model"], result.model, _motion_settings(args, sig, result),
-                       overwrite=True)  # fmt: skip
+            save_model(
+                paths["model"], result.model, _motion_settings(args, sig, result), overwrite=True
+            )
             written.insert(0, paths["model"])
         text = (
             f"Fit of {args.data.name} (--kind {args.kind}): {result.status}. "
             f"NRMSE {100 * result.nrmse:.3g} %."
         )
         written += write_report(
-            folder, f"presliding fit: {args.data.name}",
+            folder,
+            f"presliding fit: {args.data.name}",
             [Section("Result", text, (paths["figure"],), code=result.report())],
-        )  # fmt: skip
+        )
         bar.update()
     if not args.quiet:
         print(result.report())
@@ -186,26 +193,38 @@ def run(args: argparse.Namespace) -> int:
     return 0 if result.success else 1
 
 
+#: Units of the fitted signal by kind (the signal of `FitResult.signal_label`).
+UNITS = {"presliding": "N", "motion": "N", "response": "m/s"}
+
+
 def _save_fit_figure(args: argparse.Namespace, sig: dict, result: Any, path: Path) -> None:
     from .plotting import plot_fit, plot_hysteresis, save_figure
 
+    unit = UNITS[args.kind]
+    if args.kind == "response" and result.signal_label == "position":
+        unit = "m"
+    head = f"{args.data.name}: {result.kind} fit, {result.status}, NRMSE {100 * result.nrmse:.2f} %"
     if args.kind == "presliding":
-        fig, axes = new_figure(2, 1, size=(12.0, 4.8))
-        plot_hysteresis(
-            result.abscissa, [result.measured, result.fitted], labels=["measured", "fitted"],
-            ax=axes[0, 0],
-        )  # fmt: skip
-        axes[0, 0].set_title("friction force against displacement")
-        ax = axes[0, 1]
-        plot_fit(np.arange(result.measured.shape[0]), result.measured, result.fitted, ax=ax,
-                 xlabel="sample", ylabel="friction force [N]",
-                 title="measured and fitted force, residual")  # fmt: skip
+        fig, axes = new_figure(2, 1, size=(13.2, 4.8))
+        ax = plot_hysteresis(result.abscissa, result.measured, ax=axes[0, 0])
+        ax.lines[0].set(ls="none", marker=".", ms=2.0, color="0.55", label="measured")
+        ax.plot(result.abscissa, result.fitted, color="C1", lw=1.4, label="fitted model")
+        ax.legend(frameon=False, loc="upper left")
+        ax.set_title("friction force against displacement")
+        ax = plot_fit(
+            np.arange(result.measured.shape[0]),
+            result.measured,
+            result.fitted,
+            ax=axes[0, 1],
+            xlabel="sample",
+            title="measured and fitted force",
+        )
+        fig.suptitle(head)
     else:
         fig, axes = new_figure(1, 1, size=(8.0, 5.2))
-        result.plot(ax=axes[0, 0])
-    fig.suptitle(
-        f"{args.data.name}: {result.kind} fit, {result.status}, NRMSE {100 * result.nrmse:.2f} %"
-    )
+        ax = result.plot(ax=axes[0, 0])
+        ax.set_title(head)
+    tidy_fit_axes(fig, ax, result.signal_label, unit)
     save_figure(fig, path)
 
 

@@ -85,18 +85,32 @@ def run(args: argparse.Namespace) -> int:
     t_eval = np.linspace(0.0, mo.t_end, mo.samples)
     try:
         result = motion.simulate(
-            spec.model, mo.mass, applied_force=force, initial_position=mo.initial_position,
-            initial_velocity=mo.initial_velocity, initial_state=mo.initial_state,
-            t_eval=t_eval, method=args.method, hold=args.hold,
-        )  # fmt: skip
+            spec.model,
+            mo.mass,
+            applied_force=force,
+            initial_position=mo.initial_position,
+            initial_velocity=mo.initial_velocity,
+            initial_state=mo.initial_state,
+            t_eval=t_eval,
+            method=args.method,
+            hold=args.hold,
+            step=args.step,
+        )
     except (TypeError, ValueError) as exc:
         raise UserError(f"{args.model}: cannot simulate: {exc}") from None
     write_csv(
-        csv_path, HEADER,
-        [result.time, result.position, result.velocity, result.acceleration,
-         result.friction_force, result.applied_force],
+        csv_path,
+        HEADER,
+        [
+            result.time,
+            result.position,
+            result.velocity,
+            result.acceleration,
+            result.friction_force,
+            result.applied_force,
+        ],
         quiet=args.quiet,
-    )  # fmt: skip
+    )
     save_motion_figure(result, png_path, title=f"{args.model.name}: {_headline(result)}")
     if not args.quiet:
         print(result.report())
@@ -106,9 +120,11 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _headline(result: Any) -> str:
+    n = result.n_reversals
+    reversals = f"{n} reversal" + ("" if n == 1 else "s")
     if result.stop_time is None:
-        return f"moving at the end, {result.n_reversals} reversal(s)"
-    return f"stops at t = {result.stop_time:.4g} s after {result.n_reversals} reversal(s)"
+        return f"moving at the end, {reversals}"
+    return f"stops at t = {result.stop_time:.4g} s after {reversals}"
 
 
 def save_motion_figure(result: Any, path: Path, title: str) -> None:
@@ -124,6 +140,8 @@ def save_motion_figure(result: Any, path: Path, title: str) -> None:
     axes[1, 0].set_title("phase portrait")
     plot_motion(result, kind="loop", ax=axes[1, 1])
     axes[1, 1].set_title("friction force against position")
+    for ax in (axes[1, 0], axes[1, 1]):  # positions are often small: 1.5e-3, not 0.0015
+        ax.ticklabel_format(axis="x", style="sci", scilimits=(-2, 3), useMathText=True)
     fig.suptitle(title)
     save_figure(fig, path)
 

@@ -70,8 +70,8 @@ _JIT = {"cache": True, "nogil": True}
 
 # ---------------------------------------------------------------------- primitives
 @nb.njit(**_JIT)
-def _gamma_lower(s, x):  # pragma: no cover - compiled
-    """γ(s, x) = ∫_0^x t^(s−1) e^(−t) dt for s = 2, 3, accurate for small x."""
+def _gamma_lower(s, x, e):  # pragma: no cover - compiled
+    """γ(s, x) = ∫_0^x t^(s−1) e^(−t) dt for s = 2, 3, accurate for small x; e = exp(−x)."""
     if x > 700.0:
         return 1.0 if s == 2 else 2.0
     if x < 1.0:
@@ -82,20 +82,19 @@ def _gamma_lower(s, x):  # pragma: no cover - compiled
             acc += term
             if term < 1e-18 * acc:
                 break
-        return x**s * math.exp(-x) * acc
-    e = math.exp(-x)
+        return x**s * e * acc
     if s == 2:
         return 1.0 - e * (1.0 + x)
     return 2.0 - e * (2.0 + x * (2.0 + x))
 
 
 @nb.njit(**_JIT)
-def _search(row, n, r):  # pragma: no cover - compiled
-    """Number of entries of the sorted row[:n] that are <= r."""
+def _search(tab, row, n, r):  # pragma: no cover - compiled
+    """Number of entries of the sorted tab[row, :n] that are <= r."""
     lo, hi = 0, n
     while lo < hi:
         mid = (lo + hi) >> 1
-        if row[mid] <= r:
+        if tab[row, mid] <= r:
             lo = mid + 1
         else:
             hi = mid
@@ -103,20 +102,29 @@ def _search(row, n, r):  # pragma: no cover - compiled
 
 
 @nb.njit(**_JIT)
-def primitives(kind, par, tab, r):  # pragma: no cover - compiled
-    """(M1(r), M2(r), T(r)) = (∫_0^r s dμ, ∫_0^r s² dμ, μ((r, R]))."""
-    big_r = par[0]
+def _unpack(par):  # pragma: no cover - compiled
+    """(R, p1, p2): the density parameters as scalars (0.0 where a kind has none)."""
+    p1 = par[1] if par.shape[0] > 1 else 0.0
+    p2 = par[2] if par.shape[0] > 2 else 0.0
+    return par[0], p1, p2
+
+
+@nb.njit(**_JIT)
+def _prim(kind, big_r, p1, p2, tab, r, want_m2):  # pragma: no cover - compiled
+    """(M1(r), M2(r), T(r)) from the scalar parameters of `_unpack` and the table.
+
+    Without `want_m2` the exponential density leaves M2 out (returns 0.0 for it).
+    """
     if r < 0.0:
         r = 0.0
     if kind == DISCRETE:
-        n = tab.shape[1] - 1
-        i = _search(tab[0], n, r)
+        i = _search(tab, 0, tab.shape[1] - 1, r)
         return tab[1, i], tab[2, i], tab[3, i]
     if kind == PIECEWISE:
         m = tab.shape[1] - 1
         if r >= big_r:
             return tab[2, m], tab[3, m], 0.0
-        i = _search(tab[0], m + 1, r) - 1
+        i = _search(tab, 0, m + 1, r) - 1
         if i < 0:
             return 0.0, 0.0, tab[4, 0]
         b0, hgt = tab[0, i], tab[1, i]
@@ -128,19 +136,20 @@ def primitives(kind, par, tab, r):  # pragma: no cover - compiled
     if r > big_r:
         r = big_r
     if kind == UNIFORM:
-        a = par[1]
+        a = p1
         return 0.5 * a * r * r, a * r * r * r / 3.0, a * (big_r - r)
     if kind == EXPONENTIAL:
-        a, b = par[1], par[2]
+        a, b = p1, p2
         x = r / b
+        e = math.exp(-x)
         tail = 0.0 if big_r == math.inf else math.exp(-big_r / b)
         return (
-            a * b * b * _gamma_lower(2, x),
-            a * b * b * b * _gamma_lower(3, x),
-            a * b * (math.exp(-x) - tail) if x < big_r / b else 0.0,
+            a * b * b * _gamma_lower(2, x, e),
+            a * b * b * b * _gamma_lower(3, x, e) if want_m2 else 0.0,
+            a * b * (e - tail) if x < big_r / b else 0.0,
         )
     # TABULATED: cubic Hermite with the exact derivatives r^k·dμ/dr at the nodes
-    h = par[1]
+    h = p1
     n = tab.shape[1] - 1
     i = min(int(r / h), n - 1)
     t = (r - tab[0, i]) / h
@@ -158,26 +167,52 @@ def primitives(kind, par, tab, r):  # pragma: no cover - compiled
 
 
 @nb.njit(**_JIT)
+def primitives(kind, par, tab, r):  # pragma: no cover - compiled
+    """(M1(r), M2(r), T(r)) = (∫_0^r s dμ, ∫_0^r s² dμ, μ((r, R]))."""
+    big_r, p1, p2 = _unpack(par)
+    return _prim(kind, big_r, p1, p2, tab, r, True)
+
+
+@nb.njit(**_JIT)
 def evaluate(kind, par, tab, r, which, out):  # pragma: no cover - compiled
     """Vectorised primitive: which = 1 (M1), 2 (M2) or 3 (T) at every r."""
+    big_r, p1, p2 = _unpack(par)
     for i in range(r.shape[0]):
-        m1, m2, t = primitives(kind, par, tab, r[i])
+        m1, m2, t = _prim(kind, big_r, p1, p2, tab, r[i], True)
         out[i] = m1 if which == 1 else (m2 if which == 2 else t)
 
 
 # ---------------------------------------------------------------------- memory
 @nb.njit(**_JIT)
-def _level_force(y, d, e, m1o, p, full, kind, par, tab):  # pragma: no cover
-    """Force and slope on a level with turning input e (full: the virgin branch)."""
-    big_r = par[0]
-    rho = abs(y - e) if full else 0.5 * abs(y - e)
-    m1, _, t = primitives(kind, par, tab, rho)
-    force = d * m1 if full else d * (2.0 * m1 - m1o) + p
-    if rho < big_r:
-        force += (y - e) * t
+def _q(rho, m1r, m2r, kind, big_r, p1, p2, tab):  # pragma: no cover - compiled
+    """Q(ρ) = ρ·M1(ρ) − M2(ρ) = ∫_0^ρ M1 (M1 constant beyond R); m1r, m2r = M1(R), M2(R)."""
+    if rho >= big_r:
+        return (rho - big_r) * m1r + big_r * m1r - m2r
+    m1, m2, _ = _prim(kind, big_r, p1, p2, tab, rho, True)
+    return rho * m1 - m2
+
+
+@nb.njit(**_JIT)
+def _reversal_level(last, d, base, n, stack, kind, big_r, p1, p2, tab):  # pragma: no cover
+    """The level a reversal at `last` (after motion in direction d) opens.
+
+    Returns (base, n, outer radius, M1(outer), P): the base and level count
+    change only when the reversal comes after a motion that saturated every
+    stop (the older memory is then forgotten).
+    """
+    if n == 0:
+        e, rho = base, abs(last - base)
+        m1, _, t = _prim(kind, big_r, p1, p2, tab, rho, False)
+        force = d * m1
     else:
-        t = 0.0
-    return force, t, rho
+        e, rho = stack[n - 1, 0], 0.5 * abs(last - stack[n - 1, 0])
+        m1, _, t = _prim(kind, big_r, p1, p2, tab, rho, False)
+        force = d * (2.0 * m1 - stack[n - 1, 2]) + stack[n - 1, 3]
+    if rho >= big_r:
+        # Every element slides in direction d: forget the older memory.
+        return last - d * big_r, 0, big_r, _prim(kind, big_r, p1, p2, tab, big_r, False)[0], 0.0
+    force += (last - e) * t
+    return base, n, rho, m1, force - d * m1
 
 
 @nb.njit(**_JIT)
@@ -187,177 +222,159 @@ def _grow(stack):  # pragma: no cover - compiled
     return new
 
 
+_RUN, _ONE, _TRIAL = 0, 1, 2  # modes of `_walk`
+
+
+@nb.njit(**_JIT)
+def _walk(y, y_one, head, stack, kind, par, tab, out, dissipated, mode):  # pragma: no cover
+    """The one sample update, as a flat loop with the memory in local variables.
+
+    mode _RUN: the samples y (out[t] = force; cumulative dissipation into
+    `dissipated` when it is not empty); _ONE: the single sample y_one with its
+    dissipation; _TRIAL: y_one without committing anything (head and stack
+    are only read; y, out and dissipated are unused in both single modes).
+    Committing modes update head and stack (grown when full). Returns (force,
+    slope dF/dy, dissipated energy, stack) of the last sample.
+
+    Per sample: the direction s of the increment; at a reversal the level it
+    opens (kept in local variables, written to the stack only if it survives
+    the sample); the levels the input wipes out (in pairs); the force of the
+    level reached, in closed form from the primitives; optionally the stops'
+    dissipation ∫ M1(ρ)|dy| = Q(ρ_end) − Q(ρ_start) per level, doubled on a
+    level where |dy| = 2·dρ.
+    """
+    single = mode != _RUN
+    commit = mode != _TRIAL
+    with_diss = mode == _ONE or (mode == _RUN and dissipated.shape[0] > 0)
+    big_r, p1, p2 = _unpack(par)
+    last, d, base, n = head[0], head[1], head[2], int(head[3])
+    m1r = m2r = 0.0
+    if with_diss:
+        m1r, m2r, _ = _prim(kind, big_r, p1, p2, tab, big_r, True)
+    force = slope = acc = 0.0
+    count = 1 if single else y.shape[0]
+    for t in range(count):
+        if commit and n >= stack.shape[0]:
+            stack = _grow(stack)
+        yv = y_one if single else y[t]
+        if yv > last:
+            s = 1.0
+        elif yv < last:
+            s = -1.0
+        else:
+            s = d
+        top = n  # levels, the one a reversal opens included
+        p_out = p_m1 = p_p = 0.0
+        if s != d and d != 0.0:
+            base, n, p_out, p_m1, p_p = _reversal_level(
+                last, d, base, n, stack, kind, big_r, p1, p2, tab
+            )
+            top = n + 1
+        rho0 = 0.0  # the front at `last` (0 right after a reversal)
+        diss = 0.0
+        if with_diss and top == n:
+            rho0 = abs(last - base) if n == 0 else 0.5 * abs(last - stack[n - 1, 0])
+        while top > 0:
+            if top > n:
+                e, outer = last, p_out
+            else:
+                e, outer = stack[top - 1, 0], stack[top - 1, 1]
+            if 0.5 * abs(yv - e) < outer:
+                break
+            if with_diss:
+                q_out = _q(outer, m1r, m2r, kind, big_r, p1, p2, tab)
+                diss += 2.0 * (q_out - _q(rho0, m1r, m2r, kind, big_r, p1, p2, tab))
+                rho0 = outer if top == 1 else stack[top - 2, 1]
+            top = 0 if top == 1 else top - 2
+        if top == 0:
+            e = base
+            rho = abs(yv - base)
+            m1, _, slope = _prim(kind, big_r, p1, p2, tab, rho, False)
+            force = s * m1
+            if with_diss:
+                if rho0 == math.inf:
+                    diss += m1r * abs(yv - last)
+                else:
+                    diss += _q(rho, m1r, m2r, kind, big_r, p1, p2, tab) - _q(
+                        rho0, m1r, m2r, kind, big_r, p1, p2, tab
+                    )
+        else:
+            if top > n:
+                e, m1o, p = last, p_m1, p_p
+                if commit:
+                    stack[n, 0] = last
+                    stack[n, 1] = p_out
+                    stack[n, 2] = p_m1
+                    stack[n, 3] = p_p
+            else:
+                e, m1o, p = stack[top - 1, 0], stack[top - 1, 2], stack[top - 1, 3]
+            rho = 0.5 * abs(yv - e)
+            m1, _, slope = _prim(kind, big_r, p1, p2, tab, rho, False)
+            force = s * (2.0 * m1 - m1o) + p
+            if with_diss:
+                q_rho = _q(rho, m1r, m2r, kind, big_r, p1, p2, tab)
+                diss += 2.0 * (q_rho - _q(rho0, m1r, m2r, kind, big_r, p1, p2, tab))
+        if rho < big_r:
+            force += (yv - e) * slope
+        else:
+            slope = 0.0
+        n, d, last = top, s, yv
+        acc += diss
+        if not single:
+            out[t] = force
+            if with_diss:
+                dissipated[t] = acc
+    if commit:
+        head[0] = last
+        head[1] = d
+        head[2] = base
+        head[3] = n
+    return force, slope, acc, stack
+
+
 @nb.njit(**_JIT)
 def _push(head, stack, kind, par, tab):  # pragma: no cover - compiled
     """Reversal at the last input: push it as a new level; returns the (grown) stack."""
     if int(head[3]) >= stack.shape[0]:
         stack = _grow(stack)
-    _push_into(head, stack, kind, par, tab)
-    return stack
-
-
-@nb.njit(**_JIT)
-def _push_into(head, stack, kind, par, tab):  # pragma: no cover - compiled
-    """Reversal at the last input: push it as a new level (capacity for one more level)."""
-    y, d, n = head[0], head[1], int(head[3])
-    big_r = par[0]
-    if n == 0:
-        force, _, rho = _level_force(y, d, head[2], 0.0, 0.0, True, kind, par, tab)
-    else:
-        force, _, rho = _level_force(
-            y, d, stack[n - 1, 0], stack[n - 1, 2], stack[n - 1, 3], False, kind, par, tab
-        )
-    if rho >= big_r:
-        # Every element slides in direction d: forget the older memory.
-        head[2] = y - d * big_r
-        n = 0
-        rho, m1o, p = big_r, primitives(kind, par, tab, big_r)[0], 0.0
-    else:
-        m1o = primitives(kind, par, tab, rho)[0]
-        p = force - d * m1o
+    big_r, p1, p2 = _unpack(par)
+    y = head[0]
+    base, n, outer, m1o, p = _reversal_level(
+        y, head[1], head[2], int(head[3]), stack, kind, big_r, p1, p2, tab
+    )
     stack[n, 0] = y
-    stack[n, 1] = rho
+    stack[n, 1] = outer
     stack[n, 2] = m1o
     stack[n, 3] = p
+    head[2] = base
     head[3] = n + 1
-
-
-@nb.njit(**_JIT)
-def _wipe_and_force(y, s, last, base, stack, n, kind, par, tab, diss):  # pragma: no cover
-    """Pop the levels that input y wipes out; return (force, slope, n, dissipated).
-
-    ``diss`` < 0 skips the dissipation integral ∫ M1(ρ)|dy| (from `last` to y).
-    """
-    rho0 = -1.0
-    if diss >= 0.0:
-        rho0 = abs(last - base) if n == 0 else 0.5 * abs(last - stack[n - 1, 0])
-    while n > 0:
-        rho = 0.5 * abs(y - stack[n - 1, 0])
-        outer = stack[n - 1, 1]
-        if rho < outer:
-            break
-        if diss >= 0.0:
-            diss += 2.0 * _q_diff(rho0, outer, kind, par, tab)
-            rho0 = outer if n == 1 else stack[n - 2, 1]
-        n = 0 if n == 1 else n - 2
-    if n == 0:
-        force, slope, rho = _level_force(y, s, base, 0.0, 0.0, True, kind, par, tab)
-        if diss >= 0.0:
-            if rho0 == math.inf:
-                diss += primitives(kind, par, tab, par[0])[0] * abs(y - last)
-            else:
-                diss += _q_diff(rho0, rho, kind, par, tab)
-    else:
-        e, m1o, p = stack[n - 1, 0], stack[n - 1, 2], stack[n - 1, 3]
-        force, slope, rho = _level_force(y, s, e, m1o, p, False, kind, par, tab)
-        if diss >= 0.0:
-            diss += 2.0 * _q_diff(rho0, rho, kind, par, tab)
-    return force, slope, n, diss
-
-
-@nb.njit(**_JIT)
-def _q_diff(rho_a, rho_b, kind, par, tab):  # pragma: no cover - compiled
-    """∫_{ρa}^{ρb} M1(ρ) dρ with Q(ρ) = ρ·M1(ρ) − M2(ρ) (M1 constant beyond R)."""
-    big_r = par[0]
-    m1r, m2r, _ = primitives(kind, par, tab, big_r)
-    qa = _q(rho_a, big_r, m1r, m2r, kind, par, tab)
-    qb = _q(rho_b, big_r, m1r, m2r, kind, par, tab)
-    return qb - qa
-
-
-@nb.njit(**_JIT)
-def _q(rho, big_r, m1r, m2r, kind, par, tab):  # pragma: no cover - compiled
-    if rho >= big_r:
-        return (rho - big_r) * m1r + big_r * m1r - m2r
-    m1, m2, _ = primitives(kind, par, tab, rho)
-    return rho * m1 - m2
+    return stack
 
 
 @nb.njit(**_JIT)
 def advance(y, head, stack, kind, par, tab):  # pragma: no cover - compiled
     """Commit the sample y; return (force, stack)."""
-    if int(head[3]) >= stack.shape[0]:
-        stack = _grow(stack)
-    force, _, _ = _advance(y, head, stack, kind, par, tab, -1.0)
+    force, _, _, stack = _walk(head, y, head, stack, kind, par, tab, head, head, _ONE)
     return force, stack
 
 
 @nb.njit(**_JIT)
-def _advance(y, head, stack, kind, par, tab, diss):  # pragma: no cover - compiled
-    """One sample; the stack must have room for one more level."""
-    last, d = head[0], head[1]
-    if y > last:
-        s = 1.0
-    elif y < last:
-        s = -1.0
-    else:
-        s = d
-    if s != d and d != 0.0:
-        _push_into(head, stack, kind, par, tab)
-    n = int(head[3])
-    force, slope, n, diss = _wipe_and_force(y, s, last, head[2], stack, n, kind, par, tab, diss)
-    head[0] = y
-    head[1] = s
-    head[3] = n
-    return force, slope, diss
+def advance_dissipating(y, head, stack, kind, par, tab):  # pragma: no cover - compiled
+    """Commit the sample y; return (force, slope, dissipated energy, stack)."""
+    return _walk(head, y, head, stack, kind, par, tab, head, head, _ONE)
 
 
 @nb.njit(**_JIT)
 def force_at(y, head, stack, kind, par, tab):  # pragma: no cover - compiled
     """(force, slope dF/dy) at a trial input y; head and stack are left untouched."""
-    last, d, n = head[0], head[1], int(head[3])
-    if y > last:
-        s = 1.0
-    elif y < last:
-        s = -1.0
-    else:
-        s = d
-    if s == d or d == 0.0:
-        force, slope, _, _ = _wipe_and_force(y, s, last, head[2], stack, n, kind, par, tab, -1.0)
-        return force, slope
-    # Reversal at `last`: the pushed level exists only in these local variables.
-    big_r = par[0]
-    base = head[2]
-    if n == 0:
-        f_last, _, rho = _level_force(last, d, base, 0.0, 0.0, True, kind, par, tab)
-    else:
-        f_last, _, rho = _level_force(
-            last, d, stack[n - 1, 0], stack[n - 1, 2], stack[n - 1, 3], False, kind, par, tab
-        )
-    if rho >= big_r:
-        base = last - d * big_r
-        n = 0
-        rho, m1o, p = big_r, primitives(kind, par, tab, big_r)[0], 0.0
-    else:
-        m1o = primitives(kind, par, tab, rho)[0]
-        p = f_last - d * m1o
-    if 0.5 * abs(y - last) < rho:
-        force, slope, _ = _level_force(y, s, last, m1o, p, False, kind, par, tab)
-        return force, slope
-    # The new level and the one below it are wiped (or the virgin branch resumes).
-    if n == 0:
-        force, slope, _ = _level_force(y, s, base, 0.0, 0.0, True, kind, par, tab)
-        return force, slope
-    force, slope, _, _ = _wipe_and_force(y, s, last, base, stack, n - 1, kind, par, tab, -1.0)
+    force, slope, _, _ = _walk(head, y, head, stack, kind, par, tab, head, head, _TRIAL)
     return force, slope
 
 
 @nb.njit(**_JIT)
 def run(y, head, stack, kind, par, tab, out, dissipated):  # pragma: no cover - compiled
     """Time loop: out[t] = F(y[t]); cumulative dissipation when len(dissipated) > 0."""
-    with_diss = dissipated.shape[0] > 0
-    acc = 0.0
-    for t in range(y.shape[0]):
-        if int(head[3]) >= stack.shape[0]:
-            stack = _grow(stack)
-        if with_diss:
-            force, _, inc = _advance(y[t], head, stack, kind, par, tab, 0.0)
-            acc += inc
-            dissipated[t] = acc
-        else:
-            force, _, _ = _advance(y[t], head, stack, kind, par, tab, -1.0)
-        out[t] = force
-    return stack
+    return _walk(y, 0.0, head, stack, kind, par, tab, out, dissipated, _RUN)[3]
 
 
 # ---------------------------------------------------------------------- energy

@@ -8,6 +8,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
+from .general_pi import MemoryState
 from .operators import PIState
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -20,7 +21,7 @@ FloatArray = NDArray[np.float64]
 class MotionEnergy:
     """Energy along a motion, sampled like the motion (the energy after eq. 12).
 
-    ``kinetic`` ½·m·v², ``elastic`` ½·Σ k_j f_j², ``dissipated`` by the Coulomb
+    ``kinetic`` ½·m·v², ``elastic`` ½·Σ k_j f_j² (½·∫ f² dμ for a density), ``dissipated`` by the Coulomb
     element and the sliding elements (c1·|dy| + Σ c_j·|dx_j|), ``work`` of u (∫u dy),
     ``residual`` = kinetic + elastic + dissipated − work − ``initial``: zero to
     rounding for the event method; for the implicit method it equals minus the
@@ -66,8 +67,9 @@ class MotionResult:
     rest_position : float or None
         Position at rest, None if it does not stop.
     energy : MotionEnergy
-    final_state : PIState
-        The friction memory at the end (pass it on to continue).
+    final_state : PIState or MemoryState
+        The friction memory at the end (pass it on to continue); a MemoryState
+        for a model with a continuous density.
     final_velocity : float
     status : int
         0 on success, negative on failure (-1: event limit reached; the samples
@@ -91,7 +93,7 @@ class MotionResult:
     stop_time: float | None
     rest_position: float | None
     energy: MotionEnergy
-    final_state: PIState
+    final_state: PIState | MemoryState
     final_velocity: float
     status: int
     message: str

@@ -20,20 +20,17 @@ REVERSAL_CAPACITY = 1024
 _SNAP = 64 * np.finfo(np.float64).eps
 
 
-def check_model(model: Any) -> None:
-    """A finite-element PIFriction (continuous densities are not simulated yet)."""
+def check_model(model: Any, *, density_ok: bool = False) -> None:
+    """A PIFriction; with finite elements unless `density_ok` (the implicit method)."""
     if not isinstance(model, PIFriction):
         raise TypeError(f"`model` must be a PIFriction; got {type(model).__name__}.")
-    if getattr(model, "density", None) is not None and not _is_discrete(model):
+    if not density_ok and not model.is_discrete:
         raise TypeError(
-            "`model` has a continuous density; simulating it needs method='implicit' support "
-            "for continuous densities, which is not available yet: use a finite-element model "
-            "(stiffness, breakaway), e.g. a fine discretisation of the density."
+            "`model` has a continuous density; batches use the exact event method, which needs "
+            "finite elements: simulate it with `simulate` (implicit method) or use a "
+            "finite-element model (stiffness, breakaway), e.g. a fine discretisation of the "
+            "density."
         )
-
-
-def _is_discrete(model: Any) -> bool:
-    return type(model.density).__name__ == "Discrete"
 
 
 def time_grid(t0: float, t_end: Any, t_eval: Any) -> tuple[float, FloatArray]:

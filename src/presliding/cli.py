@@ -71,10 +71,15 @@ def _build_parser() -> argparse.ArgumentParser:
     # The same two options after the subcommand name (`presliding demo --quiet`);
     # SUPPRESS keeps a value given before it.
     common = argparse.ArgumentParser(add_help=False)
-    common.add_argument("--debug", action="store_true", default=argparse.SUPPRESS,
-                        help="show tracebacks for errors")  # fmt: skip
-    common.add_argument("--quiet", action="store_true", default=argparse.SUPPRESS,
-                        help="print nothing but errors (no progress bars)")  # fmt: skip
+    common.add_argument(
+        "--debug", action="store_true", default=argparse.SUPPRESS, help="show tracebacks for errors"
+    )
+    common.add_argument(
+        "--quiet",
+        action="store_true",
+        default=argparse.SUPPRESS,
+        help="print nothing but errors (no progress bars)",
+    )
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     fmt = argparse.RawDescriptionHelpFormatter
 
@@ -89,9 +94,12 @@ def _build_parser() -> argparse.ArgumentParser:
         parents=[common],
     )
     demo.add_argument(
-        "-o", "--output", type=Path, default=Path("presliding-demo"),
+        "-o",
+        "--output",
+        type=Path,
+        default=Path("presliding-demo"),
         help="output folder (default: ./presliding-demo)",
-    )  # fmt: skip
+    )
     demo.set_defaults(handler=_cmd_demo)
 
     simulate = sub.add_parser(
@@ -108,24 +116,40 @@ def _build_parser() -> argparse.ArgumentParser:
     )
     simulate.add_argument("model", type=Path, help="model file (.toml, or .json)")
     simulate.add_argument(
-        "--applied-force", type=Path, metavar="CSV",
+        "--applied-force",
+        type=Path,
+        metavar="CSV",
         help="applied force u(t): a CSV file with columns time,value [s, N] (replaces "
         "motion.applied_force)",
-    )  # fmt: skip
+    )
     simulate.add_argument(
-        "--hold", choices=("zoh", "linear"), default="zoh",
+        "--hold",
+        choices=("zoh", "linear"),
+        default="zoh",
         help="how the applied-force samples are held: zoh (piecewise constant, default; exact "
         "event method) or linear (implicit method)",
-    )  # fmt: skip
+    )
     simulate.add_argument(
-        "--method", choices=("auto", "event", "implicit"), default="auto",
+        "--method",
+        choices=("auto", "event", "implicit"),
+        default="auto",
         help="simulation method (default auto: event whenever it applies)",
-    )  # fmt: skip
+    )
     simulate.add_argument(
-        "-o", "--output", type=Path, required=True,
+        "--step",
+        type=float,
+        default=None,
+        metavar="SECONDS",
+        help="largest step of the implicit method (default: the duration / 10^4)",
+    )
+    simulate.add_argument(
+        "-o",
+        "--output",
+        type=Path,
+        required=True,
         help="output folder (simulation.csv and simulation.png in it), or a .csv path "
         "(the figure next to it with the suffix .png)",
-    )  # fmt: skip
+    )
     simulate.set_defaults(handler=_cmd_simulate)
 
     analyze = sub.add_parser(
@@ -162,30 +186,46 @@ def _build_parser() -> argparse.ArgumentParser:
     )
     fit.add_argument("data", type=Path, help="measured data (CSV with a header line)")
     fit.add_argument(
-        "--kind", choices=("presliding", "motion", "response"), required=True,
+        "--kind",
+        choices=("presliding", "motion", "response"),
+        required=True,
         help="what to fit (see above)",
-    )  # fmt: skip
+    )
     fit.add_argument(
-        "--columns", nargs="+", metavar="SIGNAL=COLUMN", default=(),
+        "--columns",
+        nargs="+",
+        metavar="SIGNAL=COLUMN",
+        default=(),
         help="column names by signal: time, position, velocity, acceleration, "
         "applied_force, friction_force",
-    )  # fmt: skip
+    )
     fit.add_argument(
-        "--scale", nargs="+", metavar="SIGNAL=FACTOR", default=(),
+        "--scale",
+        nargs="+",
+        metavar="SIGNAL=FACTOR",
+        default=(),
         help="unit factors applied on reading, e.g. position=1e-3 for mm",
-    )  # fmt: skip
-    fit.add_argument("--elements", type=int, default=None, metavar="N",
-                     help="number of elasto-plastic elements (default: 3 presliding, "
-                     "0 motion, 4 response)")  # fmt: skip
+    )
+    fit.add_argument(
+        "--elements",
+        type=int,
+        default=None,
+        metavar="N",
+        help="number of elasto-plastic elements (default: 3 presliding, 0 motion, 4 response)",
+    )
     fit.add_argument("--viscous", action="store_true", help="motion: add a viscous term F_v·ẏ")
     fit.add_argument("--offset", action="store_true", help="add a constant force offset")
-    fit.add_argument("--mass", type=float, default=None,
-                     help="response/motion: known mass m [kg] (held fixed)")  # fmt: skip
     fit.add_argument(
-        "--cutoff", type=float, default=None, metavar="HZ",
+        "--mass", type=float, default=None, help="response/motion: known mass m [kg] (held fixed)"
+    )
+    fit.add_argument(
+        "--cutoff",
+        type=float,
+        default=None,
+        metavar="HZ",
         help="motion: low-pass cut-off for the velocity/acceleration estimate "
         "(default: a tenth of the sampling rate)",
-    )  # fmt: skip
+    )
     fit.add_argument("-o", "--output", type=Path, required=True, help="output folder")
     fit.set_defaults(handler=_cmd_fit)
     return parser

@@ -134,7 +134,7 @@ def fit_motion(
     design, names = _design(m, viscous, offset)
     check_enough(int(used.sum()), len(names) + 2 * n)
     fit = pr.fit_separable(
-        u, design, names, {k: _NONNEGATIVE for k in ("mass", "coulomb", "viscous")},
+        u, design, names, {k: _NONNEGATIVE for k in ("mass", "coulomb", "viscous") if k in names},
         pr.stop_basis(m.position), n, grid=pr.threshold_grid(m.position, grid_size),
         thresholds=thresholds, refine_thresholds=refine_thresholds, used=used, fixed=fixed,
         tied=tied, level=level, max_evaluations=max_evaluations, tolerance=tolerance,

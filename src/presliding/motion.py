@@ -15,7 +15,9 @@ sticks) and stays exactly put, bit for bit, until that fails. Two methods:
 ``"implicit"``
     Any u(t) (callable, or samples with ``hold="linear"``): an implicit step that
     solves the inclusion exactly (see `presliding._implicit`); first order in the
-    step, stable for any step, no chatter and no creep at rest.
+    step, stable for any step, no chatter and no creep at rest. A model with a
+    continuous density (eq. 10) always uses it, with the exact general PI
+    operator as the elastic force (see `presliding._implicit_density`).
 
 ``"auto"`` picks "event" whenever it applies.
 
@@ -36,11 +38,13 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from . import _batch
+from . import _implicit_density as _density
 from . import _motion_run as _run
 from ._forcing import as_forcing
 from ._motion_result import MotionBatch, MotionEnergy, MotionResult
 from ._validation import as_choice, as_positive_scalar, as_real_scalar, fmt
 from .friction import PIFriction
+from .general_pi import MemoryState
 from .operators import PIState
 
 __all__ = [
@@ -62,7 +66,7 @@ def simulate(
     applied_force: float | ArrayLike | Any = 0.0,
     initial_position: float = 0.0,
     initial_velocity: float = 0.0,
-    initial_state: str | PIState = "relaxed",
+    initial_state: str | PIState | MemoryState = "relaxed",
     t_end: float | None = None,
     t_eval: ArrayLike | None = None,
     method: str = "auto",
@@ -77,7 +81,8 @@ def simulate(
     Parameters
     ----------
     model : PIFriction
-        The friction model (eq. 8).
+        The friction model: finite elements (eq. 8) or a density (eq. 10; only
+        the implicit method applies, with the exact continuous operator).
     mass : float
         m > 0 [kg].
     applied_force : float, callable or (time, value) pair
@@ -85,18 +90,20 @@ def simulate(
         scalar function is vectorised); or samples held as `hold` says.
     initial_position, initial_velocity : float
         y(t_start) [m], ẏ(t_start) [m/s].
-    initial_state : "relaxed", "saturated" or PIState
+    initial_state : "relaxed", "saturated", PIState or MemoryState
         Friction memory at the start. "relaxed": no elastic deformation.
         "saturated": every element at its threshold after sliding in the
         direction of the initial velocity, or of u(t_start) when the velocity is
-        zero (steady sliding before t_start). A PIState must have
-        ``last_input == initial_position``.
+        zero (steady sliding before t_start). A PIState (finite elements) or a
+        MemoryState (a density) must have ``last_input == initial_position``.
     t_end : float
         End time (> t_start); default ``t_eval[-1]``.
     t_eval : array_like, optional
         Strictly increasing sample times in [t_start, t_end]; default 1001
         uniform samples.
     method : "auto", "event" or "implicit"
+        "auto" picks "event" for finite elements with a piecewise-constant u,
+        otherwise "implicit"; "event" with a density is an error.
     hold : "zoh" or "linear"
         How samples of u are held between sample times.
     step : float, optional
@@ -119,7 +126,7 @@ def simulate(
     >>> round(res.stop_time, 12), res.n_reversals        # 1/3 + π·sqrt(m/k)/1: one reversal
     (0.647492598692, 1)
     """
-    _run.check_model(model)
+    _run.check_model(model, density_ok=True)
     m = as_positive_scalar("mass", mass)
     y0 = as_real_scalar("initial_position", initial_position)
     v0 = as_real_scalar("initial_velocity", initial_velocity)
@@ -128,8 +135,14 @@ def simulate(
     method = as_choice("method", method, METHODS)
     t_end, times = _run.time_grid(t0, t_end, t_eval)
     max_events = _run.as_count("max_events", max_events)
+    if method == "event" and not model.is_discrete:
+        raise ValueError(
+            "`method` 'event' needs a finite-element model (the closed-form pieces need "
+            "finitely many elements); got a continuous density "
+            f"{type(model.density).__name__}: use method='implicit' or 'auto'."
+        )
     if method == "auto":
-        method = "event" if forcing.piecewise_constant else "implicit"
+        method = "event" if forcing.piecewise_constant and model.is_discrete else "implicit"
     if method == "event" and not forcing.piecewise_constant:
         raise ValueError(
             "`method` 'event' needs a piecewise-constant `applied_force` (a constant, or "
@@ -137,16 +150,25 @@ def simulate(
         )
     h = (t_end - t0) / 1e4 if step is None else as_positive_scalar("step", step)
     u0 = float(forcing(np.array([t0]))[0])
-    f, last_dir = _run.initial_deformation(model, initial_state, y0, v0, u0)
-    k = np.ascontiguousarray(model.stiffness, dtype=np.float64)
-    r = np.ascontiguousarray(model.threshold, dtype=np.float64)
-    c1 = float(model.coulomb)
-    if method == "event":
-        out = _run.run_event(m, c1, k, r, f, y0, v0, last_dir, forcing, times, t0, t_end,
-                             max_events)  # fmt: skip
+    if not model.is_discrete:
+        state, last_dir = _density.initial_memory(model, initial_state, y0, v0, u0)
+        out = _density.run(model.density, float(model.coulomb), m, state, v0, last_dir,
+                           forcing, times, t0, t_end, h)  # fmt: skip
+        e0, final_state = out["e0"], out["final_state"]
     else:
-        out = _run.run_implicit(m, c1, k, r, f, y0, v0, last_dir, forcing, times, t0, t_end, h)
-    e0 = 0.5 * m * v0 * v0 + 0.5 * float(np.dot(k * f, f))
+        f, last_dir = _run.initial_deformation(model, initial_state, y0, v0, u0)
+        k = np.ascontiguousarray(model.stiffness, dtype=np.float64)
+        r = np.ascontiguousarray(model.threshold, dtype=np.float64)
+        c1 = float(model.coulomb)
+        if method == "event":
+            out = _run.run_event(m, c1, k, r, f, y0, v0, last_dir, forcing, times, t0, t_end,
+                                 max_events)  # fmt: skip
+        else:
+            out = _run.run_implicit(m, c1, k, r, f, y0, v0, last_dir, forcing, times, t0,
+                                    t_end, h)  # fmt: skip
+        e0 = 0.5 * m * v0 * v0 + 0.5 * float(np.dot(k * f, f))
+        y_end = float(out["y"])
+        final_state = PIState(y_end, y_end - out["f"], out["dir"])
     kinetic = 0.5 * m * out["velocity"] ** 2
     energy = MotionEnergy(
         kinetic=kinetic,
@@ -172,7 +194,7 @@ def simulate(
         stop_time=stop,
         rest_position=None if stop is None else y_end,
         energy=energy,
-        final_state=PIState(y_end, y_end - out["f"], out["dir"]),
+        final_state=final_state,
         final_velocity=float(out["v"]),
         status=int(out["status"]),
         message=out["message"],

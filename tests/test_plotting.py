@@ -1,0 +1,93 @@
+"""Plot functions: axes in, axes out, no global style changes, the right content."""
+
+from __future__ import annotations
+
+import matplotlib
+import numpy as np
+import pytest
+from matplotlib.figure import Figure
+from matplotlib.image import imread
+
+import presliding as ps
+from presliding import plotting
+from presliding.densities import Exponential, Uniform
+
+
+@pytest.fixture
+def ax():
+    return Figure().add_subplot()
+
+
+@pytest.fixture
+def free_motion():
+    model = ps.PIFriction(0.3, [2e4, 500.0], [0.35, 0.35])
+    return ps.simulate(model, 1.0, initial_velocity=0.06, initial_state="saturated", t_end=0.15)
+
+
+def test_no_global_style_change(ax, free_motion):
+    before = dict(matplotlib.rcParams)
+    plotting.plot_forces(free_motion, ax=ax)
+    plotting.plot_reversal_counts([0.1, 0.2], [2, 1], [2, 1], ax=ax)
+    plotting.plot_density(Uniform(1.0, 2.0), ax=ax)
+    assert dict(matplotlib.rcParams) == before
+
+
+def test_plot_forces(ax, free_motion):
+    assert plotting.plot_forces(free_motion, ax=ax) is ax
+    friction, applied = ax.lines[:2]
+    np.testing.assert_array_equal(friction.get_ydata(), free_motion.friction_force)
+    np.testing.assert_array_equal(applied.get_ydata(), free_motion.applied_force)
+    assert ax.get_xlabel() == "time t [s]" and ax.get_ylabel() == "force [N]"
+    labels = [t.get_text() for t in ax.get_legend().get_texts()]
+    assert labels == ["friction force", "applied force u", "stop"]
+
+
+def test_plot_reversal_counts(ax):
+    x, pred, sim = [0.1, 0.3, 1.2], [2, 1, 0], [2, 1, 0]
+    assert plotting.plot_reversal_counts(x, pred, sim, ax=ax) is ax
+    np.testing.assert_array_equal(ax.lines[0].get_ydata(), pred)
+    np.testing.assert_array_equal(ax.lines[1].get_ydata(), sim)
+    assert ax.get_ylabel() == "reversals before the stop"
+    other = Figure().add_subplot()
+    plotting.plot_reversal_counts(x, pred, ax=other)
+    assert len(other.lines) == 1
+
+
+def test_plot_density_areas_equal_the_stiffness(ax):
+    dens = Uniform(height=3.0, max_threshold=2.0)
+    plotting.plot_density(dens, ax=ax, max_threshold=3.0, n_cells=7)
+    values, edges, _ = ax.patches[0].get_data()
+    # cell masses add up to μ([0, R]); a cell edge sits on the end of the support
+    assert np.sum(values * np.diff(edges)) == pytest.approx(dens.total_stiffness, rel=1e-12)
+    assert 2.0 in edges and np.all(values[edges[:-1] >= 2.0] == 0.0)
+    assert ax.get_xlabel() == "threshold r [m]" and ax.get_xlim() == (0.0, 3.0)
+
+
+def test_plot_density_unbounded_support(ax):
+    dens = Exponential(height=2.0, length=0.5)
+    plotting.plot_density(dens, ax=ax, label="exp")
+    # four mean thresholds: 4·∫r² dμ/∫r dμ = 4·2b = 4
+    assert ax.get_xlim()[1] == pytest.approx(4.0)
+    assert ax.get_legend() is not None
+
+
+def test_new_figure_when_ax_is_none(free_motion):
+    import matplotlib.pyplot as plt
+
+    ax = plotting.plot_forces(free_motion)
+    assert ax.figure is not None
+    plt.close(ax.figure)
+
+
+@pytest.mark.parametrize("tight", [False, True])
+def test_save_figure_size(tmp_path, tight):
+    fig = Figure(figsize=(4.0, 3.0), layout="constrained")
+    fig.add_subplot().plot([0, 1], [0, 1])
+    path = tmp_path / "f.png"
+    plotting.save_figure(fig, path, dpi=50, tight=tight)
+    image = imread(path)
+    if tight:  # cropped to the content, with a small pad
+        assert abs(image.shape[1] - 200) < 20 and abs(image.shape[0] - 150) < 20
+    else:
+        assert image.shape[:2] == (150, 200)
+    assert [p.name for p in tmp_path.iterdir()] == ["f.png"]
