@@ -137,8 +137,10 @@ def test_other_starts_converge_to_the_analysis(start):
                        initial_position=y0, t_end=40.0, step=h)  # fmt: skip
         assert res.n_reversals == tp.n_reversals >= 1
         errors.append(
-            max(np.max(np.abs(res.reversal_positions - tp.positions[:-1])),
-                abs(res.rest_position - tp.rest_position))  # fmt: skip
+            max(
+                np.max(np.abs(res.reversal_positions - tp.positions[:-1])),
+                abs(res.rest_position - tp.rest_position),
+            )
         )
     assert errors[1] < 3e-3
     assert 0.8 < order(errors)[0] < 1.25

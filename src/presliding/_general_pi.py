@@ -52,6 +52,15 @@ Functions for other compiled code
 * ``run(y, head, stack, kind, par, tab, out, dissipated) -> stack`` — the time
   loop; ``dissipated`` is an empty array or receives the cumulative dissipated
   energy ∫ M1(ρ)|dy| of the stops.
+
+All of ``run``, ``advance``, ``advance_dissipating`` and ``force_at`` are one
+compiled loop, ``_walk``: the memory lives in local variables, the density
+parameters are unpacked into scalars once (``_unpack``), and the per-sample
+update calls nothing but the scalar primitive ``_prim`` (and ``_reversal_level``
+at a reversal). Each call of a compiled function with array arguments costs
+reference counting per array (about 10 ns each), so a time loop must not call
+out per sample with the arrays; single calls (trials of an implicit step) pay
+it once per call.
 * ``elastic_energy(head, stack, kind, par, tab) -> float`` — ½∫ f² dμ.
 * ``relaxed_memory(position, capacity)``, ``saturated_memory(position, direction,
   R, capacity)`` -> (head, stack).

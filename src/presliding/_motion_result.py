@@ -21,8 +21,9 @@ FloatArray = NDArray[np.float64]
 class MotionEnergy:
     """Energy along a motion, sampled like the motion (the energy after eq. 12).
 
-    ``kinetic`` ½·m·v², ``elastic`` ½·Σ k_j f_j² (½·∫ f² dμ for a density), ``dissipated`` by the Coulomb
-    element and the sliding elements (c1·|dy| + Σ c_j·|dx_j|), ``work`` of u (∫u dy),
+    ``kinetic`` ½·m·v², ``elastic`` ½·Σ k_j f_j² (½·∫ f² dμ for a density),
+    ``dissipated`` by the Coulomb element and the sliding elements
+    (c1·|dy| + Σ c_j·|dx_j|), ``work`` of u (∫u dy),
     ``residual`` = kinetic + elastic + dissipated − work − ``initial``: zero to
     rounding for the event method; for the implicit method it equals minus the
     numerical dissipation of the scheme (O(h)).
