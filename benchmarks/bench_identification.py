@@ -5,6 +5,9 @@ Prints
   break-away c_j = (F_c − c1)/4) on 10,000 samples of simulated data, from the
   default start: the best and median wall time of several runs, and the largest
   relative parameter error;
+* over noise seeds: how many fits converge with the truth inside the 95 %
+  intervals, are flagged not identifiable, or converge wrongly, with and
+  without the multi-start and rigid-limit check;
 * fit_presliding and fit_motion timings on synthetic data;
 * when ../shared/data is present: EMPS parameters against the published IDIM-LS
   reference, the residual with and without presliding elements (estimation and
@@ -61,6 +64,39 @@ def bench_response() -> None:
         print(f"fit_response, 10,000 samples, {label}: best {best:.3f} s, "
               f"median {med:.3f} s, {fit.n_evaluations} evaluations, status {fit.status}, "
               f"max rel. error {err:.1e}")  # fmt: skip
+
+
+def bench_response_noise(noise: float = 0.003, seeds: int = 6) -> None:
+    """Outcome over noise seeds with and without the multi-start and rigid-limit check."""
+    k = [4000.0, 2000.0, 1000.0, 500.0]
+    truth = {"mass": 2.0, "coulomb_level": 1.0, "coulomb": 0.3,
+             **{f"stiffness_{j + 1}": x for j, x in enumerate(k)}}  # fmt: skip
+    model = PIFriction(0.3, k, breakaway=[0.7 / 4] * 4)
+    t = np.arange(3000) * 2.5e-4
+    u = np.select([t < 0.15, t < 0.35, t < 0.5], [2.0, -2.0, 2.0], 0.0)
+    res = simulate(model, 2.0, applied_force=(t, u), initial_velocity=0.05,
+                   initial_state="saturated", t_eval=t)  # fmt: skip
+    for multistart in (False, True):
+        right = flagged = wrong = 0
+        times = []
+        for seed in range(seeds):
+            rng = np.random.default_rng(seed)
+            v = res.velocity + noise * np.ptp(res.velocity) * rng.standard_normal(t.shape)
+            t0 = time.perf_counter()
+            fit = fit_response(Measurement(t, velocity=v, applied_force=u), multistart=multistart)
+            times.append(time.perf_counter() - t0)
+            ci = fit.confidence_interval
+            inside = all(ci[n][0] <= x <= ci[n][1] for n, x in truth.items())
+            if fit.status != "converged":
+                flagged += 1
+            elif inside:
+                right += 1
+            else:
+                wrong += 1
+        print(f"fit_response, 3000 samples, velocity noise {100 * noise:g} % of range, "
+              f"{seeds} seeds, multistart={multistart}: {right} converged with the truth in "
+              f"the 95 % intervals, {flagged} flagged not identifiable, {wrong} wrongly "
+              f"converged; median {statistics.median(times):.2f} s")  # fmt: skip
 
 
 def bench_synthetic() -> None:
@@ -120,6 +156,8 @@ def bench_tribometer() -> None:
 
 if __name__ == "__main__":
     bench_response()
+    bench_response_noise(0.003)
+    bench_response_noise(0.001)
     bench_synthetic()
     if DATA.exists():
         bench_emps()

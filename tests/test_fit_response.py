@@ -90,3 +90,97 @@ def test_bad_input():
         fit_response(Measurement(T, velocity=np.sin(T)), equal_breakaway=False, coulomb_level=1.0)
     with pytest.raises(TypeError, match="Measurement"):
         fit_response(np.zeros(4))
+
+
+# ---------------------------------------------------------------- robustness on noisy data
+TRUTH = {"mass": 2.0, "coulomb_level": 1.0, "coulomb": 0.3, "stiffness_1": 4000.0,
+         "stiffness_2": 2000.0, "stiffness_3": 1000.0, "stiffness_4": 500.0,
+         "initial_velocity": 0.05}  # fmt: skip
+SEEDS = range(6)
+
+
+@pytest.fixture(scope="module")
+def paper_response():
+    return _data(_paper_model())
+
+
+def _noisy_fit(res, noise: float, seed: int, **kw):
+    rng = np.random.default_rng(seed)
+    v = res.velocity + noise * np.ptp(res.velocity) * rng.standard_normal(res.velocity.shape)
+    return fit_response(Measurement(T, velocity=v, applied_force=U), **kw)
+
+
+def _outside(fit) -> list[str]:
+    ci = fit.confidence_interval
+    return [n for n, x in TRUTH.items() if not ci[n][0] <= x <= ci[n][1]]
+
+
+@pytest.mark.parametrize("noise", [0.01, 0.003])
+def test_noisy_round_trip_is_right_or_says_not_identifiable(paper_response, noise):
+    """Velocity noise of 1 % and 0.3 % of its range, six seeds, 95 % intervals.
+
+    Here the rigid limit of the stiffest element (k_1 → ∞, its break-away force
+    joining c1) fits the noise-free data to a residual RMS of about 6e-5 of the
+    velocity range, so at these noise levels the data often cannot separate c1
+    from that element. Each fit must then say so; a "converged" fit must hold
+    every true value inside its 95 % interval.
+    """
+    converged = 0
+    for seed in SEEDS:
+        fit = _noisy_fit(paper_response, noise, seed)
+        assert fit.status in ("converged", "not_identifiable"), (seed, fit.message)
+        if fit.status == "converged":
+            converged += 1
+            assert fit.confidence_level == 0.95
+            assert not _outside(fit), (seed, _outside(fit), fit.report())
+        else:
+            assert "do not separate" in fit.message, fit.message
+            assert fit.confidence_interval["stiffness_1"][1] == np.inf
+            assert fit.standard_error["stiffness_1"] == np.inf
+    if noise == 0.003:  # the three seeds that used to settle in the rigid corner now converge
+        assert converged >= 3
+
+
+def test_low_noise_round_trip_converges_with_truth_inside_intervals(paper_response):
+    """Velocity noise of 0.1 % of its range: identified, truth in the 95 % intervals.
+
+    Three seeds here (the benchmark runs six); the six-seed runs are above.
+    """
+    for seed in range(3):
+        fit = _noisy_fit(paper_response, 0.001, seed)
+        assert fit.status == "converged", (seed, fit.message)
+        assert not _outside(fit), (seed, _outside(fit), fit.report())
+        assert 0.2 < fit.parameters["coulomb"] / fit.parameters["coulomb_level"] < 0.4
+
+
+def test_rigid_corner_is_flagged(paper_response):
+    """Seed 7 at 0.3 % noise: the best fit is the rigid corner, and the status says so."""
+    fit = _noisy_fit(paper_response, 0.003, 7)
+    assert fit.status == "not_identifiable"
+    assert fit.parameters["stiffness_1"] > 1e5  # the corner: one element almost rigid
+
+
+@pytest.mark.parametrize("initial_state", ["saturated", "relaxed"])
+@pytest.mark.parametrize("fit_initial", [True, False])
+def test_start_from_rest_recovers_noise_free_parameters(initial_state, fit_initial):
+    """A start from rest (ẏ(0) = 0, the bound of the fitted initial velocity) to 1e-8."""
+    model = _paper_model()
+    res = simulate(model, 2.0, applied_force=(T, U), initial_velocity=0.0,
+                   initial_state=initial_state, t_eval=T)  # fmt: skip
+    meas = Measurement(T, velocity=res.velocity, applied_force=U)
+    fit = fit_response(meas, initial_state=initial_state, fit_initial=fit_initial)
+    assert fit.success, fit.message
+    for name, value in TRUTH.items():
+        if name != "initial_velocity":
+            assert fit.parameters[name] == pytest.approx(value, rel=1e-8), name
+    assert fit.parameters["initial_velocity"] == 0.0
+
+
+def test_coulomb_on_its_bound_is_reported():
+    """A model with no Coulomb element (c1 = 0) puts c1 on its bound: status at_bound."""
+    model = PIFriction(0.0, [4000.0, 1000.0], breakaway=[0.5, 0.5])
+    res = _data(model)
+    fit = fit_response(Measurement(T, velocity=res.velocity, applied_force=U), n_elements=2)
+    assert fit.status == "at_bound", fit.message
+    assert "coulomb" in fit.message and not fit.success
+    assert fit.parameters["coulomb"] == pytest.approx(0.0, abs=1e-6)

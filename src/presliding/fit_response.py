@@ -16,6 +16,19 @@ Start. Unless `initial` is given, the start comes from the inverse model: eq. 17
 as a linear regression (`presliding.fit_motion`'s machinery) on the measured
 velocity, its difference quotient and its integral, with the thresholds on a
 grid, merged into the wanted number of elements.
+
+Robustness. With equal break-away forces the stiffest element can trade places
+with the Coulomb element: as k_1 → ∞ the element turns rigid-plastic and its
+break-away force joins c1, a local minimum that fits almost as well (c1 → 0
+and one very stiff element). So the fit (i) starts from the regression start
+and from a spread start (c1/F_c between 1/4 and 3/5, the stiffest element at
+most twice the next one), compared on at most `COARSE_SAMPLES` samples, and
+refines the better on every sample; (ii) refits with that element rigid and
+compares the costs S: if S_rigid − S ≤ s²·t²_{n−p}(level) (the profile
+likelihood bound of the confidence level, s² = S/(n − p)), the data cannot
+separate c1 from the stiffest element and the status is ``"not_identifiable"``
+(the intervals then span both fits, and k_1's reaches infinity); (iii) a model
+parameter on its bound 0 gives the status ``"at_bound"``.
 """
 
 from __future__ import annotations
@@ -26,61 +39,19 @@ from dataclasses import replace
 import numpy as np
 from numpy.typing import NDArray
 
-from . import _pi_regression as pr
+from . import _response_tools as rt
 from ._validation import as_choice, as_positive_scalar
 from .fit_presliding import check_enough, check_varies, element_count
 from .fitting import FitResult, Solution, Tie, solve_least_squares
 from .friction import PIFriction
 from .measurement import Measurement
-from .operators import PIState
 
 __all__ = ["fit_response"]
 
 FloatArray = NDArray[np.float64]
 SIGNALS = ("velocity", "position", "both")
-
-
-class _Simulator:
-    """Sampled response of eq. 17 for a parameter set (exact event method)."""
-
-    def __init__(self, m: Measurement, u: FloatArray, initial_state: str, direction: float):
-        from . import motion
-
-        self.motion = motion
-        self.t = m.time
-        self.u = u
-        self.state = initial_state
-        self.direction = direction
-        n = self.t.shape[0]
-        self.dt = (self.t[-1] - self.t[0]) / (n - 1)
-        grid = self.t[0] + self.dt * np.arange(n)
-        self.uniform = bool(np.max(np.abs(grid - self.t)) <= 1e-9 * self.dt)
-        self.constant = bool(np.all(u == u[0]))
-
-    def __call__(
-        self, mass: float, c1: float, k: FloatArray, r: FloatArray, y0: float, v0: float
-    ) -> tuple[FloatArray, FloatArray, bool]:
-        n = self.t.shape[0]
-        state: str | PIState = self.state
-        if state == "saturated" and (v0 == 0 or np.sign(v0) != self.direction):
-            state = PIState.saturated(y0, r, self.direction) if k.size else "relaxed"
-        if self.uniform and self.constant and isinstance(state, str):
-            y, v = self.motion.free_response(
-                mass, c1, k, r, v0, self.dt, n, initial_position=y0,
-                initial_state=state, applied_force=float(self.u[0]),
-            )  # fmt: skip
-            return y, v, bool(np.all(np.isfinite(v)))
-        model = PIFriction(c1, k, threshold=r) if k.size else PIFriction(c1)
-        force = float(self.u[0]) if self.constant else (self.t, self.u)
-        res = self.motion.simulate(
-            model, mass, applied_force=force, initial_position=y0, initial_velocity=v0,
-            initial_state=state, t_eval=self.t, t_start=float(self.t[0]),
-        )  # fmt: skip
-        y, v = res.position, res.velocity
-        if y.shape[0] < n:
-            y = np.concatenate([y, np.full(n - y.shape[0], y[-1])])
-            v = np.concatenate([v, np.full(n - v.shape[0], v[-1])])
-        return y, v, res.success
+COARSE_SAMPLES = 2000  #: starts are compared on at most this many samples
+_BOUND = 1e-8  # a parameter below this fraction of its scale sits on its bound 0
 
 
 def fit_response(
@@ -99,6 +70,7 @@ def fit_response(
     level: float = 0.95,
     max_evaluations: int | None = None,
     tolerance: float = 1e-8,
+    multistart: bool = True,
 ) -> FitResult:
     """Fit eq. 17 by matching the simulated to the measured motion (output error).
 
@@ -131,12 +103,18 @@ def fit_response(
         (``initial_position``); a noisy first sample would otherwise bias every
         other parameter. False holds them at the first measured sample.
     fixed, tied, level, max_evaluations, tolerance : as in `fit_presliding`
+    multistart : bool, keyword only
+        Also try the spread start and test the rigid limit of the stiffest
+        element (see the module notes); only when c1 and the stiffnesses are
+        neither fixed nor tied.
 
     Returns
     -------
     FitResult
         Against time; parameters per unit mass when u = 0 and neither `mass`
-        nor `coulomb_level` is given (said in `message`).
+        nor `coulomb_level` is given (said in `message`). Status
+        ``"not_identifiable"`` when the data cannot separate c1 from the
+        stiffest element, ``"at_bound"`` when a model parameter sits on 0.
     """
     if not isinstance(measurement, Measurement):
         raise TypeError(f"`measurement` must be a Measurement; got {type(measurement).__name__}.")
@@ -150,10 +128,11 @@ def fit_response(
     m = measurement
     t = m.time
     v = m.velocity if m.velocity is not None else np.gradient(m.position, t)
-    y = m.position if m.position is not None else _integral(t, v)
+    y = m.position if m.position is not None else rt.integral(t, v)
     u = m.applied_force if m.applied_force is not None else np.zeros_like(t)
     check_varies("velocity" if m.velocity is not None else "position", v)
     fixed = dict(fixed or {})
+    tied = dict(tied or {})
     if mass is not None:
         fixed["mass"] = as_positive_scalar("mass", mass)
     if coulomb_level is not None:
@@ -166,14 +145,14 @@ def fit_response(
     names = ["mass", *(["coulomb_level"] if equal_breakaway else []), "coulomb", *k_names]
     names += [] if equal_breakaway else c_names
     names += ["initial_velocity", "initial_position"]
-    direction = _initial_direction(v, u)
+    direction = rt.initial_direction(v, u)
     if not fit_initial:
         fixed.setdefault("initial_velocity", float(v[0]))
     if not fit_initial or signal == "velocity":
         fixed.setdefault("initial_position", float(y[0]))
     check_enough(t.shape[0], len(names) - len(fixed))
     free_motion = not np.any(u)
-    start = _default_start(
+    start = rt.default_start(
         t, y, v, u, n, fixed.get("mass", 1.0 if free_motion else None), equal_breakaway
     )
     if free_motion and "mass" not in fixed and "coulomb_level" in fixed:
@@ -184,27 +163,9 @@ def fit_response(
         if key not in names:
             raise ValueError(f"`initial` names unknown parameter {key!r}; known: {names}.")
         start[key] = float(val)
-    sim = _Simulator(m, u, initial_state, direction)
-    weights = _weights(signal, m)
-    tiny = np.finfo(float).tiny
-
-    def unpack(p: FloatArray) -> tuple[float, float, FloatArray, FloatArray, float, float]:
-        q = dict(zip(names, p, strict=True))
-        c1 = max(q["coulomb"], 0.0)
-        k = np.maximum([q[x] for x in k_names], tiny)
-        if equal_breakaway:
-            c = np.full(n, max((q["coulomb_level"] - c1) / max(n, 1), tiny))
-        else:
-            c = np.maximum([q[x] for x in c_names], tiny)
-        return max(q["mass"], tiny), c1, k, c, q["initial_position"], q["initial_velocity"]
-
-    def residual(p: FloatArray) -> FloatArray:
-        mass_, c1, k, c, y0, v0 = unpack(p)
-        ys, vs, _ = sim(mass_, c1, k, c / k, y0, v0)
-        return np.concatenate(
-            [w * (s - d) for w, s, d in zip(weights, (vs, ys), (v, y), strict=True) if w]
-        )
-
+    start = {x: start[x] for x in names}
+    problem = _Problem(names, n, equal_breakaway, rt.Simulator(m, u, initial_state, direction),
+                       rt.weights(signal, m), v, y)  # fmt: skip
     bounds = dict.fromkeys(names, (0.0, np.inf))
     bounds["initial_position"] = (-np.inf, np.inf)
     saturated = initial_state == "saturated"
@@ -213,14 +174,39 @@ def fit_response(
     )
     if max_evaluations is None:
         max_evaluations = 50 * len(names)
-    sol = solve_least_squares(
-        residual, {k: start[k] for k in names}, bounds=bounds, fixed=fixed, tied=tied,
-        level=level, max_evaluations=max_evaluations, tolerance=tolerance,
-    )  # fmt: skip
-    if equal_breakaway and not (set(k_names) & (set(fixed) | set(tied or {}))):
+    options = {"bounds": bounds, "tied": tied, "level": level, "max_evaluations": max_evaluations,
+               "tolerance": tolerance, "gradient_tolerance": max(tolerance**2, 1e-15)}  # fmt: skip
+
+    evaluations = [0]
+
+    def solve(begin, rigid=False, idx=None, extra=None, **kw):
+        opts = {**options, **kw}
+        out = solve_least_squares(
+            problem.residual(rigid, idx), begin, fixed={**fixed, **(extra or {})}, **opts
+        )
+        evaluations[0] += out.n_evaluations
+        return out
+
+    shaped = {"coulomb", *k_names, *c_names} & (set(fixed) | set(tied))
+    search = multistart and n >= 1 and not shaped
+    starts = [start] + ([_spread_start(start, k_names)] if search and equal_breakaway else [])
+    if len(starts) == 1:
+        sol = solve(start)
+    elif t.shape[0] > COARSE_SAMPLES:
+        idx = np.unique(np.linspace(0, t.shape[0] - 1, COARSE_SAMPLES).round().astype(int))
+        coarse = min((solve(s, idx=idx, tolerance=1e-6) for s in starts), key=_cost)
+        sol = solve(coarse.values if np.isfinite(_cost(coarse)) else start)
+    else:
+        sol = min((solve(s) for s in starts), key=_cost)
+    sol = _polish_initial_velocity(sol, solve, fixed, tied, v)
+    if equal_breakaway and not (set(k_names) & (set(fixed) | set(tied))):
         sol = _stiffest_first(sol, k_names)
-    mass_, c1, k, c, y0, v0 = unpack(np.array([sol.values[x] for x in names]))
-    ys, vs, ok = sim(mass_, c1, k, c / k, y0, v0)
+    if search and sol.status == "converged":
+        sol = _rigid_check(sol, solve, problem, names, fixed, tied, level)
+    sol = _bound_check(sol, start, names, fixed, tied, equal_breakaway)
+    sol = replace(sol, n_evaluations=evaluations[0])  # over every start and check
+    mass_, c1, k, c, y0, v0 = problem.unpack(np.array([sol.values[x] for x in names]))
+    ys, vs, ok = problem.sim(mass_, c1, k, c / k, y0, v0)
     model = PIFriction(c1, k, breakaway=c) if n else PIFriction(c1)
     note = ""
     if per_unit_mass:
@@ -244,6 +230,148 @@ def fit_response(
     )  # fmt: skip
 
 
+class _Problem:
+    """Residual of the output-error fit for a parameter vector (all names, in order)."""
+
+    def __init__(self, names, n, equal_breakaway, sim, weights, v, y):
+        self.names, self.n, self.equal = names, n, equal_breakaway
+        self.k_names = [f"stiffness_{j + 1}" for j in range(n)]
+        self.c_names = [f"breakaway_{j + 1}" for j in range(n)]
+        self.sim, self.weights, self.v, self.y = sim, weights, v, y
+
+    def unpack(self, p: FloatArray, rigid: bool = False):
+        """mass, c1, k, c, y0, v0; `rigid`: element 1 rigid-plastic (k_1 → ∞), c_1 joins c1."""
+        tiny = np.finfo(float).tiny
+        q = dict(zip(self.names, p, strict=True))
+        c1 = max(q["coulomb"], 0.0)
+        k = np.maximum([q[x] for x in self.k_names], tiny)
+        if self.equal:
+            c = np.full(self.n, max((q["coulomb_level"] - c1) / max(self.n, 1), tiny))
+        else:
+            c = np.maximum([q[x] for x in self.c_names], tiny)
+        if rigid:
+            c1, k, c = c1 + c[0], k[1:], c[1:]
+        return max(q["mass"], tiny), c1, k, c, q["initial_position"], q["initial_velocity"]
+
+    def residual(self, rigid: bool = False, idx=None):
+        times = None if idx is None else self.sim.t[idx]
+        data = (self.v, self.y) if idx is None else (self.v[idx], self.y[idx])
+
+        def fun(p: FloatArray) -> FloatArray:
+            mass, c1, k, c, y0, v0 = self.unpack(p, rigid)
+            ys, vs, _ = self.sim(mass, c1, k, c / k, y0, v0, times)
+            return np.concatenate(
+                [w * (s - d) for w, s, d in zip(self.weights, (vs, ys), data, strict=True) if w]
+            )
+
+        return fun
+
+
+def _cost(sol: Solution) -> float:
+    """Sum of squared residuals (inf for a failed fit)."""
+    return float(sol.residual @ sol.residual) if sol.status != "failed" else np.inf
+
+
+def _polish_initial_velocity(sol, solve, fixed, tied, v) -> Solution:
+    """Refit with the initial velocity on its bound 0 when it ends next to it.
+
+    Near an active bound the trust region shrinks the steps of that parameter
+    and the fit stops early; a start from rest is common, so it is tried exactly
+    and kept when it fits at least as well.
+    """
+    x = "initial_velocity"
+    if x in fixed or x in tied or sol.status == "failed" or sol.values[x] == 0.0:
+        return sol
+    if abs(sol.values[x]) > 1e-6 * float(np.max(np.abs(v))):
+        return sol
+    alt = solve(sol.values, extra={x: 0.0})
+    return alt if _cost(alt) <= _cost(sol) else sol
+
+
+def _spread_start(start: dict[str, float], k_names: list[str]) -> dict[str, float]:
+    """The regression start moved off the rigid corner: c1/F_c in [1/4, 3/5], k_1 ≤ 2·k_2."""
+    s = dict(start)
+    fc = s["coulomb_level"]
+    s["coulomb"] = fc * min(max(s["coulomb"] / fc, 0.25), 0.6)
+    k = sorted((s[x] for x in k_names), reverse=True)
+    if len(k) > 1:
+        k[0] = min(k[0], 2.0 * k[1])
+    s.update(zip(k_names, k, strict=True))
+    return s
+
+
+def _rigid_check(sol, solve, problem, names, fixed, tied, level) -> Solution:
+    """Refit with the smallest-threshold element rigid; flag it if that fits as well."""
+    from scipy import stats
+
+    values = dict(sol.values)
+    if not problem.equal:  # put the smallest threshold first
+        r = [values[c] / values[k] for k, c in zip(problem.k_names, problem.c_names, strict=True)]
+        j = int(np.argmin(r))
+        for a, b in ((problem.k_names[0], problem.k_names[j]),
+                     (problem.c_names[0], problem.c_names[j])):  # fmt: skip
+            values[a], values[b] = values[b], values[a]
+    extra = {"stiffness_1": values["stiffness_1"]}
+    if not problem.equal:
+        extra["breakaway_1"] = values["breakaway_1"]
+    alt = solve(values, rigid=True, extra=extra)
+    cost, cost_rigid = _cost(sol), _cost(alt)
+    dof = sol.residual.shape[0] - (len(names) - len(fixed) - len(tied))
+    if dof < 1 or not np.isfinite(cost_rigid):
+        return sol
+    s2 = cost / dof
+    q2 = float(stats.t.ppf(0.5 + level / 2, dof)) ** 2
+    excess = (cost_rigid - cost) / s2 if s2 > 0 else np.inf
+    if excess > q2:
+        return sol
+    ci = dict(sol.confidence_interval)
+    for x in names:
+        if x in alt.confidence_interval and x not in extra and x not in fixed:
+            (a, b), (c, d) = ci[x], alt.confidence_interval[x]
+            ci[x] = (min(a, c, alt.values[x]), max(b, d, alt.values[x]))
+    ci["stiffness_1"] = (ci["stiffness_1"][0], np.inf)
+    se = {**sol.standard_error, "stiffness_1": np.inf}
+    message = (
+        "the data do not separate the Coulomb element from the stiffest element: with that "
+        f"element rigid (k → ∞, coulomb = {alt.values['coulomb']:.6g}) the cost rises by only "
+        f"{excess:.3g}·s² ≤ t² = {q2:.3g} (profile bound at {100 * level:g} %); the intervals "
+        "span both fits"
+    )
+    return replace(sol, status="not_identifiable", message=message, confidence_interval=ci,
+                   standard_error=se)  # fmt: skip
+
+
+def _bound_check(sol, start, names, fixed, tied, equal_breakaway) -> Solution:
+    """Status "at_bound" when a model parameter sits on its lower bound 0."""
+    if sol.status not in ("converged", "not_identifiable"):
+        return sol
+    free = [x for x in names if x not in fixed and x not in tied]
+    val = sol.values
+    k_max = max([val[x] for x in names if x.startswith("stiffness_")], default=0.0)
+    c_max = max([val[x] for x in names if x.startswith("breakaway_")], default=0.0)
+    scale = {
+        "mass": abs(start["mass"]),
+        "coulomb_level": abs(start.get("coulomb_level", 0.0)),
+        "coulomb": val.get("coulomb_level", val["coulomb"] + c_max),
+    }
+    at = []
+    for x in free:
+        ref = scale.get(x, k_max if x.startswith("stiffness_") else c_max)
+        if x not in ("initial_velocity", "initial_position") and val[x] <= _BOUND * ref:
+            at.append(f"{x} = 0")
+    if equal_breakaway and "coulomb" in free and val["coulomb"] >= val["coulomb_level"]:
+        at.append("coulomb = coulomb_level (no force left for the elements)")
+    if at:
+        message = (
+            f"the solution sits on a bound ({', '.join(at)}), where the linearised intervals "
+            f"do not hold; {sol.message}"
+        )
+        return replace(sol, status="at_bound", message=message)
+    if "initial_velocity" in free and val["initial_velocity"] == 0.0:
+        sol = replace(sol, message=sol.message + "; initial_velocity sits on its bound 0")
+    return sol
+
+
 def _stiffest_first(sol: Solution, k_names: list[str]) -> Solution:
     """Relabel the elements of equal break-away force by decreasing stiffness.
 
@@ -263,105 +391,3 @@ def _stiffest_first(sol: Solution, k_names: list[str]) -> Solution:
         standard_error=relabel(sol.standard_error),
         confidence_interval=relabel(sol.confidence_interval),
     )
-
-
-def _initial_direction(v: FloatArray, u: FloatArray) -> float:
-    """Direction of the motion before the first sample (for a saturated start)."""
-    for sig in (v[:1], u[:1], v):
-        nz = np.flatnonzero(sig)
-        if nz.size:
-            return float(np.sign(sig[nz[0]]))
-    return 1.0  # pragma: no cover - a constant zero velocity is rejected before
-
-
-def _integral(t: FloatArray, v: FloatArray) -> FloatArray:
-    """Cumulative trapezoid integral from 0."""
-    return np.concatenate([[0.0], np.cumsum(0.5 * (v[1:] + v[:-1]) * np.diff(t))])
-
-
-def _weights(signal: str, m: Measurement) -> tuple[float, float]:
-    """Weights of the velocity and position residuals (0 = not compared)."""
-    if signal == "velocity":
-        return 1.0, 0.0
-    if signal == "position":
-        return 0.0, 1.0
-    rv = float(np.sqrt(np.mean(m.velocity**2)))
-    ry = float(np.sqrt(np.mean((m.position - np.mean(m.position)) ** 2)))
-    if not (rv > 0 and ry > 0):
-        raise ValueError("`velocity` and `position` must vary for signal='both'.")
-    return 1.0 / rv, 1.0 / ry
-
-
-def _default_start(
-    t: FloatArray,
-    y: FloatArray,
-    v: FloatArray,
-    u: FloatArray,
-    n: int,
-    mass: float | None,
-    equal_breakaway: bool,
-) -> dict[str, float]:
-    """Start values from eq. 17 as a regression (inverse model) on the measured motion.
-
-    Eq. 17 integrated in time, m·(v − v0) + ∫(c1·sign v + Σ k_j stop_j) dt = ∫u dt,
-    needs no differentiation of a noisy velocity. Bounded linear least squares
-    for m, c1 and the stiffnesses of a grid of stops gives a nonparametric
-    virgin curve G(s) of the elastic part; the N elements are then fitted to G
-    (with equal break-away forces if asked).
-    """
-    from scipy.optimize import lsq_linear
-
-    a = np.gradient(v, t)
-    grid = pr.threshold_grid(y, 32)
-    columns = [np.sign(v), *pr.stop_basis(y)(grid)[0].T]
-    columns = [_integral(t, c) for c in columns]
-    rhs = _integral(t, u) - (0.0 if mass is None else mass * (v - v[0]))
-    if mass is None:
-        columns.insert(0, v - v[0])
-    used = np.ones(t.shape[0], dtype=bool)
-    mat = np.column_stack(columns)[used]
-    scale = np.linalg.norm(mat, axis=0)
-    scale[scale == 0] = 1.0
-    ok = used.sum() > mat.shape[1] and np.ptp(y) > 0
-    sol = lsq_linear(mat / scale, rhs[used], bounds=(0.0, np.inf)).x / scale if ok else None
-    mass_ = (1.0 if mass is None else mass) if sol is None or mass is not None else sol[0]
-    if sol is None or not mass_ > 0:
-        mass_ = 1.0 if mass is None else mass
-        fc = mass_ * float(np.mean(np.abs(a[used]))) if used.any() else 1.0
-        c1, weights = 0.5 * fc, np.zeros_like(grid)
-    else:
-        c1, weights = sol[int(mass is None)], sol[int(mass is None) + 1 :]
-    fc = c1 + float(weights @ grid)
-    if not fc > 0:
-        fc = mass_ * float(np.mean(np.abs(a))) or 1.0
-    if not c1 > 0 or c1 >= fc:
-        c1 = 0.5 * fc
-    start = {"mass": float(mass_), "coulomb": float(c1)}
-    if equal_breakaway:
-        start["coulomb_level"] = float(fc)
-        k = _equal_breakaway_stiffness(grid, weights, (fc - c1) / max(n, 1), n)
-    else:
-        r, k = pr.merge_grid(grid, np.where(weights > 0, weights, 0.0), n)
-        start.update({f"breakaway_{j + 1}": float(x) for j, x in enumerate(k * r)})
-    start.update({f"stiffness_{j + 1}": float(x) for j, x in enumerate(k)})
-    return start
-
-
-def _equal_breakaway_stiffness(
-    grid: FloatArray, weight: FloatArray, c: float, n: int
-) -> FloatArray:
-    """Stiffnesses k_j (descending) with Σ_j min(k_j·s, c) closest to G(s) = Σ_g w_g·min(s, r_g)."""
-    from scipy.optimize import least_squares
-
-    s = np.geomspace(grid[0] / 4, grid[-1] * 2, 200)
-    target = np.minimum(s[:, None], grid[None, :]) @ weight
-    # start: element j saturates where G reaches (j + 1/2)·c
-    levels = (np.arange(n) + 0.5) * c
-    r0 = np.interp(levels, target, s) if np.ptp(target) > 0 else np.geomspace(s[0], s[-1], n)
-    r0 = np.maximum(r0, s[0])
-
-    def res(logk: FloatArray) -> FloatArray:
-        return np.minimum(np.exp(logk)[None, :] * s[:, None], c).sum(axis=1) - target
-
-    fit = least_squares(res, np.log(c / r0), method="lm", xtol=1e-10)
-    return np.sort(np.exp(fit.x))[::-1]

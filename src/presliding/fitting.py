@@ -37,7 +37,7 @@ FloatArray = NDArray[np.float64]
 Tie = str | tuple[str, float]
 
 #: Status values of a fit: only "converged" is a success.
-STATUSES = ("converged", "not_identifiable", "max_evaluations", "failed")
+STATUSES = ("converged", "not_identifiable", "at_bound", "max_evaluations", "failed")
 _RANK_TOL = 1e-7  # relative singular value below which a direction counts as undetermined
 
 
@@ -159,6 +159,7 @@ def solve_least_squares(
     max_evaluations: int | None = None,
     tolerance: float = 1e-8,
     difference: str = "3-point",
+    gradient_tolerance: float | None = None,
 ) -> Solution:
     """Minimise ‖residual(p)‖² over named parameters, some fixed or tied.
 
@@ -182,6 +183,11 @@ def solve_least_squares(
         ftol, xtol and gtol of scipy.optimize.least_squares.
     difference : {"3-point", "2-point"}
         Finite-difference scheme when no `jacobian` is given.
+    gradient_tolerance : float, optional
+        gtol of scipy.optimize.least_squares (default `tolerance`). Its test is
+        absolute in the residual's units, so a fit whose residual vanishes at
+        the optimum (noise-free data) may want a much smaller value and stop on
+        the relative step and cost tests instead.
     """
     from scipy import optimize, stats
 
@@ -221,7 +227,8 @@ def solve_least_squares(
         try:
             res = optimize.least_squares(
                 fun, x0, jac=jac, bounds=(lo, hi), method="trf", x_scale="jac", tr_solver="exact",
-                ftol=tolerance, xtol=tolerance, gtol=tolerance, max_nfev=max_evaluations,
+                ftol=tolerance, xtol=tolerance, max_nfev=max_evaluations,
+                gtol=tolerance if gradient_tolerance is None else gradient_tolerance,
             )  # fmt: skip
         except (ValueError, np.linalg.LinAlgError, FloatingPointError) as exc:
             return _failed(pm, x0, fixed, tied, level, f"the optimiser failed: {exc}")
@@ -330,7 +337,9 @@ class FitResult:
         RMS of measured − fitted, that RMS over the range of the measured
         signal, and ‖measured − fitted‖/‖measured − mean‖ (see `fit_statistics`).
     status : str
-        ``"converged"``, ``"not_identifiable"``, ``"max_evaluations"`` or ``"failed"``.
+        ``"converged"``, ``"not_identifiable"``, ``"at_bound"`` (a parameter sits on
+        a bound, where the linearised interval does not hold), ``"max_evaluations"``
+        or ``"failed"``.
     message : str
     n_evaluations : int
     derived : dict name -> float
