@@ -43,7 +43,15 @@ if sys.version_info >= (3, 11):
 else:  # pragma: no cover
     import tomli as tomllib
 
-__all__ = ["ModelFile", "MotionSettings", "load_model", "model_to_toml", "save_model"]
+__all__ = [
+    "ModelFile",
+    "MotionSettings",
+    "load_model",
+    "model_from_tables",
+    "model_to_toml",
+    "read_tables",
+    "save_model",
+]
 
 _FRICTION_KEYS = {"coulomb", "stiffness", "breakaway", "threshold", "density"}
 #: Density kinds of ``[friction.density]``: class and its keys (required, optional).
@@ -136,6 +144,35 @@ def load_model(path: str | Path) -> ModelFile:
         raise ModelFileError(
             f"{path}: unknown table `{unknown[0]}`; allowed tables are friction, motion."
         )
+    return model_from_tables(path, data)
+
+
+def read_tables(path: str | Path) -> dict[str, Any]:
+    """The top-level tables of a TOML file (or JSON, by its suffix), unchecked.
+
+    For files that hold a model beside tables of their own (e.g. a sweep
+    specification): pass the result to `model_from_tables`.
+
+    Raises
+    ------
+    ModelFileError
+        (a ValueError) naming the file for a missing, unreadable or invalid file.
+    """
+    return _read_mapping(Path(path))
+
+
+def model_from_tables(path: str | Path, data: dict[str, Any]) -> ModelFile:
+    """The model and motion settings of the `friction` and `motion` tables of `data`.
+
+    Validates them exactly as `load_model` does (other tables are left to the
+    caller); `path` names the file in the error messages.
+
+    Raises
+    ------
+    ModelFileError
+        (a ValueError) naming the file and the field for any problem.
+    """
+    path = Path(path)
     if "friction" not in data:
         raise ModelFileError(f"{path}: missing table `friction` (with coulomb, stiffness, ...).")
     fr = _table(path, data, "friction", _FRICTION_KEYS)
