@@ -10,7 +10,7 @@ from numpy.testing import assert_allclose, assert_array_equal
 
 from _reference import drive_springs
 from conftest import PROPERTY, banks, paths, sample_between, turning_points
-from presliding import PIOperator, PIState, _kernels, play, stop
+from presliding import PIFriction, PIOperator, PIState, _kernels, play, stop
 
 # ----------------------------------------------------------------------------- helpers
 
@@ -412,3 +412,22 @@ def test_no_energy_is_created_around_a_closed_cycle(bank, loop, data):
     moves = np.diff(np.concatenate([[y[0]], y]))
     work = sum(float(segment_work(f[t], moves[t], r) @ k) for t in range(y.size))
     assert work >= -1e-12 * float(k @ r) * (np.sum(np.abs(moves)) + np.max(r))
+
+
+@pytest.mark.parametrize(
+    ("path", "prior", "expected"),
+    [
+        ([0.0, 1.0, 1.0, 1.0], None, 1.0),  # a flat tail keeps the last direction
+        ([0.0, -1.0, 0.5, 0.5], None, 1.0),
+        ([2.0, 1.0, 1.0], None, -1.0),
+        ([3.0, 3.0, 3.0], None, 0.0),  # no motion yet
+        ([3.0, 3.0], PIState(3.0, [3.0], -1.0), -1.0),  # carried over from the state
+        ([3.0, 3.0], PIState(2.5, [2.5], 0.0), 1.0),  # the increment into the first sample
+    ],
+)
+def test_final_direction_is_the_sign_of_the_last_nonzero_increment(path, prior, expected):
+    op = PIOperator([1.0], [1.0])
+    _, state = op.apply(np.array(path), prior)
+    assert state.direction == expected
+    _, per_sample = PIFriction(0.5, [1.0], threshold=[1.0]).force(np.array(path), prior)
+    assert per_sample.direction == expected

@@ -116,6 +116,18 @@ def motion_direction(y, previous_input, previous_direction, out):  # pragma: no 
     return d
 
 
+@nb.njit(cache=True)
+def last_direction(y, previous_input, previous_direction):  # pragma: no cover
+    """Only the direction after the last sample: scans back to the last nonzero increment."""
+    for t in range(y.shape[0] - 1, -1, -1):
+        before = y[t - 1] if t > 0 else previous_input
+        if y[t] > before:
+            return 1.0
+        if y[t] < before:
+            return -1.0
+    return previous_direction
+
+
 def empty_outputs(n_time: int, n_el: int) -> np.ndarray:
     """C-ordered (T, N) float64 buffer for per-element outputs."""
     return np.empty((n_time, n_el), dtype=np.float64)

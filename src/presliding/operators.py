@@ -258,7 +258,7 @@ class PIOperator:
         _kernels.stop_sum(yv, self.threshold, self.weight, x, out)
         if self.linear != 0.0:
             out += self.linear * yv
-        d = _kernels.motion_direction(yv, prev, direction, np.empty(yv.shape[0]))
+        d = _kernels.last_direction(yv, prev, direction)
         return out, PIState(float(yv[-1]), x, d)
 
     def inverse(self) -> PIOperator:
