@@ -105,3 +105,14 @@ def sample_between(points: list[float], step: float) -> np.ndarray:
         pieces.append(a + (b - a) * np.arange(1, n + 1) / n)
         pieces[-1][-1] = b
     return np.concatenate(pieces)
+
+
+def one_error_line(capsys, *needles):
+    """The command printed exactly one error line, no traceback, containing each needle."""
+    err = capsys.readouterr().err
+    lines = err.strip().splitlines()
+    assert len(lines) == 1, err
+    assert "Traceback" not in err
+    for needle in needles:
+        assert needle in lines[0], lines[0]
+    return lines[0]

@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 import presliding as ps
+from conftest import one_error_line
 from presliding import analysis
 from presliding.cli import main
 from presliding.model_io import load_model
@@ -37,16 +38,6 @@ def model_file(tmp_path):
     path = tmp_path / "model.toml"
     path.write_text(MODEL_TOML, encoding="utf-8")
     return path
-
-
-def _one_error_line(capsys, *needles):
-    err = capsys.readouterr().err
-    lines = err.strip().splitlines()
-    assert len(lines) == 1, err
-    assert "Traceback" not in err
-    for needle in needles:
-        assert needle in lines[0], lines[0]
-    return lines[0]
 
 
 def _is_png(path):
@@ -276,34 +267,34 @@ def test_bad_model_file_is_one_line_exit_2(tmp_path, capsys, text, needle):
     path.write_text(text, encoding="utf-8")
     for cmd in (["simulate", str(path), "-o", str(tmp_path / "o")], ["analyze", str(path)]):
         assert main(cmd) == 2
-        _one_error_line(capsys, "bad.toml", needle)
+        one_error_line(capsys, "bad.toml", needle)
     assert not (tmp_path / "o" / "simulation.csv").exists()
 
 
 def test_missing_file(tmp_path, capsys):
     assert main(["analyze", str(tmp_path / "absent.toml")]) == 2
-    _one_error_line(capsys, "absent.toml", "no such file")
+    one_error_line(capsys, "absent.toml", "no such file")
     assert (
         main(["fit", str(tmp_path / "nope.csv"), "--kind", "presliding", "-o", str(tmp_path / "f")])
         == 2
     )
-    _one_error_line(capsys, "nope.csv", "no such file")
+    one_error_line(capsys, "nope.csv", "no such file")
 
 
 def test_missing_column(tmp_path, capsys):
     path = tmp_path / "d.csv"
     path.write_text("displacement,temperature\n0,1\n1,2\n", encoding="utf-8")
     assert main(["fit", str(path), "--kind", "presliding", "-o", str(tmp_path / "f")]) == 2
-    _one_error_line(capsys, "d.csv", "friction_force", "--columns friction_force=COLUMN")
+    one_error_line(capsys, "d.csv", "friction_force", "--columns friction_force=COLUMN")
     args = ["fit", str(path), "--kind", "presliding", "--columns", "friction_force=F"]
     assert main([*args, "-o", str(tmp_path / "f")]) == 2
-    _one_error_line(capsys, "d.csv", "'F'", "temperature")
+    one_error_line(capsys, "d.csv", "'F'", "temperature")
     u = tmp_path / "u.csv"
     u.write_text("time,force\n0,1\n", encoding="utf-8")
     model = tmp_path / "m.toml"
     model.write_text(MODEL_TOML, encoding="utf-8")
     assert main(["simulate", str(model), "--applied-force", str(u), "-o", str(tmp_path)]) == 2
-    _one_error_line(capsys, "u.csv", "value")
+    one_error_line(capsys, "u.csv", "value")
 
 
 @pytest.mark.parametrize(
@@ -320,14 +311,14 @@ def test_bad_data_rows(tmp_path, capsys, body, needle):
     path = tmp_path / "d.csv"
     path.write_text(body, encoding="utf-8")
     assert main(["fit", str(path), "--kind", "presliding", "-o", str(tmp_path / "f")]) == 2
-    _one_error_line(capsys, "d.csv", needle)
+    one_error_line(capsys, "d.csv", needle)
 
 
 def test_bad_parameter_from_the_library(tmp_path, capsys):
     path = tmp_path / "flat.csv"
     path.write_text("displacement,friction\n" + "".join(f"{i},1.0\n" for i in range(20)))
     assert main(["fit", str(path), "--kind", "presliding", "-o", str(tmp_path / "f")]) == 2
-    _one_error_line(capsys, "flat.csv", "cannot fit")
+    one_error_line(capsys, "flat.csv", "cannot fit")
     assert (
         main(
             [
@@ -343,7 +334,7 @@ def test_bad_parameter_from_the_library(tmp_path, capsys):
         )
         == 2
     )
-    _one_error_line(capsys, "--elements")
+    one_error_line(capsys, "--elements")
     assert (
         main(
             [
@@ -359,7 +350,7 @@ def test_bad_parameter_from_the_library(tmp_path, capsys):
         )
         == 2
     )
-    _one_error_line(capsys, "--scale")
+    one_error_line(capsys, "--scale")
 
 
 def test_output_never_overwrites_an_input(tmp_path, model_file, capsys):
@@ -367,14 +358,14 @@ def test_output_never_overwrites_an_input(tmp_path, model_file, capsys):
     original = "time,value\n0,0.5\n"
     u.write_text(original, encoding="utf-8")
     assert main(["simulate", str(model_file), "--applied-force", str(u), "-o", str(u)]) == 2
-    _one_error_line(capsys, "u.csv", "input")
+    one_error_line(capsys, "u.csv", "input")
     assert u.read_text() == original
     out = tmp_path / "fitdir"
     out.mkdir()
     data = out / "report.md"  # a data file where the fit writes its report
     data.write_text("displacement,friction\n0,1\n1,2\n", encoding="utf-8")
     assert main(["fit", str(data), "--kind", "presliding", "-o", str(out)]) == 2
-    _one_error_line(capsys, "report.md", "input")
+    one_error_line(capsys, "report.md", "input")
     assert data.read_text() == "displacement,friction\n0,1\n1,2\n"
 
 
@@ -382,7 +373,7 @@ def test_demo_output_must_be_a_folder(tmp_path, capsys):
     f = tmp_path / "file"
     f.write_text("x")
     assert main(["demo", "-o", str(f)]) == 2
-    _one_error_line(capsys, "is a file")
+    one_error_line(capsys, "is a file")
 
 
 def test_debug_shows_the_traceback(tmp_path):
@@ -440,4 +431,4 @@ def test_simulate_a_continuous_density(tmp_path, capsys):
     assert data[-1, 2] == 0.0  # at rest, exactly
     assert data[-1, 1] == pytest.approx(pred.rest_position, rel=5e-4)
     assert main(["simulate", str(path), "--step", "-1", "-o", str(out)]) == 2
-    _one_error_line(capsys, "dens.toml", "step")
+    one_error_line(capsys, "dens.toml", "step")

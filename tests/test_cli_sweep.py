@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 import presliding as ps
+from conftest import one_error_line
 from presliding import analysis
 from presliding._cli_sweep import chunk_size, default_workers
 from presliding._sweep_spec import evaluate_chunk, load_spec
@@ -60,16 +61,6 @@ def _png_size(path):
     data = path.read_bytes()
     assert data[:8] == PNG_MAGIC and len(data) > 5000
     return int.from_bytes(data[16:20], "big"), int.from_bytes(data[20:24], "big")
-
-
-def _one_error_line(capsys, *needles):
-    err = capsys.readouterr().err
-    lines = err.strip().splitlines()
-    assert len(lines) == 1, err
-    assert "Traceback" not in err
-    for needle in needles:
-        assert needle in lines[0], lines[0]
-    return lines[0]
 
 
 # ---------------------------------------------------------------------- runs
@@ -165,7 +156,7 @@ def test_points_not_at_rest_exit_1_with_nan(tmp_path, capsys):
     text = TWO_AXES.replace("t_end = 60.0", "t_end = 0.5").replace("start = 0.04", "start = 0.0")
     spec = _write(tmp_path, text)
     assert main(["sweep", str(spec), "-o", str(tmp_path / "o")]) == 1
-    line = _one_error_line(capsys, "did not come to rest", "raise motion.t_end")
+    line = one_error_line(capsys, "did not come to rest", "raise motion.t_end")
     assert "presliding sweep:" in line
     _, data = _read_csv(tmp_path / "o" / "sweep.csv")
     moving = data[:, 3] == 0
@@ -299,22 +290,22 @@ BAD_SPECS = [
 def test_bad_specification_is_one_line_exit_2(tmp_path, capsys, text, needle):
     spec = _write(tmp_path, text)
     assert main(["sweep", str(spec), "-o", str(tmp_path / "o")]) == 2
-    line = _one_error_line(capsys, needle)
+    line = one_error_line(capsys, needle)
     assert line.startswith(f"presliding sweep: error: {spec}:")
     assert not (tmp_path / "o" / "sweep.csv").exists()
 
 
 def test_missing_file_and_bad_options(tmp_path, capsys):
     assert main(["sweep", str(tmp_path / "nope.toml")]) == 2
-    _one_error_line(capsys, "nope.toml: no such file")
+    one_error_line(capsys, "nope.toml: no such file")
     spec = _write(tmp_path, TWO_AXES)
     assert main(["sweep", str(spec), "--workers", "0", "-o", str(tmp_path / "o")]) == 2
-    _one_error_line(capsys, "--workers must be a whole number >= 1; got 0")
+    one_error_line(capsys, "--workers must be a whole number >= 1; got 0")
     args = ["sweep", str(spec), "--workers", "2", "--scheduler", "tcp://127.0.0.1:1"]
     assert main(args) == 2
-    _one_error_line(capsys, "give one of the two")
+    one_error_line(capsys, "give one of the two")
     assert main(["sweep", str(spec), "-o", str(spec)]) == 2  # -o is the input file
-    _one_error_line(capsys, "is a file, not a folder")
+    one_error_line(capsys, "is a file, not a folder")
 
 
 def test_never_writes_onto_the_input(tmp_path, capsys):
@@ -322,18 +313,18 @@ def test_never_writes_onto_the_input(tmp_path, capsys):
     out.mkdir()
     spec = _write(out, TWO_AXES, "report.md")  # a TOML file that an output would replace
     assert main(["sweep", str(spec), "-o", str(out)]) == 2
-    _one_error_line(capsys, "is the input file")
+    one_error_line(capsys, "is the input file")
     assert spec.read_text() == TWO_AXES and not (out / "sweep.csv").exists()
 
 
 def test_scheduler_address_and_missing_dask(tmp_path, capsys, monkeypatch):
     spec = _write(tmp_path, TWO_AXES)
     assert main(["sweep", str(spec), "-o", str(tmp_path / "o"), "--scheduler", "nonsense"]) == 2
-    _one_error_line(capsys, "--scheduler nonsense: not a scheduler address", "tcp://")
+    one_error_line(capsys, "--scheduler nonsense: not a scheduler address", "tcp://")
     monkeypatch.setitem(sys.modules, "distributed", None)
     args = ["sweep", str(spec), "-o", str(tmp_path / "o"), "--scheduler", "tcp://127.0.0.1:1"]
     assert main(args) == 2
-    _one_error_line(capsys, r"pip install presliding[dask]")
+    one_error_line(capsys, r"pip install presliding[dask]")
     assert not (tmp_path / "o" / "sweep.csv").exists()
 
 
@@ -362,5 +353,5 @@ def test_a_failed_chunk_exits_1_and_writes_nothing(tmp_path, capsys, monkeypatch
     monkeypatch.setattr("presliding._cli_sweep.evaluate_chunk", _failing_chunk)
     spec = _write(tmp_path, TWO_AXES)
     assert main(["sweep", str(spec), "-o", str(tmp_path / "o"), "--workers", "1"]) == 1
-    _one_error_line(capsys, "presliding sweep: failed:", "RuntimeError: no motion here")
+    one_error_line(capsys, "presliding sweep: failed:", "RuntimeError: no motion here")
     assert not (tmp_path / "o" / "sweep.csv").exists()

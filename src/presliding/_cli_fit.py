@@ -198,7 +198,7 @@ UNITS = {"presliding": "N", "motion": "N", "response": "m/s"}
 
 
 def _save_fit_figure(args: argparse.Namespace, sig: dict, result: Any, path: Path) -> None:
-    from .plotting import plot_fit, plot_hysteresis, save_figure
+    from .plotting import plot_fit, plot_loop_fit, save_figure
 
     unit = UNITS[args.kind]
     if args.kind == "response" and result.signal_label == "position":
@@ -206,10 +206,7 @@ def _save_fit_figure(args: argparse.Namespace, sig: dict, result: Any, path: Pat
     head = f"{args.data.name}: {result.kind} fit, {result.status}, NRMSE {100 * result.nrmse:.2f} %"
     if args.kind == "presliding":
         fig, axes = new_figure(2, 1, size=(13.2, 4.8))
-        ax = plot_hysteresis(result.abscissa, result.measured, ax=axes[0, 0])
-        ax.lines[0].set(ls="none", marker=".", ms=2.0, color="0.55", label="measured")
-        ax.plot(result.abscissa, result.fitted, color="C1", lw=1.4, label="fitted model")
-        ax.legend(frameon=False, loc="upper left")
+        ax = plot_loop_fit(result.abscissa, result.measured, result.fitted, ax=axes[0, 0])
         ax.set_title("friction force against displacement")
         ax = plot_fit(
             np.arange(result.measured.shape[0]),

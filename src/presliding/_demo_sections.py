@@ -166,15 +166,13 @@ def identification() -> dict[str, Any]:
 
 
 def identification_figure(part: dict[str, Any], out_dir: Path) -> Path:
-    from .plotting import plot_fit, plot_hysteresis
+    from .plotting import plot_fit, plot_loop_fit
 
     fit = part["fit"]
     fig, axes = _figure(2, (13.2, 4.8))
-    y = part["path"]
-    ax = plot_hysteresis(y, part["measured"], ax=axes[0])
-    ax.lines[0].set(ls="none", marker=".", ms=2.0, color="0.55", label="measured (noisy)")
-    ax.plot(fit.abscissa, fit.fitted, color="C1", lw=1.4, label="fitted model")
-    ax.legend(frameon=False, loc="upper left")
+    ax = plot_loop_fit(
+        fit.abscissa, fit.measured, fit.fitted, ax=axes[0], measured_label="measured (noisy)"
+    )
     ax.set_title("loops: simulated with noise, and the fitted model")
     ax = plot_fit(
         np.arange(fit.measured.shape[0]),

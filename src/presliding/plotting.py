@@ -18,6 +18,7 @@ __all__ = [
     "plot_fit",
     "plot_forces",
     "plot_hysteresis",
+    "plot_loop_fit",
     "plot_motion",
     "plot_reversal_counts",
     "plot_sweep",
@@ -80,6 +81,22 @@ def save_figure(fig: Any, path: Any, dpi: int = 120, *, tight: bool = True) -> N
 
     with atomic_path(path) as tmp:
         fig.savefig(tmp, dpi=dpi, format="png", bbox_inches="tight" if tight else None)
+
+
+def plot_loop_fit(
+    displacement: ArrayLike,
+    measured: ArrayLike,
+    fitted: ArrayLike,
+    *,
+    ax: Axes | None = None,
+    measured_label: str = "measured",
+) -> Axes:
+    """Measured force as dots and the fitted model as a line, against displacement."""
+    ax = plot_hysteresis(displacement, measured, ax=ax)
+    ax.lines[0].set(ls="none", marker=".", ms=2.0, color="0.55", label=measured_label)
+    ax.plot(np.asarray(displacement), np.asarray(fitted), color="C1", lw=1.4, label="fitted model")
+    ax.legend(frameon=False, loc="upper left")
+    return ax
 
 
 def plot_fit(
