@@ -76,6 +76,8 @@ def test_inverse_chunked_equals_whole(op, force, cut):
 def test_inverse_of_inverse_is_the_operator(op, y):
     twice = op.inverse().inverse()
     r, _ = loading_slopes(op)
+    # thresholds a rounding apart may merge on the way there and back
+    r = r[np.concatenate(([True], np.diff(r) > 1e-12 * r[1:]))]
     np.testing.assert_allclose(twice.threshold, r, rtol=1e-12)
     assert twice.linear == pytest.approx(op.linear, rel=1e-12)
     f1, _ = op.apply(y)
