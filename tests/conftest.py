@@ -7,6 +7,7 @@ folder is on ``sys.path`` under pytest's default import mode).
 from __future__ import annotations
 
 import itertools
+import os
 
 import numpy as np
 import pytest
@@ -33,6 +34,12 @@ def figure3(request: pytest.FixtureRequest) -> PIFriction:
 
 # ----------------------------------------------------------------- hypothesis
 #: Settings for property tests: numba kernels compile on first use, so no deadline.
+# In CI (CI=true) the property tests draw a fixed sequence of examples, so a
+# run is reproducible; locally every run explores new ones.
+settings.register_profile("ci", derandomize=True, deadline=None, print_blob=True)
+if os.environ.get("CI", "").lower() in ("1", "true", "yes"):
+    settings.load_profile("ci")
+
 PROPERTY = settings(max_examples=60, deadline=None)
 
 
