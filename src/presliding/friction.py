@@ -250,7 +250,7 @@ class PIFriction:
         final_state : PIState
         """
         y = as_signal("displacement", displacement)
-        return self._run(y, state)[1:]
+        return self._run(y, state)[:2]
 
     def force(
         self, displacement: ArrayLike, state: PIState | MemoryState | None = None
@@ -277,24 +277,24 @@ class PIFriction:
             bit-identical results to a single call.
         """
         y = as_signal("displacement", displacement)
-        direction, elastic, final = self._run(y, state)
+        elastic, final, prev, d0 = self._run(y, state)
+        direction = np.empty(y.shape[0])
+        _kernels.motion_direction(y, prev, d0, direction)
         return elastic + self.coulomb * direction, final
 
     def _run(
         self, y: FloatArray, state: PIState | MemoryState | None
-    ) -> tuple[FloatArray, FloatArray, PIState | MemoryState]:
+    ) -> tuple[FloatArray, PIState | MemoryState, float, float]:
+        """Elastic force, final memory, and the input and direction before the first sample."""
         if not self.is_discrete:
             elastic, _, final = run_density(self.density, y, state)  # type: ignore[arg-type]
             prev, d0 = (float(y[0]), 0.0) if state is None else (state.last_input, state.direction)
-            direction = np.empty(y.shape[0])
-            _kernels.motion_direction(y, prev, d0, direction)
-            return direction, elastic, final
+            return elastic, final, prev, d0
         x, prev, d0 = start_memory(y, self.threshold, state)
         elastic = np.empty(y.shape[0])
         _kernels.stop_sum(y, self.threshold, self.stiffness, x, elastic)
-        direction = np.empty(y.shape[0])
-        d = _kernels.motion_direction(y, prev, d0, direction)
-        return direction, elastic, PIState(float(y[-1]), x, d)
+        d = _kernels.last_direction(y, prev, d0)
+        return elastic, PIState(float(y[-1]), x, d), prev, d0
 
 
 def _take_density(model: PIFriction, c1: float) -> bool:
