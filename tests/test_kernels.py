@@ -67,12 +67,66 @@ def test_stop_sum_matches_the_straightforward_kernel(n, n_time):
     y = walk(n_time, rng)
     x0 = y[0] - rng.uniform(-1.0, 1.0, n) * r  # a non-relaxed start
     ref, x_ref = reference(y, r, w, x0)
-    for kernel in (_kernels.stop_sum, _fused.stop_sum_blocked):
+    for kernel in (_kernels.stop_sum, _fused.stop_sum_blocked, _fused.stop_sum_one_sided):
         x = x0.copy()
         out = np.empty(n_time)
         kernel(y, r, w, x, out)
         assert_bit_identical(x, x_ref)
         assert np.max(np.abs(out - ref)) <= 1e-12 * scale(r, w)
+
+
+def plateaued_input(n_time: int, rng: np.random.Generator, offset: float) -> np.ndarray:
+    """A walk on a coarse grid around ``offset``: plateaus (equal samples), reversals of every
+    length and, with a large offset, bands y ± r that round."""
+    steps = rng.choice([-2.0, -1.0, 0.0, 0.0, 1.0, 3.0], n_time) * 0.003
+    return offset + np.cumsum(steps)
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    n=st.sampled_from([1, 8, 64, 200]),
+    n_time=st.integers(1, 300),
+    offset=st.sampled_from([0.0, 1.0, 1e3, -1e8]),
+    seed=st.integers(0, 2**32 - 1),
+)
+def test_one_sided_updates_are_bit_identical_to_the_two_sided_clamp(n, n_time, offset, seed):
+    # the one-sided update relies on each state lying in its band for the previous
+    # sample; the state handed in does not (some lie far outside), so the first
+    # sample must take the full clamp
+    rng = np.random.default_rng(seed)
+    r, w = bank(n, rng)
+    y = plateaued_input(n_time, rng, offset)
+    x0 = y[0] + rng.uniform(-3.0, 3.0, n) * r
+    ref, x_ref = reference(y, r, w, x0)
+    x_play = x0.copy()
+    states = np.empty((n_time, n))
+    _kernels.play_outputs(y, r, x_play, states)
+    x = x0.copy()
+    out = np.empty(n_time)
+    _fused.stop_sum_one_sided(y, r, w, x, out)
+    assert_bit_identical(x, x_ref)
+    assert_bit_identical(x, x_play)
+    # every intermediate state: run sample by sample and compare with play_outputs
+    x_step = x0.copy()
+    one = np.empty(1)
+    for t in range(n_time):
+        _fused.stop_sum_one_sided(y[t : t + 1], r, w, x_step, one)
+        assert_bit_identical(x_step, states[t])
+    bound = 1e-12 * scale(r, w) + np.abs(w).sum() * np.spacing(abs(offset) + 1.0)
+    assert np.max(np.abs(out - ref)) <= bound
+
+
+def test_one_sided_kernel_is_not_the_two_sided_one_on_an_outside_start():
+    # a test that can fail: dropping the first full clamp gives other states here
+    r = np.array([0.1, 0.2] * 32)
+    w = np.ones(64)
+    y = np.array([0.0, 0.05, 0.1])
+    x0 = np.full(64, 5.0)  # far above every band
+    x = x0.copy()
+    out = np.empty(3)
+    _fused.stop_sum_one_sided(y, r, w, x, out)
+    np.testing.assert_array_equal(x, r)  # clamped to y + r at y = 0, then inside the band
+    assert out[0] == pytest.approx(-(0.1 * 32 + 0.2 * 32))
 
 
 def test_stop_sum_play_states_are_those_of_play_outputs():
@@ -93,7 +147,7 @@ def test_stop_sum_play_states_are_those_of_play_outputs():
 
 @settings(max_examples=40, deadline=None)
 @given(
-    n=st.sampled_from([1, 3, 5, 8, 12, 40]),
+    n=st.sampled_from([1, 3, 5, 8, 12, 40, 64, 130]),
     cuts=st.lists(st.integers(0, 400), min_size=1, max_size=6),
     seed=st.integers(0, 2**32 - 1),
 )

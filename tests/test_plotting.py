@@ -91,3 +91,45 @@ def test_save_figure_size(tmp_path, tight):
     else:
         assert image.shape[:2] == (150, 200)
     assert [p.name for p in tmp_path.iterdir()] == ["f.png"]
+
+
+@pytest.mark.parametrize(
+    "model",
+    [
+        ps.PIFriction(0.1, [1.0, 0.5, 0.25], [0.2, 0.3, 0.4]),
+        ps.PIFriction(0.05, density=Uniform(1.0, 1.0)),
+    ],
+    ids=["elements", "density"],
+)
+def test_plot_turning_points_follows_the_swings(ax, model):
+    res = ps.turning_points(model, 1.0, 0.8, "saturated")
+    assert res.n_reversals >= 3 and res.success
+    assert res.plot(ax=ax, samples_per_swing=50) is ax
+    path, band = ax.lines[0], ax.patches[0]
+    y, f = path.get_xdata(), path.get_ydata()
+    assert y.size == 1 + 50 * res.positions.size
+    # the operator run through the knots reproduces the energy walk's forces
+    knots = f[50::50]
+    np.testing.assert_allclose(knots, res.elastic_forces, rtol=0, atol=1e-9)
+    np.testing.assert_array_equal(y[50::50], res.positions)
+    turning, rest = ax.lines[1], ax.lines[2]
+    np.testing.assert_array_equal(turning.get_xdata(), res.positions)
+    assert rest.get_xdata()[0] == res.rest_position
+    lo, hi = band.get_extents().y0, band.get_extents().y1
+    assert lo < hi  # the stick band is drawn
+    assert ax.get_title() == f"{res.n_reversals} reversal(s); stopped"
+
+
+def test_plot_turning_points_without_a_stop_and_bad_samples(ax):
+    res = ps.turning_points(ps.PIFriction(0.0, [4.0], [3.0]), 1.0, 3.0, "saturated")
+    assert res.status == "oscillating" and not res.success
+    res.plot(ax=ax)
+    assert len(ax.patches) == 0  # c1 = 0: no stick band
+    assert [t.get_text() for t in ax.get_legend().get_texts()] == [
+        "elastic force along the swings",
+        "turning points",
+    ]
+    with pytest.raises(ValueError, match=r"^`samples_per_swing` must be at least 1; got 0\.$"):
+        res.plot(samples_per_swing=0)
+    with pytest.raises(TypeError, match="samples_per_swing"):
+        res.plot(samples_per_swing=2.5)

@@ -14,8 +14,9 @@ The weighted sum over elements may be reassociated by the compiler (fastmath
 ``reassoc``); it is deterministic for a given bank, so chunked and whole runs
 agree bit for bit.
 
-`stop_sum` runs the time-blocked kernel of `presliding._fused` on the bank
-padded to a multiple of `LANES` elements (padding elements have weight 0 and
+`stop_sum` runs a time-blocked kernel of `presliding._fused` (one-sided
+updates for banks of `ONE_SIDED_MIN` elements or more) on the bank padded to
+a multiple of `LANES` elements (padding elements have weight 0 and
 add exact zeros); `_stop_sum_short` and `_stop_sum_long` are the
 straightforward loops it is tested against (same play states, sums within
 1e-12 of F_m).
@@ -26,7 +27,7 @@ from __future__ import annotations
 import numba as nb
 import numpy as np
 
-from ._fused import stop_sum_blocked
+from ._fused import stop_sum_blocked, stop_sum_one_sided
 
 # Only the sum may be reordered/contracted; no NaN or inf reaches a kernel
 # (inputs are validated on entry), so 'nnan'/'ninf' let min/max compile to
@@ -75,6 +76,8 @@ _stop_sum_long = nb.njit(cache=True, fastmath=True)(_stop_sum)
 #: banks are padded to a multiple of this many elements (two AVX2 vectors of
 #: float64), so the element loop never ends in a scalar remainder
 LANES = 8
+#: banks of at least this many (padded) elements take the one-sided kernel
+ONE_SIDED_MIN = 64
 
 
 def stop_sum(y, threshold, weight, x, out):
@@ -86,13 +89,14 @@ def stop_sum(y, threshold, weight, x, out):
     """
     n = threshold.shape[0]
     pad = -n % LANES
+    kernel = stop_sum_one_sided if n + pad >= ONE_SIDED_MIN else stop_sum_blocked
     if pad == 0:
-        stop_sum_blocked(y, threshold, weight, x, out)
+        kernel(y, threshold, weight, x, out)
         return
     r = np.concatenate((threshold, np.ones(pad)))
     w = np.concatenate((weight, np.zeros(pad)))
     xp = np.concatenate((x, np.full(pad, y[0])))
-    stop_sum_blocked(y, r, w, xp, out)
+    kernel(y, r, w, xp, out)
     x[:] = xp[:n]
 
 

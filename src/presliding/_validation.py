@@ -202,10 +202,11 @@ def check_increasing(name: str, arr: np.ndarray, after: float | None = None) -> 
         )
 
 
-def as_count(name: str, value: Any) -> int:
-    """A nonnegative integer (a count of elements or samples); bools are rejected."""
+def as_count(name: str, value: Any, *, minimum: int = 0) -> int:
+    """An integer >= `minimum` (a count of elements or samples); bools are rejected."""
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Integral):
         raise TypeError(f"`{name}` must be an integer; got {fmt(value)}.")
-    if value < 0:
-        raise ValueError(f"`{name}` must be nonnegative; got {fmt(value)}.")
+    if value < minimum:
+        rule = "nonnegative" if minimum == 0 else f"at least {minimum}"
+        raise ValueError(f"`{name}` must be {rule}; got {fmt(value)}.")
     return int(value)

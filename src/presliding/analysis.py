@@ -23,6 +23,7 @@ c1 >= Φ(y_e) (eq. 16, equality sticking).
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -33,6 +34,9 @@ from ._validation import as_nonnegative_scalar, as_positive_scalar, as_real_scal
 from .friction import PIFriction
 from .general_pi import MemoryState
 from .operators import PIState
+
+if TYPE_CHECKING:  # pragma: no cover
+    from matplotlib.axes import Axes
 
 __all__ = ["TurningPoints", "phi", "stops_at_turning_point", "turning_point", "turning_points"]
 
@@ -142,6 +146,9 @@ class TurningPoints:
     final_state : PIState or MemoryState
         Memory at the last position.
     initial_position, initial_velocity, mass : float
+    model : PIFriction
+    initial_state : PIState or MemoryState
+        Memory at the initial position.
     """
 
     positions: FloatArray
@@ -154,6 +161,24 @@ class TurningPoints:
     initial_position: float = 0.0
     initial_velocity: float = 0.0
     mass: float = 1.0
+    model: PIFriction | None = field(default=None, repr=False)
+    initial_state: PIState | MemoryState | None = field(default=None, repr=False)
+
+    @property
+    def success(self) -> bool:
+        """True when the mass came to rest."""
+        return self.status == "stopped"
+
+    def plot(self, ax: Axes | None = None, *, samples_per_swing: int = 200) -> Axes:
+        """Elastic force along the swings: the Masing branches spiralling into the stick band.
+
+        Each swing from one turning point to the next is sampled with
+        `samples_per_swing` points and run through the model from the initial
+        memory; the band |F_el| <= c1 where the mass sticks (eq. 16) is shaded.
+        """
+        from .plotting import plot_turning_points
+
+        return plot_turning_points(self, ax=ax, samples_per_swing=samples_per_swing)
 
     def report(self) -> str:
         """A readable summary."""
@@ -232,7 +257,7 @@ def turning_points(
         f = walk.force()
         if sticks(model, f):
             message = f"at rest with |F_el| = {abs(f):.6g} <= c1 = {model.coulomb:.6g}: sticks."
-            return _result(walk, [y0], [f], 0, "stopped", message, y0, v0, m)
+            return _result(walk, [y0], [f], 0, "stopped", message, y0, v0, m, model, state)
         s = -float(np.sign(f))
     while True:
         slid = walk.swing(s, kinetic)
@@ -275,10 +300,12 @@ def turning_points(
             break
         kinetic, s = 0.0, -float(np.sign(f))
     n_rev = len(positions) - (1 if status == "stopped" else 0)
-    return _result(walk, positions, forces, n_rev, status, message, y0, v0, m)
+    return _result(walk, positions, forces, n_rev, status, message, y0, v0, m, model, state)
 
 
-def _result(walk, positions, forces, n_rev, status, message, y0, v0, m) -> TurningPoints:  # type: ignore[no-untyped-def]
+def _result(  # type: ignore[no-untyped-def]
+    walk, positions, forces, n_rev, status, message, y0, v0, m, model, initial
+) -> TurningPoints:
     rest = positions[-1] if status == "stopped" else None
     return TurningPoints(
         np.array(positions, dtype=np.float64),
@@ -291,6 +318,8 @@ def _result(walk, positions, forces, n_rev, status, message, y0, v0, m) -> Turni
         y0,
         v0,
         m,
+        model,
+        initial,
     )
 
 

@@ -22,6 +22,7 @@ __all__ = [
     "plot_motion",
     "plot_reversal_counts",
     "plot_sweep",
+    "plot_turning_points",
     "save_figure",
 ]
 
@@ -210,6 +211,48 @@ def plot_motion(result: Any, *, kind: str = "time", ax: Axes | None = None) -> A
     ax.grid(True, alpha=0.3)
     if kind != "loop" and ax.get_legend_handles_labels()[0]:
         ax.legend(frameon=False)
+    return ax
+
+
+def plot_turning_points(
+    result: Any, *, ax: Axes | None = None, samples_per_swing: int = 200
+) -> Axes:
+    """Elastic force along the swings of a free motion (`presliding.analysis.TurningPoints`).
+
+    The path y0 → y1 → … through the turning points is sampled with
+    `samples_per_swing` points per swing and run through the model from the
+    initial memory, so each swing follows its Masing branch; the turning points
+    are marked and the band |F_el| <= c1 in which the mass sticks (eq. 16) is
+    shaded.
+    """
+    from ._validation import as_count
+    from .general_pi import MemoryState, run_density
+
+    n = as_count("samples_per_swing", samples_per_swing, minimum=1)
+    model, state = result.model, result.initial_state
+    knots = np.concatenate(([state.last_input], result.positions))
+    swings = np.linspace(knots[:-1], knots[1:], n + 1, axis=1)[:, 1:]  # ends exactly at knots
+    path = np.concatenate((knots[:1], swings.ravel()))
+    if isinstance(state, MemoryState):
+        force = run_density(model.density, path, state)[0]
+    else:
+        force = model.elastic_force(path, state)[0]
+    ax = new_axes(ax)
+    c1 = model.coulomb
+    if c1 > 0.0:
+        ax.axhspan(-c1, c1, color="C2", alpha=0.15, lw=0, label="sticks here: |F_el| ≤ c1")
+    ax.plot(path, force, lw=1.4, color="C0", label="elastic force along the swings")
+    ax.plot(result.positions, result.elastic_forces, "o", ms=4.5, color="C1",
+            label="turning points")  # fmt: skip
+    if result.rest_position is not None:
+        ax.plot([result.rest_position], [result.elastic_forces[-1]], "s", ms=6, color="C3",
+                label="rest")  # fmt: skip
+    ax.axhline(0.0, color="0.8", lw=0.8, zorder=0)
+    ax.set_xlabel("position y [m]")
+    ax.set_ylabel("elastic force F_el [N]")
+    ax.set_title(f"{result.n_reversals} reversal(s); {result.status}")
+    ax.grid(True, alpha=0.3)
+    ax.legend(frameon=False)
     return ax
 
 
