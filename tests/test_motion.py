@@ -329,7 +329,7 @@ MODEL = ps.PIFriction(coulomb=1.0, stiffness=[10.0], breakaway=[1.0])
             "threshold",
         ),
         (dict(mass=1.0, t_end=1.0, step=0.0), ValueError, "`step` must be positive"),
-        (dict(mass=1.0, t_end=1.0, max_events=0), ValueError, "`max_events` must be positive"),
+        (dict(mass=1.0, t_end=1.0, max_events=0), ValueError, "`max_events` must be a positive"),
         (dict(mass="1", t_end=1.0), TypeError, "`mass` must be a real number"),
     ],
 )

@@ -129,7 +129,8 @@ def test_plot_turning_points_without_a_stop_and_bad_samples(ax):
         "elastic force along the swings",
         "turning points",
     ]
-    with pytest.raises(ValueError, match=r"^`samples_per_swing` must be at least 1; got 0\.$"):
+    rule = r"^`samples_per_swing` must be a positive integer; got 0\.$"
+    with pytest.raises(ValueError, match=rule):
         res.plot(samples_per_swing=0)
     with pytest.raises(TypeError, match="samples_per_swing"):
         res.plot(samples_per_swing=2.5)

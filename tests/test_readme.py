@@ -23,3 +23,19 @@ def test_ci_runs_the_readme_test_command():
     ci = (ROOT / ".ci" / "run").read_text(encoding="utf-8")
     run_lines = [ln.strip() for ln in ci.splitlines() if not ln.strip().startswith("#")]
     assert test_cmd in run_lines
+
+
+def test_readme_python_examples_run():
+    import matplotlib.pyplot as plt
+
+    text = (ROOT / "README.md").read_text(encoding="utf-8")
+    blocks = [b.split("```", 1)[0] for b in text.split("```python")[1:]]
+    assert blocks, "README has no python example"
+    for block in blocks:
+        namespace: dict[str, object] = {}
+        exec(compile(block, "README.md", "exec"), namespace)
+    # the first look ends with a free stop and its plot
+    tp = namespace["tp"]
+    assert tp.success and tp.n_reversals >= 1
+    assert namespace["ax"].lines
+    plt.close("all")

@@ -129,6 +129,13 @@ def test_input_validation():
         sweep(surface, GRID, scheduler=3)
 
 
+def test_malformed_address_is_refused_before_connecting():
+    pytest.importorskip("distributed")
+    rule = r"^`scheduler` must be a scheduler address .* got 'nonsense'"
+    with pytest.raises(ValueError, match=rule):
+        sweep(surface, GRID, scheduler="nonsense")
+
+
 def test_missing_dask_names_the_extra(monkeypatch):
     monkeypatch.setitem(sys.modules, "distributed", None)
     with pytest.raises(ImportError, match=r"pip install presliding\[dask\]"):

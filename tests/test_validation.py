@@ -397,3 +397,14 @@ def test_fmt_is_short_and_unambiguous():
     assert fmt(np.array([1.0, 2.0])) == "[1.0, 2.0]"
     assert fmt(np.zeros((3, 4))) == "an array of shape (3, 4)"
     assert len(fmt("x" * 500)) <= 60
+
+
+def test_count_minimum_wording():
+    assert as_count("n", 0) == 0
+    assert as_count("n", 1, minimum=1) == 1
+    with pytest.raises(ValueError, match=r"^`n` must be a positive integer; got 0\.$"):
+        as_count("n", 0, minimum=1)
+    with pytest.raises(ValueError, match=r"^`n` must be at least 3; got 2\.$"):
+        as_count("n", 2, minimum=3)
+    with pytest.raises(TypeError, match=r"^`n` must be an integer; got True\.$"):
+        as_count("n", True, minimum=1)

@@ -55,18 +55,19 @@ def check_scheduler(address: str) -> None:
     the exiting process for a minute.)
     """
     try:
-        import distributed.comm
+        import distributed.comm  # noqa: F401  (only whether it is there)
     except ImportError:
         raise UserError(
             f"--scheduler {address}: running on a Dask cluster needs the `distributed` "
             "package; install it with `pip install presliding[dask]`."
         ) from None
+    from .sweep import check_address
+
     try:
-        distributed.comm.get_address_host_port(address)
-    except ValueError as exc:
+        check_address(address)
+    except ValueError:
         raise UserError(
-            f"--scheduler {address}: not a scheduler address ({exc}); give e.g. "
-            "tcp://10.0.0.5:8786."
+            f"--scheduler {address}: not a scheduler address; give e.g. tcp://10.0.0.5:8786."
         ) from None
 
 

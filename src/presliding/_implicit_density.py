@@ -39,6 +39,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from . import _general_pi as gk
+from ._density_primitives import primitives
 from ._forcing import Forcing
 from ._validation import fmt
 from .general_pi import MemoryState
@@ -102,7 +103,7 @@ def run_density(  # pragma: no cover - compiled
     """
     n_steps = t_grid.shape[0] - 1
     n_out = out_idx.shape[0]
-    t_total = gk.primitives(kind, par, tab, 0.0)[2]  # μ([0, R]): slope after a reversal
+    t_total = primitives(kind, par, tab, 0.0)[2]  # μ([0, R]): slope after a reversal
     fel, slope = gk.force_at(head[0], head, stack, kind, par, tab)
     dis = 0.0
     work = 0.0

@@ -177,15 +177,6 @@ def run_implicit(m, c1, k, r, f0, y0, v0, last_dir, forcing: Forcing, times, t0,
 
 
 # ---------------------------------------------------------------------- batches
-def as_count(name: str, value: Any) -> int:
-    """A positive integer."""
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
-        raise TypeError(f"`{name}` must be an integer; got {fmt(value)}.")
-    if value < 1:
-        raise ValueError(f"`{name}` must be positive; got {int(value)}.")
-    return int(value)
-
-
 def check_bank(k: FloatArray, r: FloatArray) -> None:
     """Stiffness and threshold vectors of one model (1-D, equal length, finite, > 0)."""
     for name, arr in (("stiffness", k), ("threshold", r)):

@@ -18,18 +18,25 @@ u > 0 with W(u) = K.
   (on the virgin branch |dy| = dρ and W = c1·Δρ + ΔV). When the front reaches
   the level's outer radius the level is wiped out and the walk continues one
   level down; the root on the final level is found with `scipy.optimize.brentq`.
+
+`ElementWalk` and `DensityWalk` carry the memory (element deformations, or the
+turning-point memory of a density) from one half swing to the next.
 """
 
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 from scipy.optimize import brentq
 
 from . import _general_pi as gk
+from ._density_primitives import primitives
 from .densities import Density
+from .general_pi import MemoryState
+from .operators import PIState
 
 FloatArray = NDArray[np.float64]
 _EPS = np.finfo(np.float64).eps
@@ -102,7 +109,7 @@ class DensitySwing:
 
     def prims(self, rho: float) -> tuple[float, float, float]:
         d = self.density
-        return gk.primitives(d._kind, d._par, d._tab, rho)
+        return primitives(d._kind, d._par, d._tab, rho)
 
     def v(self, rho: float) -> float:
         """V(ρ) = ∫_0^ρ Φv, linear beyond R."""
@@ -192,3 +199,66 @@ class DensitySwing:
             xtol=xtol,
             rtol=4 * _EPS,
         )
+
+
+class ElementWalk:
+    """Half swings of a finite-element model on its element deformations."""
+
+    def __init__(self, model: Any, state: PIState) -> None:
+        self.model = model
+        self.position = state.last_input
+        self.deform = state.deformation.copy()
+        self.direction = state.direction
+        self.min_threshold = model.density.min_threshold  # type: ignore[union-attr]
+
+    def force(self) -> float:
+        return float(self.model.stiffness @ self.deform)
+
+    def swing(self, s: float, kinetic: float) -> bool:
+        m = self.model
+        if m.n_elements == 0:
+            u, slid = kinetic / m.coulomb, False
+            self.position += s * u
+            self.direction = s
+            return slid
+        u, slid = element_swing(m.stiffness, m.threshold, m.coulomb, self.deform, s, kinetic)
+        self.deform = s * np.minimum(s * self.deform + u, m.threshold)
+        self.position += s * u
+        self.direction = s
+        return slid
+
+    def state(self) -> PIState:
+        return PIState(self.position, self.position - self.deform, self.direction)
+
+
+class DensityWalk:
+    """Half swings of a density model on its turning-point memory."""
+
+    def __init__(self, model: Any, state: MemoryState) -> None:
+        self.model = model
+        self.dens = model.density
+        self.head, self.stack = state.working_memory(self.dens)
+        self.swinger = DensitySwing(self.dens, model.coulomb)
+        self.min_threshold = self.dens.min_threshold  # type: ignore[union-attr]
+
+    @property
+    def position(self) -> float:
+        return float(self.head[0])
+
+    def force(self) -> float:
+        d = self.dens
+        f, _ = gk.force_at(self.head[0], self.head, self.stack, d._kind, d._par, d._tab)
+        return float(f)
+
+    def swing(self, s: float, kinetic: float) -> bool:
+        d = self.dens
+        if self.head[1] != 0.0 and self.head[1] != s:
+            self.stack = gk._push(self.head, self.stack, d._kind, d._par, d._tab)
+        self.head[1] = s
+        y, rho = self.swinger.swing(self.head, self.stack, s, kinetic)
+        _, self.stack = gk.advance(y, self.head, self.stack, d._kind, d._par, d._tab)
+        self.head[1] = s
+        return rho > self.min_threshold
+
+    def state(self) -> MemoryState:
+        return MemoryState.from_working_memory(self.head, self.stack)

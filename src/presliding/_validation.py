@@ -207,6 +207,6 @@ def as_count(name: str, value: Any, *, minimum: int = 0) -> int:
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Integral):
         raise TypeError(f"`{name}` must be an integer; got {fmt(value)}.")
     if value < minimum:
-        rule = "nonnegative" if minimum == 0 else f"at least {minimum}"
+        rule = {0: "nonnegative", 1: "a positive integer"}.get(minimum, f"at least {minimum}")
         raise ValueError(f"`{name}` must be {rule}; got {fmt(value)}.")
     return int(value)

@@ -29,8 +29,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from . import _general_pi as gk
-from ._turning import DensitySwing, element_swing
-from ._validation import as_nonnegative_scalar, as_positive_scalar, as_real_scalar, fmt
+from ._turning import DensitySwing, DensityWalk, ElementWalk, element_swing
+from ._validation import as_count, as_positive_scalar, as_real_scalar, fmt
 from .friction import PIFriction
 from .general_pi import MemoryState
 from .operators import PIState
@@ -243,11 +243,9 @@ def turning_points(
     m = as_positive_scalar("mass", mass)
     v0 = as_real_scalar("initial_velocity", initial_velocity)
     y0 = as_real_scalar("initial_position", initial_position)
-    if isinstance(max_reversals, bool) or not isinstance(max_reversals, (int, np.integer)):
-        raise TypeError(f"`max_reversals` must be an integer; got {fmt(max_reversals)}.")
-    as_nonnegative_scalar("max_reversals", float(max_reversals))
+    max_reversals = as_count("max_reversals", max_reversals)
     state = _initial_state(model, initial_state, y0, v0)
-    walk = _ElementWalk(model, state) if isinstance(state, PIState) else _DensityWalk(model, state)
+    walk = ElementWalk(model, state) if isinstance(state, PIState) else DensityWalk(model, state)
     y0 = walk.position
     kinetic, s = 0.5 * m * v0 * v0, float(np.sign(v0))
     positions: list[float] = []
@@ -348,66 +346,3 @@ def _initial_state(
     if isinstance(initial_state, PIState):
         initial_state.check_against(model.threshold, "initial_state")  # type: ignore[union-attr]
     return initial_state  # type: ignore[return-value]
-
-
-class _ElementWalk:
-    """Half swings of a finite-element model on its element deformations."""
-
-    def __init__(self, model: PIFriction, state: PIState) -> None:
-        self.model = model
-        self.position = state.last_input
-        self.deform = state.deformation.copy()
-        self.direction = state.direction
-        self.min_threshold = model.density.min_threshold  # type: ignore[union-attr]
-
-    def force(self) -> float:
-        return float(self.model.stiffness @ self.deform)
-
-    def swing(self, s: float, kinetic: float) -> bool:
-        m = self.model
-        if m.n_elements == 0:
-            u, slid = kinetic / m.coulomb, False
-            self.position += s * u
-            self.direction = s
-            return slid
-        u, slid = element_swing(m.stiffness, m.threshold, m.coulomb, self.deform, s, kinetic)
-        self.deform = s * np.minimum(s * self.deform + u, m.threshold)
-        self.position += s * u
-        self.direction = s
-        return slid
-
-    def state(self) -> PIState:
-        return PIState(self.position, self.position - self.deform, self.direction)
-
-
-class _DensityWalk:
-    """Half swings of a density model on its turning-point memory."""
-
-    def __init__(self, model: PIFriction, state: MemoryState) -> None:
-        self.model = model
-        self.dens = model.density
-        self.head, self.stack = state.working_memory(self.dens)
-        self.swinger = DensitySwing(self.dens, model.coulomb)
-        self.min_threshold = self.dens.min_threshold  # type: ignore[union-attr]
-
-    @property
-    def position(self) -> float:
-        return float(self.head[0])
-
-    def force(self) -> float:
-        d = self.dens
-        f, _ = gk.force_at(self.head[0], self.head, self.stack, d._kind, d._par, d._tab)
-        return float(f)
-
-    def swing(self, s: float, kinetic: float) -> bool:
-        d = self.dens
-        if self.head[1] != 0.0 and self.head[1] != s:
-            self.stack = gk._push(self.head, self.stack, d._kind, d._par, d._tab)
-        self.head[1] = s
-        y, rho = self.swinger.swing(self.head, self.stack, s, kinetic)
-        _, self.stack = gk.advance(y, self.head, self.stack, d._kind, d._par, d._tab)
-        self.head[1] = s
-        return rho > self.min_threshold
-
-    def state(self) -> MemoryState:
-        return MemoryState.from_working_memory(self.head, self.stack)

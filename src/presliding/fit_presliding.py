@@ -28,7 +28,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from . import _pi_regression as pr
-from ._validation import as_parameter_vector, as_signal, check_same_length, fmt
+from ._validation import as_count, as_parameter_vector, as_signal, check_same_length, fmt
 from .fitting import FitResult, Tie
 from .friction import PIFriction
 
@@ -48,11 +48,7 @@ def element_count(n_elements: int | None, thresholds: ArrayLike | None, default:
         return n_thr
     if n_elements is None:
         return default
-    if isinstance(n_elements, bool) or not isinstance(n_elements, (int, np.integer)):
-        raise TypeError(f"`n_elements` must be an integer; got {fmt(n_elements)}.")
-    if n_elements < 0:
-        raise ValueError(f"`n_elements` must be nonnegative; got {n_elements}.")
-    return int(n_elements)
+    return as_count("n_elements", n_elements)
 
 
 def check_varies(name: str, arr: FloatArray) -> None:

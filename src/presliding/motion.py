@@ -42,7 +42,7 @@ from . import _implicit_density as _density
 from . import _motion_run as _run
 from ._forcing import as_forcing
 from ._motion_result import MotionBatch, MotionEnergy, MotionResult
-from ._validation import as_choice, as_positive_scalar, as_real_scalar, fmt
+from ._validation import as_choice, as_count, as_positive_scalar, as_real_scalar, fmt
 from .friction import PIFriction
 from .general_pi import MemoryState
 from .operators import PIState
@@ -134,7 +134,7 @@ def simulate(
     forcing = as_forcing(applied_force, hold, t0)
     method = as_choice("method", method, METHODS)
     t_end, times = _run.time_grid(t0, t_end, t_eval)
-    max_events = _run.as_count("max_events", max_events)
+    max_events = as_count("max_events", max_events, minimum=1)
     if method == "event" and not model.is_discrete:
         raise ValueError(
             "`method` 'event' needs a finite-element model (the closed-form pieces need "
@@ -265,7 +265,7 @@ def simulate_batch(
     f0, last_dir = _run.batch_deformation(initial_state, r, v0, u0)
     u_t, u_val = forcing.pieces(t0, t_end)
     return _run.run_batch(m, c1, k, r, f0, y0, v0, last_dir, u_t, u_val, times, t_end,
-                          _run.as_count("max_events", max_events))  # fmt: skip
+                          as_count("max_events", max_events, minimum=1))  # fmt: skip
 
 
 def free_response(
@@ -304,7 +304,7 @@ def free_response(
     v0 = as_real_scalar("initial_velocity", initial_velocity)
     y0 = as_real_scalar("initial_position", initial_position)
     dt = as_positive_scalar("time_step", time_step)
-    n_t = _run.as_count("n_samples", n_samples)
+    n_t = as_count("n_samples", n_samples, minimum=1)
     u = as_real_scalar("applied_force", applied_force)
     f0, last_dir = _run.batch_deformation(initial_state, r[None, :], np.array([v0]), u)
     if c1 == 0.0 and k.shape[0] == 0:

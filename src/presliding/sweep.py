@@ -31,7 +31,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
-from ._validation import as_real_vector, fmt
+from ._validation import as_count, as_real_vector, fmt
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
@@ -168,10 +168,21 @@ def _as_grid(grid: Any) -> tuple[str, dict[str, np.ndarray], dict[str, np.ndarra
     return "product", axes, cols
 
 
-def _positive_int(name: str, value: Any) -> int:
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
-        raise ValueError(f"`{name}` must be a positive integer; got {fmt(value)}.")
-    return int(value)
+def check_address(address: str) -> None:
+    """Reject a malformed scheduler address before any connection is tried.
+
+    (A Client made from a malformed address fails, and distributed's clean-up
+    then holds the exiting process for a minute.) Needs `distributed`.
+    """
+    import distributed.comm
+
+    try:
+        distributed.comm.get_address_host_port(address)
+    except ValueError as exc:
+        raise ValueError(
+            f"`scheduler` must be a scheduler address such as 'tcp://10.0.0.5:8786'; "
+            f"got {address!r} ({exc})."
+        ) from None
 
 
 def _dask_client(scheduler: Any) -> tuple[Any, bool]:
@@ -186,6 +197,7 @@ def _dask_client(scheduler: Any) -> tuple[Any, bool]:
     if isinstance(scheduler, distributed.Client):
         return scheduler, False
     if isinstance(scheduler, str):
+        check_address(scheduler)
         return distributed.Client(scheduler, set_as_default=False), True
     raise TypeError(
         "`scheduler` must be None, a scheduler address string, a distributed.Client or an "
@@ -247,7 +259,7 @@ def sweep(
     if isinstance(scheduler, Executor):
         client = scheduler
         given = getattr(scheduler, "_max_workers", None) or 1
-        workers = given if n_workers is None else _positive_int("n_workers", n_workers)
+        workers = given if n_workers is None else as_count("n_workers", n_workers, minimum=1)
         backend = "executor"
     elif scheduler is not None:
         client, owned = _dask_client(scheduler)
@@ -255,12 +267,12 @@ def sweep(
         backend = "dask"
     else:
         default = os.cpu_count() or 1
-        workers = default if n_workers is None else _positive_int("n_workers", n_workers)
+        workers = default if n_workers is None else as_count("n_workers", n_workers, minimum=1)
         backend = "serial" if workers == 1 else "processes"
     if chunk_size is None:
         size = max(1, math.ceil(n / (4 * workers)))
     else:
-        size = _positive_int("chunk_size", chunk_size)
+        size = as_count("chunk_size", chunk_size, minimum=1)
     # Chunk i holds points i, i + n_chunks, i + 2·n_chunks, ...: interleaving spreads
     # expensive regions of the grid over all chunks, so workers finish together.
     n_chunks = math.ceil(n / size)
