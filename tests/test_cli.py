@@ -12,6 +12,7 @@ import pytest
 import presliding as ps
 from conftest import one_error_line
 from presliding import analysis
+from presliding._cli_common import MANIFEST
 from presliding.cli import main
 from presliding.model_io import load_model
 from presliding.signals import piecewise_linear
@@ -46,7 +47,7 @@ def _is_png(path):
 
 
 def _no_temporaries(folder):
-    assert not [p for p in folder.iterdir() if p.name.startswith(".")]
+    assert not [p for p in folder.iterdir() if p.name.startswith(".") and p.name != MANIFEST]
 
 
 # ---------------------------------------------------------------------- basics
@@ -367,6 +368,37 @@ def test_output_never_overwrites_an_input(tmp_path, model_file, capsys):
     assert main(["fit", str(data), "--kind", "presliding", "-o", str(out)]) == 2
     one_error_line(capsys, "report.md", "input")
     assert data.read_text() == "displacement,friction\n0,1\n1,2\n"
+
+
+def test_existing_files_presliding_did_not_write_are_kept(tmp_path, model_file, capsys):
+    out = tmp_path / "run"
+    out.mkdir()
+    mine = out / "simulation.png"
+    mine.write_bytes(b"the user's own figure")
+    assert main(["simulate", str(model_file), "-o", str(out)]) == 2
+    one_error_line(capsys, "simulation.png", "not written by presliding", "--overwrite")
+    assert mine.read_bytes() == b"the user's own figure"
+    assert sorted(p.name for p in out.iterdir()) == ["simulation.png"]  # nothing written
+    # --overwrite replaces it; later runs replace their own outputs without asking
+    assert main(["simulate", str(model_file), "-o", str(out), "--overwrite", "--quiet"]) == 0
+    assert _is_png(mine)
+    assert main(["simulate", str(model_file), "-o", str(out), "--quiet"]) == 0
+    listed = (out / MANIFEST).read_text(encoding="utf-8").splitlines()
+    assert [n for n in listed if not n.startswith("#")] == ["simulation.csv", "simulation.png"]
+    # an input file stays protected even with --overwrite
+    u = tmp_path / "u.csv"
+    u.write_text("time,value\n0,0.5\n", encoding="utf-8")
+    args = ["simulate", str(model_file), "--applied-force", str(u), "-o", str(u), "--overwrite"]
+    assert main(args) == 2
+    one_error_line(capsys, "u.csv", "input")
+    assert u.read_text(encoding="utf-8") == "time,value\n0,0.5\n"
+
+
+def test_a_run_that_fails_on_its_options_creates_no_folder(tmp_path, model_file, capsys):
+    out = tmp_path / "never"
+    assert main(["simulate", str(model_file), "--step", "-1", "-o", str(out)]) == 2
+    one_error_line(capsys, "step")
+    assert not out.exists()
 
 
 def test_demo_output_must_be_a_folder(tmp_path, capsys):

@@ -94,7 +94,8 @@ def test_two_axes_map_equals_turning_points(tmp_path, capsys):
     report = (out / "report.md").read_text()
     assert "![sweep](sweep.png)" in report and "| reversals | points |" in report
     assert "data:image/png;base64," in (out / "report.html").read_text()
-    assert not [p for p in out.iterdir() if p.name.startswith(".")]  # no temporaries left
+    temporaries = [p for p in out.iterdir() if p.name.endswith(".tmp")]
+    assert not temporaries and (out / ".presliding-outputs").is_file()
 
 
 def test_analysis_method_gives_the_same_map(tmp_path):

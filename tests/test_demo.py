@@ -7,6 +7,7 @@ import pytest
 from matplotlib.image import imread
 
 from presliding import _demo, _demo_sections, analysis
+from presliding._cli_common import MANIFEST
 from presliding.cli import main
 
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
@@ -29,7 +30,21 @@ def demo_dir(tmp_path_factory):
 
 def test_demo_writes_every_file(demo_dir, capsys):
     names = sorted(p.name for p in demo_dir.iterdir())
-    assert names == sorted([*SIZES, "report.md", "report.html"])
+    assert names == sorted([*SIZES, "report.md", "report.html", MANIFEST])
+    # the list the command checks before writing is the list it writes
+    assert sorted(_demo.DEMO_OUTPUTS) == sorted([*SIZES, "report.md", "report.html"])
+    listed = (demo_dir / MANIFEST).read_text(encoding="utf-8").splitlines()[1:]
+    assert listed == sorted(_demo.DEMO_OUTPUTS)
+
+
+def test_demo_keeps_files_it_did_not_write(tmp_path, capsys):
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "report.md").write_text("my notes", encoding="utf-8")
+    assert main(["demo", "-o", str(out), "--quiet"]) == 2
+    assert "report.md: exists and was not written by presliding" in capsys.readouterr().err
+    assert (out / "report.md").read_text(encoding="utf-8") == "my notes"
+    assert sorted(p.name for p in out.iterdir()) == ["report.md"]
 
 
 @pytest.mark.parametrize("name", sorted(SIZES))

@@ -12,7 +12,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from ._io import atomic_path
+from ._io import atomic_path, write_text
 from ._progress import progress
 
 FloatArray = NDArray[np.float64]
@@ -35,22 +35,70 @@ def _same_file(a: Path, b: Path) -> bool:
         return False
 
 
-def check_outputs(outputs: Iterable[Path], inputs: Iterable[Path | None]) -> None:
-    """Refuse to write any output onto an input file (also through links)."""
+#: Names of the files presliding wrote into a folder, one per line: a later run
+#: may replace these, and no other existing file (unless --overwrite is given).
+MANIFEST = ".presliding-outputs"
+
+
+def _written_before(folder: Path) -> set[str]:
+    try:
+        lines = (folder / MANIFEST).read_text(encoding="utf-8").splitlines()
+    except (FileNotFoundError, NotADirectoryError, UnicodeDecodeError):
+        return set()
+    return {ln.strip() for ln in lines if ln.strip() and not ln.startswith("#")}
+
+
+def check_outputs(
+    outputs: Iterable[Path], inputs: Iterable[Path | None], *, overwrite: bool = False
+) -> None:
+    """Refuse output paths that are inputs, or existing files presliding did not write.
+
+    An output may never be an input file (also through links). An existing
+    file may be replaced only if an earlier run wrote it (it is listed in the
+    folder's `MANIFEST`) or `overwrite` is set. Nothing is created.
+    """
+    outs = [Path(p) for p in outputs]
     ins = [Path(p) for p in inputs if p is not None]
-    for out in outputs:
+    for out in outs:
         for inp in ins:
-            if _same_file(Path(out), inp):
+            if _same_file(out, inp):
                 raise UserError(
                     f"{out}: is the input file {inp}; choose another output with -o so that "
                     "the input is not overwritten."
                 )
+    for out in outs:
+        exists = out.exists() or out.is_symlink()
+        if exists and not overwrite and out.name not in _written_before(out.parent):
+            raise UserError(
+                f"{out}: exists and was not written by presliding; choose another output "
+                "with -o, or pass --overwrite to replace it."
+            )
 
 
-def prepare_folder(folder: Path) -> Path:
-    """Create the output folder (and parents); it must not be an existing file."""
+def record_outputs(outputs: Iterable[Path]) -> None:
+    """Create the output folders and list the outputs in their `MANIFEST` (before writing)."""
+    folders: dict[Path, set[str]] = {}
+    for out in outputs:
+        folders.setdefault(Path(out).parent, set()).add(Path(out).name)
+    for folder, names in folders.items():
+        make_folder(folder)
+        known = _written_before(folder)
+        if not names <= known:
+            lines = "".join(f"{n}\n" for n in sorted(known | names))
+            header = "# written by presliding: a later run may replace these\n"
+            write_text(folder / MANIFEST, header + lines)
+
+
+def check_folder(folder: Path) -> Path:
+    """An output folder path: it must not be an existing file (it is created on claim)."""
     if folder.exists() and not folder.is_dir():
         raise UserError(f"{folder}: is a file, not a folder; pass a folder with -o.")
+    return folder
+
+
+def make_folder(folder: Path) -> Path:
+    """Create the output folder (and parents)."""
+    check_folder(folder)
     try:
         folder.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
@@ -241,13 +289,15 @@ def check_options(pairs: Sequence[str] | None, option: str, allowed: Sequence[st
 __all__ = [
     "Table",
     "UserError",
+    "check_folder",
     "check_options",
     "check_outputs",
     "check_readable",
     "column_key",
+    "make_folder",
     "new_figure",
-    "prepare_folder",
     "read_table",
+    "record_outputs",
     "tidy_fit_axes",
     "write_csv",
 ]

@@ -11,11 +11,12 @@ import numpy as np
 from ._cli_common import (
     Table,
     UserError,
+    check_folder,
     check_options,
     check_outputs,
     new_figure,
-    prepare_folder,
     read_table,
+    record_outputs,
     tidy_fit_axes,
 )
 from ._progress import progress
@@ -153,14 +154,14 @@ def run(args: argparse.Namespace) -> int:
     from ._report import Section, write_report
     from .model_io import save_model
 
-    folder = prepare_folder(args.output)
+    folder = check_folder(args.output)
     paths = {
         "model": folder / "model.toml",
         "figure": folder / "fit.png",
         "md": folder / "report.md",
         "html": folder / "report.html",
     }
-    check_outputs(paths.values(), (args.data,))
+    check_outputs(paths.values(), (args.data,), overwrite=args.overwrite)
     with progress(3, f"fit ({args.kind})", quiet=args.quiet, unit="stage") as bar:
         sig = read_signals(args)
         bar.update()
@@ -169,6 +170,7 @@ def run(args: argparse.Namespace) -> int:
         except (TypeError, ValueError) as exc:
             raise UserError(f"{args.data}: cannot fit: {exc}") from None
         bar.update()
+        record_outputs(paths.values())
         _save_fit_figure(args, sig, result, paths["figure"])
         written = [paths["figure"]]
         if result.model is not None:
@@ -176,6 +178,8 @@ def run(args: argparse.Namespace) -> int:
                 paths["model"], result.model, _motion_settings(args, sig, result), overwrite=True
             )
             written.insert(0, paths["model"])
+        else:  # no model from this fit: an earlier run's model.toml would be taken for it
+            paths["model"].unlink(missing_ok=True)
         text = (
             f"Fit of {args.data.name} (--kind {args.kind}): {result.status}. "
             f"NRMSE {100 * result.nrmse:.3g} %."

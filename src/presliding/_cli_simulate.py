@@ -10,11 +10,12 @@ import numpy as np
 
 from ._cli_common import (
     UserError,
+    check_folder,
     check_outputs,
     check_readable,
     new_figure,
-    prepare_folder,
     read_table,
+    record_outputs,
     write_csv,
 )
 
@@ -32,9 +33,9 @@ HEADER = (
 def output_paths(output: Path) -> tuple[Path, Path]:
     """(CSV, PNG) for ``-o``: a .csv path, or a folder holding simulation.csv/.png."""
     if output.suffix.lower() == ".csv":
-        prepare_folder(output.parent if str(output.parent) else Path("."))
+        check_folder(output.parent if str(output.parent) else Path("."))
         return output, output.with_suffix(".png")
-    folder = prepare_folder(output)
+    folder = check_folder(output)
     return folder / "simulation.csv", folder / "simulation.png"
 
 
@@ -81,7 +82,7 @@ def run(args: argparse.Namespace) -> int:
                 "starts at 0 s; add a row at time 0."
             )
     csv_path, png_path = output_paths(args.output)
-    check_outputs((csv_path, png_path), (args.model, args.applied_force))
+    check_outputs((csv_path, png_path), (args.model, args.applied_force), overwrite=args.overwrite)
     t_eval = np.linspace(0.0, mo.t_end, mo.samples)
     try:
         result = motion.simulate(
@@ -98,6 +99,7 @@ def run(args: argparse.Namespace) -> int:
         )
     except (TypeError, ValueError) as exc:
         raise UserError(f"{args.model}: cannot simulate: {exc}") from None
+    record_outputs((csv_path, png_path))
     write_csv(
         csv_path,
         HEADER,

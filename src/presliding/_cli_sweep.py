@@ -18,7 +18,14 @@ from typing import Any
 
 import numpy as np
 
-from ._cli_common import UserError, check_outputs, check_readable, new_figure, prepare_folder
+from ._cli_common import (
+    UserError,
+    check_folder,
+    check_outputs,
+    check_readable,
+    new_figure,
+    record_outputs,
+)
 from ._sweep_spec import AXES, QUANTITIES, SweepSpec, evaluate_chunk, load_spec
 
 #: Files written into the output folder.
@@ -87,9 +94,9 @@ def run(args: argparse.Namespace) -> int:
         )
     if args.scheduler is not None:
         check_scheduler(args.scheduler)
-    folder = prepare_folder(args.output)
+    folder = check_folder(args.output)
     paths = [folder / name for name in OUTPUTS]
-    check_outputs(paths, (args.spec,))
+    check_outputs(paths, (args.spec,), overwrite=args.overwrite)
     workers = args.workers if args.workers is not None else default_workers(spec)
     in_process = args.scheduler is None and workers == 1
     fn = functools.partial(evaluate_chunk, spec.task(single_thread=not in_process))
@@ -115,6 +122,7 @@ def run(args: argparse.Namespace) -> int:
         return 1
     value, stopped = result.values[..., 0], result.values[..., 1] == 1.0
     csv_path, png_path = paths[0], paths[1]
+    record_outputs(paths)
     _write_csv(csv_path, spec, value, stopped, quiet=args.quiet)
     save_sweep_figure(spec, value, stopped, png_path)
     summary = _summary(spec, result, value, stopped)

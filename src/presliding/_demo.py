@@ -366,4 +366,15 @@ def run_demo(out_dir: Path, *, quiet: bool = True) -> list[Path]:
     return figures + reports
 
 
-__all__ = ["figure3_loops", "figure3_models", "run_demo"]
+#: every file `run_demo` writes
+DEMO_OUTPUTS = (
+    "figure3_loops.png",
+    "free_stop.png",
+    "reversals.png",
+    "density.png",
+    "identification.png",
+    "report.md",
+    "report.html",
+)
+
+__all__ = ["DEMO_OUTPUTS", "figure3_loops", "figure3_models", "run_demo"]

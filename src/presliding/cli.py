@@ -83,6 +83,13 @@ def _build_parser() -> argparse.ArgumentParser:
         default=argparse.SUPPRESS,
         help="print nothing but errors (no progress bars)",
     )
+    writes = argparse.ArgumentParser(add_help=False)
+    writes.add_argument(
+        "--overwrite",
+        action="store_true",
+        help="replace existing output files that no earlier presliding run wrote (files "
+        "presliding wrote are replaced anyway; input files never are)",
+    )
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     fmt = argparse.RawDescriptionHelpFormatter
 
@@ -94,7 +101,7 @@ def _build_parser() -> argparse.ArgumentParser:
         "identification round trip; PNGs, report.md and report.html in the output folder.",
         epilog="example:\n  presliding demo -o out/",
         formatter_class=fmt,
-        parents=[common],
+        parents=[common, writes],
     )
     demo.add_argument(
         "-o",
@@ -115,7 +122,7 @@ def _build_parser() -> argparse.ArgumentParser:
         epilog="examples:\n  presliding simulate model.toml -o run/\n"
         "  presliding simulate model.toml --applied-force u.csv -o run.csv",
         formatter_class=fmt,
-        parents=[common],
+        parents=[common, writes],
     )
     simulate.add_argument("model", type=Path, help="model file (.toml, or .json)")
     simulate.add_argument(
@@ -185,7 +192,7 @@ def _build_parser() -> argparse.ArgumentParser:
         "  presliding fit data.csv --kind motion --viscous --offset --columns "
         "applied_force=u -o fit/",
         formatter_class=fmt,
-        parents=[common],
+        parents=[common, writes],
     )
     fit.add_argument("data", type=Path, help="measured data (CSV with a header line)")
     fit.add_argument(
@@ -249,7 +256,7 @@ def _build_parser() -> argparse.ArgumentParser:
         "  presliding sweep spec.toml --scheduler tcp://10.0.0.5:8786 -o map/\n\n"
         "specification file (TOML, or JSON with the same tables; units in brackets):\n" + SCHEMA,
         formatter_class=fmt,
-        parents=[common],
+        parents=[common, writes],
     )
     sweep.add_argument("spec", type=Path, help="sweep specification (.toml, or .json)")
     sweep.add_argument(
@@ -279,10 +286,13 @@ def _build_parser() -> argparse.ArgumentParser:
 
 
 def _cmd_demo(args: argparse.Namespace) -> int:
-    from ._cli_common import prepare_folder
-    from ._demo import run_demo
+    from ._cli_common import check_folder, check_outputs, record_outputs
+    from ._demo import DEMO_OUTPUTS, run_demo
 
-    out = prepare_folder(args.output)
+    out = check_folder(args.output)
+    outputs = [out / name for name in DEMO_OUTPUTS]
+    check_outputs(outputs, (), overwrite=args.overwrite)
+    record_outputs(outputs)
     paths = run_demo(out, quiet=args.quiet)
     if not args.quiet:
         print(f"presliding demo: wrote {len(paths)} files to {out.resolve()}")
