@@ -186,15 +186,17 @@ def straightforward_loss(y, target, r, w, a):
     return loss, states
 
 
+@pytest.mark.parametrize("plateaus", [False, True], ids=["walk", "plateaus"])
 @pytest.mark.parametrize(
     ("n", "n_batch", "n_time"), [(5, 64, 1001), (3, 37, 6), (1, 1, 1), (9, 70, 97)]
 )
-def test_fused_loss_matches_the_straightforward_kernel(n, n_batch, n_time):
+def test_fused_loss_matches_the_straightforward_kernel(n, n_batch, n_time, plateaus):
     rng = np.random.default_rng(n * n_batch + n_time)
     r = 10 ** rng.uniform(-2.0, 0.0, (n_batch, n))
     w = 10 ** rng.uniform(-1.0, 2.0, (n_batch, n))
     a = rng.normal(0.0, 1.0, n_batch)
-    y = walk(n_time, rng)
+    # equal samples and a large offset exercise the one-sided updates' rounding argument
+    y = plateaued_input(n_time, rng, 1e3) if plateaus else walk(n_time, rng)
     target = rng.normal(0.0, 1.0, n_time) + 0.5 * y
     ref, x_ref = straightforward_loss(y, target, r, w, a)
     # residual e = F − target: a rounding δ <= 1e-12·F_m in F moves e² by at most 2|e|δ + δ²
