@@ -53,8 +53,28 @@ def test_phi_eq14():
     direct = a_int = 2.0 * ((y / 2) ** 2 / 2 + y * (1 - y / 2) - (1 - (y / 2) ** 2) / 2)
     np.testing.assert_allclose(phi(model, y), direct, rtol=1e-13, atol=1e-15)
     del a_int
-    with pytest.raises(ValueError, match="nonnegative"):
+    with pytest.raises(ValueError, match=r"^`displacement` must be nonnegative; got -1\.0\.$"):
         phi(model, -1.0)
+
+
+@pytest.mark.parametrize("bad", ["0.5", "abc", True, None, [0.2, "x"], 1 + 2j])
+def test_phi_rejects_non_real_displacement(bad):
+    model = PIFriction(0.1, density=Uniform(2.0, 1.0))
+    with pytest.raises(TypeError, match=r"^`displacement` must be a real number or array .*; got "):
+        phi(model, bad)
+
+
+def test_phi_rejects_non_finite_or_negative_entries():
+    model = PIFriction(0.1, [1.0, 2.0], [0.5, 1.0])
+    with pytest.raises(ValueError, match=r"^`displacement` must be finite; got nan at index 1\.$"):
+        phi(model, [0.1, np.nan])
+    with pytest.raises(ValueError, match=r"^`displacement` must be finite; got inf\.$"):
+        phi(model, np.inf)
+    with pytest.raises(
+        ValueError, match=r"^`displacement` must be nonnegative; got -0\.5 at index 2"
+    ):
+        phi(model, [0.0, 1.0, -0.5])
+    assert phi(model, np.array([0, 3])).tolist() == [-1.5, 1.5]  # integers are real input
 
 
 @pytest.mark.parametrize(
@@ -168,7 +188,10 @@ def test_statuses_and_limits():
     sat = PIFriction(0.5, [4.0], [1.0])
     res = turning_points(sat, 1.0, 0.0, sat.saturated_state(0.0, 1.0))
     assert res.positions[0] == pytest.approx(-0.25)  # (c − c1)·2/k back, then sticks
-    with pytest.raises(ValueError, match="no positive root"):
+    with pytest.raises(
+        ValueError,
+        match=r"^`model\.coulomb` must be below F_m .*positive root.*; got 2\.0 >= 1\.0\.$",
+    ):
         turning_point(PIFriction(2.0, density=Uniform(2.0, 1.0)))
     with pytest.raises(ValueError, match="nonzero"):
         turning_points(sat, 1.0, 0.0, "saturated")

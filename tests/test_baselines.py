@@ -237,7 +237,45 @@ def test_compare_draws_every_model_on_one_path():
     assert [ln.get_label() for ln in ax.get_lines()[:4]] == list(models)
     np.testing.assert_array_equal(ax.get_lines()[2].get_ydata(), models["Dahl"].force(y)[0])
     plt.close(ax.figure)
-    with pytest.raises(ValueError, match="`time` is required for the LuGre model"):
+    with pytest.raises(ValueError, match=r"^`time` must be given for the LuGre model 'LuGreFric"):
         compare([LUGRE], y)
     with pytest.raises(TypeError, match="`models` must hold friction models"):
         compare([1.0], y)
+
+
+def test_compare_checks_ax_and_time_before_plotting():
+    y = piecewise_linear([0.0, 0.02, -0.02], 1e-3)
+    models = [PIFriction(0.2, [100.0], [0.4]), DahlFriction(1.0, 1.0)]
+    with pytest.raises(TypeError, match=r"^`ax` must be a matplotlib Axes or None; got str\.$"):
+        compare(models, y, ax="x")
+    with pytest.raises(ValueError, match=r"^`displacement` and `time` must have the same length; "):
+        compare(models, y, time=[1.0, 2.0])
+    t = np.linspace(0.0, 1.0, y.size)
+    t[3] = t[2]
+    with pytest.raises(
+        ValueError, match=r"^`time` must be strictly increasing; got .* at index 3\.$"
+    ):
+        compare(models, y, time=t)
+    with pytest.raises(ValueError, match=r"^`time` must be finite; got nan at index 0\.$"):
+        compare(models, y, time=np.full(y.size, np.nan))
+    fig, ax = plt.subplots()
+    assert compare(models, y, time=np.linspace(0.0, 1.0, y.size), ax=ax) is ax
+    assert len(ax.get_lines()) >= 2
+    plt.close(fig)
+
+
+@pytest.mark.parametrize("method", ["stribeck", "steady_state_force"])
+def test_lugre_curves_validate_velocity(method):
+    fn = getattr(LUGRE, method)
+    with pytest.raises(ValueError, match=r"^`velocity` must be finite; got nan\.$"):
+        fn(np.nan)
+    with pytest.raises(ValueError, match=r"^`velocity` must be finite; got inf at index 1\.$"):
+        fn([0.1, np.inf])
+    for bad in ("a", True, None):
+        with pytest.raises(TypeError, match=r"^`velocity` must be a real number or array"):
+            fn(bad)
+    v = np.array([-0.02, 0.0, 0.01])
+    g = 1.0 + 0.5 * np.exp(-((v / 0.01) ** 2))
+    expected = g if method == "stribeck" else g * np.sign(v) + 0.4 * v
+    np.testing.assert_allclose(fn(v), expected, rtol=1e-15)
+    assert np.shape(fn(0.01)) == ()

@@ -80,10 +80,16 @@ def test_errors():
         to_iosys(LuGreFriction(1.0, 1.0, 1.0, 0.0, 0.0, 1.0))
     with pytest.raises(ValueError, match="`dt` must be positive"):
         to_iosys(MODEL, dt=0.0)
-    with pytest.raises(TypeError, match="with a `mass`"):
+    with pytest.raises(
+        TypeError, match=r"^`model` must be .* when a `mass` is given; got DahlFriction\.$"
+    ):
         to_iosys(DahlFriction(1.0, 1.0), mass=1.0)
     with pytest.raises(ValueError, match="`mass` must be positive"):
         to_iosys(MODEL, mass=-1.0)
+    for kwargs in ({}, {"mass": 1.0}):
+        with pytest.raises(TypeError, match=r"^`name` must be a string or None; got 5\.$"):
+            to_iosys(MODEL, name=5, **kwargs)
+    assert to_iosys(MODEL, mass=1.0, name="plant").name == "plant"
 
 
 def test_missing_control_names_the_extra(monkeypatch):

@@ -116,3 +116,17 @@ def test_coulomb_only_model_dissipates_c1_per_length():
     model = PIFriction(2.0, [], [])
     d = dissipated_energy(model, [0.0, 1.0, 0.5, 0.75])
     np.testing.assert_allclose(d, [0.0, 2.0, 3.0, 3.5])
+
+
+def test_dissipated_energy_rejects_a_state_of_the_wrong_type():
+    finite = PIFriction(0.5, [10.0, 4.0], threshold=[0.1, 0.3])
+    density = PIFriction(0.0, density=Uniform(2.0, 1.0))
+    y = [0.0, 0.1]
+    with pytest.raises(TypeError, match=r"^`state` must be a PIState or None .*; got str\.$"):
+        dissipated_energy(finite, y, state="x")
+    with pytest.raises(TypeError, match=r"^`state` must be a PIState .*; got MemoryState\.$"):
+        dissipated_energy(finite, y, state=MemoryState.relaxed(0.0))
+    with pytest.raises(TypeError, match=r"^`state` must be a MemoryState or None .*; got str\.$"):
+        dissipated_energy(density, y, state="x")
+    with pytest.raises(TypeError, match=r"^`state` must be a MemoryState .*; got PIState\.$"):
+        dissipated_energy(density, y, state=PIState.relaxed(0.0, 1))

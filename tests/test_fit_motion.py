@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import dataclasses
+import re
+
 import numpy as np
 import pytest
 
@@ -103,3 +106,43 @@ def test_monotone_position_with_elements_is_rejected():
                        applied_force=1.0 + T)  # fmt: skip
     with pytest.raises(ValueError, match="reverse at least once"):
         fit_motion(ramp, 1)
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "error", "message"),
+    [
+        ({"max_evaluations": 2.5}, TypeError, "`max_evaluations` must be an integer; got 2.5."),
+        (
+            {"max_evaluations": 0},
+            ValueError,
+            "`max_evaluations` must be a positive integer; got 0.",
+        ),
+        ({"grid_size": 0}, ValueError, "`grid_size` must be at least 2; got 0."),
+        ({"grid_size": 2.5}, TypeError, "`grid_size` must be an integer; got 2.5."),
+        ({"tolerance": np.nan}, ValueError, "`tolerance` must be finite; got nan."),
+        ({"tolerance": "x"}, TypeError, "`tolerance` must be a real number; got 'x'."),
+        ({"level": "0.9"}, TypeError, "`level` must be a real number; got '0.9'."),
+        ({"fixed": {"mass": "x"}}, TypeError, "`fixed['mass']` must be a real number; got 'x'."),
+        (
+            {"tied": {"threshold_2": 6.0}},
+            TypeError,
+            "`tied['threshold_2']` must be a parameter name or a (name, factor) pair; got 6.0.",
+        ),
+    ],
+)
+def test_bad_fit_options_raise_on_entry(kwargs, error, message):
+    with pytest.raises(error, match=f"^{re.escape(message)}$"):
+        fit_motion(_measurement(), 2, **kwargs)
+
+
+def test_prediction_checks_its_arguments():
+    m = _measurement()
+    res = fit_motion(m, viscous=True, offset=True)
+    wrong = r"^`result` must be a FitResult of fit_motion; got 3\.0\.$"
+    with pytest.raises(TypeError, match=wrong):
+        predict_motion_force(3.0, m)
+    without_mass = dataclasses.replace(res, parameters={"coulomb": 2.0})
+    with pytest.raises(TypeError, match="got a FitResult without a mass"):
+        predict_motion_force(without_mass, m)
+    with pytest.raises(TypeError, match=r"^`measurement` must be a Measurement; got ndarray\.$"):
+        predict_motion_force(res, np.zeros(4))

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 import pytest
 
@@ -136,3 +138,82 @@ def test_superfluous_elements_are_flagged_not_hidden():
         res = fit_presliding(PATH, force, n)
         assert res.status == "not_identifiable" and not res.success
         assert "do not determine" in res.message and "(singular Jacobian)" in res.report()
+
+
+PAIR = "must be a parameter name or a (name, factor) pair"
+BAD_FIT_OPTIONS = [
+    ({"max_evaluations": 2.5}, TypeError, "`max_evaluations` must be an integer; got 2.5."),
+    ({"max_evaluations": -5}, ValueError, "`max_evaluations` must be a positive integer; got -5."),
+    ({"grid_size": 0}, ValueError, "`grid_size` must be at least 2; got 0."),
+    ({"grid_size": -3}, ValueError, "`grid_size` must be at least 2; got -3."),
+    ({"grid_size": 1}, ValueError, "`grid_size` must be at least 2; got 1."),
+    ({"grid_size": 2.5}, TypeError, "`grid_size` must be an integer; got 2.5."),
+    ({"tolerance": "x"}, TypeError, "`tolerance` must be a real number; got 'x'."),
+    ({"tolerance": np.nan}, ValueError, "`tolerance` must be finite; got nan."),
+    ({"tolerance": -1.0}, ValueError, "`tolerance` must be positive; got -1.0."),
+    ({"level": "0.9"}, TypeError, "`level` must be a real number; got '0.9'."),
+    ({"level": 0.0}, ValueError, "`level` must be between 0 and 1 (exclusive); got 0.0."),
+    (
+        {"fixed": {"coulomb": "abc"}},
+        TypeError,
+        "`fixed['coulomb']` must be a real number; got 'abc'.",
+    ),
+    ({"fixed": {"coulomb": np.nan}}, ValueError, "`fixed['coulomb']` must be finite; got nan."),
+    ({"tied": {"stiffness_1": 5}}, TypeError, f"`tied['stiffness_1']` {PAIR}; got 5."),
+    (
+        {"tied": {"stiffness_1": ("stiffness_2", "x")}},
+        TypeError,
+        "`tied['stiffness_1'][1]` must be a real number; got 'x'.",
+    ),
+]
+
+
+@pytest.mark.parametrize(("kwargs", "error", "message"), BAD_FIT_OPTIONS)
+@pytest.mark.parametrize("fit", [fit_presliding, fit_virgin_curve])
+def test_bad_fit_options_raise_on_entry(fit, kwargs, error, message):
+    force, _ = TRUE.force(PATH)
+    with pytest.raises(error, match=f"^{re.escape(message)}$"):
+        fit(PATH, force, 2, **kwargs)
+
+
+@pytest.mark.parametrize(
+    ("burn_in", "error", "message"),
+    [
+        (1.5, TypeError, "`burn_in` must be an integer; got 1.5."),
+        (-1, ValueError, "`burn_in` must be nonnegative; got -1."),
+        (True, TypeError, "`burn_in` must be an integer; got True."),
+    ],
+)
+def test_bad_burn_in(burn_in, error, message):
+    force, _ = TRUE.force(PATH)
+    with pytest.raises(error, match=f"^{re.escape(message)}$"):
+        fit_presliding(PATH, force, 2, burn_in=burn_in)
+
+
+@pytest.mark.parametrize(
+    ("tolerance", "error", "message"),
+    [
+        (np.nan, ValueError, "`reversal_tolerance` must be finite; got nan."),
+        (-1.0, ValueError, "`reversal_tolerance` must be nonnegative; got -1.0."),
+        ("x", TypeError, "`reversal_tolerance` must be a real number; got 'x'."),
+    ],
+)
+def test_bad_reversal_tolerance(tolerance, error, message):
+    force, _ = TRUE.force(PATH)
+    with pytest.raises(error, match=f"^{re.escape(message)}$"):
+        fit_virgin_curve(PATH, force, 2, reversal_tolerance=tolerance)
+
+
+def test_smallest_accepted_options_still_fit_exactly():
+    """grid_size=2, max_evaluations and burn_in as numpy integers are accepted and used."""
+    model = PIFriction(0.3, [40.0], threshold=[0.05])
+    force, _ = model.force(PATH)
+    truth = {"coulomb": 0.3, "stiffness_1": 40.0, "threshold_1": 0.05}
+    for fit in (fit_presliding, fit_virgin_curve):
+        res = fit(PATH, force, 1, grid_size=np.int64(2), tolerance=np.float64(1e-10))
+        assert res.success, res.message
+        _check_exact(res, truth)
+    capped = fit_presliding(PATH, force, 1, grid_size=2, max_evaluations=np.int64(1))
+    assert capped.status == "max_evaluations" and capped.n_evaluations == 1
+    burned = fit_presliding(PATH, force, 1, burn_in=np.int64(10))
+    assert burned.measured.shape[0] == PATH.shape[0] - 10

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 import pytest
 
@@ -184,3 +186,108 @@ def test_coulomb_on_its_bound_is_reported():
     assert fit.status == "at_bound", fit.message
     assert "coulomb" in fit.message and not fit.success
     assert fit.parameters["coulomb"] == pytest.approx(0.0, abs=1e-6)
+
+
+# ---------------------------------------------------------------- options checked on entry
+SWING = Measurement(T, velocity=0.05 * np.cos(40.0 * T), applied_force=U)
+PAIR = "must be a parameter name or a (name, factor) pair"
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "error", "message"),
+    [
+        (
+            {"fixed": {"stiffness_1": 0.0}},
+            ValueError,
+            "`fixed['stiffness_1']` must be positive; got 0.0.",
+        ),
+        ({"fixed": {"mass": 0.0}}, ValueError, "`fixed['mass']` must be positive; got 0.0."),
+        (
+            {"fixed": {"coulomb_level": -1.0}},
+            ValueError,
+            "`fixed['coulomb_level']` must be positive; got -1.0.",
+        ),
+        (
+            {"fixed": {"coulomb": -0.1}},
+            ValueError,
+            "`fixed['coulomb']` must be nonnegative; got -0.1.",
+        ),
+        (
+            {"fixed": {"coulomb": "abc"}},
+            TypeError,
+            "`fixed['coulomb']` must be a real number; got 'abc'.",
+        ),
+        (
+            {"fixed": {"initial_velocity": np.nan}},
+            ValueError,
+            "`fixed['initial_velocity']` must be finite; got nan.",
+        ),
+        (
+            {"fixed": {"breakaway_2": 0.0}, "equal_breakaway": False},
+            ValueError,
+            "`fixed['breakaway_2']` must be positive; got 0.0.",
+        ),
+        (
+            {"fixed": {"coulomb": 1.0}, "coulomb_level": 1.0},
+            ValueError,
+            "`fixed['coulomb']` must be less than the Coulomb level 1.0 (else no force is left "
+            "for the elements); got 1.0.",
+        ),
+        (
+            {"initial": {"mass": "abc"}},
+            TypeError,
+            "`initial['mass']` must be a real number; got 'abc'.",
+        ),
+        (
+            {"initial": {"stiffness_2": -5.0}},
+            ValueError,
+            "`initial['stiffness_2']` must be positive; got -5.0.",
+        ),
+        (
+            {"initial": {"coulomb": np.inf}},
+            ValueError,
+            "`initial['coulomb']` must be finite; got inf.",
+        ),
+        (
+            {"initial": [("mass", 1.0)]},
+            TypeError,
+            "`initial` must be a mapping of parameter names to start values; got list.",
+        ),
+        ({"tied": {"stiffness_1": 5}}, TypeError, f"`tied['stiffness_1']` {PAIR}; got 5."),
+        (
+            {"tied": {"stiffness_1": ("stiffness_2", "x")}},
+            TypeError,
+            "`tied['stiffness_1'][1]` must be a real number; got 'x'.",
+        ),
+        (
+            {"tied": {"stiffness_1": ("stiffness_2", 0.0)}},
+            ValueError,
+            "`tied['stiffness_1'][1]` must be positive; got 0.0.",
+        ),
+        ({"max_evaluations": 2.5}, TypeError, "`max_evaluations` must be an integer; got 2.5."),
+        (
+            {"max_evaluations": -5},
+            ValueError,
+            "`max_evaluations` must be a positive integer; got -5.",
+        ),
+        ({"tolerance": "x"}, TypeError, "`tolerance` must be a real number; got 'x'."),
+        ({"tolerance": -1.0}, ValueError, "`tolerance` must be positive; got -1.0."),
+        ({"level": "0.9"}, TypeError, "`level` must be a real number; got '0.9'."),
+    ],
+)
+def test_bad_options_raise_on_entry(kwargs, error, message):
+    """A fixed zero stiffness was once clamped to 2.2e-308 and reported as converged."""
+    with pytest.raises(error, match=f"^{re.escape(message)}$"):
+        fit_response(SWING, n_elements=2, **{"multistart": False, "max_evaluations": 5, **kwargs})
+
+
+def test_fixed_zero_coulomb_element_is_allowed():
+    """c1 = 0 (no Coulomb element) is in the model's domain, unlike a zero stiffness."""
+    model = PIFriction(0.0, [4000.0, 1000.0], breakaway=[0.5, 0.5])
+    res = _data(model)
+    meas = Measurement(T, velocity=res.velocity, applied_force=U)
+    fit = fit_response(meas, n_elements=2, fixed={"coulomb": 0.0}, initial={"mass": 1.5})
+    assert fit.success, fit.message
+    assert fit.parameters["coulomb"] == 0.0 and "coulomb" in fit.fixed
+    for name, value in {"mass": 2.0, "coulomb_level": 1.0, "stiffness_1": 4000.0}.items():
+        assert fit.parameters[name] == pytest.approx(value, rel=1e-7), name

@@ -6,6 +6,8 @@ import matplotlib
 
 matplotlib.use("Agg")
 
+import re
+
 import numpy as np
 import pytest
 from scipy import stats
@@ -120,3 +122,82 @@ def test_fit_result_report_and_plot():
     import matplotlib.pyplot as plt
 
     plt.close(ax.figure)
+
+
+PAIR = "must be a parameter name or a (name, factor) pair"
+BAD_OPTIONS = [
+    ({"max_evaluations": 2.5}, TypeError, "`max_evaluations` must be an integer; got 2.5."),
+    ({"max_evaluations": True}, TypeError, "`max_evaluations` must be an integer; got True."),
+    ({"max_evaluations": -5}, ValueError, "`max_evaluations` must be a positive integer; got -5."),
+    ({"max_evaluations": 0}, ValueError, "`max_evaluations` must be a positive integer; got 0."),
+    ({"tolerance": "x"}, TypeError, "`tolerance` must be a real number; got 'x'."),
+    ({"tolerance": np.nan}, ValueError, "`tolerance` must be finite; got nan."),
+    ({"tolerance": -1.0}, ValueError, "`tolerance` must be positive; got -1.0."),
+    ({"gradient_tolerance": 0.0}, ValueError, "`gradient_tolerance` must be positive; got 0.0."),
+    ({"level": "0.9"}, TypeError, "`level` must be a real number; got '0.9'."),
+    ({"level": np.nan}, ValueError, "`level` must be finite; got nan."),
+    ({"level": 1.0}, ValueError, "`level` must be between 0 and 1 (exclusive); got 1.0."),
+    (
+        {"difference": "central"},
+        ValueError,
+        "`difference` must be one of '3-point', '2-point'; got 'central'.",
+    ),
+    ({"fixed": {"a": "abc"}}, TypeError, "`fixed['a']` must be a real number; got 'abc'."),
+    ({"fixed": {"a": np.inf}}, ValueError, "`fixed['a']` must be finite; got inf."),
+    ({"fixed": {"a": True}}, TypeError, "`fixed['a']` must be a real number; got True."),
+    (
+        {"fixed": [("a", 1.0)]},
+        TypeError,
+        "`fixed` must be a mapping of parameter names to values; got list.",
+    ),
+    ({"tied": {"a": 5}}, TypeError, f"`tied['a']` {PAIR}; got 5."),
+    ({"tied": {"a": ("b",)}}, TypeError, f"`tied['a']` {PAIR}; got ('b',)."),
+    ({"tied": {"a": (2.0, "b")}}, TypeError, f"`tied['a']` {PAIR}; got (2.0, 'b')."),
+    ({"tied": {"a": ("b", "x")}}, TypeError, "`tied['a'][1]` must be a real number; got 'x'."),
+    ({"tied": {"a": ("b", np.nan)}}, ValueError, "`tied['a'][1]` must be finite; got nan."),
+    (
+        {"fixed": {"a": 5.0}, "bounds": {"a": (0.0, 1.0)}},
+        ValueError,
+        "`fixed['a']` must lie in [0.0, 1.0] (its bounds); got 5.0.",
+    ),
+]
+
+
+@pytest.mark.parametrize(("kwargs", "error", "message"), BAD_OPTIONS)
+def test_bad_options_raise_on_entry_in_one_sentence(kwargs, error, message):
+    calls = []
+
+    def residual(p):
+        calls.append(p)
+        return p - 1.0
+
+    with pytest.raises(error, match=f"^{re.escape(message)}$"):
+        solve_least_squares(residual, {"a": 0.0, "b": 0.0}, **kwargs)
+    assert not calls  # rejected before the residual is ever evaluated
+
+
+def test_checked_options_reach_the_solver():
+    x, y, _ = _linear_problem(5)
+    z = np.random.default_rng(99).normal(size=y.shape)
+
+    def residual(p):  # nonlinear in c: needs several evaluations
+        return x @ p[:3] + np.exp(p[3]) * z - y
+
+    capped = solve_least_squares(residual, dict.fromkeys("abcd", 0.0), max_evaluations=np.int64(2))
+    assert capped.status == "max_evaluations" and capped.n_evaluations <= 2
+    full = solve_least_squares(residual, dict.fromkeys("abcd", 0.0), level=np.float64(0.9))
+    assert full.status == "converged" and full.level == 0.9
+    # a tie given as a list pair with a numpy factor is the same tie as a tuple
+    as_list = solve_least_squares(lambda p: p - [1.0, 2.0], {"a": 0.0, "b": 0.0},
+                                  tied={"b": ["a", np.float64(2.0)]})  # fmt: skip
+    as_tuple = solve_least_squares(lambda p: p - [1.0, 2.0], {"a": 0.0, "b": 0.0},
+                                   tied={"b": ("a", 2.0)})  # fmt: skip
+    assert as_list.values == pytest.approx(as_tuple.values)
+    assert as_list.values["b"] == pytest.approx(2.0 * as_list.values["a"])
+
+
+@pytest.mark.parametrize("start", ["abc", True, [1.0], None])
+def test_start_value_must_be_a_real_number(start):
+    message = f"`initial['a']` must be a real number; got {start!r}."
+    with pytest.raises(TypeError, match=f"^{re.escape(message)}$"):
+        solve_least_squares(lambda p: p - 1.0, {"a": start})

@@ -40,6 +40,32 @@ def test_require_names_the_missing_signal():
     m = Measurement([0.0, 1.0], position=[0.0, 1.0])
     with pytest.raises(ValueError, match="`applied_force`"):
         m.require("position", "applied_force", purpose="a test")
+    m.require("position")  # present: no error
+
+
+@pytest.mark.parametrize("name", ["speed", 3, None])
+def test_require_rejects_unknown_signal_names(name):
+    m = Measurement([0.0, 1.0], position=[0.0, 1.0])
+    with pytest.raises(ValueError, match=r"^`names` must be one of 'position', .*; got "):
+        m.require(name)
+
+
+@pytest.mark.parametrize(
+    ("bounds", "error", "message"),
+    [
+        ((np.nan, 1.0), ValueError, r"^`start` must be finite; got nan\.$"),
+        ((0.0, np.inf), ValueError, r"^`end` must be finite; got inf\.$"),
+        (("0", 1.0), TypeError, r"^`start` must be a real number; got '0'\.$"),
+        ((0.0, True), TypeError, r"^`end` must be a real number; got True\.$"),
+        ((0.8, 0.2), ValueError, r"^`end` must be at least `start` 0\.8; got 0\.2\.$"),
+        ((5.0, 6.0), ValueError, r"^`start` and `end` must enclose at least 2 samples; got 0 "),
+    ],
+)
+def test_window_bounds_are_validated(bounds, error, message):
+    m = Measurement(np.linspace(0.0, 1.0, 11), position=np.arange(11.0))
+    with pytest.raises(error, match=message):
+        m.window(*bounds)
+    np.testing.assert_array_equal(m.window(None, 0.25).position, [0.0, 1.0, 2.0])
 
 
 def test_from_csv_by_name_and_index_with_scale(tmp_path):

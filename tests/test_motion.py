@@ -229,9 +229,12 @@ def test_batch_and_free_response_equal_simulate():
         np.testing.assert_array_equal(batch.position[i], one.position)
         assert batch.n_reversals[i] == one.n_reversals
         assert batch.stop_time[i] == (np.inf if one.stop_time is None else one.stop_time)
-        y, vel = free_response(1.5, model.coulomb, model.stiffness, model.threshold, v, 1e-3, 2000)
-        np.testing.assert_array_equal(y, one.position)
-        np.testing.assert_array_equal(vel, one.velocity)
+        free = free_response(1.5, model.coulomb, model.stiffness, model.threshold, v, 1e-3, 2000)
+        assert free.success and free.status == 0
+        np.testing.assert_array_equal(free.time, t)
+        np.testing.assert_array_equal(free.position, one.position)
+        np.testing.assert_array_equal(free.velocity, one.velocity)
+        assert free.n_reversals == one.n_reversals and free.stop_time == one.stop_time
     params = simulate_batch(coulomb=[model.coulomb] * 2, stiffness=[model.stiffness] * 2,
                             breakaway=[model.breakaway] * 2, mass=1.5, initial_velocity=v0[:1],
                             initial_state="saturated", t_eval=t)  # fmt: skip
@@ -290,7 +293,7 @@ MODEL = ps.PIFriction(coulomb=1.0, stiffness=[10.0], breakaway=[1.0])
     [
         (dict(mass=0.0, t_end=1.0), ValueError, "`mass` must be positive"),
         (dict(mass=-1.0, t_end=1.0), ValueError, "`mass` must be positive"),
-        (dict(mass=1.0), TypeError, "give `t_end` or `t_eval`"),
+        (dict(mass=1.0), TypeError, "`t_end` or `t_eval` must be given"),
         (dict(mass=1.0, t_end=0.0), ValueError, "`t_end` must be greater"),
         (dict(mass=1.0, t_end=np.nan), ValueError, "`t_end` must be finite"),
         (dict(mass=1.0, t_eval=[0.0, 0.5, 0.5]), ValueError, "`t_eval` must be strictly incr"),
@@ -316,7 +319,11 @@ MODEL = ps.PIFriction(coulomb=1.0, stiffness=[10.0], breakaway=[1.0])
             ValueError,
             "piecewise-constant",
         ),
-        (dict(mass=1.0, t_end=1.0, initial_state="saturated"), ValueError, "needs a direction"),
+        (
+            dict(mass=1.0, t_end=1.0, initial_state="saturated"),
+            ValueError,
+            r"`initial_velocity` or the applied force at `t_start` must be nonzero .*; got 0.0",
+        ),
         (dict(mass=1.0, t_end=1.0, initial_state="hot"), ValueError, "`initial_state` must be"),
         (
             dict(mass=1.0, t_end=1.0, initial_state=ps.PIState(1.0, [1.0])),
@@ -345,11 +352,13 @@ def test_bad_model_and_batch_inputs():
         simulate_batch(MODEL, [1.0, 2.0], [1.0, 2.0, 3.0], t_end=1.0)
     with pytest.raises(TypeError, match="not both"):
         simulate_batch(MODEL, coulomb=[1.0], stiffness=[[1.0]], breakaway=[[1.0]], t_end=1.0)
-    with pytest.raises(ValueError, match="`stiffness` must be finite and positive"):
+    with pytest.raises(
+        ValueError, match=r"`stiffness` must be positive; got -1.0 at index \(0, 0\)"
+    ):
         simulate_batch(coulomb=[1.0], stiffness=[[-1.0]], breakaway=[[1.0]], t_end=1.0)
     with pytest.raises(ValueError, match="callable"):
         simulate_batch(MODEL, applied_force=lambda t: t, t_end=1.0)
-    with pytest.raises(ValueError, match="`threshold` must be finite and positive"):
+    with pytest.raises(ValueError, match=r"`threshold` must be positive; got 0\.0 at index 0"):
         free_response(1.0, 0.5, [1.0], [0.0], 1.0, 1e-3, 10)
     with pytest.raises(ValueError, match="same length"):
         free_response(1.0, 0.5, [1.0, 2.0], [1.0], 1.0, 1e-3, 10)
@@ -363,3 +372,262 @@ def test_event_limit_reports_failure():
     assert res.status == -1 and not res.success
     assert "event limit" in res.message
     assert res.time.shape == res.position.shape and res.time[-1] < 100.0
+
+
+# ----------------------------------------------------------------------- free_response results
+def test_free_response_never_returns_unfilled_samples_at_the_event_limit():
+    # an undamped oscillation (c1 = 0, amplitude v0/ω = 1e-5 far below r = 1): one
+    # event per half-period, so the event limit stops the run long before t = 2000
+    res = free_response(1.0, 0.0, [1e10], [1.0], 1.0, 0.01, 200000, initial_state="relaxed",
+                        max_events=1000)  # fmt: skip
+    assert res.status == -1 and not res.success
+    assert "event limit max_events = 1000" in res.message
+    assert 0 < res.time.shape[0] < 200000
+    assert res.time.shape == res.position.shape == res.velocity.shape
+    w = 1e5
+    np.testing.assert_allclose(res.position, np.sin(w * res.time) / w, rtol=0, atol=1e-9 / w)
+    np.testing.assert_allclose(res.velocity, np.cos(w * res.time), rtol=0, atol=1e-9)
+    assert res.stop_time is None
+    assert "status -1" in res.report() and "not solved to the end" in res.report()
+
+
+def test_free_response_result_report_and_plot():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    # the docstring example of `simulate`: one reversal, stop at 1/3 + π·sqrt(m/k)
+    res = free_response(1.0, 1.0, [100.0], [0.02], 1.0, 1e-3, 2000)
+    assert res.success and res.n_reversals == 1
+    assert res.stop_time == pytest.approx(1 / 3 + math.pi / 10, rel=1e-12)
+    assert np.all(res.velocity[res.time > res.stop_time] == 0.0)
+    assert "stops at t =" in res.report()
+    _, ax = plt.subplots()
+    assert res.plot(ax) is ax and ax.lines
+    plt.close(ax.figure)
+    with pytest.raises(AttributeError):
+        res.status = 1  # frozen
+
+
+@pytest.mark.parametrize(
+    ("args", "kwargs", "exc", "match"),
+    [
+        (("0.5", [1.0], [1.0]), {}, TypeError, r"`coulomb` must be a real number; got '0.5'\."),
+        ((True, [1.0], [1.0]), {}, TypeError, r"`coulomb` must be a real number; got True\."),
+        ((None, [1.0], [1.0]), {}, TypeError, r"`coulomb` must be a real number; got None\."),
+        ((-0.5, [1.0], [1.0]), {}, ValueError, r"`coulomb` must be nonnegative; got -0.5\."),
+        ((0.5, ["a"], [1.0]), {}, TypeError, r"`stiffness` must be a real number .*; got dtype"),
+        ((0.5, [1 + 1j], [1.0]), {}, TypeError, r"`stiffness` must be .*; got dtype complex"),
+        ((0.5, [True], [1.0]), {}, TypeError, r"`stiffness` must be .*; got dtype bool"),
+        ((0.5, [1.0], [np.inf]), {}, ValueError, r"`threshold` must be finite; got inf"),
+        (
+            (0.5, [1e10], [1e300]),
+            {},
+            ValueError,
+            r"`breakaway` must come out finite and positive; got inf at index 0 \(from stiff",
+        ),
+        (
+            (0.0, [], []),
+            {},
+            ValueError,
+            r"`coulomb` must be positive when `stiffness` is empty .*; got 0.0\.",
+        ),
+        (
+            (0.5, [1.0], [1.0]),
+            {"initial_state": np.zeros(3)},
+            TypeError,
+            r"`initial_state` must be 'relaxed' or 'saturated'; got ndarray\.",
+        ),
+        ((0.5, [1.0], [1.0]), {"max_events": 0}, ValueError, r"`max_events` must be a positive"),
+    ],
+)
+def test_free_response_validates_its_inputs(args, kwargs, exc, match):
+    with pytest.raises(exc, match=match):
+        free_response(1.0, *args, 1.0, 1e-3, 10, **kwargs)
+
+
+def test_free_response_breakaway_rule_equals_pifriction():
+    with pytest.raises(ValueError, match="`breakaway` must come out finite and positive"):
+        ps.PIFriction(coulomb=0.5, stiffness=[1e10], threshold=[1e300])
+    with pytest.raises(
+        ValueError, match=r"`breakaway` must come out finite and positive; got 0\.0"
+    ):
+        free_response(1.0, 0.5, [1e-300], [1e-300], 1.0, 1e-3, 10)
+
+
+# ----------------------------------------------------------------------- batch validation
+BATCH = dict(initial_velocity=1.0, t_end=1.0)
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "exc", "match"),
+    [
+        (
+            dict(coulomb="0.5", stiffness=[[1.0]], breakaway=[[1.0]]),
+            TypeError,
+            r"`coulomb` must be a real number or array of real numbers; got '0.5'\.",
+        ),
+        (
+            dict(coulomb=0.5, stiffness=[[True]], breakaway=[[1.0]]),
+            TypeError,
+            r"`stiffness` must be a real number or array of real numbers; got dtype bool\.",
+        ),
+        (
+            dict(coulomb=[True], stiffness=[[1.0]], breakaway=[[1.0]]),
+            TypeError,
+            r"`coulomb` must be .*; got dtype bool\.",
+        ),
+        (
+            dict(coulomb=0.5, stiffness=[[1.0]], breakaway=[[1.0]], mass="2"),
+            TypeError,
+            r"`mass` must be a real number or array of real numbers; got '2'\.",
+        ),
+        (
+            dict(coulomb=["a"], stiffness=[[1.0]], breakaway=[[1.0]]),
+            TypeError,
+            r"`coulomb` must be .*; got dtype <U1\.",
+        ),
+        (
+            dict(coulomb=0.5, stiffness=[[1.0]], threshold=[["x"]]),
+            TypeError,
+            r"`threshold` must be .*; got dtype <U1\.",
+        ),
+        (
+            dict(coulomb=0.5, stiffness=[[1.0], [1.0, 2.0]], breakaway=1.0),
+            ValueError,
+            r"`stiffness` must be a rectangular array of shape \(B, N\); got",
+        ),
+        (
+            dict(coulomb=[0.5] * 3, stiffness=[[1.0], [2.0]], breakaway=[[1.0], [1.0]]),
+            ValueError,
+            r"`coulomb`, `stiffness`, `breakaway` must have length 1 or one common length B "
+            r"\(the batch size\); got lengths coulomb 3, stiffness 2, breakaway 2\.",
+        ),
+        (
+            dict(coulomb=[0.5] * 2, stiffness=[[1.0], [2.0]], breakaway=1.0, mass=[1.0] * 3),
+            ValueError,
+            r"`coulomb`, `stiffness`, `mass` must have length 1 or one common length B",
+        ),
+        (
+            dict(coulomb=0.5, stiffness=[[1e-300, 10.0]], breakaway=[[1e300, 1.0]]),
+            ValueError,
+            r"`threshold` must come out finite and positive; got inf at index \(0, 0\) "
+            r"\(from stiffness 1e-300\)\.",
+        ),
+        (
+            dict(coulomb=0.5, stiffness=[[1e10]], threshold=[[1e300]]),
+            ValueError,
+            r"`breakaway` must come out finite and positive; got inf at index \(0, 0\)",
+        ),
+        (
+            dict(coulomb=0.5, stiffness=[[1.0, 2.0]], breakaway=[[1.0]]),
+            ValueError,
+            r"`breakaway` must have as many elements \(columns\) as `stiffness`; got 1 and 2\.",
+        ),
+        (
+            dict(coulomb=[0.5, 0.0], stiffness=np.empty((1, 0)), breakaway=np.empty((1, 0))),
+            ValueError,
+            r"`coulomb` must be positive when `stiffness` is empty .*; got 0.0 at index 1\.",
+        ),
+        (
+            dict(coulomb=0.5, stiffness=[[1.0]]),
+            TypeError,
+            r"`breakaway` or `threshold` must be given, not both; got neither\.",
+        ),
+        (
+            dict(coulomb=0.5, breakaway=[[1.0]]),
+            TypeError,
+            r"`coulomb` and `stiffness` .* must be given when `models` is not; got no `stiff",
+        ),
+        (
+            dict(coulomb=0.5, stiffness=[[1.0]], breakaway=1.0, initial_state=np.zeros(3)),
+            TypeError,
+            r"`initial_state` must be 'relaxed' or 'saturated'; got ndarray\.",
+        ),
+        (
+            dict(coulomb=0.5, stiffness=[[1.0]], breakaway=1.0, initial_position=[np.nan]),
+            ValueError,
+            r"`initial_position` must be finite; got nan at index 0\.",
+        ),
+    ],
+)
+def test_batch_parameters_are_validated(kwargs, exc, match):
+    with pytest.raises(exc, match=match):
+        simulate_batch(**{**BATCH, **kwargs})
+
+
+def test_batch_threshold_rule_equals_pifriction_and_shared_rows_broadcast():
+    with pytest.raises(ValueError, match="`threshold` must come out finite and positive"):
+        ps.PIFriction(coulomb=0.5, stiffness=[1e-300, 10.0], breakaway=[1e300, 1.0])
+    with pytest.raises(TypeError, match=r"must be given, not both; got `models` and `threshold`"):
+        simulate_batch(MODEL, threshold=[[1.0]], t_end=1.0)
+    # one shared stiffness row and a scalar breakaway broadcast over B = 2 members
+    batch = simulate_batch(coulomb=[0.5, 1.0], stiffness=[10.0], breakaway=1.0, **BATCH)
+    for i, c1 in enumerate((0.5, 1.0)):
+        one = simulate(ps.PIFriction(c1, [10.0], [1.0]), 1.0, **BATCH)
+        np.testing.assert_array_equal(batch.position[i], one.position)
+
+
+# ----------------------------------------------------------------------- state, force, plots
+def test_array_initial_state_is_a_type_error():
+    with pytest.raises(TypeError, match=r"`initial_state` must be 'relaxed', 'saturated' or a "
+                                        r"PIState .*; got ndarray\."):  # fmt: skip
+        simulate(MODEL, 1.0, t_end=1.0, initial_state=np.zeros(3))
+
+
+@pytest.mark.parametrize(
+    ("func", "got"),
+    [
+        (lambda t: "x", r"got 'x' at t = 0.0\."),
+        (lambda t: np.ones(3), r"got \[1.0, 1.0, 1.0\] at t = 0.0\."),
+        (lambda t: True, r"got True at t = 0.0\."),
+    ],
+)
+def test_applied_force_must_return_one_real_number_per_time(func, got):
+    with pytest.raises(TypeError, match=r"`applied_force` must return one real number per time; "
+                       + got):  # fmt: skip
+        simulate(MODEL, 1.0, t_end=1.0, applied_force=func)
+
+
+def test_result_plot_takes_the_axes_first_and_batches_plot():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    res = simulate(MODEL, 1.0, initial_velocity=1.0, t_end=2.0)
+    _, ax = plt.subplots()
+    assert res.plot(ax) is ax and ax.lines
+    assert res.plot(ax, kind="phase") is ax
+    plt.close(ax.figure)
+    batch = simulate_batch(MODEL, 1.0, [0.5, 1.0, 30.0], t_end=2.0)
+    assert batch.stopped.tolist() == [True, True, False]
+    _, ax = plt.subplots()
+    assert batch.plot(ax) is ax
+    # one line per member, one marker line for the two stops
+    assert len(ax.lines) == 3 + 1 + 1  # members, stops, zero line
+    stops = next(ln for ln in ax.lines if ln.get_label() == "stop")
+    np.testing.assert_array_equal(stops.get_xdata(), batch.stop_time[:2])
+    np.testing.assert_array_equal(stops.get_ydata(), [0.0, 0.0])
+    plt.close(ax.figure)
+    ax = batch.plot(kind="position")
+    stops = next(ln for ln in ax.lines if ln.get_label() == "stop")
+    np.testing.assert_array_equal(stops.get_ydata(), batch.final_position[:2])
+    plt.close(ax.figure)
+    with pytest.raises(ValueError, match=r"`kind` must be one of 'velocity', 'position'; got 'x'"):
+        batch.plot(kind="x")
+
+
+def test_public_functions_document_their_parameters():
+    import doctest
+
+    import presliding._motion_batch as batch_module
+    import presliding.motion as motion
+
+    for func in (motion.simulate_batch, motion.free_response):
+        doc = func.__doc__
+        assert "Parameters\n    ----------" in doc and "Returns\n    -------" in doc
+    assert "t_start : float, keyword only\n        Start time" in motion.simulate.__doc__
+    result = doctest.testmod(batch_module)
+    assert result.attempted >= 4 and result.failed == 0

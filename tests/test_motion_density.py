@@ -299,10 +299,12 @@ def test_validation_of_density_motions():
         simulate(model, 1.0, t_end=1.0, initial_state=ps.PIState.relaxed(0.0, 2))
     with pytest.raises(ValueError, match="must equal `initial_position`"):
         simulate(model, 1.0, t_end=1.0, initial_state=ps.MemoryState.relaxed(0.5))
-    with pytest.raises(ValueError, match="needs a direction"):
+    with pytest.raises(ValueError, match="must be nonzero for `initial_state` 'saturated'"):
         simulate(model, 1.0, t_end=1.0, initial_state="saturated")
     with pytest.raises(ValueError, match="`initial_state` must be 'relaxed'"):
         simulate(model, 1.0, t_end=1.0, initial_state="hot")
+    with pytest.raises(TypeError, match=r"or a MemoryState; got ndarray\."):
+        simulate(model, 1.0, t_end=1.0, initial_state=np.zeros(3))
     with pytest.raises(ValueError, match="`step` must be positive"):
         simulate(model, 1.0, t_end=1.0, step=-1.0)
     with pytest.raises(TypeError, match="continuous density"):

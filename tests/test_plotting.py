@@ -74,9 +74,20 @@ def test_plot_density_unbounded_support(ax):
 def test_new_figure_when_ax_is_none(free_motion):
     import matplotlib.pyplot as plt
 
+    before = set(plt.get_fignums())
     ax = plotting.plot_forces(free_motion)
-    assert ax.figure is not None
-    plt.close(ax.figure)
+    try:
+        fig = ax.figure
+        assert fig.number not in before and set(plt.get_fignums()) == before | {fig.number}
+        assert fig.axes == [ax]  # a fresh figure holding only this axes
+        friction, applied = ax.get_lines()[:2]
+        np.testing.assert_array_equal(friction.get_xdata(), free_motion.time)
+        np.testing.assert_array_equal(friction.get_ydata(), free_motion.friction_force)
+        np.testing.assert_array_equal(applied.get_xdata(), free_motion.time)
+        np.testing.assert_array_equal(applied.get_ydata(), free_motion.applied_force)
+        assert [friction.get_label(), applied.get_label()] == ["friction force", "applied force u"]
+    finally:
+        plt.close(ax.figure)
 
 
 @pytest.mark.parametrize("tight", [False, True])

@@ -38,6 +38,10 @@ def wrong_length(ratio, velocity):
     return ratio[:-1]
 
 
+def nan_where_negative(ratio, velocity):
+    return np.where(velocity < 0, np.nan, np.where(velocity > 2.5, np.inf, ratio + velocity))
+
+
 def test_product_grid_serial_values_and_shape():
     res = sweep(surface, GRID, n_workers=1, chunk_size=10)
     assert isinstance(res, SweepResult) and res.status == "ok" and res.success
@@ -102,6 +106,50 @@ def test_failed_chunk_is_reported_not_raised():
     np.testing.assert_array_equal(res.values[:2, 0], [0.5, 1.5])
     assert np.isnan(res.values[2, 0])
     assert "failed" in res.report()
+
+
+def test_non_finite_values_are_failed_points():
+    res = sweep(lambda a: a * np.nan, {"a": [1.0, 2.0]}, n_workers=1)
+    assert res.status == "failed" and not res.success
+    assert res.message == (
+        "2 of 2 points got no finite value from `fn`; the first at a=1.0 (index 0)"
+    )
+    assert res.failed.all() and np.isnan(res.values).all()
+    # a product grid: NaN and inf points are flagged, the rest kept; index in the grid's shape
+    res = sweep(nan_where_negative, GRID, n_workers=1, chunk_size=10)
+    r, v = np.meshgrid(GRID["ratio"], GRID["velocity"], indexing="ij")
+    bad = (v < 0) | (v > 2.5)
+    np.testing.assert_array_equal(res.failed, bad)
+    assert np.isnan(res.values[bad]).all()
+    np.testing.assert_array_equal(res.values[~bad], (r + v)[~bad])
+    assert res.status == "failed"
+    assert res.message == (
+        f"{bad.sum()} of 77 points got no finite value from `fn`; the first at ratio=0.1, "
+        "velocity=-2.0 (index (0, 0))"
+    )
+    assert "failed" in res.report()
+
+
+def test_rows_with_a_finite_entry_are_kept_and_both_failures_are_reported():
+    def flagged(velocity):  # a value and a validity flag, as the command-line sweep returns
+        return np.column_stack([np.where(velocity > 0, velocity, np.nan), velocity > 0])
+
+    res = sweep(flagged, {"velocity": [-1.0, 1.0]}, n_workers=1)
+    assert res.status == "ok" and not res.failed.any()
+    assert np.isnan(res.values[0, 0]) and res.values[1].tolist() == [1.0, 1.0]
+    grid = {"velocity": [0.0, -1.0, 3.0], "ratio": [0.5]}
+
+    def both(velocity, ratio):
+        return fails_on_large(ratio, velocity) / (velocity >= 0)
+
+    with np.errstate(divide="ignore"):
+        res = sweep(both, grid, n_workers=1, chunk_size=1)
+    assert res.message == (
+        "1 of 3 chunks failed; chunk 2 (first point velocity=3.0, ratio=0.5) raised "
+        "ValueError: velocity too large; 1 of 3 points got no finite value from `fn`; the "
+        "first at velocity=-1.0, ratio=0.5 (index (1, 0))"
+    )
+    np.testing.assert_array_equal(res.failed[:, 0], [False, True, True])
 
 
 def test_wrong_output_length_fails_the_chunk():

@@ -28,6 +28,7 @@ from .general_pi import GeneralPIOperator, MemoryState
 from .inverse import inverse_state, pi_inverse
 from .measurement import Measurement
 from .motion import (
+    FreeResponse,
     MotionBatch,
     MotionEnergy,
     MotionResult,
@@ -46,6 +47,7 @@ __all__ = [
     "Discrete",
     "Exponential",
     "FitResult",
+    "FreeResponse",
     "GeneralPIOperator",
     "LuGreFriction",
     "LuGreState",

@@ -15,10 +15,14 @@ from ._event import run_events
 
 
 @nb.njit(cache=True)
-def free_kernel(m, c1, k, r, f0, y0, v0, last_dir, u, dt, n_samples):  # pragma: no cover
+def free_kernel(
+    m, c1, k, r, f0, y0, v0, last_dir, u, dt, n_samples, max_events
+):  # pragma: no cover
     """Position and velocity at t = i·dt, i < n_samples, under a constant force u.
 
-    Returns (position, velocity, status, stop_time (nan if moving), n_reversals).
+    Returns (position, velocity, status, stop_time (nan if moving), n_reversals,
+    n_filled, t_last): only the first ``n_filled`` samples are computed (all of
+    them when status is 0; fewer when the event limit stopped the run at t_last).
     """
     t_eval = np.arange(n_samples) * dt
     t_end = max(t_eval[-1], dt)
@@ -30,11 +34,11 @@ def free_kernel(m, c1, k, r, f0, y0, v0, last_dir, u, dt, n_samples):  # pragma:
     u_t = np.zeros(1)
     u_val = np.full(1, u)
     res = run_events(
-        m, c1, k, r, f, y0, v0, last_dir, u_t, u_val, t_eval, t_end, 10_000_000,
+        m, c1, k, r, f, y0, v0, last_dir, u_t, u_val, t_eval, t_end, max_events,
         o_y, o_v, scratch[0], scratch[1], scratch[2], scratch[3], scratch[4], scratch[5],
         rev[0], rev[1],
     )  # fmt: skip
-    return o_y, o_v, res[0], res[3], res[2]
+    return o_y, o_v, res[0], res[3], res[2], res[1], res[10]
 
 
 @nb.njit(cache=True, parallel=True)

@@ -47,21 +47,78 @@ class Density:
         return float(out[0]) if scalar else out
 
     def M1(self, r: ArrayLike) -> Any:
-        """M1(r) = ∫_0^r s dμ(s): break-away force of the stops with threshold <= r."""
+        """M1(r) = ∫_0^r s dμ(s): break-away force of the stops with threshold <= r.
+
+        A public primitive of μ (the first moment): the first integral of eq. 14
+        is M1(y/2), and F_m = M1(R) is the largest elastic force (the continuous
+        form of Σc_j, eq. 9 with c1 = 0). Exact for every density kind.
+
+        Parameters
+        ----------
+        r : float or array_like, shape (n,)
+            Thresholds [m] (no NaN; values beyond R give M1(R)).
+
+        Returns
+        -------
+        float or ndarray
+            M1(r) [N], nondecreasing in r; a float for a scalar `r`.
+        """
         return self._eval(r, 1)
 
     def M2(self, r: ArrayLike) -> Any:
-        """M2(r) = ∫_0^r s² dμ(s)."""
+        """M2(r) = ∫_0^r s² dμ(s).
+
+        A public primitive of μ (the second moment): the energy ½∫ f² dμ
+        stored by sliding stops (f = ±r, the energy after eq. 12) is ½·M2.
+
+        Parameters
+        ----------
+        r : float or array_like, shape (n,)
+            Thresholds [m] (no NaN; values beyond R give M2(R)).
+
+        Returns
+        -------
+        float or ndarray
+            M2(r) [N·m], nondecreasing in r; a float for a scalar `r`.
+        """
         return self._eval(r, 2)
 
     def tail(self, r: ArrayLike) -> Any:
-        """T(r) = μ((r, R]): stiffness of the stops with threshold > r."""
+        """T(r) = μ((r, R]): stiffness of the stops with threshold > r.
+
+        A public primitive of μ: the second integral of eq. 14 is
+        y·T(y/2) − (F_m − M1(y/2)), and T(0) = μ([0, R]) is the stiffness right
+        after a reversal (eq. 7). Exact for every density kind.
+
+        Parameters
+        ----------
+        r : float or array_like, shape (n,)
+            Thresholds [m] (no NaN; 0 at and beyond R).
+
+        Returns
+        -------
+        float or ndarray
+            T(r) [N/m], nonincreasing in r; a float for a scalar `r`.
+        """
         return self._eval(r, 3)
 
     def M0(self, r: ArrayLike) -> Any:
         """M0(r) = μ([0, r]): stiffness of the stops with threshold <= r.
 
+        A public primitive of μ (the zeroth moment): the stiffness lost by the
+        stops that slide, so that the slope of a branch whose front is ρ is
+        μ([0, R]) − M0(ρ) (eq. 7 right after a reversal, where ρ = 0).
         Computed as μ([0, R]) − T(r), exact to a rounding unit of μ([0, R]).
+
+        Parameters
+        ----------
+        r : float or array_like, shape (n,)
+            Thresholds [m] (no NaN).
+
+        Returns
+        -------
+        float or ndarray
+            M0(r) [N/m], nondecreasing in r; a float for a scalar `r`.
         """
         return self.total_stiffness - self.tail(r)
 
@@ -99,6 +156,19 @@ class Density:
         Cells without mass are dropped. The exact operator differs from the
         discretised one by O(1/n²) (measured in the tests). An unbounded
         support needs `max_threshold` (the mass beyond it is dropped).
+
+        Parameters
+        ----------
+        n : int
+            Number of cells (>= 1).
+        max_threshold : float, optional
+            End of the discretised range [m] (> 0); default R.
+
+        Returns
+        -------
+        Discrete
+            k_j = μ(cell j) [N/m] at the cell midpoints r_j: the Heaviside sum
+            that turns eq. 10 into eq. 8.
         """
         n = as_count("n", n, minimum=1)
         big_r = self._big_r if max_threshold is None else max_threshold
@@ -123,6 +193,19 @@ class Density:
         midpoint agrees with the quadrature to `rtol` times the totals; the
         error reached is kept in ``interpolation_error``. Use a smooth (or
         piecewise smooth) integrable, nonnegative, finite function.
+
+        Parameters
+        ----------
+        function : callable
+            f(r) >= 0 [N/m²], the density dμ/dr, called with a float.
+        max_threshold : float
+            R > 0 [m], the end of the support.
+        rtol : float
+            Relative accuracy asked of the interpolant (> 0).
+
+        Returns
+        -------
+        Tabulated
         """
         from ._tabulated import Tabulated
 
@@ -180,6 +263,7 @@ class Discrete(Density):
 
     @property
     def min_threshold(self) -> float:
+        """The smallest threshold min r_j; inf without elements (no stop ever slides)."""
         return float(self.threshold.min()) if self.threshold.shape[0] else math.inf
 
     def __eq__(self, other: object) -> bool:

@@ -68,11 +68,21 @@ class Forcing:
 def _call_user(func: Callable[[FloatArray], Any], t: FloatArray) -> FloatArray:
     """Evaluate a user u(t) on an array, vectorising a scalar function if needed."""
     try:
-        out = np.asarray(func(t), dtype=np.float64)
+        out = _real_values(func(t), t.shape)
     except (TypeError, ValueError):
         out = None
-    if out is None or out.shape != t.shape:
-        out = np.array([float(func(float(ti))) for ti in t.ravel()]).reshape(t.shape)
+    if out is None:
+        out = np.empty(t.shape)
+        flat = out.reshape(-1)
+        for i, ti in enumerate(t.ravel()):
+            value = func(float(ti))
+            one = _real_values(value, ())
+            if one is None:
+                raise TypeError(
+                    "`applied_force` must return one real number per time; got "
+                    f"{fmt(value)} at t = {fmt(float(ti))}."
+                )
+            flat[i] = one
     bad = ~np.isfinite(out)
     if bad.any():
         i = int(np.argmax(bad.ravel()))
@@ -81,6 +91,19 @@ def _call_user(func: Callable[[FloatArray], Any], t: FloatArray) -> FloatArray:
             f"at t = {fmt(float(t.ravel()[i]))}."
         )
     return np.ascontiguousarray(out)
+
+
+def _real_values(value: Any, shape: tuple[int, ...]) -> FloatArray | None:
+    """`value` as float64 of the given shape, or None if it is not real numbers of that shape."""
+    if isinstance(value, (str, bytes)):
+        return None
+    try:
+        arr = np.asarray(value)
+    except (TypeError, ValueError):  # ragged sequences
+        return None
+    if arr.dtype.kind not in "iuf" or arr.shape != shape:
+        return None
+    return np.asarray(arr, dtype=np.float64)
 
 
 def as_forcing(applied_force: Any, hold: str, t_start: float) -> Forcing:

@@ -198,13 +198,15 @@ def initial_memory(
     if isinstance(initial_state, str) and initial_state == "relaxed":
         return model.relaxed_state(y0), vdir
     if isinstance(initial_state, str) and initial_state == "saturated":
-        s = vdir if vdir != 0 else float(np.sign(u0))
-        if s == 0:
-            raise ValueError(
-                "`initial_state` 'saturated' needs a direction: give a nonzero "
-                "`initial_velocity` or applied force at t_start; both are 0.0."
-            )
+        from ._motion_run import saturation_direction
+
+        s = saturation_direction(vdir, u0)
         return model.saturated_state(y0, s), s
+    if not isinstance(initial_state, str):
+        raise TypeError(
+            "`initial_state` must be 'relaxed', 'saturated' or a MemoryState; got "
+            f"{type(initial_state).__name__}."
+        )
     raise ValueError(
         "`initial_state` must be 'relaxed', 'saturated' or a MemoryState; got "
         f"{fmt(initial_state)}."

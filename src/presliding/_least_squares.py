@@ -19,6 +19,7 @@ the status ``"not_identifiable"``. The outcome is a `Solution`;
 
 from __future__ import annotations
 
+import numbers
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from typing import Any
@@ -26,7 +27,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from ._validation import fmt
+from ._validation import as_choice, as_count, as_positive_scalar, as_real_scalar, fmt
 
 FloatArray = NDArray[np.float64]
 Tie = str | tuple[str, float]
@@ -50,6 +51,55 @@ class _Map:
         return self.matrix @ free + self.const
 
 
+def check_options(
+    level: Any, max_evaluations: Any, tolerance: Any
+) -> tuple[float, int | None, float]:
+    """The options every fit shares, checked on entry.
+
+    `level` must be a real number in (0, 1), `max_evaluations` None or an
+    integer >= 1, `tolerance` a positive finite real; returned as float,
+    int (or None) and float.
+    """
+    level = as_real_scalar("level", level)
+    if not 0 < level < 1:
+        raise ValueError(f"`level` must be between 0 and 1 (exclusive); got {fmt(level)}.")
+    if max_evaluations is not None:
+        max_evaluations = as_count("max_evaluations", max_evaluations, minimum=1)
+    return level, max_evaluations, as_positive_scalar("tolerance", tolerance)
+
+
+def check_constraints(
+    fixed: Mapping[str, Any] | None, tied: Mapping[str, Any] | None
+) -> tuple[dict[str, float], dict[str, Tie]]:
+    """`fixed` and `tied` checked entry by entry, as new dicts.
+
+    Every fixed value must be a finite real number (returned as float); every
+    tie a parameter name or a (name, factor) pair with a finite real factor
+    (returned as a name or a (name, float) tuple). The names themselves are
+    checked against the parameters by `solve_least_squares`.
+    """
+    out_fixed: dict[str, float] = {}
+    out_tied: dict[str, Tie] = {}
+    for label, spec, what in (("fixed", fixed, "values"), ("tied", tied, "ties")):
+        if spec is not None and not isinstance(spec, Mapping):
+            raise TypeError(
+                f"`{label}` must be a mapping of parameter names to {what}; "
+                f"got {type(spec).__name__}."
+            )
+    for n, v in (fixed or {}).items():
+        out_fixed[n] = as_real_scalar(f"fixed[{n!r}]", v)
+    for n, v in (tied or {}).items():
+        if isinstance(v, str):
+            out_tied[n] = v
+            continue
+        if not (isinstance(v, (tuple, list)) and len(v) == 2 and isinstance(v[0], str)):
+            raise TypeError(
+                f"`tied[{n!r}]` must be a parameter name or a (name, factor) pair; got {fmt(v)}."
+            )
+        out_tied[n] = (v[0], as_real_scalar(f"tied[{n!r}][1]", v[1]))
+    return out_fixed, out_tied
+
+
 def _parameter_map(
     names: tuple[str, ...],
     fixed: Mapping[str, float],
@@ -62,9 +112,6 @@ def _parameter_map(
     both = set(fixed) & set(tied)
     if both:
         raise ValueError(f"a parameter cannot be both fixed and tied; got {sorted(both)}.")
-    for n, v in fixed.items():
-        if isinstance(v, bool) or not np.isfinite(float(v)):
-            raise ValueError(f"`fixed` value of {n!r} must be a finite number; got {fmt(v)}.")
     free = tuple(n for n in names if n not in fixed and n not in tied)
     col = {n: i for i, n in enumerate(free)}
     matrix = np.zeros((len(names), len(free)))
@@ -89,6 +136,14 @@ def _parameter_map(
     for i, n in enumerate(names):
         matrix[i], const[i] = resolve(n, ())
     return _Map(names, free, matrix, const)
+
+
+def _start_value(name: str, value: Any) -> float:
+    """A start value: a real number (a non-finite one is replaced by 0 by the caller)."""
+    ok = isinstance(value, numbers.Real) or (isinstance(value, np.ndarray) and value.shape == ())
+    if isinstance(value, (bool, np.bool_)) or not ok or np.asarray(value).dtype.kind not in "iuf":
+        raise TypeError(f"`initial[{name!r}]` must be a real number; got {fmt(value)}.")
+    return float(value)
 
 
 def _free_bounds(pm: _Map, lower: FloatArray, upper: FloatArray) -> tuple[FloatArray, FloatArray]:
@@ -145,7 +200,9 @@ def solve_least_squares(
         ``residual(p) -> r`` with p the vector of *all* parameters, in the
         order of `initial`.
     initial : mapping name -> float
-        Start values (fixed parameters take their `fixed` value instead).
+        Start values, real numbers (fixed parameters take their `fixed` value
+        instead; a non-finite start becomes 0, and a start outside the bounds
+        is moved onto them).
     jacobian : callable, optional
         ``jacobian(p) -> (len(r), len(p))`` array; default: 3-point differences.
     bounds : mapping name -> (lower, upper), optional
@@ -153,10 +210,13 @@ def solve_least_squares(
     tied : mapping name -> target or (target, factor), optional
         ``{"b": "a"}`` keeps b = a; ``{"b": ("a", 0.5)}`` keeps b = 0.5·a.
     level : float
-        Confidence level of the intervals.
+        Confidence level of the intervals, in (0, 1).
     max_evaluations : int, optional
+        Most residual evaluations (an integer >= 1); default: scipy's choice
+        (100 per free parameter). Reaching it gives the status
+        ``"max_evaluations"``.
     tolerance : float
-        ftol, xtol and gtol of scipy.optimize.least_squares.
+        ftol, xtol and gtol of scipy.optimize.least_squares (positive).
     difference : {"3-point", "2-point"}
         Finite-difference scheme when no `jacobian` is given.
     gradient_tolerance : float, optional
@@ -164,13 +224,29 @@ def solve_least_squares(
         absolute in the residual's units, so a fit whose residual vanishes at
         the optimum (noise-free data) may want a much smaller value and stop on
         the relative step and cost tests instead.
+
+    Returns
+    -------
+    Solution
+        Values, standard errors and intervals of every parameter, the residual
+        at the optimum, `status` (one of `STATUSES`) and `message`.
+
+    Raises
+    ------
+    ValueError, TypeError
+        On entry, for a bad option, an unknown parameter name, a fixed value
+        that is not a finite real inside its bounds, a malformed tie or a cycle
+        of ties.
     """
     from scipy import optimize, stats
 
+    level, max_evaluations, tolerance = check_options(level, max_evaluations, tolerance)
+    difference = as_choice("difference", difference, ("3-point", "2-point"))
+    if gradient_tolerance is not None:
+        gradient_tolerance = as_positive_scalar("gradient_tolerance", gradient_tolerance)
+    fixed, tied = check_constraints(fixed, tied)
     names = tuple(initial)
-    fixed, tied, bounds = dict(fixed or {}), dict(tied or {}), dict(bounds or {})
-    if not 0 < level < 1:
-        raise ValueError(f"`level` must be between 0 and 1; got {fmt(level)}.")
+    bounds = dict(bounds or {})
     for n in bounds:
         if n not in names:
             raise ValueError(f"`bounds` names unknown parameter {n!r}; known: {list(names)}.")
@@ -181,11 +257,11 @@ def solve_least_squares(
         i = names.index(n)
         if not lower[i] <= v <= upper[i]:
             raise ValueError(
-                f"`fixed` value of {n!r} must lie in [{fmt(lower[i])}, {fmt(upper[i])}]; "
-                f"got {fmt(float(v))}."
+                f"`fixed[{n!r}]` must lie in [{fmt(lower[i])}, {fmt(upper[i])}] (its bounds); "
+                f"got {fmt(v)}."
             )
     lo, hi = _free_bounds(pm, lower, upper)
-    x0 = np.array([float(initial[n]) for n in pm.free])
+    x0 = np.array([_start_value(n, initial[n]) for n in pm.free])
     x0 = np.where(np.isfinite(x0), x0, 0.0)
     x0 = np.clip(x0, lo, hi)  # start values of the caller's default guesses only
     evaluations = 0

@@ -1,4 +1,5 @@
-"""Result records of `presliding.motion`: `MotionResult` and its `MotionEnergy`."""
+"""Result records of `presliding.motion`: `MotionResult` (with its `MotionEnergy`),
+`MotionBatch` and `FreeResponse`."""
 
 from __future__ import annotations
 
@@ -113,7 +114,7 @@ class MotionResult:
         """Number of motion reversals (turning points before the stop)."""
         return int(self.reversal_times.shape[0])
 
-    def plot(self, kind: str = "time", ax: Axes | None = None) -> Axes:
+    def plot(self, ax: Axes | None = None, *, kind: str = "time") -> Axes:
         """Velocity over time ("time"), phase portrait ("phase") or force loop ("loop")."""
         from .plotting import plot_motion
 
@@ -186,6 +187,12 @@ class MotionBatch:
         """Members at rest at the end."""
         return np.isfinite(self.stop_time)
 
+    def plot(self, ax: Axes | None = None, *, kind: str = "velocity") -> Axes:
+        """Velocities ("velocity") or positions ("position") of all members over time."""
+        from .plotting import plot_batch
+
+        return plot_batch(self, kind=kind, ax=ax)
+
     def report(self) -> str:
         """A readable summary."""
         n = self.position.shape[0]
@@ -197,4 +204,62 @@ class MotionBatch:
         if st.size:
             lines.append(f"  stop times: {st.min():.6g} .. {st.max():.6g}")
         lines.append(f"  reversals: {int(self.n_reversals.min())} .. {int(self.n_reversals.max())}")
+        return "\n".join(lines)
+
+
+@dataclass(frozen=True, eq=False)
+class FreeResponse:
+    """Exact samples of one motion at t = i·time_step (`presliding.motion.free_response`).
+
+    Attributes
+    ----------
+    time, position, velocity : ndarray, shape (T,)
+        Samples [s, m, m/s]; T = n_samples on success. When the event limit is
+        reached (status -1) only the samples before it are computed, and the
+        arrays end there (T < n_samples).
+    stop_time : float or None
+        Start of the final rest; None if the mass moves at the end.
+    n_reversals : int
+    status : int
+        0 on success, -1: the event limit was reached.
+    message : str
+    """
+
+    time: FloatArray
+    position: FloatArray
+    velocity: FloatArray
+    stop_time: float | None
+    n_reversals: int
+    status: int
+    message: str
+
+    @property
+    def success(self) -> bool:
+        """True when status is 0."""
+        return self.status == 0
+
+    def plot(self, ax: Axes | None = None) -> Axes:
+        """Velocity over time, the stop marked."""
+        from .plotting import plot_free_response
+
+        return plot_free_response(self, ax=ax)
+
+    def report(self) -> str:
+        """A readable summary."""
+        n = self.time.shape[0]
+        span = f", t = {self.time[0]:g} .. {self.time[-1]:g}" if n else ""
+        lines = [
+            f"Free response: {n} samples{span}; status {self.status} ({self.message})",
+            f"  reversals: {self.n_reversals}",
+        ]
+        if not self.success:
+            lines.append(
+                "  not solved to the end: the samples end where the event limit stopped it"
+            )
+        elif self.stop_time is None:
+            lines.append(f"  moving at the end: velocity {self.velocity[-1]:.6g}")
+        else:
+            lines.append(
+                f"  stops at t = {self.stop_time:.12g} at position {self.position[-1]:.12g}"
+            )
         return "\n".join(lines)

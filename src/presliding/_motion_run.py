@@ -9,7 +9,17 @@ from numpy.typing import NDArray
 
 from . import _event, _implicit
 from ._forcing import Forcing
-from ._validation import as_real_scalar, as_signal, check_increasing, fmt
+from ._validation import (
+    as_nonnegative_scalar,
+    as_parameter_matrix,
+    as_parameter_vector,
+    as_real_scalar,
+    as_real_vector,
+    as_signal,
+    check_increasing,
+    check_same_length,
+    fmt,
+)
 from .friction import PIFriction
 from .operators import PIState
 
@@ -36,7 +46,9 @@ def check_model(model: Any, *, density_ok: bool = False) -> None:
 def time_grid(t0: float, t_end: Any, t_eval: Any) -> tuple[float, FloatArray]:
     """Validated end time and sample times (default 1001 uniform samples)."""
     if t_end is None and t_eval is None:
-        raise TypeError("give `t_end` or `t_eval` (the end of the simulation); got neither.")
+        raise TypeError(
+            "`t_end` or `t_eval` must be given (the end of the simulation); got neither."
+        )
     times = None
     if t_eval is not None:
         times = as_signal("t_eval", t_eval)
@@ -62,30 +74,42 @@ def initial_deformation(
     """Element deformations f_j = y − x_j at the start, and the last motion direction."""
     r = np.asarray(model.threshold, dtype=np.float64)
     vdir = float(np.sign(v0))
-    if isinstance(initial_state, PIState):
-        initial_state.check_against(r, "initial_state")
-        if initial_state.last_input != y0:
-            raise ValueError(
-                "`initial_state.last_input` must equal `initial_position`; got "
-                f"{fmt(initial_state.last_input)} and {fmt(y0)}."
-            )
-        f = initial_state.last_input - initial_state.play
-        near = np.abs(f) >= r * (1.0 - _SNAP)
-        f = np.where(near, np.sign(f) * r, f)
-        return np.ascontiguousarray(f), vdir if vdir != 0 else initial_state.direction
-    if initial_state == "relaxed":
-        return np.zeros(r.shape[0]), vdir
-    if initial_state == "saturated":
-        s = vdir if vdir != 0 else float(np.sign(u0))
-        if s == 0:
-            raise ValueError(
-                "`initial_state` 'saturated' needs a direction: give a nonzero "
-                "`initial_velocity` or applied force at t_start; both are 0.0."
-            )
-        return np.ascontiguousarray(s * r), s
-    raise ValueError(
-        f"`initial_state` must be 'relaxed', 'saturated' or a PIState; got {fmt(initial_state)}."
-    )
+    if isinstance(initial_state, str):
+        if initial_state == "relaxed":
+            return np.zeros(r.shape[0]), vdir
+        if initial_state == "saturated":
+            s = saturation_direction(vdir, u0)
+            return np.ascontiguousarray(s * r), s
+        raise ValueError(
+            "`initial_state` must be 'relaxed', 'saturated' or a PIState; got "
+            f"{fmt(initial_state)}."
+        )
+    if not isinstance(initial_state, PIState):
+        raise TypeError(
+            "`initial_state` must be 'relaxed', 'saturated' or a PIState (a MemoryState for a "
+            f"density model); got {type(initial_state).__name__}."
+        )
+    initial_state.check_against(r, "initial_state")
+    if initial_state.last_input != y0:
+        raise ValueError(
+            "`initial_state.last_input` must equal `initial_position`; got "
+            f"{fmt(initial_state.last_input)} and {fmt(y0)}."
+        )
+    f = initial_state.last_input - initial_state.play
+    near = np.abs(f) >= r * (1.0 - _SNAP)
+    f = np.where(near, np.sign(f) * r, f)
+    return np.ascontiguousarray(f), vdir if vdir != 0 else initial_state.direction
+
+
+def saturation_direction(vdir: Any, u0: float) -> Any:
+    """Direction of a "saturated" start: of the velocity, or of u(t_start) at rest."""
+    s = np.where(vdir != 0, vdir, np.sign(u0))
+    if np.any(s == 0):
+        raise ValueError(
+            "`initial_velocity` or the applied force at `t_start` must be nonzero for "
+            "`initial_state` 'saturated' (it takes their direction); got 0.0 and 0.0."
+        )
+    return float(s) if np.ndim(s) == 0 else s
 
 
 def initial_acceleration(m: float, c1: float, fel: float, v0: float, u0: float) -> float:
@@ -177,22 +201,43 @@ def run_implicit(m, c1, k, r, f0, y0, v0, last_dir, forcing: Forcing, times, t0,
 
 
 # ---------------------------------------------------------------------- batches
-def check_bank(k: FloatArray, r: FloatArray) -> None:
-    """Stiffness and threshold vectors of one model (1-D, equal length, finite, > 0)."""
-    for name, arr in (("stiffness", k), ("threshold", r)):
-        if arr.ndim != 1:
-            raise ValueError(f"`{name}` must be one-dimensional; got shape {arr.shape}.")
+def check_derived(k: FloatArray, c: FloatArray, r: FloatArray) -> None:
+    """Breakaway forces c = k·r and thresholds r finite and positive (as PIFriction checks)."""
+    for name, arr in (("breakaway", c), ("threshold", r)):
         bad = ~(np.isfinite(arr) & (arr > 0))
         if bad.any():
-            j = int(np.argmax(bad))
+            idx = tuple(int(i) for i in np.argwhere(bad)[0])
+            where = idx[0] if len(idx) == 1 else idx
             raise ValueError(
-                f"`{name}` must be finite and positive; got {fmt(arr[j])} at index {j}."
+                f"`{name}` must come out finite and positive; got {fmt(arr[idx])} at index "
+                f"{where} (from stiffness {fmt(k[idx])})."
             )
-    if k.shape != r.shape:
+
+
+def check_has_friction(c1: FloatArray, n_elements: int) -> None:
+    """A model without elements needs a positive Coulomb element."""
+    if n_elements == 0 and np.any(c1 == 0):
+        i = int(np.argmax(c1 == 0))
+        where = "" if c1.shape[0] == 1 else f" at index {i}"
         raise ValueError(
-            "`stiffness` and `threshold` must have the same length; "
-            f"`stiffness` has {k.shape[0]}, `threshold` has {r.shape[0]}."
+            "`coulomb` must be positive when `stiffness` is empty (a model without elements); "
+            f"got 0.0{where}."
         )
+
+
+def single_bank(
+    coulomb: Any, stiffness: Any, threshold: Any
+) -> tuple[float, FloatArray, FloatArray]:
+    """c1, k (N,), r (N,) of one model given by its parameter vectors, validated as PIFriction."""
+    c1 = as_nonnegative_scalar("coulomb", coulomb)
+    k = as_parameter_vector("stiffness", stiffness, allow_empty=True)
+    r = as_parameter_vector("threshold", threshold, allow_empty=True)
+    check_same_length(stiffness=k, threshold=r)
+    with np.errstate(over="ignore", under="ignore"):  # reported by check_derived
+        c = k * r
+    check_derived(k, c, r)
+    check_has_friction(np.array([c1]), k.shape[0])
+    return c1, np.array(k), np.array(r)
 
 
 def stack_models(models: Any) -> tuple[FloatArray, FloatArray, FloatArray]:
@@ -215,77 +260,86 @@ def stack_models(models: Any) -> tuple[FloatArray, FloatArray, FloatArray]:
     return np.array([mod.coulomb for mod in seq]), k, r
 
 
-def stack_parameters(coulomb, stiffness, breakaway, threshold):
-    """c1 (B,), k (B, N), r (B, N) from parameter arrays, validated as PIFriction would."""
+def stack_parameters(coulomb: Any, stiffness: Any, breakaway: Any, threshold: Any):
+    """Validated parameter arrays of a batch, before broadcasting to the batch size.
+
+    Returns c1 (Bc,), k (Bk, N), the given `breakaway` or `threshold` (Bo, N), its
+    name, and the lengths {name: B} for `batch_size`.
+    """
     if coulomb is None or stiffness is None:
-        raise TypeError("give `models`, or `coulomb` and `stiffness` with `breakaway` or "
-                        "`threshold`.")  # fmt: skip
-    c1 = np.atleast_1d(np.asarray(coulomb, dtype=np.float64))
-    k = np.asarray(stiffness, dtype=np.float64)
-    if k.ndim == 1:
-        k = k[None, :]
+        missing = " and ".join(
+            f"`{n}`" for n, v in (("coulomb", coulomb), ("stiffness", stiffness)) if v is None
+        )
+        raise TypeError(
+            "`coulomb` and `stiffness` (with `breakaway` or `threshold`) must be given when "
+            f"`models` is not; got no {missing}."
+        )
     if (breakaway is None) == (threshold is None):
-        raise TypeError("give exactly one of `breakaway` and `threshold`.")
-    other = np.asarray(breakaway if threshold is None else threshold, dtype=np.float64)
-    other = np.broadcast_to(other, k.shape) if other.ndim < 2 else other
-    if c1.ndim != 1 or k.ndim != 2 or other.shape != k.shape:
-        raise ValueError(
-            "`coulomb` must have shape (B,), `stiffness` and `breakaway`/`threshold` shape "
-            f"(B, N); got {c1.shape}, {k.shape} and {other.shape}."
+        raise TypeError(
+            "`breakaway` or `threshold` must be given, not both; got "
+            + ("both." if breakaway is not None else "neither.")
         )
-    bad = ~(np.isfinite(c1) & (c1 >= 0))
-    if bad.any():
+    c1 = np.array(as_parameter_vector("coulomb", coulomb, positive=False))
+    k = as_parameter_matrix("stiffness", stiffness)
+    name = "breakaway" if threshold is None else "threshold"
+    raw = breakaway if threshold is None else threshold
+    other = as_parameter_matrix(name, raw)
+    if np.ndim(raw) == 0:  # one value for every element
+        other = np.full((1, k.shape[1]), other[0, 0])
+    if other.shape[1] != k.shape[1]:
         raise ValueError(
-            f"`coulomb` must be finite and nonnegative; got {fmt(c1[np.argmax(bad)])}."
+            f"`{name}` must have as many elements (columns) as `stiffness`; got {other.shape[1]} "
+            f"and {k.shape[1]}."
         )
-    for name, arr in (("stiffness", k), ("breakaway" if threshold is None else "threshold", other)):
-        bad = ~(np.isfinite(arr) & (arr > 0))
-        if bad.any():
-            idx = tuple(int(i) for i in np.argwhere(bad)[0])
-            raise ValueError(f"`{name}` must be finite and positive; got {fmt(arr[idx])} at "
-                             f"index {idx}.")  # fmt: skip
-    r = other / k if threshold is None else other
-    if k.shape[1] == 0 and (c1 == 0).any():
-        raise ValueError("the model has no friction: `coulomb` must be positive with no elements.")
-    return c1, np.ascontiguousarray(k), np.ascontiguousarray(r)
+    sizes = {"coulomb": c1.shape[0], "stiffness": k.shape[0], name: other.shape[0]}
+    return c1, k, other, name, sizes
+
+
+def broadcast_parameters(c1, k, other, name: str, n_b: int):
+    """c1 (B,), k (B, N), r (B, N) of a batch of size `n_b`, checked as PIFriction checks."""
+    c1 = np.array(np.broadcast_to(c1, (n_b,)))
+    k = np.array(np.broadcast_to(k, (n_b, k.shape[1])))
+    other = np.array(np.broadcast_to(other, k.shape))
+    with np.errstate(over="ignore", under="ignore"):  # reported by check_derived
+        c, r = (other, other / k) if name == "breakaway" else (k * other, other)
+    check_derived(k, c, r)
+    check_has_friction(c1, k.shape[1])
+    return c1, k, np.ascontiguousarray(r)
 
 
 def as_batch_vector(name: str, value: Any, positive: bool = False) -> FloatArray:
     """A finite scalar or 1-D array (positive if asked), as a 1-D array."""
-    arr = np.atleast_1d(np.asarray(value, dtype=np.float64))
-    if arr.ndim != 1:
-        raise ValueError(f"`{name}` must be a scalar or one-dimensional; got shape {arr.shape}.")
-    bad = ~np.isfinite(arr) | ((arr <= 0) if positive else False)
-    if bad.any():
-        rule = "finite and positive" if positive else "finite"
-        raise ValueError(f"`{name}` must be {rule}; got {fmt(arr[np.argmax(bad)])} at index "
-                         f"{int(np.argmax(bad))}.")  # fmt: skip
-    return arr
+    if positive:
+        return as_parameter_vector(name, value)
+    return as_real_vector(name, value)
 
 
 def batch_size(sizes: dict[str, int]) -> int:
     """The common batch size: every length is 1 or the same B."""
     big = {n for n in sizes.values() if n != 1}
     if len(big) > 1:
-        listing = ", ".join(f"`{k}` has {v}" for k, v in sizes.items())
-        raise ValueError(f"batch inputs must have length 1 or a common length B; {listing}.")
+        long = {k: v for k, v in sizes.items() if v != 1}
+        names = ", ".join(f"`{k}`" for k in long)
+        got = ", ".join(f"{k} {v}" for k, v in long.items())
+        raise ValueError(
+            f"{names} must have length 1 or one common length B (the batch size); got "
+            f"lengths {got}."
+        )
     return big.pop() if big else 1
 
 
 def batch_deformation(initial_state: Any, r: FloatArray, v0: FloatArray, u0: float):
     """Deformations (B, N) and last directions (B,) for "relaxed" or "saturated" starts."""
+    if not isinstance(initial_state, str):
+        raise TypeError(
+            f"`initial_state` must be 'relaxed' or 'saturated'; got {type(initial_state).__name__}."
+        )
     vdir = np.sign(v0)
     if initial_state == "relaxed":
         f = np.zeros(r.shape)
     elif initial_state == "saturated":
-        s = np.where(vdir != 0, vdir, np.sign(u0))
-        if (s == 0).any():
-            raise ValueError(
-                "`initial_state` 'saturated' needs a direction: give a nonzero "
-                "`initial_velocity` or applied force at t_start; both are 0.0."
-            )
-        vdir = s
-        f = np.where(np.isfinite(r), s[:, None] * r, 0.0)
+        vdir = saturation_direction(vdir, u0)
+        f = np.where(np.isfinite(r), vdir[:, None] * r, 0.0)
     else:
         raise ValueError(
             f"`initial_state` must be 'relaxed' or 'saturated'; got {fmt(initial_state)}."

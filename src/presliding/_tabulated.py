@@ -69,6 +69,11 @@ class Tabulated(Density):
 
     @property
     def min_threshold(self) -> float:
+        """The grid node below the first node with f > 0 (0 if that is r_0 or r_1).
+
+        The interpolant may carry mass anywhere in the cell ending at that
+        node, so this is the largest node below which μ has no mass for sure.
+        """
         return float(self.grid[max(int(np.argmax(self.values > 0)) - 1, 0)])
 
     def __eq__(self, other: object) -> bool:

@@ -20,8 +20,10 @@ __all__ = [
     "as_choice",
     "as_count",
     "as_nonnegative_scalar",
+    "as_parameter_matrix",
     "as_parameter_vector",
     "as_positive_scalar",
+    "as_real_array",
     "as_real_scalar",
     "as_real_vector",
     "as_signal",
@@ -210,3 +212,32 @@ def as_count(name: str, value: Any, *, minimum: int = 0) -> int:
         rule = {0: "nonnegative", 1: "a positive integer"}.get(minimum, f"at least {minimum}")
         raise ValueError(f"`{name}` must be {rule}; got {fmt(value)}.")
     return int(value)
+
+
+def as_parameter_matrix(name: str, value: Any) -> np.ndarray:
+    """A 2-D float64 array (B, N) of finite, positive parameters, one row per batch member.
+
+    A scalar becomes shape (1, 1) and a 1-D vector one row (1, N); N may be 0.
+    """
+    try:
+        arr = _real_array(name, value)
+    except ValueError as err:  # ragged nested sequences
+        raise ValueError(
+            f"`{name}` must be a rectangular array of shape (B, N); got {fmt(value)}."
+        ) from err
+    if arr.ndim < 2:
+        arr = arr.reshape(1, -1)
+    if arr.ndim != 2:
+        raise ValueError(f"`{name}` must have shape (B, N) or (N,); got shape {arr.shape}.")
+    _check_finite(name, arr)
+    bad = ~(arr > 0)
+    if bad.any():
+        raise ValueError(f"`{name}` must be positive; {_first_bad(arr, bad)}.")
+    return np.ascontiguousarray(arr)
+
+
+def as_real_array(name: str, value: Any) -> np.ndarray:
+    """A finite float64 array of any shape (a scalar stays 0-d); strings and bools rejected."""
+    arr = _real_array(name, value)
+    _check_finite(name, arr)
+    return arr if arr.ndim == 0 else np.ascontiguousarray(arr)

@@ -30,7 +30,14 @@ from numpy.typing import ArrayLike, NDArray
 
 from . import _general_pi as gk
 from ._turning import DensitySwing, DensityWalk, ElementWalk, element_swing
-from ._validation import as_count, as_positive_scalar, as_real_scalar, fmt
+from ._validation import (
+    _first_bad,
+    as_count,
+    as_positive_scalar,
+    as_real_array,
+    as_real_scalar,
+    fmt,
+)
 from .friction import PIFriction
 from .general_pi import MemoryState
 from .operators import PIState
@@ -72,9 +79,9 @@ def phi(model: PIFriction, displacement: ArrayLike) -> FloatArray | float:
         (eq. 7), F_m once y >= 2R.
     """
     model = _model(model)
-    y = np.asarray(displacement, dtype=np.float64)
-    if y.dtype.kind != "f" or not np.all(np.isfinite(y)) or np.any(y < 0):
-        raise ValueError(f"`displacement` must be finite and nonnegative; got {fmt(displacement)}.")
+    y = as_real_array("displacement", displacement)  # rejects strings, bools, NaN
+    if np.any(y < 0):
+        raise ValueError(f"`displacement` must be nonnegative; {_first_bad(y, y < 0)}.")
     out = -model.max_elastic_force + 2.0 * model.virgin_curve(0.5 * y, elastic_only=True)
     return float(out) if np.ndim(out) == 0 else out
 
@@ -86,6 +93,16 @@ def turning_point(model: PIFriction) -> float:
     y = 0) with the elastic force saturated at F_m. Exact (a quadratic) for
     finite elements; `scipy.optimize.brentq` to rounding for a density.
 
+    Parameters
+    ----------
+    model : PIFriction
+        Finite elements or a density, with c1 < F_m.
+
+    Returns
+    -------
+    float
+        y_e > 0 [m], measured from the first turning point.
+
     Raises
     ------
     ValueError
@@ -96,8 +113,8 @@ def turning_point(model: PIFriction) -> float:
     fm, c1 = model.max_elastic_force, model.coulomb
     if c1 >= fm:
         raise ValueError(
-            f"eq. 15 has no positive root when `coulomb` >= F_m (the mass sticks at the first "
-            f"turning point); got coulomb {c1!r} and F_m {fm!r}."
+            f"`model.coulomb` must be below F_m = Σc_j for eq. 15 to have a positive root "
+            f"(otherwise the mass sticks at the first turning point); got {fmt(c1)} >= {fmt(fm)}."
         )
     if model.is_discrete:
         u, _ = element_swing(model.stiffness, model.threshold, c1, -model.threshold, 1.0, 0.0)
@@ -114,6 +131,16 @@ def stops_at_turning_point(model: PIFriction) -> bool:
     True iff c1 >= Φ(y_e) (equality sticks, see the module notes). Also True
     when c1 >= F_m: the mass then sticks at the first turning point already,
     with no reversal at all.
+
+    Parameters
+    ----------
+    model : PIFriction
+        Finite elements or a density.
+
+    Returns
+    -------
+    bool
+        Whether c1 >= Φ(y_e) (eq. 16) or c1 >= F_m.
     """
     model = _model(model)
     if model.coulomb >= model.max_elastic_force:

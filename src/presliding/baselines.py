@@ -29,6 +29,7 @@ from . import _baseline_kernels as _bk
 from ._validation import (
     as_nonnegative_scalar,
     as_positive_scalar,
+    as_real_array,
     as_real_scalar,
     as_signal,
     check_increasing,
@@ -250,15 +251,37 @@ class LuGreFriction:
         object.__setattr__(self, "stribeck_velocity", vs)
 
     def stribeck(self, velocity: ArrayLike) -> FloatArray:
-        """g(v) = F_c + (F_s − F_c)·exp(−(v/v_s)²)."""
-        v = np.asarray(velocity, dtype=float)
+        """g(v) = F_c + (F_s − F_c)·exp(−(v/v_s)²).
+
+        Parameters
+        ----------
+        velocity : float or array_like
+            v [m/s], finite.
+
+        Returns
+        -------
+        ndarray
+            g(v) [N], same shape as `velocity`, between F_c and F_s.
+        """
+        v = as_real_array("velocity", velocity)
         return self.coulomb + (self.static - self.coulomb) * np.exp(
             -((v / self.stribeck_velocity) ** 2)
         )
 
     def steady_state_force(self, velocity: ArrayLike) -> FloatArray:
-        """F_ss(v) = g(v)·sign(v) + σ2·v, the force at constant velocity v."""
-        v = np.asarray(velocity, dtype=float)
+        """F_ss(v) = g(v)·sign(v) + σ2·v, the force at constant velocity v.
+
+        Parameters
+        ----------
+        velocity : float or array_like
+            v [m/s], finite.
+
+        Returns
+        -------
+        ndarray
+            F_ss(v) [N], same shape as `velocity` (0 at v = 0).
+        """
+        v = as_real_array("velocity", velocity)
         return self.stribeck(v) * np.sign(v) + self.viscous * v
 
     def relaxed_state(self, position: float = 0.0, time: float = 0.0) -> LuGreState:
@@ -344,11 +367,21 @@ def compare(
     if not items:
         raise ValueError("`models` must not be empty; got no models.")
     y = as_signal("displacement", displacement)
+    if time is not None:
+        t = as_signal("time", time)
+        check_same_length(displacement=y, time=t)
+        check_increasing("time", t)
+        time = t
+    if ax is not None:
+        from matplotlib.axes import Axes as _Axes
+
+        if not isinstance(ax, _Axes):
+            raise TypeError(f"`ax` must be a matplotlib Axes or None; got {type(ax).__name__}.")
     forces = []
     for label, model in zip(labels, items, strict=True):
         if isinstance(model, LuGreFriction):
             if time is None:
-                raise ValueError(f"`time` is required for the LuGre model {label!r}; got None.")
+                raise ValueError(f"`time` must be given for the LuGre model {label!r}; got None.")
             forces.append(model.force(y, time)[0])
         elif hasattr(model, "force"):
             forces.append(model.force(y)[0])

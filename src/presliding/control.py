@@ -29,7 +29,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from ._validation import as_positive_scalar, as_real_scalar
+from ._validation import as_positive_scalar, as_real_scalar, fmt
 from .baselines import CoulombFriction, DahlFriction, DahlState
 from .friction import PIFriction
 from .operators import PIState
@@ -86,7 +86,10 @@ def iosys_state(
     v0 = as_real_scalar("velocity", velocity)
     if isinstance(model, DahlFriction):
         if mass is not None:
-            raise TypeError("`model` must be a PIFriction or CoulombFriction with a `mass`.")
+            raise TypeError(
+                "`model` must be a PIFriction or CoulombFriction when a `mass` is given; "
+                "got DahlFriction."
+            )
         state = model.relaxed_state(y0) if state is None else state
         if not isinstance(state, DahlState):
             raise TypeError(f"`state` must be a DahlState; got {type(state).__name__}.")
@@ -140,10 +143,15 @@ def to_iosys(
     control = _control()
     model = _pi_model(model)
     h = as_positive_scalar("dt", dt)
+    if name is not None and not isinstance(name, str):
+        raise TypeError(f"`name` must be a string or None; got {fmt(name)}.")
     if mass is None:
         return _friction_system(control, model, h, name)
     if isinstance(model, DahlFriction):
-        raise TypeError("`model` must be a PIFriction or CoulombFriction with a `mass`.")
+        raise TypeError(
+            "`model` must be a PIFriction or CoulombFriction when a `mass` is given; "
+            "got DahlFriction."
+        )
     m = as_positive_scalar("mass", mass)
     return _mass_system(control, model, m, h, name)
 

@@ -146,6 +146,7 @@ class PiecewiseConstant(Density):
 
     @property
     def min_threshold(self) -> float:
+        """The left break of the first cell with a positive height: no mass below it."""
         return float(self.breaks[int(np.argmax(self.heights > 0))])
 
     def __eq__(self, other: object) -> bool:

@@ -70,7 +70,25 @@ def elastic_energy(model: PIFriction, state: PIState | MemoryState) -> float:
 def total_energy(
     model: PIFriction, mass: float, velocity: float, state: PIState | MemoryState
 ) -> float:
-    """E = ½·(m·v² + ∫ f² dμ), the energy of a mass with this friction (eq. after 12)."""
+    """E = ½·(m·v² + ∫ f² dμ), the energy of a mass with this friction (eq. after 12).
+
+    Parameters
+    ----------
+    model : PIFriction
+    mass : float
+        m >= 0 [kg].
+    velocity : float
+        v [m/s].
+    state : PIState or MemoryState
+        Memory of the friction contact (finite elements: `PIState`; density:
+        `MemoryState`), see `elastic_energy`.
+
+    Returns
+    -------
+    float
+        ½·m·v² plus the stored elastic energy [J]; it never increases along a
+        free motion (eq. 12).
+    """
     m = as_nonnegative_scalar("mass", mass)
     v = as_real_scalar("velocity", velocity)
     return 0.5 * m * v * v + elastic_energy(model, state)
@@ -102,6 +120,13 @@ def dissipated_energy(
     """
     model = _model(model)
     y = as_signal("displacement", displacement)
+    expected = PIState if model.is_discrete else MemoryState
+    if state is not None and not isinstance(state, expected):
+        kind = "a finite-element" if model.is_discrete else "a density"
+        raise TypeError(
+            f"`state` must be a {expected.__name__} or None for {kind} model; "
+            f"got {type(state).__name__}."
+        )
     y0 = y[0] if state is None else state.last_input
     coulomb = model.coulomb * np.cumsum(np.abs(np.diff(y, prepend=y0)))
     if model.is_discrete:
@@ -113,9 +138,5 @@ def dissipated_energy(
         x = x.reshape(path.shape[0], -1)
         slip = np.abs(np.diff(x, axis=0)) @ model.breakaway
         return coulomb + np.cumsum(slip)
-    if state is not None and not isinstance(state, MemoryState):
-        raise TypeError(
-            f"`state` must be a MemoryState for a density model; got {type(state).__name__}."
-        )
     _, stops, _ = run_density(model.density, y, state, dissipation=True)
     return coulomb + stops

@@ -23,10 +23,11 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from . import _pi_regression as pr
-from ._validation import as_nonnegative_scalar
+from ._validation import as_nonnegative_scalar, fmt
 from .fit_presliding import (
     _with_note,
     check_enough,
+    check_fit_options,
     check_varies,
     derived_quantities,
     element_count,
@@ -95,6 +96,8 @@ def fit_motion(
         Held or tied parameters: ``mass``, ``coulomb``, ``viscous``, ``offset``,
         ``stiffness_j``, ``threshold_j``.
     level, grid_size, max_evaluations, tolerance : as in `fit_presliding`
+        Confidence level in (0, 1), grid size >= 2, evaluation limit >= 1 (or
+        None) and a positive tolerance.
 
     Returns
     -------
@@ -110,9 +113,12 @@ def fit_motion(
     )
     n = element_count(n_elements, thresholds, 0)
     min_speed = as_nonnegative_scalar("min_speed", min_speed)
+    fixed, tied, level, grid_size, max_evaluations, tolerance = check_fit_options(
+        fixed, tied, level, grid_size, max_evaluations, tolerance
+    )
     m = measurement
     u = m.applied_force
-    if not np.any(u) and "mass" not in (fixed or {}):
+    if not np.any(u) and "mass" not in fixed:
         raise ValueError(
             "`applied_force` is zero throughout: mass and forces are then determined only up to "
             "a common factor; fix the mass (fixed={'mass': ...}) or use fit_response."
@@ -154,9 +160,26 @@ def predict_motion_force(result: FitResult, measurement: Measurement) -> FloatAr
     m·ÿ + c1·sign(ẏ) + Σ k_j (y − x_j) [+ F_v·ẏ] [+ F_0], with the elements
     relaxed at the first sample: use it to validate a `fit_motion` result on
     another record.
+
+    Parameters
+    ----------
+    result : FitResult
+        A result of `fit_motion` (its parameters ``mass``, ``coulomb``, the
+        elements' ``stiffness_j`` and ``threshold_j`` and the optional
+        ``viscous`` and ``offset``).
+    measurement : Measurement
+        Must hold `position`, `velocity` and `acceleration`.
+
+    Returns
+    -------
+    ndarray, shape (T,)
+        The predicted applied force u [N] at every sample of `measurement`.
     """
     if not isinstance(result, FitResult) or "mass" not in result.parameters:
-        raise TypeError("`result` must be a FitResult of fit_motion.")
+        what = "a FitResult without a mass" if isinstance(result, FitResult) else fmt(result)
+        raise TypeError(f"`result` must be a FitResult of fit_motion; got {what}.")
+    if not isinstance(measurement, Measurement):
+        raise TypeError(f"`measurement` must be a Measurement; got {type(measurement).__name__}.")
     measurement.require("position", "velocity", "acceleration", purpose="the prediction")
     p = result.parameters
     m = measurement

@@ -28,7 +28,15 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from . import _pi_regression as pr
-from ._validation import as_count, as_parameter_vector, as_signal, check_same_length, fmt
+from ._least_squares import check_constraints, check_options
+from ._validation import (
+    as_count,
+    as_nonnegative_scalar,
+    as_parameter_vector,
+    as_signal,
+    check_same_length,
+    fmt,
+)
 from .fitting import FitResult, Tie
 from .friction import PIFriction
 
@@ -55,6 +63,25 @@ def check_varies(name: str, arr: FloatArray) -> None:
     """Reject a constant signal (nothing to fit)."""
     if not np.ptp(arr) > 0:
         raise ValueError(f"`{name}` must vary; got a constant signal ({fmt(float(arr[0]))}).")
+
+
+def check_fit_options(
+    fixed: Mapping[str, float] | None,
+    tied: Mapping[str, Tie] | None,
+    level: float,
+    grid_size: int,
+    max_evaluations: int | None,
+    tolerance: float,
+) -> tuple[dict[str, float], dict[str, Tie], float, int, int | None, float]:
+    """The options shared by the separable fits, checked on entry (see `check_options`).
+
+    `grid_size` must be at least 2: a geometric grid needs its two ends, and with
+    one point the elements would all start at the same threshold.
+    """
+    fixed, tied = check_constraints(fixed, tied)
+    level, max_evaluations, tolerance = check_options(level, max_evaluations, tolerance)
+    grid_size = as_count("grid_size", grid_size, minimum=2)
+    return fixed, tied, level, grid_size, max_evaluations, tolerance
 
 
 def check_enough(n_used: int, n_parameters: int, what: str = "samples") -> None:
@@ -130,17 +157,22 @@ def fit_presliding(
     refine_thresholds : bool
         Optimise the thresholds; False keeps them at the start (a linear fit).
     burn_in : int
-        Samples at the start left out of the residual (while the unknown earlier
+        Number of samples (>= 0) at the start left out of the residual (while the unknown earlier
         memory is wiped out; the operators still run through them).
     fixed, tied : mapping, optional
-        Parameters held at a value, or tied to another (see `solve_least_squares`);
+        Parameters held at a value (a finite real), or tied to another: a
+        parameter name or a (name, factor) pair (see `solve_least_squares`);
         names: ``coulomb``, ``offset``, ``stiffness_j``, ``threshold_j`` (j from 1).
     level : float
-        Confidence level of the intervals.
+        Confidence level of the intervals, in (0, 1).
     grid_size : int
-        Number of grid thresholds of the linear start.
+        Number of grid thresholds of the linear start (at least 2).
     max_evaluations : int, optional
+        Most residual evaluations of the nonlinear stage (an integer >= 1);
+        default: scipy's choice. Reaching it gives the status ``"max_evaluations"``.
     tolerance : float
+        Relative tolerance on the cost, the step and the gradient of the
+        nonlinear stage (positive).
 
     Returns
     -------
@@ -152,6 +184,10 @@ def fit_presliding(
     f = as_signal("force", force)
     check_same_length(displacement=y, force=f)
     n = element_count(n_elements, thresholds, 3)
+    burn_in = as_count("burn_in", burn_in)
+    fixed, tied, level, grid_size, max_evaluations, tolerance = check_fit_options(
+        fixed, tied, level, grid_size, max_evaluations, tolerance
+    )
     check_varies("displacement", y)
     check_varies("force", f)
     if pr.reversal_indices(y, 0.0).shape[0] == 0:
@@ -159,8 +195,6 @@ def fit_presliding(
             "`displacement` must reverse at least once to identify presliding loops; got a "
             "monotone path (fit a virgin loading with fit_virgin_curve(..., loops=False))."
         )
-    if isinstance(burn_in, bool) or not isinstance(burn_in, (int, np.integer)) or burn_in < 0:
-        raise ValueError(f"`burn_in` must be a nonnegative integer; got {fmt(burn_in)}.")
     used = np.arange(y.shape[0]) >= burn_in
     columns, names = [], []
     if coulomb:
@@ -209,6 +243,19 @@ def virgin_samples(
     Every branch that starts at the second or a later turning point measures
     F_v(s) = ±(F − F_r)/2 at s = |y − y_r|/2 until it has travelled as far as the
     branch before it (where it closes the loop and may join an older branch).
+
+    Parameters
+    ----------
+    displacement, force : ndarray, shape (T,)
+        A checked path with hysteresis loops and its force.
+    reversal_tolerance : float
+        Travel a turning point must be left by to count (nonnegative).
+
+    Returns
+    -------
+    s, virgin_force : ndarray
+        The abscissa s = |y − y_r|/2 and F_v(s) of every usable sample, branch
+        after branch (not sorted).
     """
     idx = pr.reversal_indices(displacement, reversal_tolerance)
     if idx.shape[0] < 2:
@@ -258,7 +305,8 @@ def fit_virgin_curve(
         the force is taken as zero); s = |y − y[0]|, F_v = ±F.
     n_elements, thresholds : as in `fit_presliding`
     reversal_tolerance : float
-        Travel [m] a turning point must be left by to count (against noise).
+        Travel [m] a turning point must be left by to count (against noise;
+        nonnegative, used only with ``loops=True``).
     fixed, tied, level, grid_size, max_evaluations, tolerance : as in `fit_presliding`
 
     Returns
@@ -271,10 +319,14 @@ def fit_virgin_curve(
     f = as_signal("force", force)
     check_same_length(displacement=y, force=f)
     n = element_count(n_elements, thresholds, 3)
+    reversal_tolerance = as_nonnegative_scalar("reversal_tolerance", reversal_tolerance)
+    fixed, tied, level, grid_size, max_evaluations, tolerance = check_fit_options(
+        fixed, tied, level, grid_size, max_evaluations, tolerance
+    )
     check_varies("displacement", y)
     check_varies("force", f)
     if loops:
-        s, fv = virgin_samples(y, f, float(reversal_tolerance))
+        s, fv = virgin_samples(y, f, reversal_tolerance)
     else:
         steps = np.diff(y)
         if not (np.all(steps >= 0) or np.all(steps <= 0)):

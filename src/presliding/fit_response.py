@@ -40,9 +40,24 @@ import numpy as np
 from numpy.typing import NDArray
 
 from . import _response_tools as rt
-from ._validation import as_choice, as_positive_scalar
+from ._least_squares import check_constraints, check_options
+from ._response_checks import (
+    bound_check,
+    cost,
+    polish_initial_velocity,
+    rigid_check,
+    spread_start,
+    stiffest_first,
+)
+from ._validation import (
+    as_choice,
+    as_nonnegative_scalar,
+    as_positive_scalar,
+    as_real_scalar,
+    fmt,
+)
 from .fit_presliding import check_enough, check_varies, element_count
-from .fitting import FitResult, Solution, Tie, solve_least_squares
+from .fitting import FitResult, Tie, solve_least_squares
 from .friction import PIFriction
 from .measurement import Measurement
 
@@ -51,7 +66,6 @@ __all__ = ["fit_response"]
 FloatArray = NDArray[np.float64]
 SIGNALS = ("velocity", "position", "both")
 COARSE_SAMPLES = 2000  #: starts are compared on at most this many samples
-_BOUND = 1e-8  # a parameter below this fraction of its scale sits on its bound 0
 
 
 def fit_response(
@@ -103,6 +117,10 @@ def fit_response(
         (``initial_position``); a noisy first sample would otherwise bias every
         other parameter. False holds them at the first measured sample.
     fixed, tied, level, max_evaluations, tolerance : as in `fit_presliding`
+        A fixed (or start) mass, ``coulomb_level``, stiffness or break-away
+        force must be positive, c1 nonnegative, every value a finite real; a
+        tie of those parameters needs a positive factor. `max_evaluations`
+        defaults to 50 per parameter for each start and check.
     multistart : bool, keyword only
         Also try the spread start and test the rigid limit of the stiffest
         element (see the module notes); only when c1 and the stiffnesses are
@@ -125,18 +143,25 @@ def fit_response(
     n = element_count(n_elements, None, 4)
     if coulomb_level is not None and not equal_breakaway:
         raise ValueError("`coulomb_level` can be given only with equal_breakaway=True.")
+    level, max_evaluations, tolerance = check_options(level, max_evaluations, tolerance)
+    fixed, tied = check_constraints(fixed, tied)
+    _check_model_values(fixed, tied, initial)
     m = measurement
     t = m.time
     v = m.velocity if m.velocity is not None else np.gradient(m.position, t)
     y = m.position if m.position is not None else rt.integral(t, v)
     u = m.applied_force if m.applied_force is not None else np.zeros_like(t)
     check_varies("velocity" if m.velocity is not None else "position", v)
-    fixed = dict(fixed or {})
-    tied = dict(tied or {})
     if mass is not None:
         fixed["mass"] = as_positive_scalar("mass", mass)
     if coulomb_level is not None:
         fixed["coulomb_level"] = as_positive_scalar("coulomb_level", coulomb_level)
+    fc = fixed.get("coulomb_level")
+    if equal_breakaway and n and fc is not None and fixed.get("coulomb", 0.0) >= fc:
+        raise ValueError(
+            f"`fixed['coulomb']` must be less than the Coulomb level {fmt(fc)} (else no force is "
+            f"left for the elements); got {fmt(fixed['coulomb'])}."
+        )
     per_unit_mass = not np.any(u) and not ({"mass", "coulomb_level"} & set(fixed))
     if per_unit_mass:
         fixed["mass"] = 1.0
@@ -189,21 +214,21 @@ def fit_response(
 
     shaped = {"coulomb", *k_names, *c_names} & (set(fixed) | set(tied))
     search = multistart and n >= 1 and not shaped
-    starts = [start] + ([_spread_start(start, k_names)] if search and equal_breakaway else [])
+    starts = [start] + ([spread_start(start, k_names)] if search and equal_breakaway else [])
     if len(starts) == 1:
         sol = solve(start)
     elif t.shape[0] > COARSE_SAMPLES:
         idx = np.unique(np.linspace(0, t.shape[0] - 1, COARSE_SAMPLES).round().astype(int))
-        coarse = min((solve(s, idx=idx, tolerance=1e-6) for s in starts), key=_cost)
-        sol = solve(coarse.values if np.isfinite(_cost(coarse)) else start)
+        coarse = min((solve(s, idx=idx, tolerance=1e-6) for s in starts), key=cost)
+        sol = solve(coarse.values if np.isfinite(cost(coarse)) else start)
     else:
-        sol = min((solve(s) for s in starts), key=_cost)
-    sol = _polish_initial_velocity(sol, solve, fixed, tied, v)
+        sol = min((solve(s) for s in starts), key=cost)
+    sol = polish_initial_velocity(sol, solve, fixed, tied, v)
     if equal_breakaway and not (set(k_names) & (set(fixed) | set(tied))):
-        sol = _stiffest_first(sol, k_names)
+        sol = stiffest_first(sol, k_names)
     if search and sol.status == "converged":
-        sol = _rigid_check(sol, solve, problem, names, fixed, tied, level)
-    sol = _bound_check(sol, start, names, fixed, tied, equal_breakaway)
+        sol = rigid_check(sol, solve, problem, names, fixed, tied, level)
+    sol = bound_check(sol, start, names, fixed, tied, equal_breakaway)
     sol = replace(sol, n_evaluations=evaluations[0])  # over every start and check
     mass_, c1, k, c, y0, v0 = problem.unpack(np.array([sol.values[x] for x in names]))
     ys, vs, ok = problem.sim(mass_, c1, k, c / k, y0, v0)
@@ -228,6 +253,39 @@ def fit_response(
         abscissa_label="time [s]", signal_label="position" if signal == "position" else "velocity",
         derived=derived,
     )  # fmt: skip
+
+
+def _check_model_values(
+    fixed: dict[str, float], tied: dict[str, Tie], initial: Mapping[str, float] | None
+) -> None:
+    """Fixed and start values in the model's domain, ties of the model parameters positive.
+
+    The mass, F_c, the stiffnesses and the break-away forces must be positive
+    (the simulator has no element of zero stiffness or mass) and c1 >= 0.
+    """
+
+    def positive(x: object) -> bool:
+        return x in ("mass", "coulomb_level") or (
+            isinstance(x, str) and x.startswith(("stiffness_", "breakaway_"))
+        )
+
+    if initial is not None and not isinstance(initial, Mapping):
+        raise TypeError(
+            f"`initial` must be a mapping of parameter names to start values; "
+            f"got {type(initial).__name__}."
+        )
+    for label, values in (("fixed", fixed), ("initial", initial or {})):
+        for x, v in values.items():
+            name = f"{label}[{x!r}]"
+            if positive(x):
+                as_positive_scalar(name, v)
+            elif x == "coulomb":
+                as_nonnegative_scalar(name, v)
+            else:
+                as_real_scalar(name, v)
+    for x, spec in tied.items():
+        if positive(x) and not isinstance(spec, str):
+            as_positive_scalar(f"tied[{x!r}][1]", spec[1])
 
 
 class _Problem:
@@ -265,129 +323,3 @@ class _Problem:
             )
 
         return fun
-
-
-def _cost(sol: Solution) -> float:
-    """Sum of squared residuals (inf for a failed fit)."""
-    return float(sol.residual @ sol.residual) if sol.status != "failed" else np.inf
-
-
-def _polish_initial_velocity(sol, solve, fixed, tied, v) -> Solution:
-    """Refit with the initial velocity on its bound 0 when it ends next to it.
-
-    Near an active bound the trust region shrinks the steps of that parameter
-    and the fit stops early; a start from rest is common, so it is tried exactly
-    and kept when it fits at least as well.
-    """
-    x = "initial_velocity"
-    if x in fixed or x in tied or sol.status == "failed" or sol.values[x] == 0.0:
-        return sol
-    if abs(sol.values[x]) > 1e-6 * float(np.max(np.abs(v))):
-        return sol
-    alt = solve(sol.values, extra={x: 0.0})
-    return alt if _cost(alt) <= _cost(sol) else sol
-
-
-def _spread_start(start: dict[str, float], k_names: list[str]) -> dict[str, float]:
-    """The regression start moved off the rigid corner: c1/F_c in [1/4, 3/5], k_1 ≤ 2·k_2."""
-    s = dict(start)
-    fc = s["coulomb_level"]
-    s["coulomb"] = fc * min(max(s["coulomb"] / fc, 0.25), 0.6)
-    k = sorted((s[x] for x in k_names), reverse=True)
-    if len(k) > 1:
-        k[0] = min(k[0], 2.0 * k[1])
-    s.update(zip(k_names, k, strict=True))
-    return s
-
-
-def _rigid_check(sol, solve, problem, names, fixed, tied, level) -> Solution:
-    """Refit with the smallest-threshold element rigid; flag it if that fits as well."""
-    from scipy import stats
-
-    values = dict(sol.values)
-    if not problem.equal:  # put the smallest threshold first
-        r = [values[c] / values[k] for k, c in zip(problem.k_names, problem.c_names, strict=True)]
-        j = int(np.argmin(r))
-        for a, b in ((problem.k_names[0], problem.k_names[j]),
-                     (problem.c_names[0], problem.c_names[j])):  # fmt: skip
-            values[a], values[b] = values[b], values[a]
-    extra = {"stiffness_1": values["stiffness_1"]}
-    if not problem.equal:
-        extra["breakaway_1"] = values["breakaway_1"]
-    alt = solve(values, rigid=True, extra=extra)
-    cost, cost_rigid = _cost(sol), _cost(alt)
-    dof = sol.residual.shape[0] - (len(names) - len(fixed) - len(tied))
-    if dof < 1 or not np.isfinite(cost_rigid):
-        return sol
-    s2 = cost / dof
-    q2 = float(stats.t.ppf(0.5 + level / 2, dof)) ** 2
-    excess = (cost_rigid - cost) / s2 if s2 > 0 else np.inf
-    if excess > q2:
-        return sol
-    ci = dict(sol.confidence_interval)
-    for x in names:
-        if x in alt.confidence_interval and x not in extra and x not in fixed:
-            (a, b), (c, d) = ci[x], alt.confidence_interval[x]
-            ci[x] = (min(a, c, alt.values[x]), max(b, d, alt.values[x]))
-    ci["stiffness_1"] = (ci["stiffness_1"][0], np.inf)
-    se = {**sol.standard_error, "stiffness_1": np.inf}
-    message = (
-        "the data do not separate the Coulomb element from the stiffest element: with that "
-        f"element rigid (k → ∞, coulomb = {alt.values['coulomb']:.6g}) the cost rises by only "
-        f"{excess:.3g}·s² ≤ t² = {q2:.3g} (profile bound at {100 * level:g} %); the intervals "
-        "span both fits"
-    )
-    return replace(sol, status="not_identifiable", message=message, confidence_interval=ci,
-                   standard_error=se)  # fmt: skip
-
-
-def _bound_check(sol, start, names, fixed, tied, equal_breakaway) -> Solution:
-    """Status "at_bound" when a model parameter sits on its lower bound 0."""
-    if sol.status not in ("converged", "not_identifiable"):
-        return sol
-    free = [x for x in names if x not in fixed and x not in tied]
-    val = sol.values
-    k_max = max([val[x] for x in names if x.startswith("stiffness_")], default=0.0)
-    c_max = max([val[x] for x in names if x.startswith("breakaway_")], default=0.0)
-    scale = {
-        "mass": abs(start["mass"]),
-        "coulomb_level": abs(start.get("coulomb_level", 0.0)),
-        "coulomb": val.get("coulomb_level", val["coulomb"] + c_max),
-    }
-    at = []
-    for x in free:
-        ref = scale.get(x, k_max if x.startswith("stiffness_") else c_max)
-        if x not in ("initial_velocity", "initial_position") and val[x] <= _BOUND * ref:
-            at.append(f"{x} = 0")
-    if equal_breakaway and "coulomb" in free and val["coulomb"] >= val["coulomb_level"]:
-        at.append("coulomb = coulomb_level (no force left for the elements)")
-    if at:
-        message = (
-            f"the solution sits on a bound ({', '.join(at)}), where the linearised intervals "
-            f"do not hold; {sol.message}"
-        )
-        return replace(sol, status="at_bound", message=message)
-    if "initial_velocity" in free and val["initial_velocity"] == 0.0:
-        sol = replace(sol, message=sol.message + "; initial_velocity sits on its bound 0")
-    return sol
-
-
-def _stiffest_first(sol: Solution, k_names: list[str]) -> Solution:
-    """Relabel the elements of equal break-away force by decreasing stiffness.
-
-    They are interchangeable, so only the sorted set is meaningful.
-    """
-    order = np.argsort([-sol.values[x] for x in k_names], kind="stable")
-    rename = {k_names[int(j)]: k_names[i] for i, j in enumerate(order)}
-
-    def relabel(d: dict) -> dict:
-        out = dict(d)
-        out.update({rename[x]: d[x] for x in k_names})
-        return out
-
-    return replace(
-        sol,
-        values=relabel(sol.values),
-        standard_error=relabel(sol.standard_error),
-        confidence_interval=relabel(sol.confidence_interval),
-    )

@@ -50,6 +50,15 @@ def fit_statistics(measured: ArrayLike, fitted: ArrayLike) -> tuple[float, float
     ‖measured − fitted‖ / ‖measured − mean(measured)‖ is 0 for a perfect fit and
     1 for a fit no better than the mean (1 − FIT/100 of the "fit percentage").
     Both are inf for a constant measured signal.
+
+    Parameters
+    ----------
+    measured, fitted : array_like, shape (T,)
+        The measured signal and the model's fit to it.
+
+    Returns
+    -------
+    residual_rms, nrmse, relative_residual : float
     """
     m = np.asarray(measured, dtype=float)
     r = m - np.asarray(fitted, dtype=float)

@@ -101,7 +101,18 @@ class MemoryState:
 
     @classmethod
     def relaxed(cls, position: float = 0.0) -> MemoryState:
-        """Virgin memory at `position`: f(r) = 0 for every threshold."""
+        """Virgin memory at `position`: f(r) = 0 for every threshold.
+
+        Parameters
+        ----------
+        position : float
+            The input y [m] at rest (also the base).
+
+        Returns
+        -------
+        MemoryState
+            No turning inputs, direction 0.
+        """
         position = as_real_scalar("position", position)
         return cls(position, np.empty(0), position, 0.0)
 
@@ -109,7 +120,23 @@ class MemoryState:
     def saturated(
         cls, position: float = 0.0, direction: float = 1.0, max_threshold: float = math.inf
     ) -> MemoryState:
-        """Every stop with r <= max_threshold at f = direction·r after motion in `direction`."""
+        """Every stop with r <= max_threshold at f = direction·r after motion in `direction`.
+
+        Parameters
+        ----------
+        position : float
+            The input y [m] reached by that motion.
+        direction : {-1, 1}
+            Sign of the motion.
+        max_threshold : float
+            R > 0, the end of the density's support; inf (unbounded support)
+            puts the base at ∓inf.
+
+        Returns
+        -------
+        MemoryState
+            Base y − direction·R, no turning inputs.
+        """
         position = as_real_scalar("position", position)
         if isinstance(direction, bool) or direction not in (-1, 1):
             raise ValueError(f"`direction` must be -1 or 1; got {fmt(direction)}.")
@@ -130,7 +157,18 @@ class MemoryState:
         return 0.5 * abs(self.last_input - self.turning[-1])
 
     def deformation(self, threshold: ArrayLike) -> Any:
-        """f(r) = y − x(y, r) (eq. 11) at the given thresholds r >= 0."""
+        """f(r) = y − x(y, r) (eq. 11) at the given thresholds r >= 0.
+
+        Parameters
+        ----------
+        threshold : float or array_like
+            Thresholds r >= 0 [m].
+
+        Returns
+        -------
+        float or ndarray
+            Deformations f(r) [m], same shape as `threshold`.
+        """
         r = np.asarray(threshold, dtype=np.float64)
         y, e, d, prev = self.last_input, self.turning, self.direction, self.base
         out = np.full(r.shape, y - prev if math.isfinite(prev) else 0.0)
@@ -141,12 +179,36 @@ class MemoryState:
         return np.where(r <= self.front, d * r, out)
 
     def play(self, threshold: ArrayLike) -> Any:
-        """Play outputs x(y, r) = y − f(r) (eq. 3) at the given thresholds."""
+        """Play outputs x(y, r) = y − f(r) (eq. 3) at the given thresholds.
+
+        Parameters
+        ----------
+        threshold : float or array_like
+            Thresholds r >= 0 [m].
+
+        Returns
+        -------
+        float or ndarray
+            Play outputs x(y, r) [m], same shape as `threshold`.
+        """
         return self.last_input - self.deformation(threshold)
 
     # ------------------------------------------------------------ kernel memory
     def working_memory(self, density: Density) -> tuple[FloatArray, FloatArray]:
-        """(head, stack) arrays for the compiled kernels of `_general_pi`."""
+        """(head, stack) arrays for the compiled kernels of `_general_pi`.
+
+        Parameters
+        ----------
+        density : Density
+            The distribution μ the kernels integrate over.
+
+        Returns
+        -------
+        head, stack : ndarray
+            The kernel's memory: last input, direction, base and depth in
+            `head`; one row per turning input in `stack` (rows beyond the
+            depth are spare capacity).
+        """
         return gk.replay(
             self.last_input,
             self.direction,
@@ -159,7 +221,17 @@ class MemoryState:
 
     @classmethod
     def from_working_memory(cls, head: FloatArray, stack: FloatArray) -> MemoryState:
-        """The state of kernel arrays (inverse of `working_memory`)."""
+        """The state of kernel arrays (inverse of `working_memory`).
+
+        Parameters
+        ----------
+        head, stack : ndarray
+            Kernel memory as returned by `working_memory` or a kernel run.
+
+        Returns
+        -------
+        MemoryState
+        """
         n = int(head[3])
         return cls(float(head[0]), stack[:n, 0].copy(), float(head[2]), float(head[1]))
 
@@ -189,29 +261,94 @@ class GeneralPIOperator:
             raise TypeError(f"`density` must be a Density; got {type(self.density).__name__}.")
 
     def relaxed_state(self, position: float = 0.0) -> MemoryState:
-        """Virgin memory at `position`."""
+        """Virgin memory at `position`.
+
+        Parameters
+        ----------
+        position : float
+            The input y [m] at rest.
+
+        Returns
+        -------
+        MemoryState
+            `MemoryState.relaxed` (force 0).
+        """
         return MemoryState.relaxed(position)
 
     def saturated_state(self, position: float = 0.0, direction: float = 1.0) -> MemoryState:
-        """Every stop sliding after motion in `direction`: force direction·F_m."""
+        """Every stop sliding after motion in `direction`: force direction·F_m.
+
+        Parameters
+        ----------
+        position : float
+            The input y [m] reached by that motion.
+        direction : {-1, 1}
+            Sign of the motion.
+
+        Returns
+        -------
+        MemoryState
+            `MemoryState.saturated` up to the density's R.
+        """
         return MemoryState.saturated(position, direction, self.density._big_r)
 
     def apply(
         self, y: ArrayLike, state: MemoryState | None = None
     ) -> tuple[FloatArray, MemoryState]:
-        """Force along a sampled input (monotone between samples) and the final memory."""
+        """Force along a sampled input (monotone between samples) and the final memory.
+
+        Parameters
+        ----------
+        y : array_like, shape (T,)
+            Input samples [m], finite.
+        state : MemoryState, optional
+            Memory before the first sample; default relaxed at ``y[0]``.
+
+        Returns
+        -------
+        force : ndarray, shape (T,)
+            ∫ (y − x(y, r)) dμ(r) at every sample (eq. 10) [N].
+        final_state : MemoryState
+        """
         force, _, final = run_density(self.density, as_signal("y", y), state)
         return force, final
 
     def force_at(self, y: float, state: MemoryState) -> tuple[float, float]:
-        """(force, slope dF/dy) if the input moved monotonically from the state to `y`."""
+        """(force, slope dF/dy) if the input moved monotonically from the state to `y`.
+
+        Parameters
+        ----------
+        y : float
+            The input reached [m].
+        state : MemoryState
+            Memory the monotone move starts from.
+
+        Returns
+        -------
+        force : float
+            Elastic force at `y` [N] (eq. 10).
+        slope : float
+            dF/dy at `y` [N/m]: μ((ρ, R]), the stiffness of the stops that
+            still stick (ρ the front at `y`).
+        """
         head, stack = _memory(self.density, state, as_real_scalar("y", y))
         d = self.density
         f, s = gk.force_at(float(y), head, stack, d._kind, d._par, d._tab)
         return float(f), float(s)
 
     def elastic_energy(self, state: MemoryState) -> float:
-        """½∫ f(r)² dμ(r), the energy stored in the stops (eq. after 12)."""
+        """½∫ f(r)² dμ(r), the energy stored in the stops (eq. after 12).
+
+        Parameters
+        ----------
+        state : MemoryState
+            Memory of the stops.
+
+        Returns
+        -------
+        float
+            Stored elastic energy [J].
+        """
         head, stack = _memory(self.density, state, state.last_input)
         d = self.density
         return float(gk.elastic_energy(head, stack, d._kind, d._par, d._tab))

@@ -152,6 +152,19 @@ def inverse_state(operator: PIOperator, state: PIState) -> PIState:
     last input is the forward output F = a·y + Σ w_j s_j. Feeding the forward
     output path to the inverse started there returns the input path.
 
+    Parameters
+    ----------
+    operator : PIOperator
+        The forward operator (invertible, see `pi_inverse`).
+    state : PIState
+        A memory of `operator`, reachable from a relaxed or saturated state.
+
+    Returns
+    -------
+    PIState
+        The memory of ``pi_inverse(operator)`` (one play state per element of
+        the inverse), with last input the forward output F.
+
     Raises
     ------
     ValueError

@@ -25,7 +25,14 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ._filters import estimate_derivatives, lowpass
-from ._validation import as_positive_scalar, as_signal, check_same_length, fmt
+from ._validation import (
+    as_choice,
+    as_positive_scalar,
+    as_real_scalar,
+    as_signal,
+    check_same_length,
+    fmt,
+)
 
 __all__ = ["Measurement", "estimate_derivatives", "lowpass"]
 
@@ -123,7 +130,23 @@ class Measurement:
         return {n: getattr(self, n) for n in SIGNALS if getattr(self, n) is not None}
 
     def require(self, *names: str, purpose: str = "this") -> None:
-        """Raise a clear error unless every named signal is present."""
+        """Raise a clear error unless every named signal is present.
+
+        Parameters
+        ----------
+        *names : str
+            Signal names, each one of ``SIGNALS`` ('position', 'velocity',
+            'acceleration', 'applied_force', 'friction_force').
+        purpose : str
+            What the signals are needed for, quoted in the error message.
+
+        Raises
+        ------
+        ValueError
+            If a name is not a signal name, or a named signal is absent.
+        """
+        for n in names:
+            as_choice("names", n, SIGNALS)
         missing = [n for n in names if getattr(self, n) is None]
         if missing:
             raise ValueError(
@@ -133,14 +156,29 @@ class Measurement:
 
     # ------------------------------------------------------------------ transformations
     def window(self, start: float | None = None, end: float | None = None) -> Measurement:
-        """The samples with start <= t <= end (either bound may be None)."""
-        lo = -np.inf if start is None else float(start)
-        hi = np.inf if end is None else float(end)
+        """The samples with start <= t <= end (either bound may be None).
+
+        Parameters
+        ----------
+        start, end : float, optional
+            Finite bounds [s] of the window, inclusive; None leaves that side
+            open. The window must hold at least 2 samples.
+
+        Returns
+        -------
+        Measurement
+            The same signals restricted to the window.
+        """
+        lo = -np.inf if start is None else as_real_scalar("start", start)
+        hi = np.inf if end is None else as_real_scalar("end", end)
+        if hi < lo:
+            raise ValueError(f"`end` must be at least `start` {fmt(lo)}; got {fmt(hi)}.")
         keep = (self.time >= lo) & (self.time <= hi)
         if np.count_nonzero(keep) < 2:
             raise ValueError(
-                f"the window [{fmt(lo)}, {fmt(hi)}] must contain at least 2 samples; "
-                f"got {int(np.count_nonzero(keep))} (time runs from {fmt(self.time[0])} "
+                f"`start` and `end` must enclose at least 2 samples; got "
+                f"{int(np.count_nonzero(keep))} in [{fmt(lo)}, {fmt(hi)}] (time runs from "
+                f"{fmt(self.time[0])} "
                 f"to {fmt(self.time[-1])})."
             )
         return self._map(lambda a: a[keep], self.time[keep])
@@ -151,6 +189,16 @@ class Measurement:
         Use it before `differentiate` when the sampling has gaps or jitter, or to
         decimate (choose ``step`` a multiple of the original step, after a low-pass
         with `lowpass` when the signals carry content above the new Nyquist rate).
+
+        Parameters
+        ----------
+        step : float
+            Uniform sampling step [s] (> 0, at most the duration).
+
+        Returns
+        -------
+        Measurement
+            Every signal interpolated onto the new grid.
         """
         h = as_positive_scalar("step", step)
         n = int(np.floor(self.duration / h * (1 + 1e-12))) + 1
@@ -176,6 +224,23 @@ class Measurement:
         acceleration are replaced. With ``filter_forces=True`` the forces pass
         through the same zero-phase low-pass, so that every linear term of
         eq. 17 sees the same filter (the usual "parallel filtering").
+
+        Parameters
+        ----------
+        cutoff : float
+            Low-pass cut-off frequency [Hz] (> 0, below the Nyquist rate).
+        method : {'butter', 'savgol'}
+            Zero-phase filter, see `estimate_derivatives`.
+        order : int
+            Butterworth order, or the Savitzky–Golay polynomial order.
+        filter_forces : bool
+            Also low-pass the forces with the same filter.
+
+        Returns
+        -------
+        Measurement
+            Position and (unless `filter_forces`) forces as before; velocity and
+            acceleration estimated.
         """
         self.require("position", purpose="differentiation")
         self._require_uniform("differentiate")

@@ -31,23 +31,23 @@ change of u may set it in motion again.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from . import _batch
 from . import _implicit_density as _density
 from . import _motion_run as _run
 from ._forcing import as_forcing
-from ._motion_result import MotionBatch, MotionEnergy, MotionResult
-from ._validation import as_choice, as_count, as_positive_scalar, as_real_scalar, fmt
+from ._motion_batch import free_response, simulate_batch
+from ._motion_result import FreeResponse, MotionBatch, MotionEnergy, MotionResult
+from ._validation import as_choice, as_count, as_positive_scalar, as_real_scalar
 from .friction import PIFriction
 from .general_pi import MemoryState
 from .operators import PIState
 
 __all__ = [
+    "FreeResponse",
     "MotionBatch",
     "MotionEnergy",
     "MotionResult",
@@ -110,6 +110,9 @@ def simulate(
         Largest step of the implicit method; default (t_end − t_start)/10⁴.
         The grid contains every sample time.
     t_start : float, keyword only
+        Start time [s] (default 0): the initial conditions hold at t_start, the
+        motion is solved on [t_start, t_end] and a sampled `applied_force` must
+        start at or before it.
     max_events : int, keyword only
         Event limit of the event method (status -1 when reached).
 
@@ -203,111 +206,3 @@ def simulate(
         mass=m,
         model=model,
     )
-
-
-def simulate_batch(
-    models: PIFriction | Sequence[PIFriction] | None = None,
-    mass: float | ArrayLike = 1.0,
-    initial_velocity: float | ArrayLike = 0.0,
-    *,
-    coulomb: ArrayLike | None = None,
-    stiffness: ArrayLike | None = None,
-    breakaway: ArrayLike | None = None,
-    threshold: ArrayLike | None = None,
-    applied_force: float | tuple[ArrayLike, ArrayLike] = 0.0,
-    initial_position: float | ArrayLike = 0.0,
-    initial_state: str = "relaxed",
-    t_end: float | None = None,
-    t_eval: ArrayLike | None = None,
-    t_start: float = 0.0,
-    max_events: int = 10_000_000,
-) -> MotionBatch:
-    """Exact motions of many parameter sets and/or initial velocities, in parallel.
-
-    Give either `models` (one PIFriction or a sequence; members with fewer
-    elements are padded with inert ones) or parameter arrays `coulomb` (B,),
-    `stiffness` (B, N) and `breakaway` or `threshold` (B, N). `mass`,
-    `initial_velocity` and `initial_position` are scalars or arrays of length B;
-    everything broadcasts to the batch size B. The applied force is shared: a
-    constant, or (time, value) samples held piecewise constant. Every member
-    is solved by the exact event method (see `simulate`).
-
-    Returns
-    -------
-    MotionBatch
-    """
-    if models is not None:
-        if coulomb is not None or stiffness is not None:
-            raise TypeError("give `models` or parameter arrays (`coulomb`, ...), not both.")
-        c1, k, r = _run.stack_models(models)
-    else:
-        c1, k, r = _run.stack_parameters(coulomb, stiffness, breakaway, threshold)
-    t0 = as_real_scalar("t_start", t_start)
-    forcing = as_forcing(applied_force, "zoh", t0)
-    if not forcing.piecewise_constant:
-        raise ValueError(
-            "`applied_force` of a batch must be a constant or (time, value) samples; got a "
-            "callable."
-        )
-    t_end, times = _run.time_grid(t0, t_end, t_eval)
-    u0 = float(forcing(np.array([t0]))[0])
-    sizes = {"models": c1.shape[0]}
-    arrays = {}
-    for name, val in (("mass", mass), ("initial_velocity", initial_velocity),
-                      ("initial_position", initial_position)):  # fmt: skip
-        arr = _run.as_batch_vector(name, val, positive=name == "mass")
-        arrays[name] = arr
-        sizes[name] = arr.shape[0]
-    n_b = _run.batch_size(sizes)
-    c1, k, r = (np.ascontiguousarray(np.broadcast_to(a, (n_b, *a.shape[1:]))) for a in (c1, k, r))
-    m, v0, y0 = (np.ascontiguousarray(np.broadcast_to(arrays[n], (n_b,))) for n in
-                 ("mass", "initial_velocity", "initial_position"))  # fmt: skip
-    f0, last_dir = _run.batch_deformation(initial_state, r, v0, u0)
-    u_t, u_val = forcing.pieces(t0, t_end)
-    return _run.run_batch(m, c1, k, r, f0, y0, v0, last_dir, u_t, u_val, times, t_end,
-                          as_count("max_events", max_events, minimum=1))  # fmt: skip
-
-
-def free_response(
-    mass: float,
-    coulomb: float,
-    stiffness: ArrayLike,
-    threshold: ArrayLike,
-    initial_velocity: float,
-    time_step: float,
-    n_samples: int,
-    *,
-    initial_position: float = 0.0,
-    initial_state: str = "saturated",
-    applied_force: float = 0.0,
-) -> tuple[FloatArray, FloatArray]:
-    """Exact position and velocity at t = i·time_step, i < n_samples (compiled, fast).
-
-    The parameter-vector form for least-squares losses: mass m, Coulomb element
-    c1, stiffnesses k_j and thresholds r_j (eq. 6) of eq. 17 with a constant
-    applied force (default 0: free motion). "saturated" starts with every
-    element at its threshold in the direction of the initial velocity (steady
-    sliding before t = 0, as in the paper's experiments), "relaxed" with none
-    deformed.
-
-    Returns
-    -------
-    position, velocity : ndarray, shape (n_samples,)
-    """
-    m = as_positive_scalar("mass", mass)
-    c1 = float(coulomb)
-    if not c1 >= 0 or not np.isfinite(c1):
-        raise ValueError(f"`coulomb` must be finite and nonnegative; got {fmt(coulomb)}.")
-    k = np.ascontiguousarray(stiffness, dtype=np.float64)
-    r = np.ascontiguousarray(threshold, dtype=np.float64)
-    _run.check_bank(k, r)
-    v0 = as_real_scalar("initial_velocity", initial_velocity)
-    y0 = as_real_scalar("initial_position", initial_position)
-    dt = as_positive_scalar("time_step", time_step)
-    n_t = as_count("n_samples", n_samples, minimum=1)
-    u = as_real_scalar("applied_force", applied_force)
-    f0, last_dir = _run.batch_deformation(initial_state, r[None, :], np.array([v0]), u)
-    if c1 == 0.0 and k.shape[0] == 0:
-        raise ValueError("the model has no friction: `coulomb` must be positive with no elements.")
-    y, v, _, _, _ = _batch.free_kernel(m, c1, k, r, f0[0], y0, v0, float(last_dir[0]), u, dt, n_t)
-    return y, v

@@ -92,7 +92,20 @@ class PIState:
 
     @classmethod
     def relaxed(cls, position: float, n_elements: int) -> PIState:
-        """The relaxed (virgin) state: every play output equals the input, f_j = 0."""
+        """The relaxed (virgin) state: every play output equals the input, f_j = 0.
+
+        Parameters
+        ----------
+        position : float
+            The input y [m] at which the bank rests.
+        n_elements : int
+            Number of play operators N (>= 0).
+
+        Returns
+        -------
+        PIState
+            x_j = y for every j, direction 0.
+        """
         position = as_real_scalar("position", position)
         return cls(position, np.full(as_count("n_elements", n_elements), position), 0.0)
 
@@ -102,6 +115,20 @@ class PIState:
 
         The elastic deformations are f_j = direction·r_j, so a bank with
         stiffnesses k_j carries its maximal elastic force direction·Σ k_j r_j.
+
+        Parameters
+        ----------
+        position : float
+            The input y [m] reached by that motion.
+        threshold : array_like, shape (N,)
+            Thresholds r_j >= 0 [m] of the play operators (eq. 3).
+        direction : {-1, 1}
+            Sign of the motion that saturated every element.
+
+        Returns
+        -------
+        PIState
+            x_j = y − direction·r_j, with that direction.
         """
         position = as_real_scalar("position", position)
         r = as_parameter_vector("threshold", threshold, allow_empty=True)
@@ -111,7 +138,21 @@ class PIState:
         return cls(position, position - d * r, d)
 
     def check_against(self, threshold: FloatArray, name: str = "state") -> None:
-        """Check that this state fits a bank with the given thresholds."""
+        """Check that this state fits a bank with the given thresholds.
+
+        Parameters
+        ----------
+        threshold : ndarray, shape (N,)
+            Thresholds r_j of the bank (already validated).
+        name : str
+            Parameter name used in the error message.
+
+        Raises
+        ------
+        ValueError
+            If the state does not hold N play outputs, or some |y − x_j| exceeds
+            r_j (beyond rounding).
+        """
         n = threshold.shape[0]
         if self.play.shape != (n,):
             raise ValueError(

@@ -14,9 +14,11 @@ if TYPE_CHECKING:  # pragma: no cover
 
 __all__ = [
     "new_axes",
+    "plot_batch",
     "plot_density",
     "plot_fit",
     "plot_forces",
+    "plot_free_response",
     "plot_hysteresis",
     "plot_loop_fit",
     "plot_motion",
@@ -341,4 +343,50 @@ def plot_density(
     ax.grid(True, alpha=0.3)
     if label is not None:
         ax.legend(frameon=False)
+    return ax
+
+
+def plot_batch(batch: Any, *, kind: str = "velocity", ax: Axes | None = None) -> Axes:
+    """All motions of a batch (`presliding.motion.MotionBatch`) over time.
+
+    kind "velocity" or "position": one line per member; the stop of each member
+    that comes to rest is marked (at zero velocity, or at its rest position).
+    """
+    from ._validation import as_choice
+
+    kind = as_choice("kind", kind, ("velocity", "position"))
+    ax = new_axes(ax)
+    t = batch.time
+    values = batch.velocity if kind == "velocity" else batch.position
+    n = values.shape[0]
+    lw = 1.2 if n <= 10 else 0.6
+    for i in range(n):
+        ax.plot(t, values[i], lw=lw, color=f"C{i % 10}")
+    stopped = np.isfinite(batch.stop_time)
+    if stopped.any():
+        rest = np.zeros(int(stopped.sum())) if kind == "velocity" else batch.final_position[stopped]
+        ax.plot(batch.stop_time[stopped], rest, "s", ms=4, color="k", label="stop")
+        ax.legend(frameon=False)
+    unit = "m/s" if kind == "velocity" else "m"
+    ax.set_xlabel("time t [s]")
+    ax.set_ylabel(f"{kind} [{unit}]")
+    ax.set_title(f"{n} motions; {int(stopped.sum())} at rest at the end")
+    ax.axhline(0.0, color="0.8", lw=0.8, zorder=0)
+    ax.grid(True, alpha=0.3)
+    return ax
+
+
+def plot_free_response(result: Any, *, ax: Axes | None = None) -> Axes:
+    """Velocity over time of a `presliding.motion.FreeResponse`, the stop marked."""
+    ax = new_axes(ax)
+    ax.plot(result.time, result.velocity, lw=1.4, color="C0", label="velocity")
+    if result.stop_time is not None:
+        ax.axvline(result.stop_time, color="C3", lw=0.9, ls="--", label="stop")
+    ax.set_xlabel("time t [s]")
+    ax.set_ylabel("velocity [m/s]")
+    if not result.success:
+        ax.set_title(result.message)
+    ax.axhline(0.0, color="0.8", lw=0.8, zorder=0)
+    ax.grid(True, alpha=0.3)
+    ax.legend(frameon=False)
     return ax

@@ -11,9 +11,10 @@ from ._validation import as_positive_scalar, as_signal
 
 __all__ = ["FIGURE3_TURNING_POINTS", "piecewise_linear"]
 
-#: Turning points of the displacement path used for the paper's Figure 3 loops
-#: (relative to the thresholds r = c/k of that model: a major loop to ±0.3,
-#: then nested minor loops that close on their reversal points).
+#: Turning points of a displacement path chosen to reproduce the kind of loops
+#: shown in the paper's Figure 3 (the paper does not give its input sequence):
+#: relative to the thresholds r = c/k of that model, a major loop to ±0.3, then
+#: nested minor loops that close on their reversal points.
 FIGURE3_TURNING_POINTS = (0.0, 0.3, -0.3, 0.15, -0.05, 0.08, -0.3, 0.3)
 
 

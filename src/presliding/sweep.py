@@ -25,106 +25,20 @@ import time
 from collections.abc import Callable, Mapping
 from concurrent.futures import Executor, ProcessPoolExecutor
 from concurrent.futures.process import BrokenProcessPool
-from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import NDArray
 
+from ._sweep_result import SweepResult, where_run
 from ._validation import as_count, as_real_vector, fmt
 
 if TYPE_CHECKING:  # pragma: no cover
-    from matplotlib.axes import Axes
+    pass
 
 __all__ = ["SweepResult", "sweep"]
 
 DASK_HINT = "install it with `pip install presliding[dask]`"
-
-
-@dataclass(frozen=True, eq=False)
-class SweepResult:
-    """Values of a sweep over a parameter grid.
-
-    Attributes
-    ----------
-    grid : dict of str to ndarray
-        For a product grid the axes (1-D arrays, one per parameter); for a
-        table the columns (one entry per point).
-    values : ndarray, shape ``shape`` + (per-point output shape)
-        ``fn``'s values: for a product grid indexed like the axes, ``values[i, j]``
-        at ``(axis_0[i], axis_1[j])``; for a table one row per point. Points of a
-        failed chunk hold NaN and are marked in `failed`.
-    elapsed : float
-        Wall time of the sweep [s], worker start-up included.
-    n_workers : int
-        Worker processes (local) or Dask workers used.
-    status : {"ok", "failed"}
-    message : str
-    kind : {"product", "table"}
-    backend : {"serial", "processes", "executor", "dask"}
-    n_chunks : int
-    failed : ndarray of bool, shape ``shape``
-        Points whose chunk raised.
-    """
-
-    grid: dict[str, NDArray[np.float64]]
-    values: np.ndarray
-    elapsed: float
-    n_workers: int
-    status: str
-    message: str
-    kind: str
-    backend: str
-    n_chunks: int
-    failed: NDArray[np.bool_]
-
-    @property
-    def shape(self) -> tuple[int, ...]:
-        """Shape of the grid: the axis lengths (product) or (n_points,) (table)."""
-        return self.failed.shape
-
-    @property
-    def success(self) -> bool:
-        return self.status == "ok"
-
-    def plot(self, ax: Axes | None = None, **kwargs: Any) -> Axes:
-        """A 2-D product grid as a colour map (first parameter on x), a 1-D one as a curve."""
-        from .plotting import plot_sweep
-
-        per_point = self.values.shape[len(self.shape) :]
-        if self.kind != "product" or len(self.shape) not in (1, 2) or per_point:
-            raise ValueError(
-                "`plot` needs a 1-D or 2-D product grid with one value per point; got a "
-                f"{self.kind} grid of shape {self.shape} with per-point shape {per_point}."
-            )
-        names = list(self.grid)
-        axes = [self.grid[n] for n in names]
-        return plot_sweep(axes, self.values, names, ax=ax, **kwargs)
-
-    def report(self) -> str:
-        """A readable summary of the grid, the run and the values."""
-        lines = [f"sweep: {self.status} ({self.message})"]
-        for name, arr in self.grid.items():
-            lines.append(f"  {name}: {arr.size} values in [{arr.min():.6g}, {arr.max():.6g}]")
-        n = int(np.prod(self.shape))
-        lines.append(
-            f"  {n} points ({self.kind}) in {self.n_chunks} chunks "
-            f"{_where(self.backend, self.n_workers)}: {self.elapsed:.3f} s"
-        )
-        ok = self.values[~self.failed]
-        if ok.size and np.issubdtype(ok.dtype, np.number):
-            lines.append(f"  values in [{np.min(ok):.6g}, {np.max(ok):.6g}]")
-        return "\n".join(lines)
-
-
-def _where(backend: str, workers: int) -> str:
-    if backend == "serial":
-        return "in this process"
-    if backend == "processes":
-        return f"on {workers} local worker processes"
-    if backend == "executor":
-        return f"on a given executor ({workers} workers)"
-    return f"on {workers} Dask workers"
 
 
 def _run_chunk(fn: Callable[..., Any], columns: dict[str, np.ndarray]) -> tuple[bool, Any]:
@@ -244,8 +158,10 @@ def sweep(
     Returns
     -------
     SweepResult
-        ``status`` is "failed" when any chunk raised; its points are NaN and
-        flagged in ``failed``, and ``message`` names the first failing chunk.
+        ``status`` is "failed" when any chunk raised or any point got only NaN
+        or infinite values from `fn`; those points are NaN and flagged in
+        ``failed``, and ``message`` says how many failed and names the first
+        failing chunk and the first non-finite point.
     """
     if not callable(fn):
         raise TypeError(f"`fn` must be callable; got {fmt(fn)}.")
@@ -351,6 +267,15 @@ def _result(future: Any) -> tuple[bool, Any]:
         return False, f"a worker process died ({type(exc).__name__}: {exc})"
 
 
+def _nonfinite_points(values: np.ndarray, failed: NDArray[np.bool_]) -> NDArray[np.intp]:
+    """Flat indices of the points not yet failed whose value (every entry of a row) is NaN
+    or infinite: `fn` gave nothing usable there."""
+    if values.dtype.kind not in "fc" or values.size == 0:
+        return np.empty(0, dtype=np.intp)
+    finite = np.isfinite(values.reshape(values.shape[0], -1))
+    return np.flatnonzero(~finite.any(axis=1) & ~failed)
+
+
 def _assemble(outcomes, chunks, n, shape, kind, stored, elapsed, workers, backend):
     outcomes = list(outcomes)
     n_chunks = len(outcomes)
@@ -369,17 +294,31 @@ def _assemble(outcomes, chunks, n, shape, kind, stored, elapsed, workers, backen
         else:
             values[i::n_chunks] = np.nan
             failed[i::n_chunks] = True
+    parts = []
     if errors:
         i, text = errors[0]
         first = ", ".join(f"{k}={float(v[0])!r}" for k, v in chunks[i].items())
-        status = "failed"
-        message = (
+        parts.append(
             f"{len(errors)} of {n_chunks} chunks failed; chunk {i} (first point {first}) "
             f"raised {text}"
         )
+    nonfinite = _nonfinite_points(values, failed)
+    if nonfinite.size:
+        j = int(nonfinite[0])
+        chunk, pos = chunks[j % n_chunks], j // n_chunks
+        where = ", ".join(f"{k}={float(v[pos])!r}" for k, v in chunk.items())
+        index = tuple(int(q) for q in np.unravel_index(j, shape))
+        parts.append(
+            f"{nonfinite.size} of {n} points got no finite value from `fn`; the first at "
+            f"{where} (index {index[0] if len(index) == 1 else index})"
+        )
+        values[nonfinite] = np.nan
+        failed[nonfinite] = True
+    if parts:
+        status, message = "failed", "; ".join(parts)
     else:
         status = "ok"
-        message = f"{n} points in {n_chunks} chunks {_where(backend, workers)}"
+        message = f"{n} points in {n_chunks} chunks {where_run(backend, workers)}"
     return SweepResult(
         grid=dict(stored),
         values=values.reshape(*shape, *row),
