@@ -11,6 +11,7 @@ Nothing is clipped silently, and no NaN is ever returned in place of an error.
 
 from __future__ import annotations
 
+import math
 import numbers
 from typing import Any
 
@@ -87,6 +88,14 @@ def as_signal(name: str, value: Any, *, min_length: int = 1) -> np.ndarray:
 
 
 def _as_scalar(name: str, value: Any) -> float:
+    if type(value) is float or type(value) is int:  # the common case, without numpy
+        try:
+            x = float(value)
+        except OverflowError:  # an int beyond the float range
+            x = math.inf
+        if not math.isfinite(x):
+            raise ValueError(f"`{name}` must be finite; got {fmt(x)}.")
+        return x
     if isinstance(value, bool) or not isinstance(value, (numbers.Real, np.ndarray, np.generic)):
         raise TypeError(f"`{name}` must be a real number; got {fmt(value)}.")
     arr = _real_array(name, value)
