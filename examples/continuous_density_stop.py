@@ -45,13 +45,13 @@ def main(path: str = "continuous_density_stop.png") -> None:
     fig, axes = plt.subplots(1, 3, figsize=(15, 4.4), constrained_layout=True)
     ax = axes[0]
     ax.plot(t, undamped.velocity, lw=1.0, color="0.6", label="c1 = 0: never stops")
-    res.plot("time", ax=ax)
+    res.plot(ax, kind="time")
     ax.set_title(f"velocity: {res.n_reversals} reversals, stop at t = {res.stop_time:.3f} s")
     ax.legend(frameon=False, loc="upper right")
 
     ax = axes[1]
     ax.plot(undamped.position, undamped.velocity, lw=0.8, color="0.7", label="c1 = 0")
-    res.plot("phase", ax=ax)
+    res.plot(ax, kind="phase")
     ax.plot(exact.positions, np.zeros(exact.positions.shape), "o", mfc="none", color="C1",
             ms=8, label="turning points (energy balance)")  # fmt: skip
     ax.set_title("phase portrait")

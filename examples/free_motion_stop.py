@@ -39,7 +39,7 @@ def main(path: str = "free_motion_stop.png") -> None:
     exp2 = ps.simulate(model, m, initial_velocity=0.06, initial_state="saturated", t_eval=t2)
 
     fig, axes = plt.subplots(1, 3, figsize=(14, 4.2), constrained_layout=True)
-    ax = exp1.plot("time", ax=axes[0])
+    ax = exp1.plot(axes[0], kind="time")
     ax2 = ax.twinx()
     ax2.step(t1, exp1.applied_force, where="post", color="0.55", lw=1.0, label="u")
     ax2.set_ylabel("applied force u [N]", color="0.4")
@@ -53,9 +53,9 @@ def main(path: str = "free_motion_stop.png") -> None:
     inset.set_title("overshoot [mm/s]", fontsize=8)
     inset.tick_params(labelsize=7)
 
-    exp2.plot("time", ax=axes[1])
+    exp2.plot(axes[1], kind="time")
     axes[1].set_title(f"II: free response, {exp2.n_reversals} reversal(s)")
-    exp2.plot("phase", ax=axes[2])
+    exp2.plot(axes[2], kind="phase")
     axes[2].set_title("II: phase portrait")
     axes[2].ticklabel_format(axis="x", style="sci", scilimits=(0, 0))
     save_figure(fig, path)

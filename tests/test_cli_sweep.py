@@ -15,7 +15,8 @@ import presliding as ps
 from conftest import one_error_line
 from presliding import analysis
 from presliding._cli_sweep import chunk_size, default_workers
-from presliding._sweep_spec import evaluate_chunk, load_spec
+from presliding._sweep_chunk import evaluate_chunk
+from presliding._sweep_spec import load_spec
 from presliding.cli import main
 
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
@@ -321,7 +322,9 @@ def test_never_writes_onto_the_input(tmp_path, capsys):
 def test_scheduler_address_and_missing_dask(tmp_path, capsys, monkeypatch):
     spec = _write(tmp_path, TWO_AXES)
     assert main(["sweep", str(spec), "-o", str(tmp_path / "o"), "--scheduler", "nonsense"]) == 2
-    one_error_line(capsys, "--scheduler nonsense: not a scheduler address", "tcp://")
+    one_error_line(
+        capsys, "--scheduler nonsense: `scheduler` must be a scheduler address", "tcp://"
+    )
     monkeypatch.setitem(sys.modules, "distributed", None)
     args = ["sweep", str(spec), "-o", str(tmp_path / "o"), "--scheduler", "tcp://127.0.0.1:1"]
     assert main(args) == 2

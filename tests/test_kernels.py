@@ -106,17 +106,16 @@ def test_one_sided_updates_are_bit_identical_to_the_two_sided_clamp(n, n_time, o
     _fused.stop_sum_one_sided(y, r, w, x, out)
     assert_bit_identical(x, x_ref)
     assert_bit_identical(x, x_play)
-    # every intermediate state: run sample by sample and compare with play_outputs
-    x_step = x0.copy()
-    one = np.empty(1)
+    # every intermediate state: the state after each prefix of the input
     for t in range(n_time):
-        _fused.stop_sum_one_sided(y[t : t + 1], r, w, x_step, one)
-        assert_bit_identical(x_step, states[t])
+        x_prefix = x0.copy()
+        _fused.stop_sum_one_sided(y[: t + 1], r, w, x_prefix, np.empty(t + 1))
+        assert_bit_identical(x_prefix, states[t])
     bound = 1e-12 * scale(r, w) + np.abs(w).sum() * np.spacing(abs(offset) + 1.0)
     assert np.max(np.abs(out - ref)) <= bound
 
 
-def test_one_sided_kernel_is_not_the_two_sided_one_on_an_outside_start():
+def test_one_sided_kernel_clamps_an_outside_start_on_both_sides_first():
     # a test that can fail: dropping the first full clamp gives other states here
     r = np.array([0.1, 0.2] * 32)
     w = np.ones(64)

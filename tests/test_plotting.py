@@ -126,9 +126,19 @@ def test_plot_turning_points_follows_the_swings(ax, model):
     turning, rest = ax.lines[1], ax.lines[2]
     np.testing.assert_array_equal(turning.get_xdata(), res.positions)
     assert rest.get_xdata()[0] == res.rest_position
-    lo, hi = band.get_extents().y0, band.get_extents().y1
-    assert lo < hi  # the stick band is drawn
+    np.testing.assert_allclose(band.get_path().get_extents(band.get_transform()).y0,
+                               ax.transData.transform((0.0, -model.coulomb))[1])  # fmt: skip
+    np.testing.assert_allclose(band.get_path().get_extents(band.get_transform()).y1,
+                               ax.transData.transform((0.0, model.coulomb))[1])  # fmt: skip
     assert ax.get_title() == f"{res.n_reversals} reversal(s); stopped"
+
+
+def test_plot_turning_points_of_finite_elements_walked_as_a_memory(ax):
+    model = ps.PIFriction(0.01, [50.0, 10.0, 4.0], [0.01, 0.05, 0.2])
+    res = ps.turning_points(model, 1.0, 2.0, ps.MemoryState.relaxed(0.0))
+    res.plot(ax=ax, samples_per_swing=20)
+    f = ax.lines[0].get_ydata()
+    np.testing.assert_allclose(f[20::20], res.elastic_forces, rtol=0, atol=1e-9)
 
 
 def test_plot_turning_points_without_a_stop_and_bad_samples(ax):

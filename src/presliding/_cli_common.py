@@ -66,9 +66,14 @@ def check_outputs(
                     f"{out}: is the input file {inp}; choose another output with -o so that "
                     "the input is not overwritten."
                 )
+    known: dict[Path, set[str]] = {}
     for out in outs:
         exists = out.exists() or out.is_symlink()
-        if exists and not overwrite and out.name not in _written_before(out.parent):
+        if exists and not overwrite:
+            if out.parent not in known:
+                known[out.parent] = _written_before(out.parent)
+            if out.name in known[out.parent]:
+                continue
             raise UserError(
                 f"{out}: exists and was not written by presliding; choose another output "
                 "with -o, or pass --overwrite to replace it."

@@ -26,7 +26,8 @@ from ._cli_common import (
     new_figure,
     record_outputs,
 )
-from ._sweep_spec import AXES, QUANTITIES, SweepSpec, evaluate_chunk, load_spec
+from ._sweep_chunk import evaluate_chunk
+from ._sweep_spec import AXES, QUANTITIES, SweepSpec, load_spec
 
 #: Files written into the output folder.
 OUTPUTS = ("sweep.csv", "sweep.png", "report.md", "report.html")
@@ -56,26 +57,13 @@ def chunk_size(spec: SweepSpec, workers: int) -> int:
 
 
 def check_scheduler(address: str) -> None:
-    """A one-line error for a missing Dask or a malformed address, before any connection.
-
-    (A Client made from a malformed address fails, and its clean-up then holds
-    the exiting process for a minute.)
-    """
-    try:
-        import distributed.comm  # noqa: F401  (only whether it is there)
-    except ImportError:
-        raise UserError(
-            f"--scheduler {address}: running on a Dask cluster needs the `distributed` "
-            "package; install it with `pip install presliding[dask]`."
-        ) from None
+    """A one-line error for a missing Dask or a malformed address, before any connection."""
     from .sweep import check_address
 
     try:
         check_address(address)
-    except ValueError:
-        raise UserError(
-            f"--scheduler {address}: not a scheduler address; give e.g. tcp://10.0.0.5:8786."
-        ) from None
+    except (ImportError, ValueError) as exc:
+        raise UserError(f"--scheduler {address}: {exc}") from None
 
 
 def run(args: argparse.Namespace) -> int:

@@ -9,7 +9,8 @@ between two samples::
 
     x_j[t] = min(max(x_j[t-1], y[t] - r_j), y[t] + r_j)
 
-It is written once here, so every caller shares bit-identical play states.
+Every kernel computes this update, or the one-sided form that `presliding._fused`
+shows equal to it bit for bit, so every caller shares bit-identical play states.
 The weighted sum over elements may be reassociated by the compiler (fastmath
 ``reassoc``); it is deterministic for a given bank, so chunked and whole runs
 agree bit for bit.

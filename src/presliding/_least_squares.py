@@ -19,7 +19,6 @@ the status ``"not_identifiable"``. The outcome is a `Solution`;
 
 from __future__ import annotations
 
-import numbers
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from typing import Any
@@ -138,14 +137,6 @@ def _parameter_map(
     return _Map(names, free, matrix, const)
 
 
-def _start_value(name: str, value: Any) -> float:
-    """A start value: a real number (a non-finite one is replaced by 0 by the caller)."""
-    ok = isinstance(value, numbers.Real) or (isinstance(value, np.ndarray) and value.shape == ())
-    if isinstance(value, (bool, np.bool_)) or not ok or np.asarray(value).dtype.kind not in "iuf":
-        raise TypeError(f"`initial[{name!r}]` must be a real number; got {fmt(value)}.")
-    return float(value)
-
-
 def _free_bounds(pm: _Map, lower: FloatArray, upper: FloatArray) -> tuple[FloatArray, FloatArray]:
     """Bounds on the free parameters implied by the bounds of every parameter."""
     lo = np.full(len(pm.free), -np.inf)
@@ -261,7 +252,7 @@ def solve_least_squares(
                 f"got {fmt(v)}."
             )
     lo, hi = _free_bounds(pm, lower, upper)
-    x0 = np.array([_start_value(n, initial[n]) for n in pm.free])
+    x0 = np.array([as_real_scalar(f"initial[{n!r}]", initial[n], finite=False) for n in pm.free])
     x0 = np.where(np.isfinite(x0), x0, 0.0)
     x0 = np.clip(x0, lo, hi)  # start values of the caller's default guesses only
     evaluations = 0

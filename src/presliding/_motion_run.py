@@ -16,6 +16,8 @@ from ._validation import (
     as_real_scalar,
     as_real_vector,
     as_signal,
+    check_derived,
+    check_has_friction,
     check_increasing,
     check_same_length,
     fmt,
@@ -201,30 +203,6 @@ def run_implicit(m, c1, k, r, f0, y0, v0, last_dir, forcing: Forcing, times, t0,
 
 
 # ---------------------------------------------------------------------- batches
-def check_derived(k: FloatArray, c: FloatArray, r: FloatArray) -> None:
-    """Breakaway forces c = k·r and thresholds r finite and positive (as PIFriction checks)."""
-    for name, arr in (("breakaway", c), ("threshold", r)):
-        bad = ~(np.isfinite(arr) & (arr > 0))
-        if bad.any():
-            idx = tuple(int(i) for i in np.argwhere(bad)[0])
-            where = idx[0] if len(idx) == 1 else idx
-            raise ValueError(
-                f"`{name}` must come out finite and positive; got {fmt(arr[idx])} at index "
-                f"{where} (from stiffness {fmt(k[idx])})."
-            )
-
-
-def check_has_friction(c1: FloatArray, n_elements: int) -> None:
-    """A model without elements needs a positive Coulomb element."""
-    if n_elements == 0 and np.any(c1 == 0):
-        i = int(np.argmax(c1 == 0))
-        where = "" if c1.shape[0] == 1 else f" at index {i}"
-        raise ValueError(
-            "`coulomb` must be positive when `stiffness` is empty (a model without elements); "
-            f"got 0.0{where}."
-        )
-
-
 def single_bank(
     coulomb: Any, stiffness: Any, threshold: Any
 ) -> tuple[float, FloatArray, FloatArray]:

@@ -4,7 +4,7 @@ A specification file (TOML, or JSON with the same tables) holds a base model,
 its free motion and the grid to sweep. Each grid point is the free motion
 m·ÿ + c1·Sign(ẏ) + F_el(y) = u (eqs. 12, 17; u constant, 0 by default) of the
 base model with the swept parameters replaced. The per-chunk work (`SweepTask`,
-`evaluate_chunk`) lives in `_sweep_chunk` and is re-exported here. Schema (units
+`evaluate_chunk`) lives in `_sweep_chunk`. Schema (units
 in brackets)::
 
     [friction]                      # the base model, exactly as in a model file
@@ -54,7 +54,7 @@ from typing import Any
 import numpy as np
 
 from ._cli_common import UserError
-from ._sweep_chunk import SweepTask, evaluate_chunk, point_parameters
+from ._sweep_chunk import SweepTask
 from .friction import PIFriction
 from .model_io import MotionSettings, model_from_tables, read_tables
 
@@ -300,8 +300,5 @@ __all__ = [
     "SCHEMA",
     "Axis",
     "SweepSpec",
-    "SweepTask",
-    "evaluate_chunk",
     "load_spec",
-    "point_parameters",
 ]

@@ -29,6 +29,8 @@ __all__ = [
     "as_real_vector",
     "as_signal",
     "as_state_vector",
+    "check_derived",
+    "check_has_friction",
     "check_increasing",
     "check_same_length",
     "fmt",
@@ -87,13 +89,13 @@ def as_signal(name: str, value: Any, *, min_length: int = 1) -> np.ndarray:
     return np.ascontiguousarray(arr)
 
 
-def _as_scalar(name: str, value: Any) -> float:
+def _as_scalar(name: str, value: Any, finite: bool = True) -> float:
     if type(value) is float or type(value) is int:  # the common case, without numpy
         try:
             x = float(value)
         except OverflowError:  # an int beyond the float range
-            x = math.inf
-        if not math.isfinite(x):
+            raise ValueError(f"`{name}` must be finite; got {fmt(value)}.") from None
+        if finite and not math.isfinite(x):
             raise ValueError(f"`{name}` must be finite; got {fmt(x)}.")
         return x
     if isinstance(value, bool) or not isinstance(value, (numbers.Real, np.ndarray, np.generic)):
@@ -101,7 +103,8 @@ def _as_scalar(name: str, value: Any) -> float:
     arr = _real_array(name, value)
     if arr.ndim != 0:
         raise ValueError(f"`{name}` must be a scalar; got shape {arr.shape}.")
-    _check_finite(name, arr)
+    if finite:
+        _check_finite(name, arr)
     return float(arr)
 
 
@@ -121,9 +124,9 @@ def as_positive_scalar(name: str, value: Any) -> float:
     return x
 
 
-def as_real_scalar(name: str, value: Any) -> float:
-    """A finite real number."""
-    return _as_scalar(name, value)
+def as_real_scalar(name: str, value: Any, *, finite: bool = True) -> float:
+    """A real number, finite unless `finite` is False."""
+    return _as_scalar(name, value, finite)
 
 
 def as_parameter_vector(
@@ -250,3 +253,27 @@ def as_real_array(name: str, value: Any) -> np.ndarray:
     arr = _real_array(name, value)
     _check_finite(name, arr)
     return arr if arr.ndim == 0 else np.ascontiguousarray(arr)
+
+
+def check_derived(k: np.ndarray, c: np.ndarray, r: np.ndarray) -> None:
+    """Breakaway forces c and thresholds r = c/k (eq. 6) came out finite and positive."""
+    for name, arr in (("breakaway", c), ("threshold", r)):
+        bad = ~(np.isfinite(arr) & (arr > 0))
+        if bad.any():
+            idx = tuple(int(i) for i in np.argwhere(bad)[0])
+            where = idx[0] if len(idx) == 1 else idx
+            raise ValueError(
+                f"`{name}` must come out finite and positive; got {fmt(arr[idx])} at index "
+                f"{where} (from stiffness {fmt(k[idx])})."
+            )
+
+
+def check_has_friction(c1: np.ndarray, n_elements: int) -> None:
+    """A model without elements needs a positive Coulomb element."""
+    if n_elements == 0 and np.any(c1 == 0):
+        i = int(np.argmax(c1 == 0))
+        where = "" if c1.shape[0] == 1 else f" at index {i}"
+        raise ValueError(
+            "`coulomb` must be positive when `stiffness` is empty (a model without elements); "
+            f"got 0.0{where}."
+        )

@@ -36,6 +36,11 @@ from .operators import PIState
 
 __all__ = ["iosys_state", "to_iosys"]
 
+# the Dahl model has no motion form here (its state is the force, not the elements)
+_DAHL_WITH_MASS = (
+    "`model` must be a PIFriction or CoulombFriction when a `mass` is given; got DahlFriction."
+)
+
 FloatArray = NDArray[np.float64]
 
 
@@ -86,10 +91,7 @@ def iosys_state(
     v0 = as_real_scalar("velocity", velocity)
     if isinstance(model, DahlFriction):
         if mass is not None:
-            raise TypeError(
-                "`model` must be a PIFriction or CoulombFriction when a `mass` is given; "
-                "got DahlFriction."
-            )
+            raise TypeError(_DAHL_WITH_MASS)
         state = model.relaxed_state(y0) if state is None else state
         if not isinstance(state, DahlState):
             raise TypeError(f"`state` must be a DahlState; got {type(state).__name__}.")
@@ -148,10 +150,7 @@ def to_iosys(
     if mass is None:
         return _friction_system(control, model, h, name)
     if isinstance(model, DahlFriction):
-        raise TypeError(
-            "`model` must be a PIFriction or CoulombFriction when a `mass` is given; "
-            "got DahlFriction."
-        )
+        raise TypeError(_DAHL_WITH_MASS)
     m = as_positive_scalar("mass", mass)
     return _mass_system(control, model, m, h, name)
 

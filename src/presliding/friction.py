@@ -23,7 +23,14 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from . import _kernels
-from ._validation import as_nonnegative_scalar, as_parameter_vector, as_signal, fmt
+from ._validation import (
+    as_nonnegative_scalar,
+    as_parameter_vector,
+    as_signal,
+    check_derived,
+    check_has_friction,
+    fmt,
+)
 from .densities import Density, Discrete
 from .general_pi import GeneralPIOperator, MemoryState, run_density
 from .operators import PIOperator, PIState, start_memory
@@ -100,18 +107,8 @@ class PIFriction:
             _same_length(k, r, "threshold")
             with np.errstate(over="ignore", under="ignore"):  # reported below
                 c = k * r
-        for name, arr in (("breakaway", c), ("threshold", r)):
-            if not np.all(np.isfinite(arr)) or not np.all(arr > 0):
-                j = int(np.argmax(~(np.isfinite(arr) & (arr > 0))))
-                raise ValueError(
-                    f"`{name}` must come out finite and positive; got {fmt(arr[j])} at index {j} "
-                    f"(from stiffness {fmt(k[j])})."
-                )
-        if c1 == 0 and k.shape[0] == 0:
-            raise ValueError(
-                "`coulomb` must be positive when `stiffness` is empty (a model without "
-                "elements); got 0.0."
-            )
+        check_derived(k, c, r)
+        check_has_friction(np.array([c1]), k.shape[0])
         for arr in (c, r):
             arr = np.asarray(arr)
             arr.setflags(write=False)

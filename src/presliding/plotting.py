@@ -235,7 +235,7 @@ def plot_turning_points(
     knots = np.concatenate(([state.last_input], result.positions))
     swings = np.linspace(knots[:-1], knots[1:], n + 1, axis=1)[:, 1:]  # ends exactly at knots
     path = np.concatenate((knots[:1], swings.ravel()))
-    if isinstance(state, MemoryState):
+    if isinstance(state, MemoryState):  # also for finite elements walked as a Discrete density
         force = run_density(model.density, path, state)[0]
     else:
         force = model.elastic_force(path, state)[0]

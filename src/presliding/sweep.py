@@ -25,16 +25,13 @@ import time
 from collections.abc import Callable, Mapping
 from concurrent.futures import Executor, ProcessPoolExecutor
 from concurrent.futures.process import BrokenProcessPool
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
 from ._sweep_result import SweepResult, where_run
 from ._validation import as_count, as_real_vector, fmt
-
-if TYPE_CHECKING:  # pragma: no cover
-    pass
 
 __all__ = ["SweepResult", "sweep"]
 
@@ -86,10 +83,10 @@ def check_address(address: str) -> None:
     """Reject a malformed scheduler address before any connection is tried.
 
     (A Client made from a malformed address fails, and distributed's clean-up
-    then holds the exiting process for a minute.) Needs `distributed`.
+    then holds the exiting process for a minute.) Raises ImportError, naming
+    the extra to install, when `distributed` is missing.
     """
-    import distributed.comm
-
+    distributed = _import_distributed()
     try:
         distributed.comm.get_address_host_port(address)
     except ValueError as exc:
@@ -99,15 +96,21 @@ def check_address(address: str) -> None:
         ) from None
 
 
-def _dask_client(scheduler: Any) -> tuple[Any, bool]:
-    """(client, whether this call owns and must close it)."""
+def _import_distributed() -> Any:
     try:
         import distributed
+        import distributed.comm
     except ImportError as exc:
         raise ImportError(
             f"running a sweep on a Dask cluster needs the optional `distributed` package; "
             f"{DASK_HINT}."
         ) from exc
+    return distributed
+
+
+def _dask_client(scheduler: Any) -> tuple[Any, bool]:
+    """(client, whether this call owns and must close it)."""
+    distributed = _import_distributed()
     if isinstance(scheduler, distributed.Client):
         return scheduler, False
     if isinstance(scheduler, str):
