@@ -162,6 +162,7 @@ def bench_loss(repeats: int, rng: np.random.Generator) -> bool:
     r = 10 ** rng.uniform(-2.0, 0.0, (n, n_batch))
     w = 10 ** rng.uniform(0.0, 2.0, (n, n_batch))
     a = rng.normal(0.0, 1.0, n_batch)
+    offset = np.zeros(n_batch)
     y = np.cumsum(rng.normal(0.0, 0.05, n_time))
     target = rng.normal(0.0, 1.0, n_time)
     x = np.empty((n, n_batch))
@@ -173,7 +174,7 @@ def bench_loss(repeats: int, rng: np.random.Generator) -> bool:
         def call() -> None:
             x[:] = y[0]
             loss[:] = 0.0
-            kernel(y, target, r, w, a, x, loss)
+            kernel(y, y, target, r, w, a, offset, x, loss)
 
         return call
 

@@ -210,6 +210,12 @@ def test_fit_presliding_round_trip(tmp_path, capsys):
     assert "data:image/png;base64," in (out / "report.html").read_text()
     assert "stiffness_1" in (out / "report.md").read_text()
     _no_temporaries(out)
+    # the global search: the same fit here, and the report says how the start was found
+    args = ["fit", str(data), "--kind", "presliding", "--search", "global", "--seed", "3"]
+    assert main([*args, "-o", str(out), "--quiet"]) == 0
+    again = load_model(out / "model.toml").model
+    np.testing.assert_allclose(again.stiffness, true.stiffness, rtol=1e-6)
+    assert "global search" in (out / "report.md").read_text()
 
 
 def test_fit_motion_with_columns_and_scale(tmp_path):

@@ -217,3 +217,38 @@ def test_smallest_accepted_options_still_fit_exactly():
     assert capped.status == "max_evaluations" and capped.n_evaluations == 1
     burned = fit_presliding(PATH, force, 1, burn_in=np.int64(10))
     assert burned.measured.shape[0] == PATH.shape[0] - 10
+
+
+def _sse(res):
+    return float(np.sum((res.fitted - res.measured) ** 2))
+
+
+def test_global_search_keeps_the_better_start_and_is_reproducible():
+    rng = np.random.default_rng(4)
+    force, _ = TRUE.force(PATH)
+    noisy = force + rng.normal(0.0, 0.01, force.shape)
+    grid = fit_presliding(PATH, noisy, 3)
+    one = fit_presliding(PATH, noisy, 3, search="global", seed=5, max_generations=40)
+    two = fit_presliding(PATH, noisy, 3, search="global", seed=5, max_generations=40)
+    assert one.parameters == two.parameters  # the seed fixes the search
+    assert "global search (differential evolution: 40 generations" in one.message
+    assert _sse(one) <= _sse(grid) * (1 + 1e-12)
+    exact = fit_presliding(PATH, force, 3, search="global", seed=0, max_generations=40)
+    _check_exact(exact)
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "exc", "message"),
+    [
+        (dict(search="random"), ValueError, "`search` must be one of 'grid', 'global'; got"),
+        (dict(search="global", thresholds=[0.01, 0.1]), ValueError, "`search` must be 'grid'"),
+        (dict(search="global", seed=-1), ValueError, "`seed` must be nonnegative; got -1."),
+        (dict(seed=1.5), TypeError, "`seed` must be an integer; got 1.5."),
+        (dict(max_generations=0), ValueError, "`max_generations` must be a positive integer"),
+    ],
+)
+def test_search_options_are_checked(kwargs, exc, message):
+    force, _ = TRUE.force(PATH)
+    n = len(kwargs.get("thresholds", [0, 0, 0]))
+    with pytest.raises(exc, match=re.escape(message)):
+        fit_presliding(PATH, force, n, **kwargs)

@@ -15,7 +15,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from presliding import _fused, _implicit, _kernels
+from presliding import PIFriction, _fused, _implicit, _kernels
 from presliding._motion_run import implicit_grid
 from presliding._pi_regression import batch_stop_loss
 
@@ -205,7 +205,8 @@ def test_fused_loss_matches_the_straightforward_kernel(n, n_batch, n_time, plate
     for kernel in (_fused.batch_loss, _fused.batch_loss_parallel):
         x = np.full((n, n_batch), y[0])
         loss = np.zeros(n_batch)
-        kernel(y, target, np.ascontiguousarray(r.T), np.ascontiguousarray(w.T), a, x, loss)
+        r_t, w_t = np.ascontiguousarray(r.T), np.ascontiguousarray(w.T)
+        kernel(y, y, target, r_t, w_t, a, np.zeros(n_batch), x, loss)
         assert_bit_identical(x, x_ref)
         assert np.all(np.abs(loss - ref) <= 2e-12 * fm * resid_scale)
         losses.append(loss)
@@ -213,6 +214,25 @@ def test_fused_loss_matches_the_straightforward_kernel(n, n_batch, n_time, plate
     assert_bit_identical(losses[0], losses[1])
     wrapped = batch_stop_loss(y, target, r, w, a, parallel=True)
     assert_bit_identical(wrapped, losses[0])
+
+
+def test_fused_loss_with_a_design_signal_an_offset_and_a_burn_in():
+    # the loss of the friction model of eq. 8 (c1·direction + offset + elastic force)
+    model = PIFriction(0.3, [50.0, 20.0, 5.0], threshold=[0.01, 0.03, 0.1])
+    y = walk(701, np.random.default_rng(8))
+    elastic, _ = model.elastic_force(y)
+    direction = np.empty(y.size)
+    _kernels.motion_direction(y, y[0], 0.0, direction)
+    target = model.force(y)[0] + 0.05 * np.sin(np.arange(y.size))
+    skip = 37
+    e = 0.3 * direction + 0.2 + elastic - target
+    loss = batch_stop_loss(
+        y, target, model.threshold[None, :], model.stiffness[None, :], np.array([0.3]),
+        design=direction, offset=np.array([0.2]), skip=skip,
+    )  # fmt: skip
+    assert loss[0] == pytest.approx(float(e[skip:] @ e[skip:]), rel=1e-12)
+    whole = batch_stop_loss(y, target, model.threshold[None, :], model.stiffness[None, :])
+    assert whole[0] == pytest.approx(float((elastic - target) @ (elastic - target)), rel=1e-12)
 
 
 def test_fused_loss_is_zero_on_its_own_output():

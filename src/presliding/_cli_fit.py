@@ -103,7 +103,10 @@ def fit(args: argparse.Namespace, sig: dict[str, np.ndarray]) -> Any:
     if args.kind == "presliding":
         from .fit_presliding import fit_presliding
 
-        return fit_presliding(sig["position"], sig["friction_force"], n, offset=args.offset)
+        return fit_presliding(
+            sig["position"], sig["friction_force"], n, offset=args.offset, search=args.search,
+            seed=args.seed,
+        )  # fmt: skip
     from .measurement import Measurement
 
     meas = Measurement(**sig)

@@ -39,7 +39,8 @@ cannot pay for the branch between sixteen direction patterns per block.
 
 Batches. A batch of B operators on one input is laid out element-major,
 ``threshold[j, b]``, so the batch index is contiguous and is the SIMD axis;
-the identification loss Σ_t (F_b(t) + a_b·y(t) − target(t))² is accumulated
+the identification loss Σ_t (F_b(t) + a_b·z(t) + o_b − target(t))² (z a given
+design signal, e.g. y or the direction of motion) is accumulated
 inside the time loop, so no (T × B) output is ever stored. The parallel form
 splits the batch into contiguous blocks, one per thread (``prange``).
 """
@@ -154,7 +155,9 @@ def stop_sum_one_sided(y, threshold, weight, x, out):  # pragma: no cover - comp
 
 
 @nb.njit(**_JIT)
-def _loss_chunk(y, target, threshold, weight, linear, x, loss, b0):  # pragma: no cover
+def _loss_chunk(
+    y, design, target, threshold, weight, linear, offset, x, loss, b0
+):  # pragma: no cover
     """Add Σ_t residual² of members b0 <= b < b0 + BATCH_CHUNK to ``loss`` (see `batch_loss`).
 
     The chunk is copied into one scratch array with rows of exactly BATCH_CHUNK
@@ -165,8 +168,8 @@ def _loss_chunk(y, target, threshold, weight, linear, x, loss, b0):  # pragma: n
     n_el = threshold.shape[0]
     nb_ = min(BATCH_CHUNK, threshold.shape[1] - b0)
     # rows: thresholds [0, n), weights [n, 2n), play states [2n, 3n), linear 3n,
-    # accumulators 3n + 1 ... 3n + 4, loss 3n + 5
-    buf = np.zeros((3 * n_el + 6, BATCH_CHUNK))
+    # accumulators 3n + 1 ... 3n + 4, loss 3n + 5, offset 3n + 6
+    buf = np.zeros((3 * n_el + 7, BATCH_CHUNK))
     for j in range(n_el):
         for i in range(BATCH_CHUNK):
             buf[j, i] = threshold[j, b0 + i] if i < nb_ else 1.0
@@ -174,6 +177,7 @@ def _loss_chunk(y, target, threshold, weight, linear, x, loss, b0):  # pragma: n
             buf[2 * n_el + j, i] = x[j, b0 + i] if i < nb_ else y[0]
     for i in range(nb_):
         buf[3 * n_el, i] = linear[b0 + i]
+        buf[3 * n_el + 6, i] = offset[b0 + i]
     c = 3 * n_el
     n_block = (n_time + BLOCK - 1) // BLOCK
     last = n_time - 1
@@ -198,12 +202,17 @@ def _loss_chunk(y, target, threshold, weight, linear, x, loss, b0):  # pragma: n
         g1 = target[min(t + 1, last)]
         g2 = target[min(t + 2, last)]
         g3 = target[min(t + 3, last)]
+        z0 = design[t]
+        z1 = design[min(t + 1, last)]
+        z2 = design[min(t + 2, last)]
+        z3 = design[min(t + 3, last)]
         for i in range(BATCH_CHUNK):
             a = buf[c, i]
-            buf[c + 1, i] = a * y0 - g0
-            buf[c + 2, i] = a * y1 - g1
-            buf[c + 3, i] = a * y2 - g2
-            buf[c + 4, i] = a * y3 - g3
+            o = buf[c + 6, i]
+            buf[c + 1, i] = a * z0 + o - g0
+            buf[c + 2, i] = a * z1 + o - g1
+            buf[c + 3, i] = a * z2 + o - g2
+            buf[c + 4, i] = a * z3 + o - g3
         for j in range(n_el):
             for i in range(BATCH_CHUNK):
                 rj = buf[j, i]
@@ -235,20 +244,23 @@ def _loss_chunk(y, target, threshold, weight, linear, x, loss, b0):  # pragma: n
 
 
 @nb.njit(**_JIT)
-def batch_loss(y, target, threshold, weight, linear, x, loss):  # pragma: no cover - compiled
+def batch_loss(y, design, target, threshold, weight, linear, offset, x, loss):  # pragma: no cover
     """Identification loss of B PI operators on one input, fused into the time loop.
 
-    loss[b] += Σ_t (linear[b]·y[t] + Σ_j weight[j, b]·(y[t] − x[j, b](t)) − target[t])²,
+    loss[b] += Σ_t (linear[b]·design[t] + offset[b]
+                    + Σ_j weight[j, b]·(y[t] − x[j, b](t)) − target[t])²,
     with ``threshold``, ``weight`` and the play states ``x`` of shape (N, B)
     (element-major: the batch is contiguous); ``x`` is updated in place.
     """
     for b0 in range(0, threshold.shape[1], BATCH_CHUNK):
-        _loss_chunk(y, target, threshold, weight, linear, x, loss, b0)
+        _loss_chunk(y, design, target, threshold, weight, linear, offset, x, loss, b0)
 
 
 @nb.njit(cache=True, fastmath=_FASTMATH, error_model="numpy", boundscheck=False, parallel=True)
-def batch_loss_parallel(y, target, threshold, weight, linear, x, loss):  # pragma: no cover
+def batch_loss_parallel(
+    y, design, target, threshold, weight, linear, offset, x, loss
+):  # pragma: no cover
     """`batch_loss` with the batch split into blocks of BATCH_CHUNK members, one per thread."""
     n_chunk = (threshold.shape[1] + BATCH_CHUNK - 1) // BATCH_CHUNK
     for c in nb.prange(n_chunk):
-        _loss_chunk(y, target, threshold, weight, linear, x, loss, c * BATCH_CHUNK)
+        _loss_chunk(y, design, target, threshold, weight, linear, offset, x, loss, c * BATCH_CHUNK)

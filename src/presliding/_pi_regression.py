@@ -108,24 +108,37 @@ def batch_stop_loss(
     weight: FloatArray,
     linear: FloatArray | None = None,
     *,
+    design: FloatArray | None = None,
+    offset: FloatArray | None = None,
+    skip: int = 0,
     parallel: bool = False,
 ) -> FloatArray:
-    """Σ_t (a_b·y + Σ_j w_bj (y − x_bj) − target)² of B PI operators, relaxed at y[0].
+    """Σ_t (a_b·z + o_b + Σ_j w_bj (y − x_bj) − target)² of B PI operators, relaxed at y[0].
 
     ``threshold`` and ``weight`` have shape (B, N) (one operator per row),
-    ``linear`` shape (B,) (default 0). The loss is accumulated inside the
-    compiled time loop (`presliding._fused.batch_loss`), so no (T × B) output
-    is formed; ``parallel`` splits the batch over the cores. Inputs are
-    trusted (finite, thresholds > 0): this is the inner loop of a fit.
+    ``linear`` (a_b) and ``offset`` (o_b) shape (B,) (default 0), ``design``
+    the signal z (default y). The first `skip` samples run the operators but
+    add nothing (a burn-in). The loss is accumulated inside the compiled time
+    loop (`presliding._fused.batch_loss`), so no (T × B) output is formed;
+    ``parallel`` splits the batch over the cores. Inputs are trusted (finite,
+    thresholds > 0): this is the inner loop of a fit.
     """
     y = np.ascontiguousarray(y, dtype=np.float64)
+    z = y if design is None else np.ascontiguousarray(design, dtype=np.float64)
     target = np.ascontiguousarray(target, dtype=np.float64)
     r = np.ascontiguousarray(np.transpose(threshold), dtype=np.float64)
     w = np.ascontiguousarray(np.transpose(weight), dtype=np.float64)
-    a = np.zeros(r.shape[1]) if linear is None else np.ascontiguousarray(linear, dtype=np.float64)
+    n_batch = r.shape[1]
+    a = np.zeros(n_batch) if linear is None else np.ascontiguousarray(linear, dtype=np.float64)
+    o = np.zeros(n_batch) if offset is None else np.ascontiguousarray(offset, dtype=np.float64)
     x = np.full(r.shape, y[0])
-    loss = np.zeros(r.shape[1])
-    (batch_loss_parallel if parallel else batch_loss)(y, target, r, w, a, x, loss)
+    loss = np.zeros(n_batch)
+    kernel = batch_loss_parallel if parallel else batch_loss
+    if skip > 0:  # run the memory through the burn-in, then start counting
+        kernel(y[:skip], z[:skip], target[:skip], r, w, a, o, x, loss)
+        loss[:] = 0.0
+    if skip < y.shape[0]:
+        kernel(y[skip:], z[skip:], target[skip:], r, w, a, o, x, loss)
     return loss
 
 

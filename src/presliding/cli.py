@@ -226,6 +226,16 @@ def _build_parser() -> argparse.ArgumentParser:
     fit.add_argument("--viscous", action="store_true", help="motion: add a viscous term F_v·ẏ")
     fit.add_argument("--offset", action="store_true", help="add a constant force offset")
     fit.add_argument(
+        "--search",
+        choices=("grid", "global"),
+        default="grid",
+        help="presliding: start thresholds from the threshold grid (default), or also from a "
+        "global search (differential evolution), keeping the better fit",
+    )
+    fit.add_argument(
+        "--seed", type=int, default=None, help="seed of the global search (reproducible runs)"
+    )
+    fit.add_argument(
         "--mass", type=float, default=None, help="response/motion: known mass m [kg] (held fixed)"
     )
     fit.add_argument(

@@ -28,8 +28,10 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from . import _pi_regression as pr
+from ._global_search import search_thresholds
 from ._least_squares import check_constraints, check_options
 from ._validation import (
+    as_choice,
     as_count,
     as_nonnegative_scalar,
     as_parameter_vector,
@@ -135,6 +137,9 @@ def fit_presliding(
     grid_size: int = pr.DEFAULT_GRID,
     max_evaluations: int | None = None,
     tolerance: float = 1e-8,
+    search: str = "grid",
+    seed: int | None = None,
+    max_generations: int = 300,
 ) -> FitResult:
     """Fit the PI friction model of eq. 8 to force measured along a displacement path.
 
@@ -173,6 +178,17 @@ def fit_presliding(
     tolerance : float
         Relative tolerance on the cost, the step and the gradient of the
         nonlinear stage (positive).
+    search : {"grid", "global"}
+        How the start thresholds are found when `thresholds` is not given:
+        "grid" (default) merges the elements of a nonnegative least-squares fit
+        on the threshold grid; "global" also runs differential evolution over
+        c1, the break-away forces and the thresholds (every generation one call
+        of the fused batch loss), fits from its best thresholds too, and keeps
+        the better of the two fits (never worse than "grid"; slower).
+    seed : int, optional
+        Seed of the global search (a nonnegative integer; reproducible results).
+    max_generations : int
+        Most generations of the global search (an integer >= 1).
 
     Returns
     -------
@@ -188,6 +204,14 @@ def fit_presliding(
     fixed, tied, level, grid_size, max_evaluations, tolerance = check_fit_options(
         fixed, tied, level, grid_size, max_evaluations, tolerance
     )
+    search = as_choice("search", search, ("grid", "global"))
+    seed = None if seed is None else as_count("seed", seed)
+    max_generations = as_count("max_generations", max_generations, minimum=1)
+    if search == "global" and thresholds is not None:
+        raise ValueError(
+            "`search` must be 'grid' when `thresholds` are given (they are the start); "
+            "got 'global'."
+        )
     check_varies("displacement", y)
     check_varies("force", f)
     if pr.reversal_indices(y, 0.0).shape[0] == 0:
@@ -205,20 +229,42 @@ def fit_presliding(
         names.append("offset")
     check_enough(int(used.sum()), len(names) + 2 * n)
     design = np.column_stack(columns) if columns else np.empty((y.shape[0], 0))
-    fit = pr.fit_separable(
-        f, design, tuple(names), {"coulomb": (0.0, np.inf)}, pr.stop_basis(y), n,
-        grid=pr.threshold_grid(y, grid_size), thresholds=thresholds,
-        refine_thresholds=refine_thresholds, used=used, fixed=fixed, tied=tied, level=level,
-        max_evaluations=max_evaluations, tolerance=tolerance,
-    )  # fmt: skip
+    grid = pr.threshold_grid(y, grid_size)
+
+    def separable(start: FloatArray | None) -> pr.SeparableFit:
+        return pr.fit_separable(
+            f, design, tuple(names), {"coulomb": (0.0, np.inf)}, pr.stop_basis(y), n,
+            grid=grid, thresholds=start, refine_thresholds=refine_thresholds, used=used,
+            fixed=fixed, tied=tied, level=level, max_evaluations=max_evaluations,
+            tolerance=tolerance,
+        )  # fmt: skip
+
+    fit, how = separable(thresholds), ""
+    if search == "global" and n > 0:
+        found, how = search_thresholds(
+            y, f, _direction(y), n, grid, coulomb=coulomb, offset=offset, skip=burn_in,
+            seed=seed, max_generations=max_generations,
+        )  # fmt: skip
+        other = separable(found)
+        if _cost(other) < _cost(fit):
+            how += ": kept, it fits better than the grid start"
+            fit = other
+        else:
+            how += ": the grid start fits at least as well and is kept"
     sol = fit.solution
     model, note = pi_model(sol.values, n, sol.values.get("coulomb", 0.0))
-    sol = _with_note(sol, note)
+    sol = _with_note(sol, note + (f"; {how}" if how else ""))
     return FitResult.from_solution(
         sol, model, y[used], f[used], fit.fitted[used], kind="presliding operator",
         abscissa_label="displacement", signal_label="friction force",
         derived=derived_quantities(model),
     )  # fmt: skip
+
+
+def _cost(fit: pr.SeparableFit) -> float:
+    """Sum of squared residuals of a separable fit (inf if it failed)."""
+    sol = fit.solution
+    return float(sol.residual @ sol.residual) if sol.status != "failed" else np.inf
 
 
 def _direction(y: FloatArray) -> FloatArray:
