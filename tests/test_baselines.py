@@ -20,8 +20,8 @@ from presliding.baselines import (
     DahlState,
     LuGreFriction,
     LuGreState,
-    compare,
 )
+from presliding.comparison import compare
 from presliding.operators import PIState
 from presliding.signals import piecewise_linear
 
@@ -224,8 +224,8 @@ def test_lugre_validation():
 
 
 # ---------------------------------------------------------------------- compare
-def test_compare_draws_every_model_on_one_path():
-    y = piecewise_linear([0.0, 0.02, -0.02, 0.01], 1e-4)
+def test_compare_runs_every_model_on_one_path():
+    y = piecewise_linear([0.0, 0.02, -0.02, 0.02], 1e-4)
     t = np.linspace(0.0, 1.0, y.size)
     models = {
         "PI": PIFriction(0.2, [100.0, 20.0], [0.4, 0.4]),
@@ -233,21 +233,29 @@ def test_compare_draws_every_model_on_one_path():
         "Dahl": DahlFriction(1.0, 100.0),
         "LuGre": LUGRE,
     }
-    ax = compare(models, y, time=t)
+    res = compare(models, y, time=t)
+    assert res.success and list(res.forces) == list(models)
+    np.testing.assert_array_equal(res.forces["Dahl"], models["Dahl"].force(y)[0])
+    # Coulomb: F_c times the distance travelled (0.1), less what the trapezoidal rule
+    # misses where the force jumps: half a step at the start, a whole one at each reversal
+    assert res.work["Coulomb"] == pytest.approx(1.0 * (0.1 - 2.5 * 1e-4), rel=1e-9)
+    assert res.rms_difference["PI"] == 0.0 and res.rms_difference["Coulomb"] > 0.0
+    assert "∫F dy" in res.report() and "LuGre" in res.report()
+    ax = res.plot()
     assert [ln.get_label() for ln in ax.get_lines()[:4]] == list(models)
-    np.testing.assert_array_equal(ax.get_lines()[2].get_ydata(), models["Dahl"].force(y)[0])
+    np.testing.assert_array_equal(ax.get_lines()[2].get_ydata(), res.forces["Dahl"])
     plt.close(ax.figure)
     with pytest.raises(ValueError, match=r"^`time` must be given for the LuGre model 'LuGreFric"):
         compare([LUGRE], y)
     with pytest.raises(TypeError, match="`models` must hold friction models"):
         compare([1.0], y)
+    with pytest.raises(ValueError, match="`models` must have distinct labels"):
+        compare([CoulombFriction(1.0), CoulombFriction(2.0)], y)
 
 
-def test_compare_checks_ax_and_time_before_plotting():
+def test_compare_checks_time_before_running():
     y = piecewise_linear([0.0, 0.02, -0.02], 1e-3)
     models = [PIFriction(0.2, [100.0], [0.4]), DahlFriction(1.0, 1.0)]
-    with pytest.raises(TypeError, match=r"^`ax` must be a matplotlib Axes or None; got str\.$"):
-        compare(models, y, ax="x")
     with pytest.raises(ValueError, match=r"^`displacement` and `time` must have the same length; "):
         compare(models, y, time=[1.0, 2.0])
     t = np.linspace(0.0, 1.0, y.size)
@@ -259,7 +267,7 @@ def test_compare_checks_ax_and_time_before_plotting():
     with pytest.raises(ValueError, match=r"^`time` must be finite; got nan at index 0\.$"):
         compare(models, y, time=np.full(y.size, np.nan))
     fig, ax = plt.subplots()
-    assert compare(models, y, time=np.linspace(0.0, 1.0, y.size), ax=ax) is ax
+    assert compare(models, y, time=np.linspace(0.0, 1.0, y.size)).plot(ax=ax) is ax
     assert len(ax.get_lines()) >= 2
     plt.close(fig)
 

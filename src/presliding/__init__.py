@@ -14,8 +14,8 @@ from .baselines import (
     DahlState,
     LuGreFriction,
     LuGreState,
-    compare,
 )
+from .comparison import Comparison, compare
 from .control import iosys_state, to_iosys
 from .densities import Density, Discrete, Exponential, PiecewiseConstant, Tabulated, Uniform
 from .energy import dissipated_energy, elastic_energy, total_energy
@@ -40,6 +40,7 @@ from .operators import PIOperator, PIState, play, stop
 from .sweep import SweepResult, sweep
 
 __all__ = [
+    "Comparison",
     "CoulombFriction",
     "DahlFriction",
     "DahlState",

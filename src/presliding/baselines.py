@@ -18,9 +18,8 @@ References
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -40,7 +39,7 @@ from .friction import PIFriction
 from .operators import PIState
 
 if TYPE_CHECKING:  # pragma: no cover
-    from matplotlib.axes import Axes
+    pass
 
 __all__ = [
     "CoulombFriction",
@@ -48,7 +47,6 @@ __all__ = [
     "DahlState",
     "LuGreFriction",
     "LuGreState",
-    "compare",
 ]
 
 FloatArray = NDArray[np.float64]
@@ -332,59 +330,3 @@ class LuGreFriction:
             state.bristle, state.velocity, out,
         )  # fmt: skip
         return out, LuGreState(float(y[-1]), float(t[-1]), float(z), float(v))
-
-
-def compare(
-    models: Mapping[str, Any] | Sequence[Any],
-    displacement: ArrayLike,
-    *,
-    time: ArrayLike | None = None,
-    ax: Axes | None = None,
-) -> Axes:
-    """Plot the force of several friction models along one displacement path.
-
-    Parameters
-    ----------
-    models : mapping of label to model, or sequence of models
-        Any of PIFriction, CoulombFriction, DahlFriction, LuGreFriction (each
-        started from its default state at the first sample).
-    displacement : array_like, shape (T,)
-    time : array_like, shape (T,), optional
-        Sample times; required when a LuGre model is included.
-    ax : matplotlib Axes, optional
-
-    Returns
-    -------
-    Axes
-    """
-    from .plotting import plot_hysteresis
-
-    if isinstance(models, Mapping):
-        labels, items = list(models.keys()), list(models.values())
-    else:
-        items = list(models)
-        labels = [type(m).__name__ for m in items]
-    if not items:
-        raise ValueError("`models` must not be empty; got no models.")
-    y = as_signal("displacement", displacement)
-    if time is not None:
-        t = as_signal("time", time)
-        check_same_length(displacement=y, time=t)
-        check_increasing("time", t)
-        time = t
-    if ax is not None:
-        from matplotlib.axes import Axes as _Axes
-
-        if not isinstance(ax, _Axes):
-            raise TypeError(f"`ax` must be a matplotlib Axes or None; got {type(ax).__name__}.")
-    forces = []
-    for label, model in zip(labels, items, strict=True):
-        if isinstance(model, LuGreFriction):
-            if time is None:
-                raise ValueError(f"`time` must be given for the LuGre model {label!r}; got None.")
-            forces.append(model.force(y, time)[0])
-        elif hasattr(model, "force"):
-            forces.append(model.force(y)[0])
-        else:
-            raise TypeError(f"`models` must hold friction models; got {type(model).__name__}.")
-    return plot_hysteresis(y, forces, labels=[str(lb) for lb in labels], ax=ax)
