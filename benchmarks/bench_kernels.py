@@ -49,8 +49,9 @@ from collections.abc import Callable  # noqa: E402
 import numba as nb  # noqa: E402
 import numpy as np  # noqa: E402
 
-from presliding import _fused, _implicit, _kernels  # noqa: E402
-from presliding._motion_run import implicit_grid  # noqa: E402
+from presliding.hysteresis import _fused, _kernels  # noqa: E402
+from presliding.motion import _implicit  # noqa: E402
+from presliding.motion._run import implicit_grid  # noqa: E402
 
 MIN_RUN_S = 0.1
 STOP_CASES = [(5, 1_000_000, "walk"), (100, 200_000, "walk"), (1000, 100_000, "walk"),

@@ -19,9 +19,9 @@ import time
 import numpy as np
 
 import presliding as ps
-from presliding import _implicit
-from presliding._forcing import as_forcing
-from presliding._motion_run import implicit_grid, run_event, run_implicit
+from presliding.motion import _implicit
+from presliding.motion._forcing import as_forcing
+from presliding.motion._run import implicit_grid, run_event, run_implicit
 
 
 def best_of(fn, repeat: int = 7, number: int = 1) -> float:

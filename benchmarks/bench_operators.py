@@ -31,7 +31,8 @@ from collections.abc import Callable  # noqa: E402
 
 import numpy as np  # noqa: E402
 
-from presliding import PIOperator, _kernels  # noqa: E402
+from presliding import PIOperator  # noqa: E402
+from presliding.hysteresis import _kernels  # noqa: E402
 
 #: bank size -> time steps per kernel call (fewer steps for larger banks)
 CASES = {5: 1_000_000, 100: 200_000, 1000: 100_000}

@@ -5,7 +5,7 @@ The map is the number of motion reversals of a free unit mass with PI friction
 and the initial velocity, computed two ways:
 
 ``turning_points``
-    the exact energy analysis (`presliding.analysis.turning_points`, eqs.
+    the exact energy analysis (`presliding.analysis.stops`, eqs.
     13–16 walked reversal by reversal), one Python call per point (~0.3 ms):
     the motivating sweep, heavy enough for workers to pay off;
 ``simulate_batch``

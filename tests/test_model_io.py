@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from presliding import PIFriction
-from presliding.densities import Exponential, PiecewiseConstant, Uniform
+from presliding.hysteresis.densities import Exponential, PiecewiseConstant, Uniform
 from presliding.model_io import MotionSettings, load_model, model_to_toml, save_model
 
 
@@ -136,7 +136,7 @@ def test_density_and_elements_exclude_each_other(tmp_path):
 
 
 def test_tabulated_density_cannot_be_saved(tmp_path):
-    from presliding.densities import Density
+    from presliding.hysteresis.densities import Density
 
     model = PIFriction(0.1, density=Density.from_function(lambda r: 1.0 + r, 1.0))
     with pytest.raises(ValueError, match="Tabulated"):

@@ -10,7 +10,7 @@ from matplotlib.image import imread
 
 import presliding as ps
 from presliding import plotting
-from presliding.densities import Exponential, Uniform
+from presliding.hysteresis.densities import Exponential, Uniform
 
 
 @pytest.fixture

@@ -10,8 +10,8 @@ from hypothesis import given
 from hypothesis import strategies as st
 from numpy.testing import assert_allclose, assert_array_equal
 
-from conftest import PROPERTY, figure3_model, turning_points
 from presliding.signals import FIGURE3_TURNING_POINTS, piecewise_linear
+from tests.helpers import PROPERTY, figure3_model, turning_points
 
 
 def _vertex_indices(points, step):

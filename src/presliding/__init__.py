@@ -5,29 +5,58 @@ Prandtl–Ishlinskii hysteresis operators for Coulomb friction modeling with
 presliding" (Ruderman, Rachinskii et al.).
 """
 
-from . import signals
-from ._version import __version__
-from .analysis import TurningPoints, phi, stops_at_turning_point, turning_point, turning_points
-from .baselines import (
+import importlib as _importlib
+import sys as _sys
+
+from presliding import signals
+from presliding._version import __version__
+from presliding.analysis import (
+    TurningPoints,
+    dissipated_energy,
+    elastic_energy,
+    phi,
+    stops_at_turning_point,
+    total_energy,
+    turning_point,
+    turning_points,
+)
+from presliding.control import iosys_state, to_iosys
+from presliding.friction import (
+    Comparison,
     CoulombFriction,
     DahlFriction,
     DahlState,
     LuGreFriction,
     LuGreState,
+    PIFriction,
+    compare,
 )
-from .comparison import Comparison, compare
-from .control import iosys_state, to_iosys
-from .densities import Density, Discrete, Exponential, PiecewiseConstant, Tabulated, Uniform
-from .energy import dissipated_energy, elastic_energy, total_energy
-from .fit_motion import fit_motion, predict_motion_force
-from .fit_presliding import fit_presliding, fit_virgin_curve
-from .fit_response import fit_response
-from .fitting import FitResult
-from .friction import PIFriction
-from .general_pi import GeneralPIOperator, MemoryState
-from .inverse import inverse_state, pi_inverse
-from .measurement import Measurement
-from .motion import (
+from presliding.hysteresis import (
+    Density,
+    Discrete,
+    Exponential,
+    GeneralPIOperator,
+    MemoryState,
+    PiecewiseConstant,
+    PIOperator,
+    PIState,
+    Tabulated,
+    Uniform,
+    inverse_state,
+    pi_inverse,
+    play,
+    stop,
+)
+from presliding.identification import (
+    FitResult,
+    Measurement,
+    fit_motion,
+    fit_presliding,
+    fit_response,
+    fit_virgin_curve,
+    predict_motion_force,
+)
+from presliding.motion import (
     FreeResponse,
     MotionBatch,
     MotionEnergy,
@@ -36,8 +65,31 @@ from .motion import (
     simulate,
     simulate_batch,
 )
-from .operators import PIOperator, PIState, play, stop
-from .sweep import SweepResult, sweep
+from presliding.sweep import SweepResult, sweep
+
+#: Module paths from before the package was split into layers, and their homes.
+#: ``presliding.operators`` and the others keep resolving (imports, attribute
+#: access and pickles of `PIState` and `MemoryState`).
+_MOVED = {
+    "operators": "presliding.hysteresis.operators",
+    "general_pi": "presliding.hysteresis.general_pi",
+    "densities": "presliding.hysteresis.densities",
+    "inverse": "presliding.hysteresis.inverse",
+    "baselines": "presliding.friction.baselines",
+    "comparison": "presliding.friction.comparison",
+    "energy": "presliding.analysis.energy",
+    "measurement": "presliding.identification.measurement",
+    "fitting": "presliding.identification.fit_result",
+    "fit_presliding": "presliding.identification.fit_presliding",
+    "fit_motion": "presliding.identification.fit_motion",
+    "fit_response": "presliding.identification.fit_response",
+}
+for _old, _new in _MOVED.items():
+    _module = _importlib.import_module(_new)
+    _sys.modules[f"{__name__}.{_old}"] = _module
+    # ``presliding.fit_presliding`` and its like stay the functions they always were.
+    globals().setdefault(_old, _module)
+del _old, _new, _module
 
 __all__ = [
     "Comparison",

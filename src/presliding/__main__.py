@@ -1,5 +1,5 @@
 """``python -m presliding`` runs the command-line interface."""
 
-from .cli import main
+from presliding.cli.commands import main
 
 raise SystemExit(main())

@@ -34,9 +34,9 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from ._io import write_text
-from .densities import Density, Exponential, PiecewiseConstant, Uniform
-from .friction import PIFriction
+from presliding._io import write_text
+from presliding.friction.pi_friction import PIFriction
+from presliding.hysteresis.densities import Density, Exponential, PiecewiseConstant, Uniform
 
 if sys.version_info >= (3, 11):
     import tomllib

@@ -80,7 +80,7 @@ def save_figure(fig: Any, path: Any, dpi: int = 120, *, tight: bool = True) -> N
     ``tight=True`` crops the image to the drawn content; ``tight=False`` keeps
     the figure size exactly (figsize × dpi pixels; use a constrained layout).
     """
-    from ._io import atomic_path
+    from presliding._io import atomic_path
 
     with atomic_path(path) as tmp:
         fig.savefig(tmp, dpi=dpi, format="png", bbox_inches="tight" if tight else None)
@@ -185,7 +185,7 @@ def plot_motion(result: Any, *, kind: str = "time", ax: Axes | None = None) -> A
     paper's Figures 4, 5a); "phase": velocity against position (Figure 5b);
     "loop": friction force against position (the presliding loops).
     """
-    from ._validation import as_choice
+    from presliding._validation import as_choice
 
     kind = as_choice("kind", kind, ("time", "phase", "loop"))
     ax = new_axes(ax)
@@ -227,8 +227,8 @@ def plot_turning_points(
     are marked and the band |F_el| <= c1 in which the mass sticks (eq. 16) is
     shaded.
     """
-    from ._validation import as_count
-    from .general_pi import MemoryState, run_density
+    from presliding._validation import as_count
+    from presliding.hysteresis.general_pi import MemoryState, run_density
 
     n = as_count("samples_per_swing", samples_per_swing, minimum=1)
     model, state = result.model, result.initial_state
@@ -318,7 +318,7 @@ def plot_density(
     label: str | None = None,
     color: str = "C2",
 ) -> Axes:
-    """The distribution dμ/dr of a `presliding.densities.Density` over the thresholds r.
+    """The distribution dμ/dr of a `presliding.hysteresis.densities.Density` over the thresholds r.
 
     Drawn as the mean density μ(cell)/width on `n_cells` equal cells of
     [0, R]; `max_threshold` sets R for an unbounded support (default: four
@@ -352,7 +352,7 @@ def plot_batch(batch: Any, *, kind: str = "velocity", ax: Axes | None = None) ->
     kind "velocity" or "position": one line per member; the stop of each member
     that comes to rest is marked (at zero velocity, or at its rest position).
     """
-    from ._validation import as_choice
+    from presliding._validation import as_choice
 
     kind = as_choice("kind", kind, ("velocity", "position"))
     ax = new_axes(ax)

@@ -7,7 +7,7 @@ import itertools
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ._validation import as_positive_scalar, as_signal
+from presliding._validation import as_positive_scalar, as_signal
 
 __all__ = ["FIGURE3_TURNING_POINTS", "piecewise_linear"]
 

@@ -1,0 +1,20 @@
+"""The ``presliding`` command line: the top layer.
+
+Files
+-----
+commands.py     the argument parser and `main` (also ``python -m presliding``)
+common.py       user errors, input and output paths, CSV tables, figures
+demo.py, demo_sections.py, _demo_common.py   ``presliding demo``: the built-in main job
+simulate.py     ``presliding simulate``
+analyze.py      ``presliding analyze``
+fit.py          ``presliding fit``
+sweep.py, sweep_spec.py     ``presliding sweep`` and its specification files
+report.py       Markdown and HTML reports
+
+May import every layer below it.
+"""
+
+from presliding.cli.commands import main
+from presliding.cli.common import UserError
+
+__all__ = ["UserError", "main"]

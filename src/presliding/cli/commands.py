@@ -1,0 +1,363 @@
+"""The ``presliding`` command line (also ``python -m presliding``).
+
+Subcommands: ``demo`` (the built-in main job), ``simulate`` (a model file to a
+motion CSV and figure), ``analyze`` (stop analysis of a model file, eqs. 7, 9,
+14–16), ``fit`` (identification from a CSV file, section 4) and ``sweep`` (a
+quantity of the free motion over a parameter grid, locally or on Dask).
+
+User errors (a bad file, a missing column, a bad parameter) print one line on
+stderr naming the file or field and the fix, and exit with code 2; ``--debug``
+shows the traceback instead. Outputs are written atomically and never onto an
+input file.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from collections.abc import Sequence
+from pathlib import Path
+
+from presliding._version import __version__
+from presliding.cli.common import UserError
+
+__all__ = ["UserError", "main"]
+
+EXAMPLES = """\
+examples:
+  presliding demo                          # the main job, written to ./presliding-demo
+  presliding demo -o out/                  # the same, into out/
+  presliding simulate model.toml -o run/   # motion of the model file: run/simulation.csv, .png
+  presliding simulate model.toml --applied-force u.csv --hold linear -o run.csv
+  presliding analyze model.toml            # F_c, F_m, eq. 7 stiffness, y_e, stop test
+  presliding analyze model.toml --json
+  presliding fit loops.csv --kind presliding --elements 4 -o fit/
+  presliding fit run.csv --kind response --columns velocity='v [m/s]' -o fit/
+  presliding sweep spec.toml -o map/       # e.g. reversal counts over c1/F_m and v0
+  presliding sweep spec.toml --scheduler tcp://10.0.0.5:8786   # on a Dask cluster
+
+model files (TOML, or JSON with the same tables; units in brackets):
+  [friction]
+  coulomb = 0.3                    # c1 [N], the Coulomb element (eq. 8)
+  stiffness = [2e4, 5e3, 1.5e3]    # k_j [N/m]
+  breakaway = [0.2, 0.2, 0.3]      # c_j [N]  (or threshold = [...] r_j [m], eq. 6)
+  [motion]                         # optional
+  mass = 1.0                       # m [kg]
+  initial_velocity = 0.05          # [m/s]
+  initial_state = "saturated"      # or "relaxed"
+  t_end = 0.2                      # [s]
+  samples = 2001
+  A continuous density instead of elements (section 3, eq. 10):
+  [friction.density]
+  kind = "uniform"                 # height [N/m^2], max_threshold [m]
+  (or kind = "exponential": height, length, max_threshold; or "piecewise_constant":
+  breaks [m], heights [N/m^2])
+
+exit status: 0 success, 1 a computation that did not succeed (see its message),
+2 a user error (bad file, column or parameter), 130 interrupted.
+"""
+
+
+def _build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="presliding",
+        description="Dry friction with presliding hysteresis (Prandtl–Ishlinskii operators): "
+        "simulation with exact stiction, stop analysis and identification.",
+        epilog=EXAMPLES,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    parser.add_argument("--version", action="version", version=f"presliding {__version__}")
+    parser.add_argument("--debug", action="store_true", help="show tracebacks for errors")
+    parser.add_argument(
+        "--quiet", action="store_true", help="print nothing but errors (no progress bars)"
+    )
+    # The same two options after the subcommand name (`presliding demo --quiet`);
+    # SUPPRESS keeps a value given before it.
+    common = argparse.ArgumentParser(add_help=False)
+    common.add_argument(
+        "--debug", action="store_true", default=argparse.SUPPRESS, help="show tracebacks for errors"
+    )
+    common.add_argument(
+        "--quiet",
+        action="store_true",
+        default=argparse.SUPPRESS,
+        help="print nothing but errors (no progress bars)",
+    )
+    writes = argparse.ArgumentParser(add_help=False)
+    writes.add_argument(
+        "--overwrite",
+        action="store_true",
+        help="replace existing output files that no earlier presliding run wrote (files "
+        "presliding wrote are replaced anyway; input files never are)",
+    )
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+    fmt = argparse.RawDescriptionHelpFormatter
+
+    demo = sub.add_parser(
+        "demo",
+        help="run the built-in main job and write its figures and report",
+        description="The paper's Figure 3 loops, a free stop with reversals (Figures 4, 5) "
+        "against the stop analysis (eqs. 15-16), a continuous density and an "
+        "identification round trip; PNGs, report.md and report.html in the output folder.",
+        epilog="example:\n  presliding demo -o out/",
+        formatter_class=fmt,
+        parents=[common, writes],
+    )
+    demo.add_argument(
+        "-o",
+        "--output",
+        type=Path,
+        default=Path("presliding-demo"),
+        help="output folder (default: ./presliding-demo)",
+    )
+    demo.set_defaults(handler=_cmd_demo)
+
+    simulate = sub.add_parser(
+        "simulate",
+        help="simulate the motion of a model file (CSV and PNG)",
+        description="Simulate m·ÿ + c1·Sign(ẏ) + F_el(y) = u (eq. 17) for the [friction] and "
+        "[motion] tables of a model file, with exact stiction. Writes the samples as CSV "
+        "(time, position, velocity, acceleration, friction_force, applied_force; units in "
+        "the header) and a figure.",
+        epilog="examples:\n  presliding simulate model.toml -o run/\n"
+        "  presliding simulate model.toml --applied-force u.csv -o run.csv",
+        formatter_class=fmt,
+        parents=[common, writes],
+    )
+    simulate.add_argument("model", type=Path, help="model file (.toml, or .json)")
+    simulate.add_argument(
+        "--applied-force",
+        type=Path,
+        metavar="CSV",
+        help="applied force u(t): a CSV file with columns time,value [s, N] (replaces "
+        "motion.applied_force)",
+    )
+    simulate.add_argument(
+        "--hold",
+        choices=("zoh", "linear"),
+        default="zoh",
+        help="how the applied-force samples are held: zoh (piecewise constant, default; exact "
+        "event method) or linear (implicit method)",
+    )
+    simulate.add_argument(
+        "--method",
+        choices=("auto", "event", "implicit"),
+        default="auto",
+        help="simulation method (default auto: event whenever it applies)",
+    )
+    simulate.add_argument(
+        "--step",
+        type=float,
+        default=None,
+        metavar="SECONDS",
+        help="largest step of the implicit method (default: the duration / 10^4)",
+    )
+    simulate.add_argument(
+        "-o",
+        "--output",
+        type=Path,
+        required=True,
+        help="output folder (simulation.csv and simulation.png in it), or a .csv path "
+        "(the figure next to it with the suffix .png)",
+    )
+    simulate.set_defaults(handler=_cmd_simulate)
+
+    analyze = sub.add_parser(
+        "analyze",
+        help="stop analysis of a model file (F_c, F_m, eq. 7, y_e, stop test, reversals)",
+        description="Key quantities of a model file: Coulomb level F_c (eq. 9), maximal "
+        "elastic force F_m, stiffness after a reversal (eq. 7), the second turning point y_e "
+        "(eq. 15), the stop test (eq. 16) and the number of reversals of a free motion from "
+        "a saturated start.",
+        epilog="examples:\n  presliding analyze model.toml\n  presliding analyze model.toml "
+        "--json > analysis.json",
+        formatter_class=fmt,
+        parents=[common],
+    )
+    analyze.add_argument("model", type=Path, help="model file (.toml, or .json)")
+    analyze.add_argument("--json", action="store_true", help="print JSON for machines")
+    analyze.set_defaults(handler=_cmd_analyze)
+
+    fit = sub.add_parser(
+        "fit",
+        help="identify a model from measured data (CSV): model TOML, report, plots",
+        description="Identify friction parameters (section 4) from a CSV file with a header "
+        "line. --kind presliding: friction force against displacement (columns position, "
+        "friction_force); motion: eq. 17 as a regression (time, position, applied_force; "
+        "velocity and acceleration are estimated when absent); response: simulated against "
+        "measured free response (time, velocity and/or position, optional applied_force). "
+        "Columns are found by name (units in brackets ignored: 'position [m]' is position); "
+        "--columns names them otherwise.",
+        epilog="examples:\n  presliding fit loops.csv --kind presliding --elements 4 -o fit/\n"
+        "  presliding fit data.csv --kind motion --viscous --offset --columns "
+        "applied_force=u -o fit/",
+        formatter_class=fmt,
+        parents=[common, writes],
+    )
+    fit.add_argument("data", type=Path, help="measured data (CSV with a header line)")
+    fit.add_argument(
+        "--kind",
+        choices=("presliding", "motion", "response"),
+        required=True,
+        help="what to fit (see above)",
+    )
+    fit.add_argument(
+        "--columns",
+        nargs="+",
+        metavar="SIGNAL=COLUMN",
+        default=(),
+        help="column names by signal: time, position, velocity, acceleration, "
+        "applied_force, friction_force",
+    )
+    fit.add_argument(
+        "--scale",
+        nargs="+",
+        metavar="SIGNAL=FACTOR",
+        default=(),
+        help="unit factors applied on reading, e.g. position=1e-3 for mm",
+    )
+    fit.add_argument(
+        "--elements",
+        type=int,
+        default=None,
+        metavar="N",
+        help="number of elasto-plastic elements (default: 3 presliding, 0 motion, 4 response)",
+    )
+    fit.add_argument("--viscous", action="store_true", help="motion: add a viscous term F_v·ẏ")
+    fit.add_argument("--offset", action="store_true", help="add a constant force offset")
+    fit.add_argument(
+        "--search",
+        choices=("grid", "global"),
+        default="grid",
+        help="presliding: start thresholds from the threshold grid (default), or also from a "
+        "global search (differential evolution), keeping the better fit",
+    )
+    fit.add_argument(
+        "--seed", type=int, default=None, help="seed of the global search (reproducible runs)"
+    )
+    fit.add_argument(
+        "--mass", type=float, default=None, help="response/motion: known mass m [kg] (held fixed)"
+    )
+    fit.add_argument(
+        "--cutoff",
+        type=float,
+        default=None,
+        metavar="HZ",
+        help="motion: low-pass cut-off for the velocity/acceleration estimate "
+        "(default: a tenth of the sampling rate)",
+    )
+    fit.add_argument("-o", "--output", type=Path, required=True, help="output folder")
+    fit.set_defaults(handler=_cmd_fit)
+
+    from presliding.cli.sweep_spec import SCHEMA
+
+    sweep = sub.add_parser(
+        "sweep",
+        help="a quantity of the free motion over a grid of 1 or 2 parameters (CSV, map, report)",
+        description="Evaluate the number of reversals, the rest position or the stop time of "
+        "the free motion m·ÿ + c1·Sign(ẏ) + F_el(y) = u (eqs. 12, 17) on a grid over one or "
+        "two parameters (c1/F_m, c1, v0, m), with the exact batch simulation or the "
+        "turning-point analysis (eqs. 13-16). Runs on local worker processes, or on a Dask "
+        "cluster with --scheduler (pip install presliding[dask]; the workers need presliding "
+        "installed). Writes sweep.csv (one row per point, units in the header), sweep.png "
+        "and report.md/report.html.",
+        epilog="examples:\n  presliding sweep spec.toml -o map/\n"
+        "  presliding sweep spec.toml --workers 1\n"
+        "  presliding sweep spec.toml --scheduler tcp://10.0.0.5:8786 -o map/\n\n"
+        "specification file (TOML, or JSON with the same tables; units in brackets):\n" + SCHEMA,
+        formatter_class=fmt,
+        parents=[common, writes],
+    )
+    sweep.add_argument("spec", type=Path, help="sweep specification (.toml, or .json)")
+    sweep.add_argument(
+        "-o",
+        "--output",
+        type=Path,
+        default=Path("presliding-sweep"),
+        help="output folder (default: ./presliding-sweep)",
+    )
+    sweep.add_argument(
+        "--scheduler",
+        metavar="ADDRESS",
+        default=None,
+        help="run on the Dask cluster of this scheduler address (e.g. tcp://host:8786)",
+    )
+    sweep.add_argument(
+        "--workers",
+        type=int,
+        default=None,
+        metavar="N",
+        help="local worker processes; 1 runs in this process (default: 1 for method "
+        "simulate, whose batch kernel uses every core anyway, and for analysis grids under "
+        "20000 points; else the machine's cores)",
+    )
+    sweep.set_defaults(handler=_cmd_sweep)
+    return parser
+
+
+def _cmd_demo(args: argparse.Namespace) -> int:
+    from presliding.cli.common import check_folder, check_outputs, record_outputs
+    from presliding.cli.demo import DEMO_OUTPUTS, run_demo
+
+    out = check_folder(args.output)
+    outputs = [out / name for name in DEMO_OUTPUTS]
+    check_outputs(outputs, (), overwrite=args.overwrite)
+    record_outputs(outputs)
+    paths = run_demo(out, quiet=args.quiet)
+    if not args.quiet:
+        print(f"presliding demo: wrote {len(paths)} files to {out.resolve()}")
+        for p in paths:
+            print(f"  {p.name}")
+        print(f"open {(out / 'report.html').resolve()} to see them together.")
+    return 0
+
+
+def _cmd_simulate(args: argparse.Namespace) -> int:
+    from presliding.cli.simulate import run
+
+    return run(args)
+
+
+def _cmd_analyze(args: argparse.Namespace) -> int:
+    from presliding.cli.analyze import run
+
+    return run(args)
+
+
+def _cmd_fit(args: argparse.Namespace) -> int:
+    from presliding.cli.fit import run
+
+    return run(args)
+
+
+def _cmd_sweep(args: argparse.Namespace) -> int:
+    from presliding.cli.sweep import run
+
+    return run(args)
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run the command line with `argv` (default: sys.argv[1:]); return the exit code."""
+    parser = _build_parser()
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as exc:  # --help, --version, or a usage error (code 2)
+        return int(exc.code or 0)
+    if args.command is None:
+        parser.print_help()
+        return 0
+    try:
+        return int(args.handler(args))
+    except KeyboardInterrupt:
+        print(f"presliding {args.command}: interrupted", file=sys.stderr)
+        return 130
+    except (UserError, ValueError, TypeError, OSError) as exc:
+        if args.debug:
+            raise
+        text = " ".join(str(exc).split()) or type(exc).__name__
+        print(f"presliding {args.command}: error: {text}", file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

@@ -1,0 +1,308 @@
+"""Helpers of the command line: user errors, input/output paths, CSV tables, figures."""
+
+from __future__ import annotations
+
+import os
+import re
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from presliding._io import atomic_path, write_text
+from presliding._progress import progress
+
+FloatArray = NDArray[np.float64]
+
+#: Rows written per block of a CSV file (the progress bar advances per block).
+CSV_BLOCK = 50_000
+
+
+class UserError(ValueError):
+    """An error the user can fix: reported in one line, exit code 2."""
+
+
+# ---------------------------------------------------------------------- paths
+def _same_file(a: Path, b: Path) -> bool:
+    if a.resolve() == b.resolve():
+        return True
+    try:
+        return a.exists() and b.exists() and os.path.samefile(a, b)
+    except OSError:
+        return False
+
+
+#: Names of the files presliding wrote into a folder, one per line: a later run
+#: may replace these, and no other existing file (unless --overwrite is given).
+MANIFEST = ".presliding-outputs"
+
+
+def _written_before(folder: Path) -> set[str]:
+    try:
+        lines = (folder / MANIFEST).read_text(encoding="utf-8").splitlines()
+    except (FileNotFoundError, NotADirectoryError, UnicodeDecodeError):
+        return set()
+    return {ln.strip() for ln in lines if ln.strip() and not ln.startswith("#")}
+
+
+def check_outputs(
+    outputs: Iterable[Path], inputs: Iterable[Path | None], *, overwrite: bool = False
+) -> None:
+    """Refuse output paths that are inputs, or existing files presliding did not write.
+
+    An output may never be an input file (also through links). An existing
+    file may be replaced only if an earlier run wrote it (it is listed in the
+    folder's `MANIFEST`) or `overwrite` is set. Nothing is created.
+    """
+    outs = [Path(p) for p in outputs]
+    ins = [Path(p) for p in inputs if p is not None]
+    for out in outs:
+        for inp in ins:
+            if _same_file(out, inp):
+                raise UserError(
+                    f"{out}: is the input file {inp}; choose another output with -o so that "
+                    "the input is not overwritten."
+                )
+    known: dict[Path, set[str]] = {}
+    for out in outs:
+        exists = out.exists() or out.is_symlink()
+        if exists and not overwrite:
+            if out.parent not in known:
+                known[out.parent] = _written_before(out.parent)
+            if out.name in known[out.parent]:
+                continue
+            raise UserError(
+                f"{out}: exists and was not written by presliding; choose another output "
+                "with -o, or pass --overwrite to replace it."
+            )
+
+
+def record_outputs(outputs: Iterable[Path]) -> None:
+    """Create the output folders and list the outputs in their `MANIFEST` (before writing)."""
+    folders: dict[Path, set[str]] = {}
+    for out in outputs:
+        folders.setdefault(Path(out).parent, set()).add(Path(out).name)
+    for folder, names in folders.items():
+        make_folder(folder)
+        known = _written_before(folder)
+        if not names <= known:
+            lines = "".join(f"{n}\n" for n in sorted(known | names))
+            header = "# written by presliding: a later run may replace these\n"
+            write_text(folder / MANIFEST, header + lines)
+
+
+def check_folder(folder: Path) -> Path:
+    """An output folder path: it must not be an existing file (it is created on claim)."""
+    if folder.exists() and not folder.is_dir():
+        raise UserError(f"{folder}: is a file, not a folder; pass a folder with -o.")
+    return folder
+
+
+def make_folder(folder: Path) -> Path:
+    """Create the output folder (and parents)."""
+    check_folder(folder)
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise UserError(f"{folder}: cannot create the output folder ({exc.strerror}).") from None
+    return folder
+
+
+def check_readable(path: Path, what: str) -> Path:
+    """A clear error for a missing or unreadable input file."""
+    if not path.exists():
+        raise UserError(f"{path}: no such file; check the {what} path.")
+    if path.is_dir():
+        raise UserError(f"{path}: is a folder; the {what} must be a file.")
+    return path
+
+
+# ---------------------------------------------------------------------- CSV tables
+_UNIT = re.compile(r"\s*[\[(][^\])]*[\])]\s*$")
+
+
+def column_key(name: str) -> str:
+    """Normalised column name: lower case, unit in brackets dropped, spaces as '_'.
+
+    ``"Friction force [N]"`` -> ``"friction_force"``.
+    """
+    base = _UNIT.sub("", name.strip())
+    return re.sub(r"[\s\-]+", "_", base.strip()).lower()
+
+
+@dataclass(frozen=True)
+class Table:
+    """Columns of a CSV file: original header names and float columns."""
+
+    path: Path
+    names: list[str]
+    columns: list[FloatArray]
+
+    @property
+    def n_rows(self) -> int:
+        return int(self.columns[0].shape[0]) if self.columns else 0
+
+    def find(self, aliases: Sequence[str]) -> int | None:
+        """Index of the first column whose name (or normalised name) is in `aliases`."""
+        keys = [column_key(n) for n in self.names]
+        for alias in aliases:
+            for i, (name, key) in enumerate(zip(self.names, keys, strict=True)):
+                if alias in (name, key):
+                    return i
+        return None
+
+    def column(self, signal: str, aliases: Sequence[str], option: str) -> FloatArray:
+        """The column of `signal` (first match of `aliases`) or a one-line error."""
+        i = self.find(aliases)
+        if i is None:
+            raise UserError(
+                f"{self.path}: no column for `{signal}` (looked for "
+                f"{', '.join(repr(a) for a in aliases)}); the columns are "
+                f"{', '.join(repr(n) for n in self.names)}; name it with {option} "
+                f"{signal}=COLUMN."
+            )
+        return self.columns[i]
+
+
+def read_table(path: Path, what: str, example: str = "time,value") -> Table:
+    """Read a delimited text file: one header line (after '#' comments), then numbers.
+
+    The delimiter is a comma, a tab or a semicolon when the header has one,
+    whitespace otherwise. Every value must be a finite number.
+    """
+    check_readable(path, what)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except UnicodeDecodeError:
+        raise UserError(f"{path}: not a text file; the {what} must be a CSV file.") from None
+    except OSError as exc:
+        raise UserError(f"{path}: cannot be read ({exc.strerror}).") from None
+    lines = text.splitlines()
+    start = 0
+    while start < len(lines) and (not lines[start].strip() or lines[start].startswith("#")):
+        start += 1
+    if start == len(lines):
+        raise UserError(f"{path}: is empty; the {what} needs a header line and data rows.")
+    header = lines[start]
+    delim = next((d for d in (",", "\t", ";") if d in header), None)
+    names = [h.strip().strip('"') for h in (header.split(delim) if delim else header.split())]
+    if all(_is_number(n) for n in names):
+        raise UserError(
+            f"{path}: the first line holds numbers, not column names; add a header line "
+            f"(e.g. {example})."
+        )
+    rows = [ln for ln in lines[start + 1 :] if ln.strip() and not ln.startswith("#")]
+    if not rows:
+        raise UserError(f"{path}: has a header but no data rows.")
+    try:
+        data = np.loadtxt(rows, delimiter=delim, ndmin=2, dtype=np.float64)
+        if data.shape[1] != len(names):
+            raise ValueError("row length")
+    except ValueError:
+        _diagnose(path, rows, delim, len(names))
+        raise UserError(f"{path}: cannot be read as numbers after the header.") from None
+    if not np.all(np.isfinite(data)):
+        r, c = np.argwhere(~np.isfinite(data))[0]
+        raise UserError(
+            f"{path}: column {names[c]!r} holds {data[r, c]} at row {r + 1}; every value "
+            "must be finite (remove or fill the gap)."
+        )
+    return Table(path, names, [np.ascontiguousarray(data[:, j]) for j in range(len(names))])
+
+
+def _diagnose(path: Path, rows: list[str], delim: str | None, n_columns: int) -> None:
+    """Raise a UserError naming the first row that is not `n_columns` numbers."""
+    for r, line in enumerate(rows):
+        cells = line.split(delim) if delim else line.split()
+        if len(cells) != n_columns:
+            raise UserError(
+                f"{path}: row {r + 1} has {len(cells)} values but the header names "
+                f"{n_columns} columns; make every row as long as the header."
+            )
+        bad = next((c for c in cells if not _is_number(c)), None)
+        if bad is not None:
+            raise UserError(
+                f"{path}: row {r + 1} holds {bad.strip()!r}, not a number; every value after "
+                "the header must be a number."
+            )
+
+
+def _is_number(text: str) -> bool:
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
+
+
+def write_csv(
+    path: Path, header: Sequence[str], columns: Sequence[FloatArray], *, quiet: bool = False
+) -> None:
+    """Write columns as CSV atomically (temporary file, then rename), with a progress bar."""
+    data = np.column_stack([np.asarray(c, dtype=float) for c in columns])
+    with atomic_path(path) as tmp, open(tmp, "w", encoding="utf-8", newline="\n") as fh:
+        fh.write(",".join(header) + "\n")
+        with progress(data.shape[0], f"writing {path.name}", quiet=quiet, unit="row") as bar:
+            for i in range(0, data.shape[0], CSV_BLOCK):
+                block = data[i : i + CSV_BLOCK]
+                np.savetxt(fh, block, fmt="%.15g", delimiter=",")
+                bar.update(block.shape[0])
+
+
+# ---------------------------------------------------------------------- figures
+def new_figure(ncols: int = 1, nrows: int = 1, size: tuple[float, float] = (6.4, 4.4)) -> Any:
+    """A matplotlib Figure (no pyplot state) with a constrained layout, and its axes."""
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=size, layout="constrained")
+    axes = fig.subplots(nrows, ncols, squeeze=False)
+    return fig, axes
+
+
+def tidy_fit_axes(fig: Any, ax: Any, ylabel: str, unit: str) -> None:
+    """Units on a `plot_fit` panel and its residual panel (the last axes of `fig`),
+    with both y labels aligned clear of the tick labels."""
+    residual = fig.axes[-1]
+    ax.set_ylabel(f"{ylabel} [{unit}]")
+    residual.set_ylabel(f"residual [{unit}]")
+    residual.ticklabel_format(axis="y", style="sci", scilimits=(-2, 3), useMathText=True)
+    for a in (ax, residual):
+        a.yaxis.set_label_coords(-0.09, 0.5)
+
+
+def check_options(pairs: Sequence[str] | None, option: str, allowed: Sequence[str]) -> dict:
+    """Parse ``KEY=VALUE`` command-line items; keys must be in `allowed`."""
+    out: dict[str, str] = {}
+    for item in pairs or ():
+        key, sep, value = item.partition("=")
+        key, value = key.strip(), value.strip()
+        if not sep or not key or not value:
+            raise UserError(
+                f"{option} {item!r}: expected KEY=COLUMN, e.g. {option} position='y [m]'."
+            )
+        if key not in allowed:
+            raise UserError(
+                f"{option} {item!r}: unknown signal {key!r}; use one of {', '.join(allowed)}."
+            )
+        out[key] = value
+    return out
+
+
+__all__ = [
+    "Table",
+    "UserError",
+    "check_folder",
+    "check_options",
+    "check_outputs",
+    "check_readable",
+    "column_key",
+    "make_folder",
+    "new_figure",
+    "read_table",
+    "record_outputs",
+    "tidy_fit_axes",
+    "write_csv",
+]

@@ -1,0 +1,151 @@
+"""``presliding simulate``: a model file's motion to CSV and PNG."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from presliding.cli.common import (
+    UserError,
+    check_folder,
+    check_outputs,
+    check_readable,
+    new_figure,
+    read_table,
+    record_outputs,
+    write_csv,
+)
+
+#: CSV header of a simulation (units in brackets).
+HEADER = (
+    "time [s]",
+    "position [m]",
+    "velocity [m/s]",
+    "acceleration [m/s^2]",
+    "friction_force [N]",
+    "applied_force [N]",
+)
+
+
+def output_paths(output: Path) -> tuple[Path, Path]:
+    """(CSV, PNG) for ``-o``: a .csv path, or a folder holding simulation.csv/.png."""
+    if output.suffix.lower() == ".csv":
+        check_folder(output.parent if str(output.parent) else Path("."))
+        return output, output.with_suffix(".png")
+    folder = check_folder(output)
+    return folder / "simulation.csv", folder / "simulation.png"
+
+
+def read_applied_force(path: Path) -> tuple[np.ndarray, np.ndarray]:
+    """Samples (time, value) of u from a CSV file with columns time,value."""
+    table = read_table(path, "applied-force file", example="time,value")
+    hint = "the applied-force file needs columns time,value [s, N]"
+    columns = []
+    for signal, aliases in (("time", ("time", "t")), ("value", ("value", "u", "applied_force"))):
+        i = table.find(aliases)
+        if i is None:
+            raise UserError(
+                f"{path}: no column `{signal}`; {hint}; its columns are "
+                f"{', '.join(repr(n) for n in table.names)}."
+            )
+        columns.append(table.columns[i])
+    t, u = columns
+    if t.shape[0] < 1:
+        raise UserError(f"{path}: has no samples; {hint}.")
+    steps = np.diff(t)
+    if np.any(steps <= 0):
+        i = int(np.argmax(steps <= 0)) + 1
+        raise UserError(
+            f"{path}: `time` must increase strictly; row {i + 1} holds {t[i]:g} after "
+            f"{t[i - 1]:g}; sort the rows or remove duplicates."
+        )
+    return t, u
+
+
+def run(args: argparse.Namespace) -> int:
+    """Load, simulate, write CSV and PNG; print a summary."""
+    from presliding import motion
+    from presliding.model_io import load_model
+
+    check_readable(args.model, "model file")
+    spec = load_model(args.model)
+    mo = spec.motion
+    force: Any = mo.applied_force
+    if args.applied_force is not None:
+        force = read_applied_force(args.applied_force)
+        if force[0][0] > 0.0:
+            raise UserError(
+                f"{args.applied_force}: the first time is {force[0][0]:g} s but the motion "
+                "starts at 0 s; add a row at time 0."
+            )
+    csv_path, png_path = output_paths(args.output)
+    check_outputs((csv_path, png_path), (args.model, args.applied_force), overwrite=args.overwrite)
+    t_eval = np.linspace(0.0, mo.t_end, mo.samples)
+    try:
+        result = motion.simulate(
+            spec.model,
+            mo.mass,
+            applied_force=force,
+            initial_position=mo.initial_position,
+            initial_velocity=mo.initial_velocity,
+            initial_state=mo.initial_state,
+            t_eval=t_eval,
+            method=args.method,
+            hold=args.hold,
+            step=args.step,
+        )
+    except (TypeError, ValueError) as exc:
+        raise UserError(f"{args.model}: cannot simulate: {exc}") from None
+    record_outputs((csv_path, png_path))
+    write_csv(
+        csv_path,
+        HEADER,
+        [
+            result.time,
+            result.position,
+            result.velocity,
+            result.acceleration,
+            result.friction_force,
+            result.applied_force,
+        ],
+        quiet=args.quiet,
+    )
+    save_motion_figure(result, png_path, title=f"{args.model.name}: {_headline(result)}")
+    if not args.quiet:
+        print(result.report())
+        print(f"wrote {csv_path}")
+        print(f"wrote {png_path}")
+    return 0 if result.success else 1
+
+
+def _headline(result: Any) -> str:
+    n = result.n_reversals
+    reversals = f"{n} reversal" + ("" if n == 1 else "s")
+    if result.stop_time is None:
+        return f"moving at the end, {reversals}"
+    return f"stops at t = {result.stop_time:.4g} s after {reversals}"
+
+
+def save_motion_figure(result: Any, path: Path, title: str) -> None:
+    """Four panels: velocity over time, forces over time, phase portrait, force loop."""
+    from presliding.plotting import plot_forces, plot_motion, save_figure
+
+    fig, axes = new_figure(2, 2, size=(11.0, 7.6))
+    plot_motion(result, kind="time", ax=axes[0, 0])
+    axes[0, 0].set_title("velocity")
+    plot_forces(result, ax=axes[0, 1])
+    axes[0, 1].set_title("forces")
+    plot_motion(result, kind="phase", ax=axes[1, 0])
+    axes[1, 0].set_title("phase portrait")
+    plot_motion(result, kind="loop", ax=axes[1, 1])
+    axes[1, 1].set_title("friction force against position")
+    for ax in (axes[1, 0], axes[1, 1]):  # positions are often small: 1.5e-3, not 0.0015
+        ax.ticklabel_format(axis="x", style="sci", scilimits=(-2, 3), useMathText=True)
+    fig.suptitle(title)
+    save_figure(fig, path)
+
+
+__all__ = ["HEADER", "output_paths", "read_applied_force", "run", "save_motion_figure"]

@@ -1,0 +1,32 @@
+"""Friction models: the PI friction law and the classical baselines (eqs. 7–10).
+
+Files
+-----
+pi_friction.py        `PIFriction`: c1·sign(ẏ) + Σ k_j (y − x_j) (eq. 8), or a density μ (eq. 10)
+baselines.py          `CoulombFriction`, `DahlFriction`, `LuGreFriction` and their states
+comparison.py         `compare`: several models on one displacement path, as a `Comparison`
+_baseline_kernels.py  compiled time loops of the Dahl and LuGre models
+
+May import: `presliding.hysteresis` and the package root's shared modules.
+"""
+
+from presliding.friction.baselines import (
+    CoulombFriction,
+    DahlFriction,
+    DahlState,
+    LuGreFriction,
+    LuGreState,
+)
+from presliding.friction.comparison import Comparison, compare
+from presliding.friction.pi_friction import PIFriction
+
+__all__ = [
+    "Comparison",
+    "CoulombFriction",
+    "DahlFriction",
+    "DahlState",
+    "LuGreFriction",
+    "LuGreState",
+    "PIFriction",
+    "compare",
+]

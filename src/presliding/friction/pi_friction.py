@@ -1,0 +1,322 @@
+"""The Prandtl–Ishlinskii friction model with a Coulomb element (eqs. 5–9).
+
+Friction force along a displacement y (eq. 8)::
+
+    F(y, ẏ) = c1·sign(ẏ) + Σ_j k_j (y − x_j(y, r_j)),     r_j = c_j / k_j  (eq. 6)
+
+where c1 >= 0 is the Coulomb element (an element of infinite stiffness), and
+each elasto-plastic element j has stiffness k_j, break-away force c_j and play
+operator x_j with threshold r_j (eq. 3). At unidirectional motion the force
+saturates at the Coulomb level F_c = c1 + Σ c_j (eq. 9); right after every
+reversal the elastic part has stiffness Σ k_j (eq. 7).
+
+With ``density=`` the elements form a continuum with distribution μ (section
+3, eq. 10): F(y, ẏ) = c1·sign(ẏ) + ∫_0^R (y − x(y, r)) dμ(r), evaluated exactly
+by `GeneralPIOperator` with a `MemoryState`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from presliding._validation import (
+    as_nonnegative_scalar,
+    as_parameter_vector,
+    as_signal,
+    check_derived,
+    check_has_friction,
+    fmt,
+)
+from presliding.hysteresis import _kernels
+from presliding.hysteresis.densities import Density, Discrete
+from presliding.hysteresis.general_pi import GeneralPIOperator, MemoryState, run_density
+from presliding.hysteresis.operators import PIOperator, PIState, start_memory
+
+__all__ = ["PIFriction"]
+
+FloatArray = NDArray[np.float64]
+
+
+@dataclass(frozen=True, eq=False)
+class PIFriction:
+    """Coulomb friction with presliding hysteresis, finite-element PI model (eq. 8).
+
+    Parameters
+    ----------
+    coulomb : float
+        Coulomb element c1 >= 0 [N], the force of the element with infinite
+        stiffness; it contributes c1·sign(ẏ).
+    stiffness : array_like, shape (N,)
+        Presliding stiffnesses k_j > 0 [N/m] of the elasto-plastic elements.
+    breakaway : array_like, shape (N,), optional
+        Break-away forces c_j > 0 [N]. Give either `breakaway` or `threshold`.
+    threshold : array_like, shape (N,), optional, keyword only
+        Thresholds r_j = c_j / k_j > 0 [m] (eq. 6), the presliding displacement
+        at which element j starts to slide.
+    density : Density, optional, keyword only
+        Instead of elements: the distribution μ of eq. 10 (`Uniform`,
+        `Exponential`, ...). A `Discrete` density gives the finite-element
+        model with its stiffnesses and thresholds. For any other density
+        ``stiffness``, ``breakaway`` and ``threshold`` are None, states are
+        `MemoryState` objects, and ``n_elements`` raises.
+
+    Notes
+    -----
+    With no elements (``stiffness=[]``) the model is classical Coulomb friction
+    with F_c = c1. With c1 = 0 it is the PI operator of eq. 4. Very stiff
+    elements approach F_c·sign(ẏ).
+
+    Examples
+    --------
+    The model of the paper's Figure 3 (three elements, c = [1, 1, 1]):
+
+    >>> model = PIFriction(coulomb=0.0, stiffness=[500.0, 10.0, 4.0], breakaway=[1.0, 1.0, 1.0])
+    >>> model.coulomb_level, model.initial_stiffness
+    (3.0, 514.0)
+    """
+
+    coulomb: float
+    stiffness: FloatArray = field(default_factory=lambda: np.empty(0))
+    breakaway: FloatArray | None = None
+    threshold: FloatArray | None = field(default=None, kw_only=True)
+    density: Density | None = field(default=None, kw_only=True)
+
+    def __post_init__(self) -> None:
+        c1 = as_nonnegative_scalar("coulomb", self.coulomb)
+        if self.density is not None and _take_density(self, c1):
+            return
+        k = as_parameter_vector("stiffness", self.stiffness, allow_empty=True)
+        if (self.breakaway is None) == (self.threshold is None):
+            if self.breakaway is None and k.shape[0] == 0:
+                c = r = k
+            else:
+                raise TypeError(
+                    "`breakaway` or `threshold` must be given, not both; got "
+                    + ("both." if self.breakaway is not None else "neither.")
+                )
+        elif self.breakaway is not None:
+            c = as_parameter_vector("breakaway", self.breakaway, allow_empty=True)
+            _same_length(k, c, "breakaway")
+            with np.errstate(over="ignore", under="ignore"):  # reported below
+                r = c / k
+        else:
+            r = as_parameter_vector("threshold", self.threshold, allow_empty=True)
+            _same_length(k, r, "threshold")
+            with np.errstate(over="ignore", under="ignore"):  # reported below
+                c = k * r
+        check_derived(k, c, r)
+        check_has_friction(np.array([c1]), k.shape[0])
+        for arr in (c, r):
+            arr = np.asarray(arr)
+            arr.setflags(write=False)
+        object.__setattr__(self, "coulomb", c1)
+        object.__setattr__(self, "stiffness", k)
+        object.__setattr__(self, "breakaway", c)
+        object.__setattr__(self, "threshold", r)
+        if self.density is None:
+            object.__setattr__(self, "density", Discrete(k, r))
+
+    # ------------------------------------------------------------------ properties
+    @property
+    def is_discrete(self) -> bool:
+        """True for finite elements (eq. 8), False for a continuous density (eq. 10)."""
+        return self.stiffness is not None
+
+    @property
+    def n_elements(self) -> int:
+        """Number of elasto-plastic elements (the Coulomb element not counted)."""
+        if self.stiffness is None:
+            raise TypeError(
+                f"a model with a continuous density has no finite number of elements; "
+                f"got density {self.density!r}."
+            )
+        return int(self.stiffness.shape[0])
+
+    @property
+    def max_elastic_force(self) -> float:
+        """F_m = Σ c_j = ∫ r dμ(r), the largest force the elastic elements can carry."""
+        if self.breakaway is None:
+            return self.density.max_elastic_force  # type: ignore[union-attr]
+        return float(np.sum(self.breakaway))
+
+    @property
+    def coulomb_level(self) -> float:
+        """F_c = c1 + Σ c_j (eq. 9), the friction force at unidirectional sliding."""
+        return self.coulomb + self.max_elastic_force
+
+    @property
+    def initial_stiffness(self) -> float:
+        """Σ k_j = μ([0, R]) (eq. 7): the elastic stiffness right after every reversal.
+
+        Finite for every density provided here (a density not integrable at
+        r = 0 would give inf: an infinitely stiff start).
+        """
+        if self.stiffness is None:
+            return self.density.total_stiffness  # type: ignore[union-attr]
+        return float(np.sum(self.stiffness))
+
+    @property
+    def operator(self) -> PIOperator | GeneralPIOperator:
+        """The elastic part: a PI operator (eq. 4) with weights k_j, or the general one."""
+        if self.stiffness is None:
+            return GeneralPIOperator(self.density)  # type: ignore[arg-type]
+        return PIOperator(self.threshold, self.stiffness)
+
+    def __eq__(self, other: object) -> bool:
+        if not isinstance(other, PIFriction):
+            return NotImplemented
+        if not (self.is_discrete and other.is_discrete):
+            return self.coulomb == other.coulomb and self.density == other.density
+        return (
+            self.coulomb == other.coulomb
+            and np.array_equal(self.stiffness, other.stiffness)
+            and np.array_equal(self.threshold, other.threshold)
+            and np.array_equal(self.breakaway, other.breakaway)
+        )
+
+    __hash__ = None  # type: ignore[assignment]
+
+    def __repr__(self) -> str:
+        if not self.is_discrete:
+            return f"PIFriction(coulomb={self.coulomb!r}, density={self.density!r})"
+        return (
+            f"PIFriction(coulomb={self.coulomb!r}, stiffness={self.stiffness.tolist()!r}, "
+            f"breakaway={self.breakaway.tolist()!r})"
+        )
+
+    # ------------------------------------------------------------------ states
+    def relaxed_state(self, position: float = 0.0) -> PIState | MemoryState:
+        """Virgin state at `position`: no elastic deformation, no motion yet."""
+        if not self.is_discrete:
+            return MemoryState.relaxed(position)
+        return PIState.relaxed(position, self.n_elements)
+
+    def saturated_state(
+        self, position: float = 0.0, direction: float = 1.0
+    ) -> PIState | MemoryState:
+        """Every element sliding after motion in `direction`: elastic force direction·F_m."""
+        if not self.is_discrete:
+            return MemoryState.saturated(position, direction, self.density.max_threshold)
+        return PIState.saturated(position, self.threshold, direction)
+
+    # ------------------------------------------------------------------ curves
+    def virgin_curve(self, displacement: ArrayLike, *, elastic_only: bool = False) -> FloatArray:
+        """Initial loading curve from the relaxed state (odd in the displacement).
+
+        F_v(y) = c1·sign(y) + Σ_j k_j·sign(y)·min(|y|, r_j). By the Madelung/Masing
+        rules it determines every loop: after a reversal at (y_r, F_r) the force
+        follows F_r − 2·F_v((y_r − y)/2) until it meets an older branch.
+
+        Parameters
+        ----------
+        displacement : array_like, shape (T,) or scalar
+            Displacements y from the relaxed position.
+        elastic_only : bool
+            Leave out the Coulomb element c1·sign(y).
+        """
+        if not isinstance(elastic_only, (bool, np.bool_)):
+            raise TypeError(f"`elastic_only` must be True or False; got {fmt(elastic_only)}.")
+        scalar = np.ndim(displacement) == 0
+        y = as_signal("displacement", np.atleast_1d(displacement))
+        ay = np.abs(y)
+        if not self.is_discrete:
+            elastic = self.density.virgin_curve(ay)  # type: ignore[union-attr]
+        else:
+            elastic = np.minimum(ay[:, None], self.threshold[None, :]) @ self.stiffness
+        out = np.sign(y) * (elastic if elastic_only else elastic + self.coulomb)
+        return out[0] if scalar else out
+
+    def elastic_force(
+        self, displacement: ArrayLike, state: PIState | MemoryState | None = None
+    ) -> tuple[FloatArray, PIState | MemoryState]:
+        """Elastic part Σ k_j (y − x_j) along a sampled displacement (eq. 4, eq. 5).
+
+        Parameters
+        ----------
+        displacement : array_like, shape (T,)
+            Displacement samples, monotone between consecutive samples.
+        state : PIState, optional
+            Memory before the first sample; default relaxed at ``displacement[0]``.
+
+        Returns
+        -------
+        force : ndarray, shape (T,)
+        final_state : PIState
+        """
+        y = as_signal("displacement", displacement)
+        return self._run(y, state)[:2]
+
+    def force(
+        self, displacement: ArrayLike, state: PIState | MemoryState | None = None
+    ) -> tuple[FloatArray, PIState | MemoryState]:
+        """Total friction force c1·sign(ẏ) + Σ k_j (y − x_j) along a displacement (eq. 8).
+
+        The Coulomb element contributes c1 times the sign of the last nonzero
+        increment of the displacement (0 before any motion), i.e. the friction
+        force acting on the contact while it moves in that direction.
+
+        Parameters
+        ----------
+        displacement : array_like, shape (T,)
+            Displacement samples, monotone between consecutive samples.
+        state : PIState, optional
+            Memory before the first sample; default relaxed at ``displacement[0]``
+            with no motion yet.
+
+        Returns
+        -------
+        force : ndarray, shape (T,)
+        final_state : PIState
+            Passing it to the next call on the continuation of the path gives
+            bit-identical results to a single call.
+        """
+        y = as_signal("displacement", displacement)
+        elastic, final, prev, d0 = self._run(y, state)
+        direction = np.empty(y.shape[0])
+        _kernels.motion_direction(y, prev, d0, direction)
+        return elastic + self.coulomb * direction, final
+
+    def _run(
+        self, y: FloatArray, state: PIState | MemoryState | None
+    ) -> tuple[FloatArray, PIState | MemoryState, float, float]:
+        """Elastic force, final memory, and the input and direction before the first sample."""
+        if not self.is_discrete:
+            elastic, _, final = run_density(self.density, y, state)  # type: ignore[arg-type]
+            prev, d0 = (float(y[0]), 0.0) if state is None else (state.last_input, state.direction)
+            return elastic, final, prev, d0
+        x, prev, d0 = start_memory(y, self.threshold, state)
+        elastic = np.empty(y.shape[0])
+        _kernels.stop_sum(y, self.threshold, self.stiffness, x, elastic)
+        d = _kernels.last_direction(y, prev, d0)
+        return elastic, PIState(float(y[-1]), x, d), prev, d0
+
+
+def _take_density(model: PIFriction, c1: float) -> bool:
+    """Set up a model given by `density`; True when it is continuous (no elements)."""
+    dens = model.density
+    if not isinstance(dens, Density):
+        raise TypeError(f"`density` must be a Density; got {type(dens).__name__}.")
+    if np.size(model.stiffness) or model.breakaway is not None or model.threshold is not None:
+        raise TypeError(
+            "give either `density` or the elements (`stiffness` with `breakaway` or "
+            "`threshold`), not both."
+        )
+    if isinstance(dens, Discrete):
+        object.__setattr__(model, "stiffness", dens.stiffness)
+        object.__setattr__(model, "threshold", dens.threshold)
+        return False
+    object.__setattr__(model, "coulomb", c1)
+    for name in ("stiffness", "breakaway", "threshold"):
+        object.__setattr__(model, name, None)
+    return True
+
+
+def _same_length(k: FloatArray, other: FloatArray, name: str) -> None:
+    if other.shape != k.shape:
+        raise ValueError(
+            f"`{name}` must have the same length as `stiffness` ({k.shape[0]}); "
+            f"got {other.shape[0]}."
+        )

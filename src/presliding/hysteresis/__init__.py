@@ -1,0 +1,47 @@
+"""Hysteresis operators: the lowest layer (eqs. 3–6, 10, 11).
+
+Rate-independent maps from a displacement path to stop outputs, with explicit
+memory. Everything above builds on these operators.
+
+Files
+-----
+operators.py            `play`, `stop` (eqs. 3, 5, 11), `PIOperator` (eq. 4) and its `PIState`
+general_pi.py           `GeneralPIOperator` and `MemoryState`: the exact operator of a density μ
+densities.py            the distributions μ of section 3: `Discrete`, `Uniform`, `Exponential`, …
+inverse.py              `pi_inverse`, `inverse_state`: the inverse PI operator (compensation)
+_inversion.py           the inverse's parameters from the loading-curve slopes
+_kernels.py, _fused.py  compiled play/stop loops, time-blocked and batched
+_general_pi.py          compiled kernels of the general operator (closed-form pieces)
+_density_base.py, _density_primitives.py, _tabulated.py   the density classes and their primitives
+
+May import: numpy, scipy, numba and the package root's shared modules only.
+"""
+
+from presliding.hysteresis.densities import (
+    Density,
+    Discrete,
+    Exponential,
+    PiecewiseConstant,
+    Tabulated,
+    Uniform,
+)
+from presliding.hysteresis.general_pi import GeneralPIOperator, MemoryState
+from presliding.hysteresis.inverse import inverse_state, pi_inverse
+from presliding.hysteresis.operators import PIOperator, PIState, play, stop
+
+__all__ = [
+    "Density",
+    "Discrete",
+    "Exponential",
+    "GeneralPIOperator",
+    "MemoryState",
+    "PIOperator",
+    "PIState",
+    "PiecewiseConstant",
+    "Tabulated",
+    "Uniform",
+    "inverse_state",
+    "pi_inverse",
+    "play",
+    "stop",
+]

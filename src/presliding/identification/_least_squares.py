@@ -1,0 +1,358 @@
+"""The least-squares solver shared by the ``fit_*`` functions (scipy.optimize.least_squares).
+
+`solve_least_squares` minimises a sum of squared residuals over named
+parameters with the trust-region reflective method, bounds respected.
+Parameters may be held *fixed* at a value or *tied* to another one
+(p = factor·q); only the remaining *free* parameters are varied (`_Map`).
+
+Uncertainty follows the usual linearisation at the optimum: with the Jacobian
+J of the residuals with respect to the free parameters, n residuals and p free
+parameters, the covariance is s²·(JᵀJ)⁻¹ with s² = ‖r‖²/(n − p); tied
+parameters inherit it through their factor, fixed ones have zero error. The
+confidence interval is value ± t_{n−p}·SE (Student t at the chosen level). It
+is exact for parameters that enter linearly and Gaussian independent noise, a
+first-order approximation otherwise. A direction of parameter space that the
+data do not determine (a singular JᵀJ) makes the affected errors infinite and
+the status ``"not_identifiable"``. The outcome is a `Solution`;
+`fitting.FitResult` turns it into the public result.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from presliding._validation import as_choice, as_count, as_positive_scalar, as_real_scalar, fmt
+
+FloatArray = NDArray[np.float64]
+Tie = str | tuple[str, float]
+
+#: Status values of a fit: only "converged" is a success.
+STATUSES = ("converged", "not_identifiable", "at_bound", "max_evaluations", "failed")
+_RANK_TOL = 1e-7  # relative singular value below which a direction counts as undetermined
+
+
+# ---------------------------------------------------------------------- parameters
+@dataclass(frozen=True)
+class _Map:
+    """full = T @ free + const, for the free/fixed/tied split of named parameters."""
+
+    names: tuple[str, ...]
+    free: tuple[str, ...]
+    matrix: FloatArray
+    const: FloatArray
+
+    def full(self, free: FloatArray) -> FloatArray:
+        return self.matrix @ free + self.const
+
+
+def check_options(
+    level: Any, max_evaluations: Any, tolerance: Any
+) -> tuple[float, int | None, float]:
+    """The options every fit shares, checked on entry.
+
+    `level` must be a real number in (0, 1), `max_evaluations` None or an
+    integer >= 1, `tolerance` a positive finite real; returned as float,
+    int (or None) and float.
+    """
+    level = as_real_scalar("level", level)
+    if not 0 < level < 1:
+        raise ValueError(f"`level` must be between 0 and 1 (exclusive); got {fmt(level)}.")
+    if max_evaluations is not None:
+        max_evaluations = as_count("max_evaluations", max_evaluations, minimum=1)
+    return level, max_evaluations, as_positive_scalar("tolerance", tolerance)
+
+
+def check_constraints(
+    fixed: Mapping[str, Any] | None, tied: Mapping[str, Any] | None
+) -> tuple[dict[str, float], dict[str, Tie]]:
+    """`fixed` and `tied` checked entry by entry, as new dicts.
+
+    Every fixed value must be a finite real number (returned as float); every
+    tie a parameter name or a (name, factor) pair with a finite real factor
+    (returned as a name or a (name, float) tuple). The names themselves are
+    checked against the parameters by `solve_least_squares`.
+    """
+    out_fixed: dict[str, float] = {}
+    out_tied: dict[str, Tie] = {}
+    for label, spec, what in (("fixed", fixed, "values"), ("tied", tied, "ties")):
+        if spec is not None and not isinstance(spec, Mapping):
+            raise TypeError(
+                f"`{label}` must be a mapping of parameter names to {what}; "
+                f"got {type(spec).__name__}."
+            )
+    for n, v in (fixed or {}).items():
+        out_fixed[n] = as_real_scalar(f"fixed[{n!r}]", v)
+    for n, v in (tied or {}).items():
+        if isinstance(v, str):
+            out_tied[n] = v
+            continue
+        if not (isinstance(v, (tuple, list)) and len(v) == 2 and isinstance(v[0], str)):
+            raise TypeError(
+                f"`tied[{n!r}]` must be a parameter name or a (name, factor) pair; got {fmt(v)}."
+            )
+        out_tied[n] = (v[0], as_real_scalar(f"tied[{n!r}][1]", v[1]))
+    return out_fixed, out_tied
+
+
+def _parameter_map(
+    names: tuple[str, ...],
+    fixed: Mapping[str, float],
+    tied: Mapping[str, Tie],
+) -> _Map:
+    for label, spec in (("fixed", fixed), ("tied", tied)):
+        for n in spec:
+            if n not in names:
+                raise ValueError(f"`{label}` names unknown parameter {n!r}; known: {list(names)}.")
+    both = set(fixed) & set(tied)
+    if both:
+        raise ValueError(f"a parameter cannot be both fixed and tied; got {sorted(both)}.")
+    free = tuple(n for n in names if n not in fixed and n not in tied)
+    col = {n: i for i, n in enumerate(free)}
+    matrix = np.zeros((len(names), len(free)))
+    const = np.zeros(len(names))
+
+    def resolve(n: str, seen: tuple[str, ...]) -> tuple[FloatArray, float]:
+        if n in seen:
+            raise ValueError(f"`tied` must not form a cycle; got {' -> '.join((*seen, n))}.")
+        if n in fixed:
+            return np.zeros(len(free)), float(fixed[n])
+        if n not in tied:
+            row = np.zeros(len(free))
+            row[col[n]] = 1.0
+            return row, 0.0
+        spec = tied[n]
+        target, factor = (spec, 1.0) if isinstance(spec, str) else spec
+        if target not in names:
+            raise ValueError(f"`tied` target of {n!r} must be a parameter; got {target!r}.")
+        row, c = resolve(target, (*seen, n))
+        return float(factor) * row, float(factor) * c
+
+    for i, n in enumerate(names):
+        matrix[i], const[i] = resolve(n, ())
+    return _Map(names, free, matrix, const)
+
+
+def _free_bounds(pm: _Map, lower: FloatArray, upper: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """Bounds on the free parameters implied by the bounds of every parameter."""
+    lo = np.full(len(pm.free), -np.inf)
+    hi = np.full(len(pm.free), np.inf)
+    for i in range(len(pm.names)):
+        row = pm.matrix[i]
+        nz = np.flatnonzero(row)
+        if nz.size != 1:
+            continue
+        j, f = int(nz[0]), row[nz[0]]
+        a, b = (lower[i] - pm.const[i]) / f, (upper[i] - pm.const[i]) / f
+        lo[j], hi[j] = max(lo[j], min(a, b)), min(hi[j], max(a, b))
+    return lo, hi
+
+
+# ---------------------------------------------------------------------- solver
+@dataclass(frozen=True)
+class Solution:
+    """Outcome of `solve_least_squares` (values and errors of every parameter)."""
+
+    values: dict[str, float]
+    standard_error: dict[str, float]
+    confidence_interval: dict[str, tuple[float, float]]
+    level: float
+    fixed: tuple[str, ...]
+    tied: tuple[str, ...]
+    residual: FloatArray
+    status: str
+    message: str
+    n_evaluations: int
+
+
+def solve_least_squares(
+    residual: Callable[[FloatArray], FloatArray],
+    initial: Mapping[str, float],
+    *,
+    jacobian: Callable[[FloatArray], FloatArray] | None = None,
+    bounds: Mapping[str, tuple[float, float]] | None = None,
+    fixed: Mapping[str, float] | None = None,
+    tied: Mapping[str, Tie] | None = None,
+    level: float = 0.95,
+    max_evaluations: int | None = None,
+    tolerance: float = 1e-8,
+    difference: str = "3-point",
+    gradient_tolerance: float | None = None,
+) -> Solution:
+    """Minimise ‖residual(p)‖² over named parameters, some fixed or tied.
+
+    Parameters
+    ----------
+    residual : callable
+        ``residual(p) -> r`` with p the vector of *all* parameters, in the
+        order of `initial`.
+    initial : mapping name -> float
+        Start values, real numbers (fixed parameters take their `fixed` value
+        instead; a non-finite start becomes 0, and a start outside the bounds
+        is moved onto them).
+    jacobian : callable, optional
+        ``jacobian(p) -> (len(r), len(p))`` array; default: 3-point differences.
+    bounds : mapping name -> (lower, upper), optional
+    fixed : mapping name -> value, optional
+    tied : mapping name -> target or (target, factor), optional
+        ``{"b": "a"}`` keeps b = a; ``{"b": ("a", 0.5)}`` keeps b = 0.5·a.
+    level : float
+        Confidence level of the intervals, in (0, 1).
+    max_evaluations : int, optional
+        Most residual evaluations (an integer >= 1); default: scipy's choice
+        (100 per free parameter). Reaching it gives the status
+        ``"max_evaluations"``.
+    tolerance : float
+        ftol, xtol and gtol of scipy.optimize.least_squares (positive).
+    difference : {"3-point", "2-point"}
+        Finite-difference scheme when no `jacobian` is given.
+    gradient_tolerance : float, optional
+        gtol of scipy.optimize.least_squares (default `tolerance`). Its test is
+        absolute in the residual's units, so a fit whose residual vanishes at
+        the optimum (noise-free data) may want a much smaller value and stop on
+        the relative step and cost tests instead.
+
+    Returns
+    -------
+    Solution
+        Values, standard errors and intervals of every parameter, the residual
+        at the optimum, `status` (one of `STATUSES`) and `message`.
+
+    Raises
+    ------
+    ValueError, TypeError
+        On entry, for a bad option, an unknown parameter name, a fixed value
+        that is not a finite real inside its bounds, a malformed tie or a cycle
+        of ties.
+    """
+    from scipy import optimize, stats
+
+    level, max_evaluations, tolerance = check_options(level, max_evaluations, tolerance)
+    difference = as_choice("difference", difference, ("3-point", "2-point"))
+    if gradient_tolerance is not None:
+        gradient_tolerance = as_positive_scalar("gradient_tolerance", gradient_tolerance)
+    fixed, tied = check_constraints(fixed, tied)
+    names = tuple(initial)
+    bounds = dict(bounds or {})
+    for n in bounds:
+        if n not in names:
+            raise ValueError(f"`bounds` names unknown parameter {n!r}; known: {list(names)}.")
+    pm = _parameter_map(names, fixed, tied)
+    lower = np.array([bounds.get(n, (-np.inf, np.inf))[0] for n in names], dtype=float)
+    upper = np.array([bounds.get(n, (-np.inf, np.inf))[1] for n in names], dtype=float)
+    for n, v in fixed.items():
+        i = names.index(n)
+        if not lower[i] <= v <= upper[i]:
+            raise ValueError(
+                f"`fixed[{n!r}]` must lie in [{fmt(lower[i])}, {fmt(upper[i])}] (its bounds); "
+                f"got {fmt(v)}."
+            )
+    lo, hi = _free_bounds(pm, lower, upper)
+    x0 = np.array([as_real_scalar(f"initial[{n!r}]", initial[n], finite=False) for n in pm.free])
+    x0 = np.where(np.isfinite(x0), x0, 0.0)
+    x0 = np.clip(x0, lo, hi)  # start values of the caller's default guesses only
+    evaluations = 0
+    if pm.free:
+
+        def fun(x: FloatArray) -> FloatArray:
+            return residual(pm.full(x))
+
+        jac: Any = difference
+        if jacobian is not None:
+
+            def jac(x: FloatArray) -> FloatArray:
+                return jacobian(pm.full(x)) @ pm.matrix
+
+        try:
+            res = optimize.least_squares(
+                fun, x0, jac=jac, bounds=(lo, hi), method="trf", x_scale="jac", tr_solver="exact",
+                ftol=tolerance, xtol=tolerance, max_nfev=max_evaluations,
+                gtol=tolerance if gradient_tolerance is None else gradient_tolerance,
+            )  # fmt: skip
+        except (ValueError, np.linalg.LinAlgError, FloatingPointError) as exc:
+            return _failed(pm, x0, fixed, tied, level, f"the optimiser failed: {exc}")
+        x, r, jac_free, evaluations = res.x, res.fun, res.jac, int(res.nfev)
+        status = "max_evaluations" if res.status == 0 else "converged"
+        message = (
+            "stopped at the evaluation limit before convergence"
+            if res.status == 0
+            else f"converged ({res.message.rstrip('.')})"
+        )
+        if not np.all(np.isfinite(r)):
+            return _failed(pm, x, fixed, tied, level, "the residual is not finite at the optimum")
+        if not np.any(jac_free):
+            return _failed(
+                pm, x, fixed, tied, level,
+                "the residual does not change with any parameter (insensitive or failed model)",
+            )  # fmt: skip
+    else:
+        x, r, jac_free = x0, residual(pm.full(x0)), np.zeros((0, 0))
+        status, message = "converged", "all parameters are fixed; nothing was fitted"
+    cov, undetermined = _covariance(jac_free, r)
+    full = pm.full(x)
+    var = np.einsum("ij,jk,ik->i", pm.matrix, cov, pm.matrix) if pm.free else np.zeros(len(names))
+    se = np.sqrt(np.maximum(var, 0.0))
+    for j in undetermined:
+        se[pm.matrix[:, j] != 0] = np.inf
+    if undetermined and status == "converged":
+        status = "not_identifiable"
+        which = sorted({names[i] for j in undetermined for i in np.flatnonzero(pm.matrix[:, j])})
+        message = f"the data do not determine {', '.join(which)} (singular Jacobian)"
+    dof = max(r.shape[0] - len(pm.free), 1)
+    q = float(stats.t.ppf(0.5 + level / 2, dof))
+    return Solution(
+        values=dict(zip(names, full.tolist(), strict=True)),
+        standard_error=dict(zip(names, se.tolist(), strict=True)),
+        confidence_interval={
+            n: (v - q * s, v + q * s) for n, v, s in zip(names, full, se, strict=True)
+        },
+        level=level,
+        fixed=tuple(fixed),
+        tied=tuple(tied),
+        residual=r,
+        status=status,
+        message=message,
+        n_evaluations=evaluations,
+    )
+
+
+def _covariance(jac: FloatArray, r: FloatArray) -> tuple[FloatArray, list[int]]:
+    """s²·(JᵀJ)⁻¹ on the determined subspace, and the undetermined free parameters."""
+    n, p = jac.shape
+    if p == 0:
+        return np.zeros((0, 0)), []
+    if n <= p:
+        return np.zeros((p, p)), list(range(p))
+    norms = np.linalg.norm(jac, axis=0)
+    dead = norms == 0
+    scale = np.where(dead, 1.0, norms)
+    _, s, vt = np.linalg.svd(jac / scale, full_matrices=False)
+    keep = s > _RANK_TOL * s[0] if s[0] > 0 else np.zeros_like(s, dtype=bool)
+    s2 = float(r @ r) / (n - p)
+    inv = (vt[keep].T / s[keep] ** 2) @ vt[keep]
+    cov = s2 * inv / np.outer(scale, scale)
+    undetermined = set(np.flatnonzero(dead).tolist())
+    for row in vt[~keep]:
+        undetermined |= set(np.flatnonzero(np.abs(row) > 1e-3).tolist())
+    return cov, sorted(undetermined)
+
+
+def _failed(pm: _Map, x: FloatArray, fixed: Any, tied: Any, level: float, msg: str) -> Solution:
+    full = pm.full(x)
+    inf = dict.fromkeys(pm.names, float("inf"))
+    return Solution(
+        values=dict(zip(pm.names, full.tolist(), strict=True)),
+        standard_error=inf,
+        confidence_interval={n: (-np.inf, np.inf) for n in pm.names},
+        level=level,
+        fixed=tuple(fixed),
+        tied=tuple(tied),
+        residual=np.zeros(0),
+        status="failed",
+        message=msg,
+        n_evaluations=0,
+    )

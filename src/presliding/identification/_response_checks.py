@@ -1,0 +1,144 @@
+"""Checks after an output-error fit (`fit_response`): starts, polish, flags.
+
+`rigid_check` refits with the stiffest element rigid and reports
+"not_identifiable" when the data cannot tell the two fits apart;
+`bound_check` reports "at_bound" when a parameter sits on its lower bound;
+`stiffest_first` relabels interchangeable elements; `spread_start` and
+`polish_initial_velocity` give the search a second start and a start from rest.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+
+from presliding.identification._least_squares import Solution
+
+_BOUND = 1e-8  # a parameter below this fraction of its scale sits on its bound 0
+
+
+def cost(sol: Solution) -> float:
+    """Sum of squared residuals (inf for a failed fit)."""
+    return float(sol.residual @ sol.residual) if sol.status != "failed" else np.inf
+
+
+def polish_initial_velocity(sol, solve, fixed, tied, v) -> Solution:
+    """Refit with the initial velocity on its bound 0 when it ends next to it.
+
+    Near an active bound the trust region shrinks the steps of that parameter
+    and the fit stops early; a start from rest is common, so it is tried exactly
+    and kept when it fits at least as well.
+    """
+    x = "initial_velocity"
+    if x in fixed or x in tied or sol.status == "failed" or sol.values[x] == 0.0:
+        return sol
+    if abs(sol.values[x]) > 1e-6 * float(np.max(np.abs(v))):
+        return sol
+    alt = solve(sol.values, extra={x: 0.0})
+    return alt if cost(alt) <= cost(sol) else sol
+
+
+def spread_start(start: dict[str, float], k_names: list[str]) -> dict[str, float]:
+    """The regression start moved off the rigid corner: c1/F_c in [1/4, 3/5], k_1 ≤ 2·k_2."""
+    s = dict(start)
+    fc = s["coulomb_level"]
+    s["coulomb"] = fc * min(max(s["coulomb"] / fc, 0.25), 0.6)
+    k = sorted((s[x] for x in k_names), reverse=True)
+    if len(k) > 1:
+        k[0] = min(k[0], 2.0 * k[1])
+    s.update(zip(k_names, k, strict=True))
+    return s
+
+
+def rigid_check(sol, solve, problem, names, fixed, tied, level) -> Solution:
+    """Refit with the smallest-threshold element rigid; flag it if that fits as well."""
+    from scipy import stats
+
+    values = dict(sol.values)
+    if not problem.equal:  # put the smallest threshold first
+        r = [values[c] / values[k] for k, c in zip(problem.k_names, problem.c_names, strict=True)]
+        j = int(np.argmin(r))
+        for a, b in ((problem.k_names[0], problem.k_names[j]),
+                     (problem.c_names[0], problem.c_names[j])):  # fmt: skip
+            values[a], values[b] = values[b], values[a]
+    extra = {"stiffness_1": values["stiffness_1"]}
+    if not problem.equal:
+        extra["breakaway_1"] = values["breakaway_1"]
+    alt = solve(values, rigid=True, extra=extra)
+    cost_free, cost_rigid = cost(sol), cost(alt)
+    dof = sol.residual.shape[0] - (len(names) - len(fixed) - len(tied))
+    if dof < 1 or not np.isfinite(cost_rigid):
+        return sol
+    s2 = cost_free / dof
+    q2 = float(stats.t.ppf(0.5 + level / 2, dof)) ** 2
+    excess = (cost_rigid - cost_free) / s2 if s2 > 0 else np.inf
+    if excess > q2:
+        return sol
+    ci = dict(sol.confidence_interval)
+    for x in names:
+        if x in alt.confidence_interval and x not in extra and x not in fixed:
+            (a, b), (c, d) = ci[x], alt.confidence_interval[x]
+            ci[x] = (min(a, c, alt.values[x]), max(b, d, alt.values[x]))
+    ci["stiffness_1"] = (ci["stiffness_1"][0], np.inf)
+    se = {**sol.standard_error, "stiffness_1": np.inf}
+    message = (
+        "the data do not separate the Coulomb element from the stiffest element: with that "
+        f"element rigid (k → ∞, coulomb = {alt.values['coulomb']:.6g}) the cost rises by only "
+        f"{excess:.3g}·s² ≤ t² = {q2:.3g} (profile bound at {100 * level:g} %); the intervals "
+        "span both fits"
+    )
+    return replace(sol, status="not_identifiable", message=message, confidence_interval=ci,
+                   standard_error=se)  # fmt: skip
+
+
+def bound_check(sol, start, names, fixed, tied, equal_breakaway) -> Solution:
+    """Status "at_bound" when a model parameter sits on its lower bound 0."""
+    if sol.status not in ("converged", "not_identifiable"):
+        return sol
+    free = [x for x in names if x not in fixed and x not in tied]
+    val = sol.values
+    k_max = max([val[x] for x in names if x.startswith("stiffness_")], default=0.0)
+    c_max = max([val[x] for x in names if x.startswith("breakaway_")], default=0.0)
+    scale = {
+        "mass": abs(start["mass"]),
+        "coulomb_level": abs(start.get("coulomb_level", 0.0)),
+        "coulomb": val.get("coulomb_level", val["coulomb"] + c_max),
+    }
+    at = []
+    for x in free:
+        ref = scale.get(x, k_max if x.startswith("stiffness_") else c_max)
+        if x not in ("initial_velocity", "initial_position") and val[x] <= _BOUND * ref:
+            at.append(f"{x} = 0")
+    if equal_breakaway and "coulomb" in free and val["coulomb"] >= val["coulomb_level"]:
+        at.append("coulomb = coulomb_level (no force left for the elements)")
+    if at:
+        message = (
+            f"the solution sits on a bound ({', '.join(at)}), where the linearised intervals "
+            f"do not hold; {sol.message}"
+        )
+        return replace(sol, status="at_bound", message=message)
+    if "initial_velocity" in free and val["initial_velocity"] == 0.0:
+        sol = replace(sol, message=sol.message + "; initial_velocity sits on its bound 0")
+    return sol
+
+
+def stiffest_first(sol: Solution, k_names: list[str]) -> Solution:
+    """Relabel the elements of equal break-away force by decreasing stiffness.
+
+    They are interchangeable, so only the sorted set is meaningful.
+    """
+    order = np.argsort([-sol.values[x] for x in k_names], kind="stable")
+    rename = {k_names[int(j)]: k_names[i] for i, j in enumerate(order)}
+
+    def relabel(d: dict) -> dict:
+        out = dict(d)
+        out.update({rename[x]: d[x] for x in k_names})
+        return out
+
+    return replace(
+        sol,
+        values=relabel(sol.values),
+        standard_error=relabel(sol.standard_error),
+        confidence_interval=relabel(sol.confidence_interval),
+    )

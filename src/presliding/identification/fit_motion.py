@@ -1,0 +1,194 @@
+"""Motion-equation fit: eq. 17 as a regression (the inverse model of section 4).
+
+With the measured driving force u, displacement y, velocity ẏ and acceleration
+ÿ, eq. 17 (with optional viscous and offset terms that real machines need) reads
+
+    m·ÿ + c1·sign(ẏ) + Σ_j k_j (y − x_j(y, r_j)) [+ F_v·ẏ] [+ F_0] = u.
+
+Every parameter but the thresholds r_j enters linearly: at fixed thresholds
+this is linear least squares (the classical "inverse dynamic identification
+model" when there are no elements); the thresholds follow by nonlinear least
+squares from a start found on a threshold grid (`presliding.identification._pi_regression`).
+
+When u = 0 throughout (a free response) the equation is homogeneous: the
+mass and every force are determined only up to a common factor. Fix the mass
+(``fixed={"mass": m}``) or use `fit_response`, which reports them per unit mass.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from presliding._validation import as_nonnegative_scalar, fmt
+from presliding.identification import _pi_regression as pr
+from presliding.identification.fit_presliding import (
+    _with_note,
+    check_enough,
+    check_fit_options,
+    check_varies,
+    derived_quantities,
+    element_count,
+    pi_model,
+)
+from presliding.identification.fit_result import FitResult, Tie
+from presliding.identification.measurement import Measurement
+
+__all__ = ["fit_motion", "predict_motion_force"]
+
+FloatArray = NDArray[np.float64]
+_NONNEGATIVE = (0.0, np.inf)
+
+
+def _design(m: Measurement, viscous: bool, offset: bool) -> tuple[FloatArray, tuple[str, ...]]:
+    columns = [m.acceleration, np.sign(m.velocity)]
+    names = ["mass", "coulomb"]
+    if viscous:
+        columns.append(m.velocity)
+        names.append("viscous")
+    if offset:
+        columns.append(np.ones(m.n_samples))
+        names.append("offset")
+    return np.column_stack(columns), tuple(names)
+
+
+def fit_motion(
+    measurement: Measurement,
+    n_elements: int | None = None,
+    thresholds: ArrayLike | None = None,
+    *,
+    viscous: bool = False,
+    offset: bool = False,
+    min_speed: float = 0.0,
+    refine_thresholds: bool = True,
+    fixed: Mapping[str, float] | None = None,
+    tied: Mapping[str, Tie] | None = None,
+    level: float = 0.95,
+    grid_size: int = pr.DEFAULT_GRID,
+    max_evaluations: int | None = None,
+    tolerance: float = 1e-8,
+) -> FitResult:
+    """Fit mass and friction parameters of eq. 17 by (separable) least squares.
+
+    Parameters
+    ----------
+    measurement : Measurement
+        Must hold `position`, `velocity`, `acceleration` and `applied_force`
+        (estimate the derivatives with ``measurement.differentiate(cutoff)``).
+    n_elements : int, optional
+        Number N of elasto-plastic elements (default 0: mass, Coulomb and the
+        optional terms only; or ``len(thresholds)``).
+    thresholds : array_like, shape (N,), optional
+        Start values r_j [m] instead of the grid search.
+    viscous : bool
+        Add F_v·ẏ (parameter ``viscous`` >= 0).
+    offset : bool
+        Add a constant force F_0 (parameter ``offset``).
+    min_speed : float
+        Samples with |ẏ| <= min_speed are left out of the residual (at rest the
+        Coulomb force is set-valued, and sign(ẏ) of a noisy estimate is
+        unreliable); the play operators still run through them.
+    refine_thresholds : bool
+        False keeps the thresholds at their start (a purely linear fit).
+    fixed, tied : mapping, optional
+        Held or tied parameters: ``mass``, ``coulomb``, ``viscous``, ``offset``,
+        ``stiffness_j``, ``threshold_j``.
+    level, grid_size, max_evaluations, tolerance : as in `fit_presliding`
+        Confidence level in (0, 1), grid size >= 2, evaluation limit >= 1 (or
+        None) and a positive tolerance.
+
+    Returns
+    -------
+    FitResult
+        Fitted applied force against time; ``model`` is the PI friction model
+        (Coulomb element c1 and the elements; viscous and offset terms are in
+        `parameters` only).
+    """
+    if not isinstance(measurement, Measurement):
+        raise TypeError(f"`measurement` must be a Measurement; got {type(measurement).__name__}.")
+    measurement.require(
+        "position", "velocity", "acceleration", "applied_force", purpose="fit_motion"
+    )
+    n = element_count(n_elements, thresholds, 0)
+    min_speed = as_nonnegative_scalar("min_speed", min_speed)
+    fixed, tied, level, grid_size, max_evaluations, tolerance = check_fit_options(
+        fixed, tied, level, grid_size, max_evaluations, tolerance
+    )
+    m = measurement
+    u = m.applied_force
+    if not np.any(u) and "mass" not in fixed:
+        raise ValueError(
+            "`applied_force` is zero throughout: mass and forces are then determined only up to "
+            "a common factor; fix the mass (fixed={'mass': ...}) or use fit_response."
+        )
+    check_varies("position", m.position)
+    check_varies("velocity", m.velocity)
+    used = np.abs(m.velocity) > min_speed
+    signs = np.sign(m.velocity[used])
+    if offset and not (np.any(signs > 0) and np.any(signs < 0)):
+        raise ValueError(
+            "`velocity` must change sign (among the samples used) to separate the Coulomb force "
+            "from the offset; it keeps one sign."
+        )
+    if n and pr.reversal_indices(m.position, 0.0).shape[0] == 0:
+        raise ValueError(
+            "`position` must reverse at least once to identify presliding elements; got a "
+            "monotone path."
+        )
+    design, names = _design(m, viscous, offset)
+    check_enough(int(used.sum()), len(names) + 2 * n)
+    fit = pr.fit_separable(
+        u, design, names, {k: _NONNEGATIVE for k in ("mass", "coulomb", "viscous") if k in names},
+        pr.stop_basis(m.position), n, grid=pr.threshold_grid(m.position, grid_size),
+        thresholds=thresholds, refine_thresholds=refine_thresholds, used=used, fixed=fixed,
+        tied=tied, level=level, max_evaluations=max_evaluations, tolerance=tolerance,
+    )  # fmt: skip
+    sol = fit.solution
+    model, note = pi_model(sol.values, n, sol.values["coulomb"])
+    return FitResult.from_solution(
+        _with_note(sol, note), model, m.time[used], u[used], fit.fitted[used],
+        kind="motion equation (eq. 17)", abscissa_label="time [s]",
+        signal_label="applied force [N]", derived=derived_quantities(model),
+    )  # fmt: skip
+
+
+def predict_motion_force(result: FitResult, measurement: Measurement) -> FloatArray:
+    """The force u that eq. 17 with the fitted parameters predicts along a measurement.
+
+    m·ÿ + c1·sign(ẏ) + Σ k_j (y − x_j) [+ F_v·ẏ] [+ F_0], with the elements
+    relaxed at the first sample: use it to validate a `fit_motion` result on
+    another record.
+
+    Parameters
+    ----------
+    result : FitResult
+        A result of `fit_motion` (its parameters ``mass``, ``coulomb``, the
+        elements' ``stiffness_j`` and ``threshold_j`` and the optional
+        ``viscous`` and ``offset``).
+    measurement : Measurement
+        Must hold `position`, `velocity` and `acceleration`.
+
+    Returns
+    -------
+    ndarray, shape (T,)
+        The predicted applied force u [N] at every sample of `measurement`.
+    """
+    if not isinstance(result, FitResult) or "mass" not in result.parameters:
+        what = "a FitResult without a mass" if isinstance(result, FitResult) else fmt(result)
+        raise TypeError(f"`result` must be a FitResult of fit_motion; got {what}.")
+    if not isinstance(measurement, Measurement):
+        raise TypeError(f"`measurement` must be a Measurement; got {type(measurement).__name__}.")
+    measurement.require("position", "velocity", "acceleration", purpose="the prediction")
+    p = result.parameters
+    m = measurement
+    force = p["mass"] * m.acceleration + p["coulomb"] * np.sign(m.velocity)
+    force = force + p.get("viscous", 0.0) * m.velocity + p.get("offset", 0.0)
+    n = sum(1 for k in p if k.startswith("stiffness_"))
+    if n:
+        k_names, r_names = pr.element_names(n)
+        k = np.array([p[x] for x in k_names])
+        r = np.array([p[x] for x in r_names])
+        force = force + pr.stop_basis(m.position)(r)[0] @ k
+    return force

@@ -1,0 +1,65 @@
+"""Compiled batches of exact motions: many parameter sets or initial velocities at once.
+
+Each member runs the exact event kernel (`presliding.motion._event.run_events`) on its
+own thread (``prange``); `free_kernel` is the single-run form used inside
+least-squares losses: it samples position and velocity on a uniform time grid
+with no Python work per call beyond argument checks.
+"""
+
+from __future__ import annotations
+
+import numba as nb
+import numpy as np
+
+from presliding.motion._event import run_events
+
+
+@nb.njit(cache=True)
+def free_kernel(
+    m, c1, k, r, f0, y0, v0, last_dir, u, dt, n_samples, max_events
+):  # pragma: no cover
+    """Position and velocity at t = i·dt, i < n_samples, under a constant force u.
+
+    Returns (position, velocity, status, stop_time (nan if moving), n_reversals,
+    n_filled, t_last): only the first ``n_filled`` samples are computed (all of
+    them when status is 0; fewer when the event limit stopped the run at t_last).
+    """
+    t_eval = np.arange(n_samples) * dt
+    t_end = max(t_eval[-1], dt)
+    o_y = np.empty(n_samples)
+    o_v = np.empty(n_samples)
+    scratch = np.empty((6, n_samples))
+    rev = np.empty((2, 64))
+    f = f0.copy()
+    u_t = np.zeros(1)
+    u_val = np.full(1, u)
+    res = run_events(
+        m, c1, k, r, f, y0, v0, last_dir, u_t, u_val, t_eval, t_end, max_events,
+        o_y, o_v, scratch[0], scratch[1], scratch[2], scratch[3], scratch[4], scratch[5],
+        rev[0], rev[1],
+    )  # fmt: skip
+    return o_y, o_v, res[0], res[3], res[2], res[1], res[10]
+
+
+@nb.njit(cache=True, parallel=True)
+def batch_events(  # pragma: no cover - compiled
+    m, c1, k, r, f0, y0, v0, last_dir, u_t, u_val, t_eval, t_end, max_events,
+    o_y, o_v, stop, n_rev, status, y_end, v_end,
+):  # fmt: skip
+    """Run member b with m[b], c1[b], k[b], r[b], f0[b], y0[b], v0[b], last_dir[b]."""
+    n_batch = m.shape[0]
+    n_t = t_eval.shape[0]
+    for b in nb.prange(n_batch):
+        scratch = np.empty((6, n_t))
+        rev = np.empty((2, 64))
+        f = f0[b].copy()
+        res = run_events(
+            m[b], c1[b], k[b], r[b], f, y0[b], v0[b], last_dir[b], u_t, u_val, t_eval, t_end,
+            max_events, o_y[b], o_v[b], scratch[0], scratch[1], scratch[2], scratch[3],
+            scratch[4], scratch[5], rev[0], rev[1],
+        )  # fmt: skip
+        status[b] = res[0]
+        n_rev[b] = res[2]
+        stop[b] = res[3]
+        y_end[b] = res[4]
+        v_end[b] = res[5]

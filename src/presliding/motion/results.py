@@ -1,0 +1,265 @@
+"""Result records of `presliding.motion`: `MotionResult` (with its `MotionEnergy`),
+`MotionBatch` and `FreeResponse`."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from presliding.hysteresis.general_pi import MemoryState
+from presliding.hysteresis.operators import PIState
+
+if TYPE_CHECKING:  # pragma: no cover
+    from matplotlib.axes import Axes
+
+FloatArray = NDArray[np.float64]
+
+
+@dataclass(frozen=True, eq=False)
+class MotionEnergy:
+    """Energy along a motion, sampled like the motion (the energy after eq. 12).
+
+    ``kinetic`` ½·m·v², ``elastic`` ½·Σ k_j f_j² (½·∫ f² dμ for a density),
+    ``dissipated`` by the Coulomb element and the sliding elements
+    (c1·|dy| + Σ c_j·|dx_j|), ``work`` of u (∫u dy),
+    ``residual`` = kinetic + elastic + dissipated − work − ``initial``: zero to
+    rounding for the event method; for the implicit method it equals minus the
+    numerical dissipation of the scheme (O(h)).
+    """
+
+    kinetic: FloatArray
+    elastic: FloatArray
+    dissipated: FloatArray
+    work: FloatArray
+    residual: FloatArray
+    initial: float
+
+    @property
+    def max_relative_residual(self) -> float:
+        """max |residual| over max(initial energy, max |work|), a scale-free balance check."""
+        scale = max(self.initial, float(np.max(np.abs(self.work), initial=0.0)))
+        if scale == 0.0:
+            return 0.0
+        return float(np.max(np.abs(self.residual), initial=0.0)) / scale
+
+
+@dataclass(frozen=True, eq=False)
+class MotionResult:
+    """A simulated motion of a mass with PI friction (eq. 17), sampled at ``time``.
+
+    Attributes
+    ----------
+    time, position, velocity, acceleration : ndarray, shape (T,)
+        Samples [s, m, m/s, m/s²].
+    friction_force : ndarray, shape (T,)
+        c1·σ + F_el with σ ∈ Sign(ẏ), equal to u − m·ÿ (at rest: exactly u) [N].
+    elastic_force : ndarray, shape (T,)
+        F_el = Σ k_j (y − x_j) [N].
+    applied_force : ndarray, shape (T,)
+        u at the sample times [N].
+    reversal_times, reversal_positions : ndarray
+        Where a new motion phase starts opposite to the previous one (the turning
+        points; for the implicit method, to the step).
+    stop_time : float or None
+        Start of the rest lasting until the end (see the module notes); None if the
+        mass moves at the end.
+    rest_position : float or None
+        Position at rest, None if it does not stop.
+    energy : MotionEnergy
+    final_state : PIState or MemoryState
+        The friction memory at the end (pass it on to continue); a MemoryState
+        for a model with a continuous density.
+    final_velocity : float
+    status : int
+        0 on success, negative on failure (-1: event limit reached; the samples
+        stop where the simulation stopped).
+    message : str
+    method : str
+        "event" or "implicit".
+    n_events : int
+        Events (event method) or steps (implicit method).
+    """
+
+    time: FloatArray
+    position: FloatArray
+    velocity: FloatArray
+    acceleration: FloatArray
+    friction_force: FloatArray
+    elastic_force: FloatArray
+    applied_force: FloatArray
+    reversal_times: FloatArray
+    reversal_positions: FloatArray
+    stop_time: float | None
+    rest_position: float | None
+    energy: MotionEnergy
+    final_state: PIState | MemoryState
+    final_velocity: float
+    status: int
+    message: str
+    method: str
+    n_events: int
+    mass: float
+    model: Any
+
+    @property
+    def success(self) -> bool:
+        """True when status is 0."""
+        return self.status == 0
+
+    @property
+    def n_reversals(self) -> int:
+        """Number of motion reversals (turning points before the stop)."""
+        return int(self.reversal_times.shape[0])
+
+    def plot(self, ax: Axes | None = None, *, kind: str = "time") -> Axes:
+        """Velocity over time ("time"), phase portrait ("phase") or force loop ("loop")."""
+        from presliding.plotting import plot_motion
+
+        return plot_motion(self, kind=kind, ax=ax)
+
+    def report(self) -> str:
+        """A readable summary of the motion."""
+        lines = [
+            f"Motion of a mass m = {self.mass:g} with {self.model!r}",
+            f"  method {self.method}: {self.n_events} "
+            + ("events" if self.method == "event" else "steps")
+            + f"; status {self.status} ({self.message})",
+            f"  time {self.time[0]:g} .. {self.time[-1]:g} ({self.time.shape[0]} samples)",
+        ]
+        if self.stop_time is None:
+            lines.append(f"  moving at the end: velocity {self.final_velocity:.6g}")
+        else:
+            lines.append(
+                f"  stops at t = {self.stop_time:.12g} at position {self.rest_position:.12g}"
+            )
+        lines.append(f"  reversals: {self.n_reversals}")
+        for t, y in zip(self.reversal_times[:10], self.reversal_positions[:10], strict=True):
+            lines.append(f"    t = {t:.12g}  y = {y:.12g}")
+        if self.n_reversals > 10:
+            lines.append(f"    ... {self.n_reversals - 10} more")
+        e = self.energy
+        lines.append(
+            f"  energy: initial {e.initial:.6g}, dissipated {e.dissipated[-1]:.6g}, "
+            f"work of u {e.work[-1]:.6g}, balance residual {e.max_relative_residual:.2e} "
+            "(relative)"
+        )
+        return "\n".join(lines)
+
+
+@dataclass(frozen=True, eq=False)
+class MotionBatch:
+    """Many exact motions on one time grid (`presliding.motion.simulate_batch`).
+
+    Attributes
+    ----------
+    time : ndarray, shape (T,)
+    position, velocity : ndarray, shape (B, T)
+    stop_time : ndarray, shape (B,)
+        Start of the final rest; ``inf`` where the member still moves at the end.
+    n_reversals : ndarray of int, shape (B,)
+    final_position, final_velocity : ndarray, shape (B,)
+    status : ndarray of int, shape (B,)
+        0 ok, -1 event limit reached (that member's samples after the limit are
+        not computed and hold ``nan``).
+    message : str
+    """
+
+    time: FloatArray
+    position: FloatArray
+    velocity: FloatArray
+    stop_time: FloatArray
+    n_reversals: NDArray[np.int64]
+    final_position: FloatArray
+    final_velocity: FloatArray
+    status: NDArray[np.int64]
+    message: str
+
+    @property
+    def success(self) -> bool:
+        """True when every member succeeded."""
+        return bool(np.all(self.status == 0))
+
+    @property
+    def stopped(self) -> NDArray[np.bool_]:
+        """Members at rest at the end."""
+        return np.isfinite(self.stop_time)
+
+    def plot(self, ax: Axes | None = None, *, kind: str = "velocity") -> Axes:
+        """Velocities ("velocity") or positions ("position") of all members over time."""
+        from presliding.plotting import plot_batch
+
+        return plot_batch(self, kind=kind, ax=ax)
+
+    def report(self) -> str:
+        """A readable summary."""
+        n = self.position.shape[0]
+        st = self.stop_time[self.stopped]
+        lines = [
+            f"{n} motions, {self.time.shape[0]} samples each; {self.message}",
+            f"  at rest at the end: {int(self.stopped.sum())} of {n}",
+        ]
+        if st.size:
+            lines.append(f"  stop times: {st.min():.6g} .. {st.max():.6g}")
+        lines.append(f"  reversals: {int(self.n_reversals.min())} .. {int(self.n_reversals.max())}")
+        return "\n".join(lines)
+
+
+@dataclass(frozen=True, eq=False)
+class FreeResponse:
+    """Exact samples of one motion at t = i·time_step (`presliding.motion.free_response`).
+
+    Attributes
+    ----------
+    time, position, velocity : ndarray, shape (T,)
+        Samples [s, m, m/s]; T = n_samples on success. When the event limit is
+        reached (status -1) only the samples before it are computed, and the
+        arrays end there (T < n_samples).
+    stop_time : float or None
+        Start of the final rest; None if the mass moves at the end.
+    n_reversals : int
+    status : int
+        0 on success, -1: the event limit was reached.
+    message : str
+    """
+
+    time: FloatArray
+    position: FloatArray
+    velocity: FloatArray
+    stop_time: float | None
+    n_reversals: int
+    status: int
+    message: str
+
+    @property
+    def success(self) -> bool:
+        """True when status is 0."""
+        return self.status == 0
+
+    def plot(self, ax: Axes | None = None) -> Axes:
+        """Velocity over time, the stop marked."""
+        from presliding.plotting import plot_free_response
+
+        return plot_free_response(self, ax=ax)
+
+    def report(self) -> str:
+        """A readable summary."""
+        n = self.time.shape[0]
+        span = f", t = {self.time[0]:g} .. {self.time[-1]:g}" if n else ""
+        lines = [
+            f"Free response: {n} samples{span}; status {self.status} ({self.message})",
+            f"  reversals: {self.n_reversals}",
+        ]
+        if not self.success:
+            lines.append(
+                "  not solved to the end: the samples end where the event limit stopped it"
+            )
+        elif self.stop_time is None:
+            lines.append(f"  moving at the end: velocity {self.velocity[-1]:.6g}")
+        else:
+            lines.append(
+                f"  stops at t = {self.stop_time:.12g} at position {self.position[-1]:.12g}"
+            )
+        return "\n".join(lines)

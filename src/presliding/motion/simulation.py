@@ -1,0 +1,208 @@
+"""Motion of a mass with PI friction and exact stiction (eqs. 12, 17).
+
+    m·ÿ + c1·Sign(ẏ) + Σ_j k_j (y − x_j(y, r_j)) = u(t)            (eq. 17)
+
+with the set-valued sign Sign(0) = [−1, 1]: at zero velocity the Coulomb element
+c1 carries any force up to c1, so the mass *sticks* iff |u − F_el| <= c1 (equality
+sticks) and stays exactly put, bit for bit, until that fails. Two methods:
+
+``"event"``
+    Exact for finite elements and a piecewise-constant u (a constant, or samples
+    with ``hold="zoh"``): the motion is solved in closed form between events and
+    the events (an element starting to slide, the velocity vanishing, a change of
+    u) are located analytically (see `presliding.motion._event`). Results are exact to
+    rounding at every time of `t_eval`.
+``"implicit"``
+    Any u(t) (callable, or samples with ``hold="linear"``): an implicit step that
+    solves the inclusion exactly (see `presliding.motion._implicit`); first order in the
+    step, stable for any step, no chatter and no creep at rest. A model with a
+    continuous density (eq. 10) always uses it, with the exact general PI
+    operator as the elastic force (see `presliding.motion._implicit_density`).
+
+``"auto"`` picks "event" whenever it applies.
+
+Stop. The mass *stops* when its velocity vanishes while |u − F_el| <= c1. For
+free motion (u constant) it then stays exactly at rest forever after:
+nothing changes any more, so the simulation ends there and the remaining
+samples repeat the rest state. ``stop_time`` is the start of the rest that lasts
+until ``t_end`` (None if the mass moves at ``t_end``); with a varying u a later
+change of u may set it in motion again.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from presliding._validation import as_choice, as_count, as_positive_scalar, as_real_scalar
+from presliding.friction.pi_friction import PIFriction
+from presliding.hysteresis.general_pi import MemoryState
+from presliding.hysteresis.operators import PIState
+from presliding.motion import _implicit_density as _density
+from presliding.motion import _run
+from presliding.motion._forcing import as_forcing
+from presliding.motion.batch import free_response, simulate_batch
+from presliding.motion.results import FreeResponse, MotionBatch, MotionEnergy, MotionResult
+
+__all__ = [
+    "FreeResponse",
+    "MotionBatch",
+    "MotionEnergy",
+    "MotionResult",
+    "free_response",
+    "simulate",
+    "simulate_batch",
+]
+
+FloatArray = NDArray[np.float64]
+METHODS = ("auto", "event", "implicit")
+
+
+def simulate(
+    model: PIFriction,
+    mass: float,
+    applied_force: float | ArrayLike | Any = 0.0,
+    initial_position: float = 0.0,
+    initial_velocity: float = 0.0,
+    initial_state: str | PIState | MemoryState = "relaxed",
+    t_end: float | None = None,
+    t_eval: ArrayLike | None = None,
+    method: str = "auto",
+    hold: str = "zoh",
+    step: float | None = None,
+    *,
+    t_start: float = 0.0,
+    max_events: int = 10_000_000,
+) -> MotionResult:
+    """Simulate m·ÿ + c1·Sign(ẏ) + F_el(y) ∋ u(t) (eq. 17) with exact stiction.
+
+    Parameters
+    ----------
+    model : PIFriction
+        The friction model: finite elements (eq. 8) or a density (eq. 10; only
+        the implicit method applies, with the exact continuous operator).
+    mass : float
+        m > 0 [kg].
+    applied_force : float, callable or (time, value) pair
+        u [N]: a constant; a function u(t) (called with an array of times; a
+        scalar function is vectorised); or samples held as `hold` says.
+    initial_position, initial_velocity : float
+        y(t_start) [m], ẏ(t_start) [m/s].
+    initial_state : "relaxed", "saturated", PIState or MemoryState
+        Friction memory at the start. "relaxed": no elastic deformation.
+        "saturated": every element at its threshold after sliding in the
+        direction of the initial velocity, or of u(t_start) when the velocity is
+        zero (steady sliding before t_start). A PIState (finite elements) or a
+        MemoryState (a density) must have ``last_input == initial_position``.
+    t_end : float
+        End time (> t_start); default ``t_eval[-1]``.
+    t_eval : array_like, optional
+        Strictly increasing sample times in [t_start, t_end]; default 1001
+        uniform samples.
+    method : "auto", "event" or "implicit"
+        "auto" picks "event" for finite elements with a piecewise-constant u,
+        otherwise "implicit"; "event" with a density is an error.
+    hold : "zoh" or "linear"
+        How samples of u are held between sample times.
+    step : float, optional
+        Largest step of the implicit method; default (t_end − t_start)/10⁴.
+        The grid contains every sample time.
+    t_start : float, keyword only
+        Start time [s] (default 0): the initial conditions hold at t_start, the
+        motion is solved on [t_start, t_end] and a sampled `applied_force` must
+        start at or before it.
+    max_events : int, keyword only
+        Event limit of the event method (status -1 when reached).
+
+    Returns
+    -------
+    MotionResult
+
+    Examples
+    --------
+    >>> import presliding as ps
+    >>> model = ps.PIFriction(coulomb=1.0, stiffness=[100.0], breakaway=[2.0])
+    >>> res = ps.simulate(model, mass=1.0, initial_velocity=1.0,
+    ...                   initial_state="saturated", t_end=2.0)
+    >>> round(res.stop_time, 12), res.n_reversals        # 1/3 + π·sqrt(m/k)/1: one reversal
+    (0.647492598692, 1)
+    """
+    _run.check_model(model, density_ok=True)
+    m = as_positive_scalar("mass", mass)
+    y0 = as_real_scalar("initial_position", initial_position)
+    v0 = as_real_scalar("initial_velocity", initial_velocity)
+    t0 = as_real_scalar("t_start", t_start)
+    forcing = as_forcing(applied_force, hold, t0)
+    method = as_choice("method", method, METHODS)
+    t_end, times = _run.time_grid(t0, t_end, t_eval)
+    max_events = as_count("max_events", max_events, minimum=1)
+    if method == "event" and not model.is_discrete:
+        raise ValueError(
+            "`method` 'event' needs a finite-element model (the closed-form pieces need "
+            "finitely many elements); got a continuous density "
+            f"{type(model.density).__name__}: use method='implicit' or 'auto'."
+        )
+    if method == "auto":
+        method = "event" if forcing.piecewise_constant and model.is_discrete else "implicit"
+    if method == "event" and not forcing.piecewise_constant:
+        raise ValueError(
+            "`method` 'event' needs a piecewise-constant `applied_force` (a constant, or "
+            f"samples with hold='zoh'); got a {forcing.kind} force with hold={forcing.hold!r}."
+        )
+    h = (t_end - t0) / 1e4 if step is None else as_positive_scalar("step", step)
+    u0 = float(forcing(np.array([t0]))[0])
+    if not model.is_discrete:
+        state, last_dir = _density.initial_memory(model, initial_state, y0, v0, u0)
+        out = _density.run(model.density, float(model.coulomb), m, state, v0, last_dir,
+                           forcing, times, t0, t_end, h)  # fmt: skip
+        e0, final_state = out["e0"], out["final_state"]
+    else:
+        f, last_dir = _run.initial_deformation(model, initial_state, y0, v0, u0)
+        k = np.ascontiguousarray(model.stiffness, dtype=np.float64)
+        r = np.ascontiguousarray(model.threshold, dtype=np.float64)
+        c1 = float(model.coulomb)
+        if method == "event":
+            out = _run.run_event(m, c1, k, r, f, y0, v0, last_dir, forcing, times, t0, t_end,
+                                 max_events)  # fmt: skip
+        else:
+            out = _run.run_implicit(m, c1, k, r, f, y0, v0, last_dir, forcing, times, t0,
+                                    t_end, h)  # fmt: skip
+        e0 = 0.5 * m * v0 * v0 + 0.5 * float(np.dot(k * f, f))
+        y_end = float(out["y"])
+        final_state = PIState(y_end, y_end - out["f"], out["dir"])
+    kinetic = 0.5 * m * out["velocity"] ** 2
+    energy = MotionEnergy(
+        kinetic=kinetic,
+        elastic=out["e_el"],
+        dissipated=out["dissipated"],
+        work=out["work"],
+        residual=kinetic + out["e_el"] + out["dissipated"] - out["work"] - e0,
+        initial=e0,
+    )
+    stop = None if np.isnan(out["stop"]) else float(out["stop"])
+    y_end = float(out["y"])
+    n = out["n"]
+    return MotionResult(
+        time=times[:n],
+        position=out["position"],
+        velocity=out["velocity"],
+        acceleration=out["acceleration"],
+        friction_force=out["friction"],
+        elastic_force=out["elastic"],
+        applied_force=out["applied"],
+        reversal_times=out["rev_t"],
+        reversal_positions=out["rev_y"],
+        stop_time=stop,
+        rest_position=None if stop is None else y_end,
+        energy=energy,
+        final_state=final_state,
+        final_velocity=float(out["v"]),
+        status=int(out["status"]),
+        message=out["message"],
+        method=method,
+        n_events=int(out["count"]),
+        mass=m,
+        model=model,
+    )

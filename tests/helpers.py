@@ -1,0 +1,110 @@
+"""Hypothesis strategies and small helpers shared by the presliding tests.
+
+Import them with ``from tests.helpers import ...``; the fixtures live in
+``conftest.py``.
+"""
+
+from __future__ import annotations
+
+import itertools
+
+import numpy as np
+from hypothesis import settings
+from hypothesis import strategies as st
+
+from presliding import PIFriction
+
+# ----------------------------------------------------------------- the paper's Figure 3
+#: c = [1, 1, 1], k2,3 = [10, 4] and k1 in {500, 50, 5} (Section 2, Figure 3).
+FIGURE3_FIRST_STIFFNESS = (500.0, 50.0, 5.0)
+FIGURE3_BREAKAWAY = (1.0, 1.0, 1.0)
+
+
+def figure3_model(k1: float, coulomb: float = 0.0) -> PIFriction:
+    return PIFriction(coulomb=coulomb, stiffness=[k1, 10.0, 4.0], breakaway=FIGURE3_BREAKAWAY)
+
+
+# ----------------------------------------------------------------- hypothesis
+PROPERTY = settings(max_examples=60, deadline=None)
+
+
+def _log_uniform(lo_exp: float, hi_exp: float) -> st.SearchStrategy[float]:
+    return st.floats(lo_exp, hi_exp, allow_nan=False).map(lambda e: float(10.0**e))
+
+
+@st.composite
+def banks(
+    draw: st.DrawFn, min_size: int = 1, max_size: int = 6, threshold_decades: tuple = (-2.0, 0.0)
+) -> tuple[np.ndarray, np.ndarray]:
+    """(stiffness k_j, threshold r_j) of a random bank of elasto-plastic elements."""
+    n = draw(st.integers(min_size, max_size))
+    k = draw(st.lists(_log_uniform(-1.0, 3.0), min_size=n, max_size=n))
+    r = draw(st.lists(_log_uniform(*threshold_decades), min_size=n, max_size=n))
+    return np.array(k), np.array(r)
+
+
+@st.composite
+def friction_models(draw: st.DrawFn, max_size: int = 6) -> PIFriction:
+    """A random PIFriction: c1 >= 0 (often 0) and 0..max_size elements."""
+    k, r = draw(banks(min_size=0, max_size=max_size))
+    if k.size == 0:
+        coulomb = draw(st.floats(0.01, 5.0))
+    else:
+        coulomb = draw(st.one_of(st.just(0.0), st.floats(0.0, 5.0)))
+    return PIFriction(coulomb, k, threshold=r)
+
+
+@st.composite
+def paths(
+    draw: st.DrawFn, scale: float = 1.0, min_size: int = 1, max_size: int = 60, offset: float = 0.0
+) -> np.ndarray:
+    """Random displacement samples (the path moves linearly between them), |y − offset| <= 5·scale.
+
+    Each sample is a jump to a new level (moves of several thresholds), a small
+    move from the previous sample (inside the play zones) or a repeat (no motion).
+    """
+    n = draw(st.integers(min_size, max_size))
+    kinds = draw(st.lists(st.sampled_from(["jump", "nudge", "stay"]), min_size=n, max_size=n))
+    samples = []
+    level = 0.0
+    for i, kind in enumerate(kinds):
+        if kind == "jump" or i == 0:
+            level = draw(st.floats(-2.0 * scale, 2.0 * scale))
+        elif kind == "nudge":
+            level = level + draw(st.floats(-0.05 * scale, 0.05 * scale))
+        samples.append(level)
+    return offset + np.clip(samples, -5.0 * scale, 5.0 * scale)
+
+
+@st.composite
+def turning_points(draw: st.DrawFn, scale: float = 1.0, max_size: int = 10) -> list[float]:
+    """Alternating turning points y_0, y_1, ... (each move reverses the previous one)."""
+    n = draw(st.integers(2, max_size))
+    lengths = draw(st.lists(st.floats(0.01 * scale, 2.0 * scale), min_size=n - 1, max_size=n - 1))
+    sign = draw(st.sampled_from([-1.0, 1.0]))
+    points = [draw(st.floats(-scale, scale))]
+    for length in lengths:
+        points.append(points[-1] + sign * length)
+        sign = -sign
+    return points
+
+
+def sample_between(points: list[float], step: float) -> np.ndarray:
+    """Samples along straight moves between the points, every point a sample."""
+    pieces = [np.array(points[:1], dtype=float)]
+    for a, b in itertools.pairwise(points):
+        n = max(1, int(np.ceil(abs(b - a) / step)))
+        pieces.append(a + (b - a) * np.arange(1, n + 1) / n)
+        pieces[-1][-1] = b
+    return np.concatenate(pieces)
+
+
+def one_error_line(capsys, *needles):
+    """The command printed exactly one error line, no traceback, containing each needle."""
+    err = capsys.readouterr().err
+    lines = err.strip().splitlines()
+    assert len(lines) == 1, err
+    assert "Traceback" not in err
+    for needle in needles:
+        assert needle in lines[0], lines[0]
+    return lines[0]
