@@ -8,7 +8,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import presliding.hysteresis.inverse as inverse_module
-from presliding.hysteresis.inverse import inverse_state, loading_slopes, pi_inverse
+from presliding.hysteresis.inverse import PIInverse, inverse_state, loading_slopes, pi_inverse
 from presliding.hysteresis.operators import PIOperator, PIState, stop
 
 SETTINGS = settings(max_examples=60, deadline=None)
@@ -154,9 +154,13 @@ def test_default_operator_unchanged_and_linear_term_added():
     np.testing.assert_allclose(plain, stop(y, r) @ w, rtol=0, atol=1e-11)
 
 
-def test_friction_bank_alone_is_not_invertible():
-    with pytest.raises(ValueError, match=r"saturates at ±Σ w_j r_j = ±2\.0.*positive `linear`"):
-        PIOperator([1.0], [2.0]).inverse()
+def test_friction_bank_alone_is_inverted_on_its_range():
+    inv = PIOperator([1.0], [2.0]).inverse()
+    assert isinstance(inv, PIInverse) and inv.max_elastic_force == 2.0
+    y, _ = inv.apply([0.0, 1.0, 1.999, -1.5])
+    np.testing.assert_allclose(y, [0.0, 0.5, 0.9995, -0.75], rtol=0, atol=1e-15)
+    with pytest.raises(ValueError, match=r"below the Coulomb level F_c = .* = 2\.0 .*got -2\.0 at"):
+        inv.apply([0.0, -2.0])
 
 
 def test_decreasing_loading_curve_is_rejected():
@@ -185,14 +189,115 @@ def test_module_examples():
     assert doctest.testmod(inverse_module).failed == 0
 
 
-def test_friction_elastic_part_is_not_invertible_but_with_a_spring_it_is():
+def test_friction_elastic_part_is_inverted_on_its_range_and_with_a_spring_everywhere():
     from presliding import PIFriction
 
     model = PIFriction(coulomb=0.2, stiffness=[100.0, 20.0], breakaway=[0.5, 0.5])
-    with pytest.raises(ValueError, match=r"saturates at ±Σ w_j r_j = ±1\.0"):
-        model.operator.inverse()
+    inv = model.operator.inverse()
+    with pytest.raises(ValueError, match=r"F_c = c1 \+ Σ w_j r_j = 1\.0 in magnitude"):
+        inv.apply([0.0, 1.4])
     op = model.operator
     with_spring = PIOperator(op.threshold, op.weight, linear=5.0)
     force = np.array([0.0, 1.4, -1.4, 0.3])  # beyond F_m = 1: reachable thanks to the spring
     y, _ = with_spring.inverse().apply(force)
     np.testing.assert_allclose(with_spring.apply(y)[0], force, rtol=0, atol=1e-13)
+
+
+# ----------------------------------------------------------------- the inverse on the range
+
+
+@st.composite
+def friction_banks(draw):
+    """A bank without a linear term (equal thresholds now and then) and c1 (often 0)."""
+    n = draw(st.integers(1, 6))
+    r = draw(st.lists(st.floats(0.01, 2.0), min_size=n, max_size=n))
+    if n > 1 and draw(st.booleans()):
+        r[1] = r[0]
+    w = draw(st.lists(st.floats(0.05, 20.0), min_size=n, max_size=n))
+    c1 = draw(st.one_of(st.just(0.0), st.floats(0.0, 3.0)))
+    return PIOperator(r, w), c1
+
+
+fractions = st.lists(st.floats(-0.999, 0.999), min_size=2, max_size=60).map(np.array)
+
+
+@SETTINGS
+@given(friction_banks(), paths, fractions)
+def test_range_inverse_balances_the_force_from_any_memory(bank, history, fraction):
+    """Forward F_el(y) = play_c1[u]; the contact moves only where |u − F_el| = c1."""
+    op, c1 = bank
+    inv = PIInverse(op, coulomb=c1)
+    u = fraction * inv.force_limit
+    _, memory = op.apply(history)
+    y, end = inv.apply(u, memory)
+    fel, fwd_end = op.apply(y, memory)
+    expected = inv.elastic_force(u, memory)
+    tol = 1e-11 * inv.force_limit
+    np.testing.assert_allclose(fel, expected, rtol=0, atol=tol)
+    assert np.all(np.abs(u - fel) <= c1 + tol)
+    moved = np.abs(np.diff(np.r_[memory.last_input, y])) > 1e-9 * max(1.0, np.max(np.abs(y)))
+    if c1 > 0:
+        np.testing.assert_allclose(np.abs(u - fel)[moved], c1, rtol=0, atol=tol)
+    np.testing.assert_array_equal(end.play, fwd_end.play)
+
+
+@SETTINGS
+@given(friction_banks(), fractions, st.integers(1, 59))
+def test_range_inverse_chunked_equals_whole(bank, fraction, cut):
+    op, c1 = bank
+    inv = PIInverse(op, coulomb=c1)
+    u = fraction * inv.force_limit
+    whole, _ = inv.apply(u)
+    cut = min(cut, u.shape[0] - 1)
+    first, mid = inv.apply(u[:cut])
+    second, _ = inv.apply(u[cut:], mid)
+    np.testing.assert_allclose(np.r_[first, second], whole, rtol=0, atol=_scale(whole))
+
+
+def test_range_inverse_closed_form_one_element_with_coulomb():
+    """One element k, r and c1: y = play_c1[u]/k while |F_el| < k·r."""
+    k, r, c1 = 50.0, 0.02, 0.3
+    inv = PIInverse(PIOperator([r], [k]), coulomb=c1)
+    u = np.array([0.0, 0.2, 1.0, 0.8, -0.9, 0.0])
+    y, state = inv.apply(u)
+    fel = np.array([0.0, 0.0, 0.7, 0.7, -0.6, -0.3])
+    np.testing.assert_allclose(y, fel / k, rtol=0, atol=1e-15)
+    assert state.direction == 1.0 and state.last_input == pytest.approx(-0.3 / k)
+
+
+def test_range_inverse_of_saturated_memory_moves_only_away_from_saturation():
+    op = PIOperator([0.1, 0.3], [5.0, 2.0])
+    inv = PIInverse(op, coulomb=0.1)
+    sat = PIState.saturated(0.7, op.threshold, 1)  # F_el = F_m = 1.1
+    y, _ = inv.apply([1.15, 1.0, 0.9], sat)
+    np.testing.assert_allclose(y[:2], 0.7, rtol=0, atol=1e-15)  # |u − F_m| <= c1: at rest
+    # F_el = u + c1 = 1.0 on the way down, with the stiffness Σ w = 7 right after reversal
+    assert y[2] == pytest.approx(0.7 - 0.1 / 7.0, rel=1e-12)
+
+
+def test_range_inverse_errors_and_inverse_of_inverse():
+    op = PIOperator([0.1, 0.3], [5.0, 2.0])
+    assert PIInverse(op).inverse() is op
+    assert inverse_state(op, op.relaxed_state(0.2)).last_input == 0.2
+    with pytest.raises(ValueError, match="set-valued at rest"):
+        PIInverse(op, coulomb=0.1).inverse()
+    with pytest.raises(ValueError, match="must have no linear term"):
+        PIInverse(PIOperator([0.1], [1.0], linear=1.0))
+    with pytest.raises(ValueError, match="positive weights to be invertible on its range; got"):
+        PIInverse(PIOperator([0.1, 0.2], [1.0, -1.0]))
+    with pytest.raises(ValueError, match="`coulomb` must be"):
+        PIInverse(op, coulomb=-1.0)
+    with pytest.raises(TypeError, match="`state` must be a PIState or None"):
+        PIInverse(op).apply([0.0], "relaxed")
+
+
+def test_friction_model_inverse():
+    from presliding import PIFriction, Uniform
+
+    model = PIFriction(0.2, [100.0, 20.0], breakaway=[0.5, 0.5])
+    inv = model.inverse()
+    assert inv.coulomb == 0.2 and inv.force_limit == pytest.approx(model.coulomb_level)
+    with pytest.raises(ValueError, match="must have elasto-plastic elements"):
+        PIFriction(0.5).inverse()
+    with pytest.raises(ValueError, match="continuous density"):
+        PIFriction(0.1, density=Uniform(1.0, 1.0)).inverse()

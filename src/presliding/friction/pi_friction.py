@@ -33,6 +33,7 @@ from presliding._validation import (
 from presliding.hysteresis import _kernels
 from presliding.hysteresis.densities import Density, Discrete
 from presliding.hysteresis.general_pi import GeneralPIOperator, MemoryState, run_density
+from presliding.hysteresis.inverse import PIInverse
 from presliding.hysteresis.operators import PIOperator, PIState, start_memory
 
 __all__ = ["PIFriction"]
@@ -164,6 +165,33 @@ class PIFriction:
         if self.stiffness is None:
             return GeneralPIOperator(self.density)  # type: ignore[arg-type]
         return PIOperator(self.threshold, self.stiffness)
+
+    def inverse(self) -> PIInverse:
+        """The quasi-static inverse: applied force u → displacement y (module notes of inverse).
+
+        With inertia negligible the contact moves only while |u − F_el| > c1,
+        and then F_el(y) = u ∓ c1: the elastic force is a play of threshold c1
+        on u, and y follows from the inverse of the bank on its range.
+
+        Returns
+        -------
+        PIInverse
+            ``apply(u, state)`` gives y and the final memory; defined while
+            |u| < F_c (eq. 9).
+
+        Raises
+        ------
+        ValueError
+            For a model without elements (pure Coulomb friction: the position is
+            not determined by the force) or with a continuous density.
+        """
+        if not self.is_discrete or self.n_elements == 0:
+            what = "a continuous density" if not self.is_discrete else "no elements"
+            raise ValueError(
+                "`model` must have elasto-plastic elements for a quasi-static inverse (the "
+                f"displacement is determined by the elastic force only); got {what}."
+            )
+        return PIInverse(self.operator, coulomb=self.coulomb)
 
     def __eq__(self, other: object) -> bool:
         if not isinstance(other, PIFriction):

@@ -8,8 +8,8 @@ Files
 operators.py            `play`, `stop` (eqs. 3, 5, 11), `PIOperator` (eq. 4) and its `PIState`
 general_pi.py           `GeneralPIOperator` and `MemoryState`: the exact operator of a density μ
 densities.py            the distributions μ of section 3: `Discrete`, `Uniform`, `Exponential`, …
-inverse.py              `pi_inverse`, `inverse_state`: the inverse PI operator (compensation)
-_inversion.py           the inverse's parameters from the loading-curve slopes
+inverse.py              `pi_inverse`, `inverse_state`, `PIInverse`: inverse operators (compensation)
+_inversion.py           the inverse's parameters from the loading-curve slopes (and on the range)
 _kernels.py, _fused.py  compiled play/stop loops, time-blocked and batched
 _general_pi.py          compiled kernels of the general operator (closed-form pieces)
 _density_base.py, _density_primitives.py, _tabulated.py   the density classes and their primitives
@@ -26,7 +26,7 @@ from presliding.hysteresis.densities import (
     Uniform,
 )
 from presliding.hysteresis.general_pi import GeneralPIOperator, MemoryState
-from presliding.hysteresis.inverse import inverse_state, pi_inverse
+from presliding.hysteresis.inverse import PIInverse, inverse_state, pi_inverse
 from presliding.hysteresis.operators import PIOperator, PIState, play, stop
 
 __all__ = [
@@ -35,6 +35,7 @@ __all__ = [
     "Exponential",
     "GeneralPIOperator",
     "MemoryState",
+    "PIInverse",
     "PIOperator",
     "PIState",
     "PiecewiseConstant",

@@ -41,23 +41,46 @@ The memories correspond through
 valid for memories reachable from a relaxed or saturated state, which satisfy
 |s_k − s_{k+1}| <= r_{k+1} − r_k.
 
-What is invertible: a friction bank alone (a = 0, w_j > 0) is not — its force
-saturates at ±F_m = ±Σ w_j r_j, and forces beyond cannot be produced by any
-displacement (φ⁻¹ has a vertical asymptote at F_m). A PI operator with a
-positive linear term a > 0 and positive weights is invertible for all F; with
-mixed-sign weights it is invertible iff all K_k > 0 (then its inverse is one
-too, so ``op.inverse().inverse()`` recovers ``op``).
+What is invertible: a PI operator with a positive linear term a > 0 and
+positive weights is invertible for all F; with mixed-sign weights it is
+invertible iff all K_k > 0 (then its inverse is one too, so
+``op.inverse().inverse()`` recovers ``op``).
+
+A friction bank alone (a = 0, w_j > 0) saturates at ±F_m = ±Σ w_j r_j: forces
+beyond cannot be produced by any displacement (φ⁻¹ has a vertical asymptote at
+F_m), and at ±F_m the displacement is not unique. On the range |F| < F_m it is
+invertible (`PIInverse`): the element of the largest threshold r_M sticks there
+(a reachable memory with s_M = ±r_M has every element saturated), so its play
+output x_M is an anchor, and letting a → 0 in the formulas above,
+
+    y = x_M + F/K_M + Σ_{k < M} v_k σ_k        (σ_k: stops of threshold ρ_k on F).
+
+With a Coulomb element c1 (eq. 8) the quasi-static balance u = c1·sign(ẏ) + F_el
+(inertia negligible) moves the contact only while |u − F_el| > c1, and then
+F_el = u ∓ c1: on the force side c1 acts as a play operator of threshold c1,
+F_el = play_{c1}[u], and y = Φ⁻¹[F_el]. A stop of zero threshold is the
+Coulomb element itself; `PIInverse(operator, coulomb=c1)` is this inverse of
+the whole friction model, defined while |u| < F_c = c1 + F_m (eq. 9).
 """
 
 from __future__ import annotations
 
+from dataclasses import dataclass, field
+from typing import Any
+
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
-from presliding.hysteresis._inversion import merged, slopes
-from presliding.hysteresis.operators import _SLACK, PIOperator, PIState
+from presliding._validation import as_nonnegative_scalar, as_signal, fmt
+from presliding.hysteresis import _kernels
+from presliding.hysteresis._inversion import (
+    inverse_deformations,
+    range_inverse_parameters,
+    slopes,
+)
+from presliding.hysteresis.operators import _SLACK, RANGE_INVERSE, PIOperator, PIState
 
-__all__ = ["inverse_state", "loading_slopes", "pi_inverse"]
+__all__ = ["PIInverse", "inverse_state", "loading_slopes", "pi_inverse"]
 
 FloatArray = NDArray[np.float64]
 
@@ -82,26 +105,29 @@ def loading_slopes(operator: PIOperator) -> tuple[FloatArray, FloatArray]:
     return slopes(op.threshold, op.weight, op.linear)
 
 
-def pi_inverse(operator: PIOperator) -> PIOperator:
+def pi_inverse(operator: PIOperator) -> PIOperator | PIInverse:
     """The inverse PI operator: thresholds ρ_k = φ(r_k), weights 1/K_k − 1/K_{k+1}, linear 1/a.
 
     Parameters
     ----------
     operator : PIOperator
         F = a·y + Σ w_j stop_j(y); every slope K_k of its loading curve must be
-        positive (for positive weights: ``linear > 0``).
+        positive (for positive weights: ``linear > 0``), or ``linear`` 0 with
+        positive weights (a friction bank, inverted on its range).
 
     Returns
     -------
-    PIOperator
-        y = (1/a)·F + Σ v_k stop_k(F), with one element per distinct threshold.
-        Start it from `inverse_state` of the forward memory (a relaxed forward
-        state at y0 corresponds to a relaxed inverse state at F0 = a·y0).
+    PIOperator or PIInverse
+        With a linear term: y = (1/a)·F + Σ v_k stop_k(F), with one element per
+        distinct threshold, defined for every F. Start it from `inverse_state`
+        of the forward memory (a relaxed forward state at y0 corresponds to a
+        relaxed inverse state at F0 = a·y0). Without one: a `PIInverse`,
+        defined while |F| < F_m = Σ w_j r_j, started from the forward memory.
 
     Raises
     ------
     ValueError
-        If a slope is not positive: the operator has no inverse on all of R.
+        If a slope is not positive: the operator has no inverse.
 
     Examples
     --------
@@ -135,7 +161,9 @@ def inverse_state(operator: PIOperator, state: PIState) -> PIState:
     -------
     PIState
         The memory of ``pi_inverse(operator)`` (one play state per element of
-        the inverse), with last input the forward output F.
+        the inverse), with last input the forward output F. For an operator
+        without a linear term, whose `PIInverse` runs from the forward memory
+        itself, `state` (checked).
 
     Raises
     ------
@@ -148,9 +176,9 @@ def inverse_state(operator: PIOperator, state: PIState) -> PIState:
     if not isinstance(state, PIState):
         raise TypeError(f"`state` must be a PIState; got {type(state).__name__}.")
     state.check_against(operator.threshold)
-    _, w, first = merged(operator.threshold, operator.weight)
+    if isinstance(inverse, PIInverse):
+        return state  # the inverse on the range runs from the forward memory itself
     s_all = state.deformation
-    s = s_all[first]
     # Reachable memories are 1-Lipschitz in the threshold (equal thresholds: equal s).
     order = np.argsort(operator.threshold, kind="stable")
     s_sorted, r_sorted = s_all[order], operator.threshold[order]
@@ -165,9 +193,167 @@ def inverse_state(operator: PIOperator, state: PIState) -> PIState:
             f"between thresholds {r_sorted[j]!r} and {r_sorted[j + 1]!r}."
         )
     a = operator.linear
-    head = np.cumsum(w * s)  # Σ_{j <= k} w_j s_j
-    tail = np.append(np.cumsum(w[::-1])[::-1][1:], 0.0)  # Σ_{j > k} w_j
-    sigma = a * s + head + s * tail
+    sigma = inverse_deformations(operator.threshold, operator.weight, a, s_all)
     force = a * state.last_input + float(np.dot(operator.weight, s_all))
     sigma = np.clip(sigma, -inverse.threshold, inverse.threshold)  # rounding only (≲ 1 ulp)
     return PIState(force, force - sigma, state.direction)
+
+
+@dataclass(frozen=True, eq=False)
+class PIInverse:
+    """Inverse of a friction bank with a Coulomb element, on its range: force → displacement.
+
+    The quasi-static balance of eq. 8 (inertia and viscous friction negligible),
+    u = c1·sign(ẏ) + Σ w_j (y − x_j(y, r_j)), solved for the displacement y:
+    the elastic force follows the applied force through a play of threshold c1,
+    F_el = play_{c1}[u] (the contact moves only while |u − F_el| > c1), and
+    y = x_M + F_el/K_M + Σ_{k < M} v_k σ_k inverts the bank (module notes).
+
+    Parameters
+    ----------
+    operator : PIOperator
+        The elastic bank F_el = Σ w_j stop_j(y): no linear term, positive
+        weights (the stiffnesses k_j, thresholds r_j of eq. 6).
+    coulomb : float, keyword only
+        The Coulomb element c1 >= 0 [N] (default 0: the bank alone).
+
+    Notes
+    -----
+    Defined while |u| < F_c = c1 + F_m (eq. 9), F_m = Σ w_j r_j: at F_c the
+    contact slides (gross sliding has no quasi-static position). The state is
+    the forward memory (`PIState` of `operator`): `apply` returns the memory at
+    the end, and F_el = Σ w_j (y − x_j) of that memory is where the next call
+    starts, so chunked evaluation equals one call (to rounding).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> bank = PIOperator(threshold=[1e-3, 4e-3], weight=[500.0, 100.0])
+    >>> inv = PIInverse(bank, coulomb=0.2)
+    >>> y, state = inv.apply(np.array([0.0, 0.6, 0.1, -0.5]))
+    >>> bool(np.isclose(0.2 + bank.apply(y[:2])[0][-1], 0.6))
+    True
+    """
+
+    operator: PIOperator
+    coulomb: float = field(default=0.0, kw_only=True)
+
+    def __post_init__(self) -> None:
+        op = _check_operator(self.operator)
+        if op.linear != 0.0:
+            raise ValueError(
+                "`operator` of a PIInverse must have no linear term (pi_inverse inverts one "
+                f"with a linear term on all forces); got linear {fmt(op.linear)}."
+            )
+        rho, v, lin, anchor = range_inverse_parameters(op.threshold, op.weight)
+        object.__setattr__(self, "coulomb", as_nonnegative_scalar("coulomb", self.coulomb))
+        object.__setattr__(self, "_parts", (rho, v, lin, anchor))
+
+    @property
+    def max_elastic_force(self) -> float:
+        """F_m = Σ w_j r_j: the bank's saturation force."""
+        return float(self.operator.weight @ self.operator.threshold)
+
+    @property
+    def force_limit(self) -> float:
+        """F_c = c1 + F_m (eq. 9): the inverse is defined while |u| < F_c."""
+        return self.coulomb + self.max_elastic_force
+
+    def relaxed_state(self, position: float = 0.0) -> PIState:
+        """The forward bank relaxed at `position` (no elastic force, no motion yet)."""
+        return self.operator.relaxed_state(position)
+
+    def elastic_force(self, force: ArrayLike, state: PIState | None = None) -> Any:
+        """F_el = play_{c1}[u]: the elastic force balancing the applied force u.
+
+        Parameters
+        ----------
+        force : array_like, shape (T,)
+            Applied force u [N], monotone between samples.
+        state : PIState, optional
+            Forward memory before the first sample (default relaxed at 0).
+
+        Returns
+        -------
+        ndarray, shape (T,)
+        """
+        u = as_signal("force", force)
+        state = self._state(state)
+        return self._elastic(u, float(self.operator.weight @ state.deformation))
+
+    def apply(self, force: ArrayLike, state: PIState | None = None) -> tuple[Any, PIState]:
+        """Displacement y(t) under the applied force u(t), quasi-statically.
+
+        Parameters
+        ----------
+        force : array_like, shape (T,)
+            Applied force u [N], monotone between samples, |u| < `force_limit`.
+        state : PIState, optional
+            Memory of the forward bank before the first sample (its elastic
+            force is where the play of c1 starts); default relaxed at y = 0.
+
+        Returns
+        -------
+        position : ndarray, shape (T,)
+            y [m] with c1·sign(ẏ) + F_el(y) = u while it moves, |u − F_el| <= c1 at rest.
+        final_state : PIState
+            The forward memory after the last sample.
+
+        Raises
+        ------
+        ValueError
+            If some |u| >= F_c (gross sliding: no quasi-static position).
+        """
+        u = as_signal("force", force)
+        state = self._state(state)
+        limit = self.force_limit
+        bad = ~(np.abs(u) < limit)
+        if bad.any():
+            i = int(np.argmax(bad))
+            raise ValueError(
+                "`force` must stay below the Coulomb level F_c = c1 + Σ w_j r_j = "
+                f"{fmt(limit)} in magnitude (at F_c the contact slides: gross sliding has no "
+                f"quasi-static position); got {fmt(u[i])} at index {i}."
+            )
+        op = self.operator
+        s = state.deformation
+        fel0 = float(op.weight @ s)
+        fel = self._elastic(u, fel0)
+        rho, v, lin, anchor = self._parts  # type: ignore[attr-defined]
+        if rho.shape[0]:
+            sigma = inverse_deformations(op.threshold, op.weight, 0.0, s)[:-1]
+            sigma = np.clip(sigma, -rho, rho)  # rounding only (≲ 1 ulp)
+            start = PIState(fel0, fel0 - sigma, state.direction)
+            relative, _ = PIOperator(rho, v, linear=lin).apply(fel, start)
+        else:
+            relative = lin * fel
+        y = state.play[anchor] + relative
+        _, final = op.apply(y, state)
+        return y, final
+
+    def inverse(self) -> PIOperator:
+        """The forward bank (only without a Coulomb element, whose force is set-valued at rest)."""
+        if self.coulomb != 0.0:
+            raise ValueError(
+                "the force of a Coulomb element is set-valued at rest, so the displacement does "
+                f"not determine it; got coulomb {fmt(self.coulomb)} (inverse needs 0)."
+            )
+        return self.operator
+
+    def _state(self, state: PIState | None) -> PIState:
+        if state is None:
+            return self.operator.relaxed_state(0.0)
+        if not isinstance(state, PIState):
+            raise TypeError(f"`state` must be a PIState or None; got {type(state).__name__}.")
+        state.check_against(self.operator.threshold)
+        return state
+
+    def _elastic(self, u: Any, fel0: float) -> Any:
+        if self.coulomb == 0.0:
+            return u.copy()
+        out = _kernels.empty_outputs(u.shape[0], 1)
+        _kernels.play_outputs(u, np.array([self.coulomb]), np.array([fel0]), out)
+        return out[:, 0].copy()
+
+
+RANGE_INVERSE["PIInverse"] = PIInverse

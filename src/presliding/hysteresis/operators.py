@@ -27,6 +27,7 @@ with bit-identical results.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -50,6 +51,11 @@ FloatArray = NDArray[np.float64]
 # Play states produced by the kernel may exceed the threshold by rounding of
 # y ± r; states are accepted within this relative slack.
 _SLACK = 16 * np.finfo(np.float64).eps
+
+#: The inverse on its range of a bank without a linear term, registered by
+#: `presliding.hysteresis.inverse` (``PIInverse``) when the package is imported,
+#: so that `PIOperator.inverse` can return it without importing that module.
+RANGE_INVERSE: dict[str, type] = {}
 
 
 @dataclass(frozen=True, eq=False)
@@ -303,13 +309,18 @@ class PIOperator:
         d = _kernels.last_direction(yv, prev, direction)
         return out, PIState(float(yv[-1]), x, d)
 
-    def inverse(self) -> PIOperator:
+    def inverse(self) -> Any:
         """The inverse PI operator, y = inverse(F) (see `presliding.hysteresis.inverse.pi_inverse`).
 
-        Defined when every slope of the initial loading curve is positive, e.g.
-        ``linear > 0`` with positive weights; raises ValueError otherwise. Start
-        it from ``presliding.hysteresis.inverse.inverse_state(self, state)``.
+        With ``linear > 0`` (or mixed weights and every slope of the initial
+        loading curve positive) a `PIOperator` on all forces; start it from
+        ``presliding.hysteresis.inverse.inverse_state(self, state)``. Without a
+        linear term and with positive weights (a friction bank) a
+        ``presliding.hysteresis.inverse.PIInverse``, defined on the range
+        |F| < F_m = Σ w_j r_j, which raises outside it. ValueError otherwise.
         """
+        if self.linear == 0.0 and np.all(self.weight > 0):
+            return RANGE_INVERSE["PIInverse"](self)
         rho, weight, linear = inverse_parameters(self.threshold, self.weight, self.linear)
         return PIOperator(rho, weight, linear=linear)
 
