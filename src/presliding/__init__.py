@@ -30,6 +30,7 @@ from presliding.friction import (
     LuGreState,
     PIFriction,
     compare,
+    preloaded_state,
 )
 from presliding.hysteresis import (
     Density,
@@ -62,7 +63,9 @@ from presliding.motion import (
     MotionBatch,
     MotionEnergy,
     MotionResult,
+    QuasiStaticResponse,
     free_response,
+    quasi_static_response,
     simulate,
     simulate_batch,
 )
@@ -115,6 +118,7 @@ __all__ = [
     "PIOperator",
     "PIState",
     "PiecewiseConstant",
+    "QuasiStaticResponse",
     "SweepResult",
     "Tabulated",
     "TurningPoints",
@@ -134,6 +138,8 @@ __all__ = [
     "pi_inverse",
     "play",
     "predict_motion_force",
+    "preloaded_state",
+    "quasi_static_response",
     "signals",
     "simulate",
     "simulate_batch",

@@ -4,6 +4,7 @@ Files
 -----
 simulation.py         `simulate`: one motion, by the exact event method or an implicit step
 batch.py              `simulate_batch` and `free_response`: many motions at once
+quasi_static.py       `quasi_static_response`: position under a slow force (exact, c1 included)
 results.py            `MotionResult`, `MotionEnergy`, `MotionBatch`, `FreeResponse`
 _run.py               set-up and runners behind `simulate` (validation, grids, kernel calls)
 _event.py             the exact event kernel: closed-form pieces between events
@@ -17,6 +18,7 @@ It does not import `presliding.analysis` (a sibling layer).
 """
 
 from presliding.motion.batch import free_response, simulate_batch
+from presliding.motion.quasi_static import QuasiStaticResponse, quasi_static_response
 from presliding.motion.results import FreeResponse, MotionBatch, MotionEnergy, MotionResult
 from presliding.motion.simulation import simulate
 
@@ -25,7 +27,9 @@ __all__ = [
     "MotionBatch",
     "MotionEnergy",
     "MotionResult",
+    "QuasiStaticResponse",
     "free_response",
+    "quasi_static_response",
     "simulate",
     "simulate_batch",
 ]

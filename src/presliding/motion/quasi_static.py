@@ -1,0 +1,197 @@
+"""Quasi-static response: the position under a slowly applied force (torque-driven presliding).
+
+When the applied force u changes slowly enough that inertia (m·ÿ) and viscous
+friction (σ·ẏ) are negligible, eq. 17 reduces to the balance
+
+    u = c1·sign(ẏ) + F_el(y),       F_el = Σ_j k_j (y − x_j(y, r_j))   (eq. 8).
+
+The contact moves only while |u − F_el| > c1, and then F_el(y) = u ∓ c1: the
+elastic force is a play operator of threshold c1 acting on u, and the position
+follows from the inverse of the elastic bank on its range |F_el| < F_m
+(`presliding.hysteresis.PIInverse`). The result is exact (no time stepping), and
+the Coulomb element c1 is included exactly. For |u| >= F_c = c1 + F_m (eq. 9)
+the contact slides without bound: there is no quasi-static position, and
+`quasi_static_response` raises.
+
+This is the torque-in/position-out model of a joint driven by a slow torque
+below break-away; `presliding.identification.fit_quasi_static` fits it to
+measured positions.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from presliding._validation import as_signal, check_increasing, check_same_length
+from presliding.friction.pi_friction import PIFriction
+from presliding.hysteresis.operators import PIState
+
+if TYPE_CHECKING:  # pragma: no cover
+    from matplotlib.axes import Axes
+
+__all__ = ["QuasiStaticResponse", "quasi_static_response"]
+
+FloatArray = NDArray[np.float64]
+
+
+@dataclass(frozen=True, eq=False)
+class QuasiStaticResponse:
+    """The position of a contact under a slowly applied force (module notes).
+
+    Attributes
+    ----------
+    time : ndarray, shape (T,) or None
+        Sample times [s], when given.
+    applied_force : ndarray, shape (T,)
+        u [N].
+    position : ndarray, shape (T,)
+        y [m].
+    elastic_force : ndarray, shape (T,)
+        F_el = play_{c1}[u] [N].
+    friction_force : ndarray, shape (T,)
+        Equal to u (the balance holds at every sample) [N].
+    final_state : PIState
+        The friction memory after the last sample (pass it on to continue).
+    model : PIFriction
+    status : str
+        "success".
+    message : str
+    """
+
+    time: FloatArray | None
+    applied_force: FloatArray
+    position: FloatArray
+    elastic_force: FloatArray
+    final_state: PIState
+    model: PIFriction
+    status: str = "success"
+    message: str = "quasi-static balance solved exactly"
+
+    @property
+    def success(self) -> bool:
+        """True (a response that cannot be computed raises instead)."""
+        return self.status == "success"
+
+    @property
+    def friction_force(self) -> FloatArray:
+        """c1·σ + F_el with σ ∈ Sign(ẏ): equal to u at every sample [N]."""
+        return self.applied_force
+
+    def to_dict(self) -> dict[str, Any]:
+        """The sampled signals (and time, when given) by name, plus status and message."""
+        out: dict[str, Any] = {} if self.time is None else {"time": self.time}
+        out.update(
+            applied_force=self.applied_force,
+            position=self.position,
+            elastic_force=self.elastic_force,
+            status=self.status,
+            message=self.message,
+        )
+        return out
+
+    def to_pandas(self) -> Any:
+        """A pandas DataFrame of the sampled signals (pandas must be installed)."""
+        import pandas as pd
+
+        data = {k: v for k, v in self.to_dict().items() if isinstance(v, np.ndarray)}
+        return pd.DataFrame(data)
+
+    def plot(self, ax: Axes | None = None) -> Axes:
+        """The position against the applied force (the presliding loops); returns the axes."""
+        from presliding.plotting import new_axes
+
+        ax = new_axes(ax)
+        ax.plot(self.applied_force, self.position, lw=1.2)
+        ax.set_xlabel("applied force u [N]")
+        ax.set_ylabel("position y [m]")
+        ax.set_title(f"quasi-static response, F_c = {self.model.coulomb_level:.4g} N")
+        ax.grid(True, alpha=0.3)
+        return ax
+
+    def report(self) -> str:
+        """A readable summary."""
+        u, y = self.applied_force, self.position
+        return "\n".join(
+            [
+                f"Quasi-static response of {self.model!r}",
+                f"  {u.shape[0]} samples; status {self.status} ({self.message})",
+                f"  applied force {u.min():.6g} .. {u.max():.6g} N "
+                f"(F_c = {self.model.coulomb_level:.6g} N)",
+                f"  position {y.min():.6g} .. {y.max():.6g} m; final {y[-1]:.12g} m",
+            ]
+        )
+
+
+def quasi_static_response(
+    model: PIFriction,
+    applied_force: ArrayLike,
+    initial_state: PIState | str | None = None,
+    *,
+    time: ArrayLike | None = None,
+) -> QuasiStaticResponse:
+    """Position under a slowly applied force, with inertia negligible (module notes).
+
+    Parameters
+    ----------
+    model : PIFriction
+        Finite elements (at least one) and the Coulomb element c1.
+    applied_force : array_like, shape (T,)
+        u [N], monotone between samples (the response is rate independent),
+        with |u| < F_c = ``model.coulomb_level`` throughout.
+    initial_state : PIState or "relaxed", optional
+        The friction memory before the first sample (default: relaxed at y = 0).
+        A memory with a preload comes from
+        `presliding.friction.preloaded_state`; the elastic force of the memory is
+        where the play of c1 starts.
+    time : array_like, shape (T,), optional
+        Sample times [s], kept in the result (strictly increasing).
+
+    Returns
+    -------
+    QuasiStaticResponse
+        Position, elastic force and the final memory.
+
+    Raises
+    ------
+    ValueError
+        If some |u| >= F_c (gross sliding has no quasi-static position), the
+        model has no elements or a continuous density, or an argument is
+        malformed.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> model = PIFriction(0.1, [2e4, 5e3], breakaway=[0.3, 0.3])
+    >>> u = 0.6 * np.sin(np.linspace(0.0, 4 * np.pi, 9))
+    >>> res = quasi_static_response(model, u)
+    >>> bool(np.all(np.abs(res.applied_force - res.elastic_force) <= 0.1 + 1e-12))
+    True
+    """
+    if not isinstance(model, PIFriction):
+        raise TypeError(f"`model` must be a PIFriction; got {type(model).__name__}.")
+    u = as_signal("applied_force", applied_force)
+    t = None
+    if time is not None:
+        t = as_signal("time", time)
+        check_same_length(applied_force=u, time=t)
+        check_increasing("time", t)
+    inverse = model.inverse()  # raises for no elements or a density
+    if isinstance(initial_state, str):
+        if initial_state != "relaxed":
+            raise ValueError(
+                f"`initial_state` must be a PIState, 'relaxed' or None; got {initial_state!r}."
+            )
+        initial_state = None
+    if initial_state is not None and not isinstance(initial_state, PIState):
+        raise TypeError(
+            f"`initial_state` must be a PIState, 'relaxed' or None; "
+            f"got {type(initial_state).__name__}."
+        )
+    start = initial_state if initial_state is not None else model.relaxed_state(0.0)
+    fel = inverse.elastic_force(u, start)
+    y, final = inverse.apply(u, start)
+    return QuasiStaticResponse(t, u, y, fel, final, model)
