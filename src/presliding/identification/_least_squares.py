@@ -34,6 +34,8 @@ Tie = str | tuple[str, float]
 #: Status values of a fit: only "converged" is a success.
 STATUSES = ("converged", "not_identifiable", "at_bound", "max_evaluations", "failed")
 _RANK_TOL = 1e-7  # relative singular value below which a direction counts as undetermined
+#: residuals × free parameters² above which a structured Jacobian takes the LSMR solver
+LARGE_PROBLEM = 2e7
 
 
 # ---------------------------------------------------------------------- parameters
@@ -167,6 +169,8 @@ class Solution:
     status: str
     message: str
     n_evaluations: int
+    covariance: FloatArray | None = None  # over every parameter, in the order of `values`
+    bandwidths: tuple[int, ...] = ()  # HAC bandwidth of each block (empty: independent)
 
 
 def solve_least_squares(
@@ -182,6 +186,8 @@ def solve_least_squares(
     tolerance: float = 1e-8,
     difference: str = "3-point",
     gradient_tolerance: float | None = None,
+    free_jacobian: Callable[..., FloatArray] | None = None,
+    blocks: Any = None,
 ) -> Solution:
     """Minimise ‖residual(p)‖² over named parameters, some fixed or tied.
 
@@ -215,6 +221,14 @@ def solve_least_squares(
         absolute in the residual's units, so a fit whose residual vanishes at
         the optimum (noise-free data) may want a much smaller value and stop on
         the relative step and cost tests instead.
+    free_jacobian : callable, optional
+        ``free_jacobian(pm, x, lower, upper)``: the Jacobian with respect to the
+        free parameters x (of the map `pm`, within their bounds), for callers
+        that exploit its structure (the pooled fits).
+    blocks : sequence of index arrays or slices, optional
+        Rows of independent blocks of serially correlated residuals: the
+        covariance is then the HAC sandwich of `presliding.identification.uncertainty`
+        instead of s²·(JᵀJ)⁻¹.
 
     Returns
     -------
@@ -229,7 +243,8 @@ def solve_least_squares(
         that is not a finite real inside its bounds, a malformed tie or a cycle
         of ties.
     """
-    from scipy import optimize, stats
+    from scipy import optimize, sparse, stats
+    from threadpoolctl import threadpool_limits
 
     level, max_evaluations, tolerance = check_options(level, max_evaluations, tolerance)
     difference = as_choice("difference", difference, ("3-point", "2-point"))
@@ -267,15 +282,27 @@ def solve_least_squares(
             def jac(x: FloatArray) -> FloatArray:
                 return jacobian(pm.full(x)) @ pm.matrix
 
+        elif free_jacobian is not None:
+
+            def jac(x: FloatArray) -> FloatArray:
+                out = free_jacobian(pm, x, lo, hi)
+                return out if solver == "exact" else sparse.csr_matrix(out)
+
+        # large problems: the exact trust-region step factors the whole Jacobian
+        # every iteration; LSMR on the sparse one needs only products with it
+        n_res = int(np.size(fun(x0))) if free_jacobian is not None else 0
+        solver = "lsmr" if n_res * len(pm.free) ** 2 > LARGE_PROBLEM else "exact"
         try:
-            res = optimize.least_squares(
-                fun, x0, jac=jac, bounds=(lo, hi), method="trf", x_scale="jac", tr_solver="exact",
-                ftol=tolerance, xtol=tolerance, max_nfev=max_evaluations,
-                gtol=tolerance if gradient_tolerance is None else gradient_tolerance,
-            )  # fmt: skip
+            with threadpool_limits(limits=1, user_api="blas"):
+                res = optimize.least_squares(
+                    fun, x0, jac=jac, bounds=(lo, hi), method="trf", x_scale="jac",
+                    tr_solver=solver, ftol=tolerance, xtol=tolerance, max_nfev=max_evaluations,
+                    gtol=tolerance if gradient_tolerance is None else gradient_tolerance,
+                )  # fmt: skip
         except (ValueError, np.linalg.LinAlgError, FloatingPointError) as exc:
             return _failed(pm, x0, fixed, tied, level, f"the optimiser failed: {exc}")
-        x, r, jac_free, evaluations = res.x, res.fun, res.jac, int(res.nfev)
+        x, r, evaluations = res.x, res.fun, int(res.nfev)
+        jac_free = res.jac.toarray() if sparse.issparse(res.jac) else res.jac
         status = "max_evaluations" if res.status == 0 else "converged"
         message = (
             "stopped at the evaluation limit before convergence"
@@ -292,7 +319,15 @@ def solve_least_squares(
     else:
         x, r, jac_free = x0, residual(pm.full(x0)), np.zeros((0, 0))
         status, message = "converged", "all parameters are fixed; nothing was fitted"
-    cov, undetermined = _covariance(jac_free, r)
+    widths: tuple[int, ...] = ()
+    with threadpool_limits(limits=1, user_api="blas"):  # tall, thin factorisations
+        if blocks is not None and pm.free:
+            from presliding.identification.uncertainty import hac_covariance
+
+            cov, undetermined, found = hac_covariance(jac_free, r, blocks)
+            widths = tuple(found)
+        else:
+            cov, undetermined = _covariance(jac_free, r)
     full = pm.full(x)
     var = np.einsum("ij,jk,ik->i", pm.matrix, cov, pm.matrix) if pm.free else np.zeros(len(names))
     se = np.sqrt(np.maximum(var, 0.0))
@@ -317,7 +352,16 @@ def solve_least_squares(
         status=status,
         message=message,
         n_evaluations=evaluations,
+        covariance=_full_covariance(pm, cov, se),
+        bandwidths=widths,
     )
+
+
+def _full_covariance(pm: _Map, cov: FloatArray, se: FloatArray) -> FloatArray:
+    """Covariance of every parameter (fixed: 0; undetermined: inf variance)."""
+    full = pm.matrix @ cov @ pm.matrix.T if pm.free else np.zeros((len(pm.names),) * 2)
+    full[np.diag_indices_from(full)] = np.where(np.isinf(se), np.inf, np.diag(full))
+    return full
 
 
 def _covariance(jac: FloatArray, r: FloatArray) -> tuple[FloatArray, list[int]]:

@@ -3,7 +3,7 @@
 `rigid_check` refits with the stiffest element rigid and reports
 "not_identifiable" when the data cannot tell the two fits apart;
 `bound_check` reports "at_bound" when a parameter sits on its lower bound;
-`stiffest_first` relabels interchangeable elements; `spread_start` and
+`stiffest_first` and `smallest_threshold_first` relabel interchangeable elements; `spread_start` and
 `polish_initial_velocity` give the search a second start and a start from rest.
 """
 
@@ -36,7 +36,8 @@ def polish_initial_velocity(sol, solve, fixed, tied, v) -> Solution:
     if abs(sol.values[x]) > 1e-6 * float(np.max(np.abs(v))):
         return sol
     alt = solve(sol.values, extra={x: 0.0})
-    return alt if cost(alt) <= cost(sol) else sol
+    rounding = 1e-20 * v.size * float(np.max(v * v))  # costs equal to rounding: keep the bound
+    return alt if cost(alt) <= cost(sol) + rounding else sol
 
 
 def spread_start(start: dict[str, float], k_names: list[str]) -> dict[str, float]:
@@ -121,6 +122,23 @@ def bound_check(sol, start, names, fixed, tied, equal_breakaway) -> Solution:
     if "initial_velocity" in free and val["initial_velocity"] == 0.0:
         sol = replace(sol, message=sol.message + "; initial_velocity sits on its bound 0")
     return sol
+
+
+def smallest_threshold_first(sol: Solution, k_names: list[str], c_names: list[str]) -> Solution:
+    """Relabel free elements (k_j, c_j) by increasing threshold r_j = c_j/k_j (eq. 6)."""
+    r = [sol.values[c] / sol.values[k] for k, c in zip(k_names, c_names, strict=True)]
+    order = np.argsort(r, kind="stable")
+    rename = {}
+    for i, j in enumerate(order):
+        rename[k_names[int(j)]], rename[c_names[int(j)]] = k_names[i], c_names[i]
+
+    def relabel(d: dict) -> dict:
+        out = dict(d)
+        out.update({rename[x]: d[x] for x in rename})
+        return out
+
+    return replace(sol, values=relabel(sol.values), standard_error=relabel(sol.standard_error),
+                   confidence_interval=relabel(sol.confidence_interval))  # fmt: skip
 
 
 def stiffest_first(sol: Solution, k_names: list[str]) -> Solution:

@@ -1,325 +1,398 @@
-"""Output-error fit: simulated against measured motion (the paper's experiments, section 4).
+"""Output-error fit of one or many records: simulated against measured motion (section 4).
 
-The paper identifies m, F_c, c1 and k_2..k_5 of eq. 17 with four elements of
-equal break-away force c_j = (F_c − c1)/4 by fitting the simulated velocity
-response to the measured one near a full stop. `fit_response` does this with
-the exact event-driven simulator (`presliding.motion`), so the fitted response
-has no numerical micro-oscillations and sticks exactly.
+The paper identifies m, F_c, c1 and k_2..k_5 of eq. 17 (four elements of equal
+break-away force) by fitting the simulated velocity near a stop to the measured
+one. A single stop rarely holds enough information for that; `fit_response`
+therefore *pools* records: the physical parameters (mass, the friction model,
+the force offset) are shared, and each record has its own nuisance parameters:
+initial position, initial velocity and, with ``initial_state="preload"``, the
+initial friction memory as an elastic force (`presliding.friction.preload`, the
+branch family). Every evaluation simulates all records exactly (event method)
+in one compiled call; the Jacobian exploits that a record's nuisance
+parameters touch only its rows (`_pooled_problem`).
 
-Scale. With u = 0 throughout, eq. 17 is homogeneous: multiplying the mass and
-every force by the same factor leaves the motion unchanged, so only the ratios
-F/m are identifiable. This is detected; unless the mass or the Coulomb level is
-given, the parameters are reported per unit mass (mass = 1, forces in N/kg,
-stiffnesses in N/(m·kg)).
+Scale. When no record has an applied force, eq. 17 is homogeneous: mass and
+forces scale together and only F/m is identifiable. Unless `mass` or
+`coulomb_level` is given, the mass is then held at 1 and the parameters are
+reported per unit mass (said in the message and the report; not a failure).
 
-Start. Unless `initial` is given, the start comes from the inverse model: eq. 17
-as a linear regression (`presliding.identification.fit_motion`'s machinery) on the measured
-velocity, its difference quotient and its integral, with the thresholds on a
-grid, merged into the wanted number of elements.
+Uncertainty. Output-error residuals are serially correlated, so the covariance
+is the HAC sandwich of `presliding.identification.uncertainty` (one block per
+record and signal); with three or more records and ``bootstrap`` resamples, the
+records are also resampled with replacement and refitted, and the reported
+interval is the union of the HAC and the bootstrap percentile intervals.
 
-Robustness. With equal break-away forces the stiffest element can trade places
-with the Coulomb element: as k_1 → ∞ the element turns rigid-plastic and its
-break-away force joins c1, a local minimum that fits almost as well (c1 → 0
-and one very stiff element). So the fit (i) starts from the regression start
-and from a spread start (c1/F_c between 1/4 and 3/5, the stiffest element at
-most twice the next one), compared on at most `COARSE_SAMPLES` samples, and
-refines the better on every sample; (ii) refits with that element rigid and
-compares the costs S: if S_rigid − S ≤ s²·t²_{n−p}(level) (the profile
-likelihood bound of the confidence level, s² = S/(n − p)), the data cannot
-separate c1 from the stiffest element and the status is ``"not_identifiable"``
-(the intervals then span both fits, and k_1's reaches infinity); (iii) a model
-parameter on its bound 0 gives the status ``"at_bound"``.
+Robustness (as before for one record): with equal break-away forces the
+stiffest element can trade places with the Coulomb element (k_1 → ∞). The fit
+tries the regression start and a spread start, then refits with that element
+rigid; if the cost rises by no more than s²·t² the status is
+``"not_identifiable"``. A model parameter on its bound 0 gives ``"at_bound"``.
 """
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import replace
+from typing import Any
 
 import numpy as np
-from numpy.typing import NDArray
 
-from presliding._validation import (
-    as_choice,
-    as_nonnegative_scalar,
-    as_positive_scalar,
-    as_real_scalar,
-    fmt,
-)
-from presliding.friction.pi_friction import PIFriction
-from presliding.identification import _response_tools as rt
+from presliding._validation import as_choice, as_count, as_positive_scalar, fmt
+from presliding.identification import _pooled_problem as pp
 from presliding.identification._least_squares import check_constraints, check_options
+from presliding.identification._model_spec import DENSITIES, ModelSpec
+from presliding.identification._pooled_start import pooled_start
 from presliding.identification._response_checks import (
     bound_check,
     cost,
     polish_initial_velocity,
     rigid_check,
+    smallest_threshold_first,
     spread_start,
     stiffest_first,
 )
-from presliding.identification.fit_presliding import check_enough, check_varies, element_count
+from presliding.identification._response_setup import (
+    check_model_values,
+    check_records,
+    initial_bounds,
+    prune_elements,
+    record_bootstrap,
+)
+from presliding.identification.fit_presliding import check_enough, element_count
 from presliding.identification.fit_result import FitResult, Tie, solve_least_squares
 from presliding.identification.measurement import Measurement
 
 __all__ = ["fit_response"]
 
-FloatArray = NDArray[np.float64]
 SIGNALS = ("velocity", "position", "both")
-COARSE_SAMPLES = 2000  #: starts are compared on at most this many samples
+STATES = ("saturated", "preload", "relaxed")
+PER_UNIT_MASS = (
+    "no record has an applied force, so mass and forces are determined only up to a common "
+    "factor: they are reported per unit mass (mass = 1; forces in N/kg, stiffnesses in "
+    "N/(m·kg)); give `mass` or `coulomb_level` to scale them"
+)
 
 
 def fit_response(
-    measurement: Measurement,
+    records: Measurement | Sequence[Measurement],
     n_elements: int = 4,
     equal_breakaway: bool = True,
     mass: float | None = None,
     *,
+    density: str | None = None,
+    density_cells: int = 32,
     coulomb_level: float | None = None,
+    min_coulomb_level: float | None = None,
+    offset: bool = False,
     signal: str = "velocity",
+    weights: Mapping[str, float] | None = None,
     initial_state: str = "saturated",
     initial: Mapping[str, float] | None = None,
     fit_initial: bool = True,
     fixed: Mapping[str, float] | None = None,
     tied: Mapping[str, Tie] | None = None,
+    bounds: Mapping[str, tuple[float, float]] | None = None,
+    prune: bool = False,
+    bootstrap: int = 0,
+    seed: int | None = None,
     level: float = 0.95,
     max_evaluations: int | None = None,
     tolerance: float = 1e-8,
     multistart: bool = True,
 ) -> FitResult:
-    """Fit eq. 17 by matching the simulated to the measured motion (output error).
+    """Fit eq. 17 to one or many records by matching simulated to measured motion.
 
     Parameters
     ----------
-    measurement : Measurement
+    records : Measurement or sequence of Measurement
         Time and the measured `velocity` and/or `position`; `applied_force` u
-        (held constant between samples, as a digital controller applies it;
-        absent = 0). The motion starts at the first sample from the measured
-        position (or 0) and velocity (or the difference quotient of the position).
+        (held constant between samples; absent = 0: a free record). With one
+        Measurement the per-record parameters have no suffix; with a sequence
+        they are ``initial_position_i``, ``initial_velocity_i`` and
+        ``preload_fraction_i`` (i from 1).
     n_elements : int
-        Number N of elasto-plastic elements (the paper: 4).
+        Number N of elasto-plastic elements (the paper: 4); with
+        ``density="piecewise_constant"`` the number of cells of the density.
     equal_breakaway : bool
-        Parameters ``mass``, ``coulomb_level`` F_c, ``coulomb`` c1, ``stiffness_j``
-        with c_j = (F_c − c1)/N (the paper's choice); False: ``mass``, ``coulomb``,
+        ``coulomb_level`` F_c, ``coulomb`` c1, ``stiffness_j`` with
+        c_j = (F_c − c1)/N (the paper's choice); False: ``coulomb``,
         ``stiffness_j``, ``breakaway_j``.
     mass : float, optional
         Known mass [kg] (held fixed).
+    density : {"uniform", "exponential", "piecewise_constant"}, optional, keyword only
+        A continuous density μ (eq. 10) instead of elements: parameters
+        ``height``, ``max_threshold`` (uniform), ``height``, ``length``
+        (exponential), ``max_threshold``, ``height_1..N`` (piecewise constant);
+        simulated through its centroid discretisation with `density_cells`
+        elements (`_model_spec`, error O(1/cells²) of F_m).
+    density_cells : int, keyword only
+        Elements of that discretisation (>= 4).
     coulomb_level : float, optional, keyword only
-        Known F_c [N] (held fixed; needs ``equal_breakaway=True``).
-    signal : {"velocity", "position", "both"}
-        What is compared; "both" weighs each by the inverse of its RMS.
-    initial_state : {"saturated", "relaxed"}
-        Friction memory at the first sample ("saturated": steady sliding before).
-    initial : mapping, optional
-        Start values by parameter name (others from the default start).
-    fit_initial : bool
-        Also estimate the initial velocity (parameter ``initial_velocity``) and,
-        when the position is compared, the initial position
-        (``initial_position``); a noisy first sample would otherwise bias every
-        other parameter. False holds them at the first measured sample.
-    fixed, tied, level, max_evaluations, tolerance : as in `fit_presliding`
-        A fixed (or start) mass, ``coulomb_level``, stiffness or break-away
-        force must be positive, c1 nonnegative, every value a finite real; a
-        tie of those parameters needs a positive factor. `max_evaluations`
-        defaults to 50 per parameter for each start and check.
+        Known F_c [N] (held fixed; needs ``equal_breakaway=True`` and elements).
+    min_coulomb_level : float, optional, keyword only
+        A lower bound on F_c [N] (a bound of ``coulomb_level``; for the other
+        models a penalty that is zero above it).
+    offset : bool, keyword only
+        Fit a constant force offset (parameter ``offset``): the drive is u − offset.
+    signal : {"velocity", "position", "both"}, keyword only
+        What is compared; "both" weighs each signal by the inverse of its RMS.
+    weights : mapping, optional, keyword only
+        Factors on those weights, ``{"velocity": w_v, "position": w_y}``.
+    initial_state : {"saturated", "preload", "relaxed"}, keyword only
+        Friction memory at each record's first sample: steady sliding in the
+        direction of the first motion; a fitted preload per record (the branch
+        family of `preloaded_state`, ``preload_fraction`` in [−1, 1], 1 =
+        saturated); or relaxed.
+    initial : mapping, optional, keyword only
+        Start values by parameter name (others from the pooled regression start).
+    fit_initial : bool, keyword only
+        Estimate initial velocities and (when the position is compared)
+        positions; False holds them at each record's first sample.
+    fixed, tied : mapping, optional, keyword only
+        Parameters held at a value or tied to another (name or (name, factor));
+        a fixed or start mass, F_c, stiffness, break-away force or density
+        parameter must be positive, c1 nonnegative.
+    bounds : mapping name -> (lower, upper), optional, keyword only
+        Bounds on any parameter, intersected with its natural ones.
+    prune : bool, keyword only
+        Drop elements that never slide in the data (their k_j → 0, or 2·r_j
+        beyond the largest swing) and refit; the derived values
+        ``effective_elements`` and ``reachable_coulomb_level`` are always given.
+    bootstrap : int, keyword only
+        Record-level bootstrap resamples (used with three or more records; 0: none).
+    seed : int, optional, keyword only
+        Seed of the bootstrap.
+    level, max_evaluations, tolerance : as in `fit_presliding`
+        `max_evaluations` defaults to 50 per parameter for each start and check.
     multistart : bool, keyword only
         Also try the spread start and test the rigid limit of the stiffest
-        element (see the module notes); only when c1 and the stiffnesses are
-        neither fixed nor tied.
+        element (equal break-away forces; c1 and stiffnesses not fixed or tied).
 
     Returns
     -------
     FitResult
-        Against time; parameters per unit mass when u = 0 and neither `mass`
-        nor `coulomb_level` is given (said in `message`). Status
-        ``"not_identifiable"`` when the data cannot separate c1 from the
-        stiffest element, ``"at_bound"`` when a model parameter sits on 0.
+        Against time (records one after the other; `records` gives their
+        ranges), with the HAC `covariance`, `correlation`, `nfev`, the
+        bootstrap when it ran, and `predict` for other records.
     """
-    if not isinstance(measurement, Measurement):
-        raise TypeError(f"`measurement` must be a Measurement; got {type(measurement).__name__}.")
+    single = isinstance(records, Measurement)
+    recs = check_records(records, signal, SIGNALS)
     signal = as_choice("signal", signal, SIGNALS)
-    initial_state = as_choice("initial_state", initial_state, ("saturated", "relaxed"))
-    need = {"velocity": ("velocity",), "position": ("position",), "both": ("velocity", "position")}
-    measurement.require(*need[signal], purpose=f"fit_response(signal={signal!r})")
+    initial_state = as_choice("initial_state", initial_state, STATES)
+    if density is not None:
+        density = as_choice("density", density, DENSITIES)
+    cells = as_count("density_cells", density_cells, minimum=4)
     n = element_count(n_elements, None, 4)
-    if coulomb_level is not None and not equal_breakaway:
-        raise ValueError("`coulomb_level` can be given only with equal_breakaway=True.")
+    if density == "piecewise_constant" and n < 1:
+        raise ValueError(f"`n_elements` (the cells of the density) must be >= 1; got {n}.")
+    if coulomb_level is not None and (not equal_breakaway or density is not None):
+        raise ValueError(
+            "`coulomb_level` can be given only with equal_breakaway=True and elements; got "
+            + ("a density." if density else "equal_breakaway=False.")
+        )
     level, max_evaluations, tolerance = check_options(level, max_evaluations, tolerance)
     fixed, tied = check_constraints(fixed, tied)
-    _check_model_values(fixed, tied, initial)
-    m = measurement
-    t = m.time
-    v = m.velocity if m.velocity is not None else np.gradient(m.position, t)
-    y = m.position if m.position is not None else rt.integral(t, v)
-    u = m.applied_force if m.applied_force is not None else np.zeros_like(t)
-    check_varies("velocity" if m.velocity is not None else "position", v)
+    spec = ModelSpec(n, equal_breakaway, density, cells)
+    check_model_values(spec, fixed, tied, initial)
+    bootstrap = as_count("bootstrap", bootstrap)
     if mass is not None:
         fixed["mass"] = as_positive_scalar("mass", mass)
     if coulomb_level is not None:
         fixed["coulomb_level"] = as_positive_scalar("coulomb_level", coulomb_level)
+    fmin = None if min_coulomb_level is None else as_positive_scalar(
+        "min_coulomb_level", min_coulomb_level)  # fmt: skip
     fc = fixed.get("coulomb_level")
-    if equal_breakaway and n and fc is not None and fixed.get("coulomb", 0.0) >= fc:
+    if spec.has_level_parameter and n and fc is not None and fixed.get("coulomb", 0.0) >= fc:
         raise ValueError(
             f"`fixed['coulomb']` must be less than the Coulomb level {fmt(fc)} (else no force is "
             f"left for the elements); got {fmt(fixed['coulomb'])}."
         )
-    per_unit_mass = not np.any(u) and not ({"mass", "coulomb_level"} & set(fixed))
+    forced = any(r.forced for r in recs)
+    per_unit_mass = not forced and not ({"mass", "coulomb_level"} & set(fixed))
     if per_unit_mass:
         fixed["mass"] = 1.0
-    k_names = [f"stiffness_{j + 1}" for j in range(n)]
-    c_names = [f"breakaway_{j + 1}" for j in range(n)]
-    names = ["mass", *(["coulomb_level"] if equal_breakaway else []), "coulomb", *k_names]
-    names += [] if equal_breakaway else c_names
-    names += ["initial_velocity", "initial_position"]
-    direction = rt.initial_direction(v, u)
-    if not fit_initial:
-        fixed.setdefault("initial_velocity", float(v[0]))
-    if not fit_initial or signal == "velocity":
-        fixed.setdefault("initial_position", float(y[0]))
-    check_enough(t.shape[0], len(names) - len(fixed))
-    free_motion = not np.any(u)
-    start = rt.default_start(
-        t, y, v, u, n, fixed.get("mass", 1.0 if free_motion else None), equal_breakaway
+    wv, wy = _signal_weights(signal, recs, weights)
+    problem = pp.PooledProblem(
+        recs, spec, (wv, wy), initial_state, offset=offset, suffix=not single
     )
-    if free_motion and "mass" not in fixed and "coulomb_level" in fixed:
+    names = problem.names
+    for i, rec in enumerate(recs):
+        if not fit_initial:
+            fixed.setdefault(problem.nuisance("initial_velocity", i), float(rec.velocity[0]))
+        if not fit_initial or signal == "velocity":
+            fixed.setdefault(problem.nuisance("initial_position", i), float(rec.position[0]))
+    check_enough(problem.n_res, len(names) - len(fixed))
+    start = pooled_start(recs, spec, fixed.get("mass", None if forced else 1.0), offset)
+    if not forced and "mass" not in fixed and "coulomb_level" in fixed:
         factor = fixed["coulomb_level"] / start["coulomb_level"]
-        start = {key: val * factor for key, val in start.items()}
-    start.update(initial_velocity=float(v[0]), initial_position=float(y[0]))
+        start = {key: val * factor if key != "offset" else val for key, val in start.items()}
+    for i, rec in enumerate(recs):
+        start[problem.nuisance("initial_position", i)] = float(rec.position[0])
+        start[problem.nuisance("initial_velocity", i)] = float(rec.velocity[0])
+        if initial_state == "preload":
+            start[problem.nuisance("preload_fraction", i)] = 1.0 if rec.velocity[0] else 0.0
     for key, val in dict(initial or {}).items():
         if key not in names:
             raise ValueError(f"`initial` names unknown parameter {key!r}; known: {names}.")
         start[key] = float(val)
     start = {x: start[x] for x in names}
-    problem = _Problem(names, n, equal_breakaway, rt.Simulator(m, u, initial_state, direction),
-                       rt.weights(signal, m), v, y)  # fmt: skip
-    bounds = dict.fromkeys(names, (0.0, np.inf))
-    bounds["initial_position"] = (-np.inf, np.inf)
-    saturated = initial_state == "saturated"
-    bounds["initial_velocity"] = (
-        (0.0, np.inf) if direction > 0 else (-np.inf, 0.0) if saturated else (-np.inf, np.inf)
-    )
+    box = {**spec.bounds(), "mass": (0.0, np.inf), "offset": (-np.inf, np.inf)}
+    box.update(initial_bounds(problem, initial_state))
+    if fmin is not None and spec.has_level_parameter:
+        box["coulomb_level"] = (fmin, np.inf)
+        start["coulomb_level"] = max(start["coulomb_level"], fmin)
+    for key, (lo, hi) in dict(bounds or {}).items():
+        if key not in names:
+            raise ValueError(f"`bounds` names unknown parameter {key!r}; known: {names}.")
+        old = box.get(key, (-np.inf, np.inf))
+        box[key] = (max(old[0], float(lo)), min(old[1], float(hi)))
+    box = {x: box.get(x, (-np.inf, np.inf)) for x in names}
+    problem.set_typical(start)
+    penalty = None if fmin is None or spec.has_level_parameter else fmin
     if max_evaluations is None:
         max_evaluations = 50 * len(names)
-    options = {"bounds": bounds, "tied": tied, "level": level, "max_evaluations": max_evaluations,
+    options = {"bounds": box, "tied": tied, "level": level, "max_evaluations": max_evaluations,
                "tolerance": tolerance, "gradient_tolerance": max(tolerance**2, 1e-15)}  # fmt: skip
-
     evaluations = [0]
 
-    def solve(begin, rigid=False, idx=None, extra=None, **kw):
-        opts = {**options, **kw}
+    def solve(begin, rigid=False, extra=None, **kw):
+        fun, jac = _with_penalty(problem, rigid, penalty)
         out = solve_least_squares(
-            problem.residual(rigid, idx), begin, fixed={**fixed, **(extra or {})}, **opts
-        )
+            fun, begin, fixed={**fixed, **(extra or {})}, free_jacobian=jac,
+            blocks=[rows for _, rows in problem.rows], **{**options, **kw},
+        )  # fmt: skip
         evaluations[0] += out.n_evaluations
         return out
 
-    shaped = {"coulomb", *k_names, *c_names} & (set(fixed) | set(tied))
-    search = multistart and n >= 1 and not shaped
-    starts = [start] + ([spread_start(start, k_names)] if search and equal_breakaway else [])
-    if len(starts) == 1:
-        sol = solve(start)
-    elif t.shape[0] > COARSE_SAMPLES:
-        idx = np.unique(np.linspace(0, t.shape[0] - 1, COARSE_SAMPLES).round().astype(int))
-        coarse = min((solve(s, idx=idx, tolerance=1e-6) for s in starts), key=cost)
-        sol = solve(coarse.values if np.isfinite(cost(coarse)) else start)
-    else:
-        sol = min((solve(s) for s in starts), key=cost)
-    sol = polish_initial_velocity(sol, solve, fixed, tied, v)
-    if equal_breakaway and not (set(k_names) & (set(fixed) | set(tied))):
-        sol = stiffest_first(sol, k_names)
+    model_names = set(spec.names)
+    shaped = model_names & (set(fixed) | set(tied))
+    discrete_equal = density is None and equal_breakaway and n >= 1
+    search = multistart and density is None and n >= 1 and not (
+        {"coulomb", *spec.k_names, *spec.c_names} & shaped)  # fmt: skip
+    starts = [start] + ([spread_start(start, spec.k_names)] if search and discrete_equal else [])
+    sol = min((solve(s) for s in starts), key=cost)
+    if single:
+        sol = polish_initial_velocity(sol, solve, fixed, tied, recs[0].velocity)
+    labelled = (set(spec.k_names) | set(spec.c_names)) & (set(fixed) | set(tied))
+    if discrete_equal and not labelled:
+        sol = stiffest_first(sol, spec.k_names)
+    elif density is None and not equal_breakaway and not labelled and sol.status != "failed":
+        sol = smallest_threshold_first(sol, spec.k_names, spec.c_names)
     if search and sol.status == "converged":
         sol = rigid_check(sol, solve, problem, names, fixed, tied, level)
-    sol = bound_check(sol, start, names, fixed, tied, equal_breakaway)
-    sol = replace(sol, n_evaluations=evaluations[0])  # over every start and check
-    mass_, c1, k, c, y0, v0 = problem.unpack(np.array([sol.values[x] for x in names]))
-    ys, vs, ok = problem.sim(mass_, c1, k, c / k, y0, v0)
-    model = PIFriction(c1, k, breakaway=c) if n else PIFriction(c1)
-    note = ""
-    if per_unit_mass:
-        note = (
-            "; the applied force is zero throughout, so mass and forces are determined only up "
-            "to a common factor: they are reported per unit mass (mass = 1; forces in N/kg, "
-            "stiffnesses in N/(m·kg)); give `mass` or `coulomb_level` to scale them"
-        )
+    sol = bound_check(sol, start, names, fixed, tied, equal_breakaway and density is None)
+    notes = [PER_UNIT_MASS] if per_unit_mass else []
+    pruned = prune_elements(problem, sol, spec)
+    if prune and pruned.dead and density is None and spec.n - len(pruned.dead) >= 0:
+        kw = dict(n_elements=spec.n - len(pruned.dead), equal_breakaway=equal_breakaway, mass=mass,
+                  coulomb_level=coulomb_level, min_coulomb_level=min_coulomb_level, offset=offset,
+                  signal=signal, weights=weights, initial_state=initial_state,
+                  fit_initial=fit_initial, level=level, max_evaluations=max_evaluations,
+                  tolerance=tolerance, multistart=multistart, bootstrap=bootstrap, seed=seed,
+                  initial=pruned.start(sol.values, problem))  # fmt: skip
+        refit = fit_response(records, **kw)
+        note = pruned.note(spec) + "; refitted without them"
+        return replace(refit, notes=(*refit.notes, note), n_evaluations=refit.n_evaluations
+                       + evaluations[0])  # fmt: skip
+    if pruned.dead:
+        notes.append(pruned.note(spec) + " (prune=True drops them)")
+    boot = None
+    if bootstrap and len(recs) >= 3 and sol.status != "failed":
+        settings = {**options, "fixed": fixed}
+        sol, boot, count = record_bootstrap(sol, problem, settings, bootstrap, seed)
+        evaluations[0] += count
+    sol = replace(sol, n_evaluations=evaluations[0])
+    return _result(sol, problem, spec, pruned, notes, boot, per_unit_mass, signal)
+
+
+def _signal_weights(signal: str, recs: list[pp.Record], weights: Any) -> tuple[float, float]:
+    """Weights of the velocity and position residuals (0: not compared)."""
+    extra = {"velocity": 1.0, "position": 1.0}
+    if weights is not None:
+        if not isinstance(weights, Mapping):
+            raise TypeError(f"`weights` must be a mapping of signal names; got {fmt(weights)}.")
+        for key, val in weights.items():
+            as_choice("weights", key, ("velocity", "position"))
+            extra[key] = as_positive_scalar(f"weights[{key!r}]", val)
+    wv = wy = 0.0
+    if signal in ("velocity", "both"):
+        rv = float(np.sqrt(np.mean(np.concatenate([r.velocity for r in recs]) ** 2)))
+        wv = extra["velocity"] / (rv if signal == "both" and rv > 0 else 1.0)
+    if signal in ("position", "both"):
+        dev = np.concatenate([r.position - np.mean(r.position) for r in recs])
+        ry = float(np.sqrt(np.mean(dev**2)))
+        if signal == "both" and not ry > 0:
+            raise ValueError("`position` must vary for signal='both'; got constant records.")
+        wy = extra["position"] / (ry if signal == "both" else 1.0)
+    return wv, wy
+
+
+def _with_penalty(problem: pp.PooledProblem, rigid: bool, fmin: float | None):
+    """Residual and Jacobian, with a hinge row max(0, F_min − F_c) when F_c is derived."""
+    fun, jac = problem.residual(rigid), problem.free_jacobian(rigid)
+    if fmin is None:
+        return fun, jac
+    names = problem.names
+    scale = 10.0 * float(np.sqrt(max(problem.n_res, 1)) * np.max(np.abs(problem.data)) / fmin)
+
+    def hinge(p):
+        q = dict(zip(names, p, strict=True))
+        return scale * max(0.0, fmin - problem.spec.coulomb_level(q))
+
+    def fun_p(p):
+        return np.append(fun(p), hinge(p))
+
+    def jac_p(pm, x, lo, hi):
+        base = jac(pm, x, lo, hi)
+        row = np.zeros(x.shape[0])
+        h0 = hinge(pm.full(x))
+        for j in range(x.shape[0]):
+            step = 1e-7 * max(abs(x[j]), 1e-12)
+            xs = x.copy()
+            xs[j] += step
+            row[j] = (hinge(pm.full(xs)) - h0) / step
+        return np.vstack([base, row])
+
+    return fun_p, jac_p
+
+
+def _result(sol, problem, spec, pruned, notes, boot, per_unit_mass, signal) -> FitResult:
+    """The public result of a pooled response fit."""
+    from presliding.identification._predictors import ResponsePredictor
+
+    values = sol.values
+    full = np.array([values[x] for x in problem.names])
+    o_y, o_v, status, _ = problem.simulate(full)
+    ok = bool(np.all(status == 0) and np.all(np.isfinite(o_v)))
     if not ok and sol.status == "converged":
         sol = replace(sol, status="failed", message="the simulation failed at the optimum")
-    sol = replace(sol, message=sol.message + note)
-    derived = {"coulomb_level": model.coulomb_level} if not equal_breakaway else {}
-    derived.update({f"threshold_{j + 1}": float(x) for j, x in enumerate(c / k)})
-    if equal_breakaway and n:
-        derived["breakaway_each"] = float(c[0])
-    measured, fitted = (y, ys) if signal == "position" else (v, vs)
-    return FitResult.from_solution(
-        sol, model, t, measured, fitted, kind="output-error response",
+    if per_unit_mass:
+        sol = replace(sol, message=f"{sol.message}; {PER_UNIT_MASS}")
+    model = spec.model(values)
+    derived = {"coulomb_level": spec.coulomb_level(values)} if not spec.has_level_parameter else {}
+    c1, k, r = spec.bank(values)
+    if spec.density is None:
+        derived.update({f"threshold_{j + 1}": float(x) for j, x in enumerate(r)})
+        if spec.equal and spec.n:
+            derived["breakaway_each"] = float(k[0] * r[0])
+    fm = spec.coulomb_level(values) - c1
+    if problem.initial_state == "preload":
+        for i in range(problem.n_rec):
+            x = problem.nuisance("preload_fraction", i)
+            derived[x.replace("preload_fraction", "preload")] = values[x] * fm
+    derived.update(pruned.derived(spec))
+    measured, fitted = (
+        (np.concatenate([r.position for r in problem.records]), o_y[0])
+        if signal == "position"
+        else (np.concatenate([r.velocity for r in problem.records]), o_v[0])
+    )
+    spans = tuple(zip(problem.t_off[:-1].tolist(), problem.t_off[1:].tolist(), strict=True))
+    result = FitResult.from_solution(
+        sol, model, problem.t_all, measured, fitted, kind="output-error response",
         abscissa_label="time [s]", signal_label="position" if signal == "position" else "velocity",
         derived=derived,
     )  # fmt: skip
-
-
-def _check_model_values(
-    fixed: dict[str, float], tied: dict[str, Tie], initial: Mapping[str, float] | None
-) -> None:
-    """Fixed and start values in the model's domain, ties of the model parameters positive.
-
-    The mass, F_c, the stiffnesses and the break-away forces must be positive
-    (the simulator has no element of zero stiffness or mass) and c1 >= 0.
-    """
-
-    def positive(x: object) -> bool:
-        return x in ("mass", "coulomb_level") or (
-            isinstance(x, str) and x.startswith(("stiffness_", "breakaway_"))
-        )
-
-    if initial is not None and not isinstance(initial, Mapping):
-        raise TypeError(
-            f"`initial` must be a mapping of parameter names to start values; "
-            f"got {type(initial).__name__}."
-        )
-    for label, values in (("fixed", fixed), ("initial", initial or {})):
-        for x, v in values.items():
-            name = f"{label}[{x!r}]"
-            if positive(x):
-                as_positive_scalar(name, v)
-            elif x == "coulomb":
-                as_nonnegative_scalar(name, v)
-            else:
-                as_real_scalar(name, v)
-    for x, spec in tied.items():
-        if positive(x) and not isinstance(spec, str):
-            as_positive_scalar(f"tied[{x!r}][1]", spec[1])
-
-
-class _Problem:
-    """Residual of the output-error fit for a parameter vector (all names, in order)."""
-
-    def __init__(self, names, n, equal_breakaway, sim, weights, v, y):
-        self.names, self.n, self.equal = names, n, equal_breakaway
-        self.k_names = [f"stiffness_{j + 1}" for j in range(n)]
-        self.c_names = [f"breakaway_{j + 1}" for j in range(n)]
-        self.sim, self.weights, self.v, self.y = sim, weights, v, y
-
-    def unpack(self, p: FloatArray, rigid: bool = False):
-        """mass, c1, k, c, y0, v0; `rigid`: element 1 rigid-plastic (k_1 → ∞), c_1 joins c1."""
-        tiny = np.finfo(float).tiny
-        q = dict(zip(self.names, p, strict=True))
-        c1 = max(q["coulomb"], 0.0)
-        k = np.maximum([q[x] for x in self.k_names], tiny)
-        if self.equal:
-            c = np.full(self.n, max((q["coulomb_level"] - c1) / max(self.n, 1), tiny))
-        else:
-            c = np.maximum([q[x] for x in self.c_names], tiny)
-        if rigid:
-            c1, k, c = c1 + c[0], k[1:], c[1:]
-        return max(q["mass"], tiny), c1, k, c, q["initial_position"], q["initial_velocity"]
-
-    def residual(self, rigid: bool = False, idx=None):
-        times = None if idx is None else self.sim.t[idx]
-        data = (self.v, self.y) if idx is None else (self.v[idx], self.y[idx])
-
-        def fun(p: FloatArray) -> FloatArray:
-            mass, c1, k, c, y0, v0 = self.unpack(p, rigid)
-            ys, vs, _ = self.sim(mass, c1, k, c / k, y0, v0, times)
-            return np.concatenate(
-                [w * (s - d) for w, s, d in zip(self.weights, (vs, ys), data, strict=True) if w]
-            )
-
-        return fun
+    return replace(
+        result, records=spans if problem.n_rec > 1 else (), bootstrap=boot, notes=tuple(notes),
+        predictor=ResponsePredictor(problem, values),
+    )  # fmt: skip

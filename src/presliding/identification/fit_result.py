@@ -98,6 +98,20 @@ class FitResult:
     n_evaluations : int
     derived : dict name -> float
         Quantities computed from the parameters (e.g. the Coulomb level F_c, eq. 9).
+    covariance : ndarray, shape (P, P) or None
+        Covariance of every parameter, in the order of `parameters` (0 for fixed
+        ones, inf variance where the data do not determine one). The pooled fits
+        give the HAC covariance of `presliding.identification.uncertainty`.
+    records : tuple of (start, stop)
+        Sample ranges of each record in `abscissa`, `measured` and `fitted`
+        (empty for a fit of one record).
+    bootstrap : dict name -> (standard error, lower, upper), or None
+        The record-level bootstrap of a pooled fit (percentile interval at
+        `confidence_level`), when it ran.
+    notes : tuple of str
+        Remarks the report lists (per unit mass, pruned elements, ...).
+    cross_validation : object or None
+        A `presliding.identification.CrossValidation` whose table the report shows.
     """
 
     model: PIFriction | None
@@ -120,6 +134,12 @@ class FitResult:
     abscissa_label: str = "sample"
     signal_label: str = "signal"
     derived: dict[str, float] = field(default_factory=dict)
+    covariance: FloatArray | None = None
+    records: tuple[tuple[int, int], ...] = ()
+    bootstrap: dict[str, tuple[float, float, float]] | None = None
+    notes: tuple[str, ...] = ()
+    cross_validation: Any = None
+    predictor: Any = field(default=None, repr=False)
 
     @classmethod
     def from_solution(
@@ -134,8 +154,84 @@ class FitResult:
             fixed=sol.fixed, tied=sol.tied, abscissa=np.asarray(abscissa, dtype=float),
             measured=np.asarray(measured, dtype=float), fitted=np.asarray(fitted, dtype=float),
             residual_rms=rms, nrmse=nrmse, relative_residual=relative, status=sol.status,
-            message=sol.message, n_evaluations=sol.n_evaluations, **labels,
+            message=sol.message, n_evaluations=sol.n_evaluations, covariance=sol.covariance,
+            **labels,
         )  # fmt: skip
+
+    @property
+    def nfev(self) -> int:
+        """Residual evaluations over every start and check (scipy's name for `n_evaluations`)."""
+        return self.n_evaluations
+
+    @property
+    def correlation(self) -> FloatArray | None:
+        """Correlations of the parameters (order of `parameters`), from `covariance`."""
+        if self.covariance is None:
+            return None
+        from presliding.identification.uncertainty import correlation_matrix
+
+        return correlation_matrix(self.covariance)
+
+    def predict(self, measurement: Any, **options: Any) -> Any:
+        """The fitted model's prediction of another record (a `Prediction`).
+
+        Parameters
+        ----------
+        measurement : Measurement
+            A record of the kind fitted (same signals).
+        **options
+            Passed to the fit's predictor, e.g. ``initial="fit"`` (default: the
+            record's own initial conditions estimated with every shared
+            parameter held) or ``initial="measured"`` (its first samples).
+
+        Returns
+        -------
+        Prediction
+            Measured against predicted signal, NRMSE, reversal counts and rest
+            positions (`presliding.identification.cross_validation`).
+        """
+        if self.predictor is None:
+            raise ValueError(
+                f"a {self.kind} fit cannot predict other records; got kind {self.kind!r}."
+            )
+        return self.predictor.predict(self, measurement, **options)
+
+    def to_dict(self) -> dict[str, Any]:
+        """Parameters, errors, intervals, fit quality and status as plain Python values."""
+        return {
+            "kind": self.kind,
+            "status": self.status,
+            "message": self.message,
+            "success": self.success,
+            "parameters": dict(self.parameters),
+            "standard_error": dict(self.standard_error),
+            "confidence_interval": {k: list(v) for k, v in self.confidence_interval.items()},
+            "confidence_level": self.confidence_level,
+            "fixed": list(self.fixed),
+            "tied": list(self.tied),
+            "derived": dict(self.derived),
+            "residual_rms": self.residual_rms,
+            "nrmse": self.nrmse,
+            "relative_residual": self.relative_residual,
+            "nfev": self.n_evaluations,
+            "covariance": None if self.covariance is None else self.covariance.tolist(),
+            "bootstrap": None if self.bootstrap is None else {
+                k: list(v) for k, v in self.bootstrap.items()},
+            "notes": list(self.notes),
+            "model": repr(self.model),
+        }  # fmt: skip
+
+    def to_pandas(self) -> Any:
+        """A pandas DataFrame of the parameters: value, standard error, interval, fixed/tied."""
+        import pandas as pd
+
+        rows = []
+        for n, v in self.parameters.items():
+            lo, hi = self.confidence_interval[n]
+            rows.append({"parameter": n, "value": v, "standard_error": self.standard_error[n],
+                         "lower": lo, "upper": hi, "fixed": n in self.fixed,
+                         "tied": n in self.tied})  # fmt: skip
+        return pd.DataFrame(rows).set_index("parameter")
 
     @property
     def success(self) -> bool:
@@ -153,22 +249,36 @@ class FitResult:
         return self.parameters.get("mass")
 
     def report(self) -> str:
-        """A readable summary: status, parameters with errors and intervals, fit quality."""
+        """A readable summary: status, parameters with errors and intervals, fit quality.
+
+        Also, when present: the record-level bootstrap, strong correlations
+        (|ρ| >= 0.9), the notes and the cross-validation table.
+        """
         pct = f"{100 * self.confidence_level:g} %"
+        width = max([16, *(len(n) + 2 for n in self.parameters)])
+        boot = self.bootstrap or {}
+        head = f"{'parameter':<{width}}{'value':>14}{'std. error':>13}   {pct + ' interval':<30}"
         lines = [
             f"{self.kind} fit: {self.status} — {self.message}",
-            f"{self.measured.shape[0]} samples, {self.n_evaluations} evaluations",
+            f"{self.measured.shape[0]} samples"
+            + (f" in {len(self.records)} records" if self.records else "")
+            + f", {self.n_evaluations} evaluations",
             "",
-            f"{'parameter':<16}{'value':>14}{'std. error':>13}   {pct + ' interval':<30}",
+            head + ("   bootstrap std. error and interval" if boot else ""),
         ]
         for n, v in self.parameters.items():
             se = self.standard_error[n]
             lo, hi = self.confidence_interval[n]
             note = " (fixed)" if n in self.fixed else (" (tied)" if n in self.tied else "")
-            lines.append(f"{n:<16}{v:>14.6g}{se:>13.3g}   [{lo:.6g}, {hi:.6g}]{note}")
+            line = f"{n:<{width}}{v:>14.6g}{se:>13.3g}   [{lo:.6g}, {hi:.6g}]{note}"
+            if n in boot:
+                b_se, b_lo, b_hi = boot[n]
+                line = f"{line:<{width + 60}}   {b_se:.3g}  [{b_lo:.6g}, {b_hi:.6g}]"
+            lines.append(line)
         if self.derived:
             lines.append("")
-            lines += [f"{n:<16}{v:>14.6g}" for n, v in self.derived.items()]
+            lines += [f"{n:<{width}}{v:>14.6g}" for n, v in self.derived.items()]
+        lines += self._correlation_lines()
         lines += [
             "",
             f"residual RMS: {self.residual_rms:.6g} ({self.signal_label})",
@@ -176,7 +286,27 @@ class FitResult:
             f"relative residual ‖r‖/‖y − ȳ‖: {100 * self.relative_residual:.3f} %",
             f"model: {self.model!r}",
         ]
+        lines += [f"note: {n}" for n in self.notes]
+        if self.cross_validation is not None:
+            lines += ["", self.cross_validation.report()]
         return "\n".join(lines)
+
+    def _correlation_lines(self) -> list[str]:
+        corr = self.correlation
+        if corr is None:
+            return []
+        names = list(self.parameters)
+        pairs = [
+            f"  {names[i]} ~ {names[j]}: {corr[i, j]:+.3f}"
+            for i in range(len(names))
+            for j in range(i + 1, len(names))
+            if abs(corr[i, j]) >= 0.9
+        ]
+        if not pairs:
+            return []
+        return ["", "strong correlations (|ρ| >= 0.9):", *pairs[:20]] + (
+            [f"  ... {len(pairs) - 20} more"] if len(pairs) > 20 else []
+        )
 
     def plot(self, ax: Axes | None = None) -> Axes:
         """Measured and fitted signal, with the residual in a panel below; returns the axes."""

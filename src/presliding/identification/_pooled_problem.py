@@ -1,0 +1,286 @@
+"""The pooled output-error problem: records packed for one compiled call, residual, Jacobian.
+
+Parameters are named. Shared across records: ``mass``, the friction model's
+parameters (`ModelSpec`), ``viscous`` σ and the force ``offset`` when asked.
+Per record i (suffix ``_i`` from 1, none for a single `Measurement`):
+``initial_position``, ``initial_velocity`` and, with a preload,
+``preload_fraction`` (the initial elastic force over F_m).
+
+The residual of record i is w_v·(v_sim − v) and/or w_y·(y_sim − y); records
+are stacked in order, each record's velocity block before its position block.
+
+Jacobian: finite differences exploiting the structure. A free parameter that
+moves only per-record parameters touches only those records' rows, so the
+columns of different records are perturbed together (one group per kind of
+per-record parameter, plus one per shared parameter), central differences
+(one-sided at a bound), all groups simulated in one call of
+`_pooled_kernel.pooled_responses`. With R records of three nuisance parameters
+and p shared ones, a Jacobian costs 2·(p + 3) record sets instead of 2·(p + 3R).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from presliding.identification import _pooled_kernel as pk
+from presliding.identification import _response_tools as rt
+from presliding.identification._least_squares import _Map
+from presliding.identification._model_spec import TINY, ModelSpec
+from presliding.identification.measurement import Measurement
+from presliding.motion._forcing import as_forcing
+
+FloatArray = NDArray[np.float64]
+MAX_EVENTS = 10_000_000
+NUISANCE = ("initial_position", "initial_velocity", "preload_fraction")
+MODES = {"relaxed": pk.RELAXED, "saturated": pk.BRANCH, "preload": pk.BRANCH}
+
+
+@dataclass(frozen=True)
+class Record:
+    """One measured record, checked and completed for the fit."""
+
+    time: FloatArray
+    position: FloatArray  # measured, or the integral of the velocity
+    velocity: FloatArray  # measured, or the difference quotient of the position
+    applied_force: FloatArray  # zeros for a free record
+    forced: bool
+    direction: float  # of the motion before the first sample
+
+
+def as_record(m: Measurement) -> Record:
+    """The record of a measurement (velocity or position must be present)."""
+    t = m.time
+    v = m.velocity if m.velocity is not None else np.gradient(m.position, t)
+    y = m.position if m.position is not None else rt.integral(t, v)
+    u = m.applied_force if m.applied_force is not None else np.zeros_like(t)
+    return Record(t, y, v, u, bool(np.any(u)), rt.initial_direction(v, u))
+
+
+class PooledProblem:
+    """Residual and structured Jacobian of a pooled output-error fit (module notes)."""
+
+    def __init__(
+        self,
+        records: list[Record],
+        spec: ModelSpec,
+        signal_weights: tuple[float, float],
+        initial_state: str,
+        *,
+        offset: bool,
+        suffix: bool,
+    ):
+        self.records, self.spec = records, spec
+        self.w_v, self.w_y = signal_weights
+        self.initial_state = initial_state
+        self.n_rec = len(records)
+        lengths = [r.time.shape[0] for r in records]
+        self.t_off = np.concatenate([[0], np.cumsum(lengths)]).astype(np.int64)
+        self.t_all = np.ascontiguousarray(np.concatenate([r.time for r in records]))
+        pieces = []
+        for r in records:
+            t0 = float(r.time[0])
+            pieces.append(as_forcing((r.time, r.applied_force), "zoh", t0).pieces(t0, r.time[-1]))
+        self.u_off = np.concatenate([[0], np.cumsum([p[0].shape[0] for p in pieces])]).astype(
+            np.int64
+        )
+        self.ut_all = np.ascontiguousarray(np.concatenate([p[0] for p in pieces]))
+        self.uv_all = np.ascontiguousarray(np.concatenate([p[1] for p in pieces]))
+        self.mode = np.full(self.n_rec, MODES[initial_state], dtype=np.int64)
+        self.direction = np.array([r.direction for r in records])
+        self.shared = ["mass", *spec.names] + (["offset"] if offset else [])
+        kinds = ["initial_position", "initial_velocity"]
+        if initial_state == "preload":
+            kinds.append("preload_fraction")
+        self.kinds = kinds
+        self.record_of: dict[str, int | None] = dict.fromkeys(self.shared)
+        self.names = list(self.shared)
+        for i in range(self.n_rec):
+            for kind in kinds:
+                name = f"{kind}_{i + 1}" if suffix else kind
+                self.names.append(name)
+                self.record_of[name] = i
+        self.index = {x: j for j, x in enumerate(self.names)}
+        self.rows = self._row_blocks()
+        self.n_res = int(self.rows[-1][1].stop) if self.rows else 0
+        self.data = self._residual_of(
+            np.concatenate([r.position for r in records])[None],
+            np.concatenate([r.velocity for r in records])[None],
+            measured=True,
+        )[0]
+
+    # ------------------------------------------------------------ layout
+    @property
+    def equal(self) -> bool:
+        """Equal break-away forces (elements)."""
+        return self.spec.equal and self.spec.density is None
+
+    @property
+    def k_names(self) -> list[str]:
+        return self.spec.k_names
+
+    @property
+    def c_names(self) -> list[str]:
+        return self.spec.c_names
+
+    def nuisance(self, kind: str, i: int) -> str:
+        """The name of record i's parameter of `kind`."""
+        return self.names[len(self.shared) + i * len(self.kinds) + self.kinds.index(kind)]
+
+    def _row_blocks(self) -> list[tuple[int, slice]]:
+        """(record, rows) of every residual block, velocity before position."""
+        out, start = [], 0
+        for i in range(self.n_rec):
+            n = int(self.t_off[i + 1] - self.t_off[i])
+            for w in (self.w_v, self.w_y):
+                if w:
+                    out.append((i, slice(start, start + n)))
+                    start += n
+        return out
+
+    def record_rows(self, i: int) -> NDArray[np.intp]:
+        """Residual rows of record i."""
+        return np.concatenate([np.arange(s.start, s.stop) for j, s in self.rows if j == i])
+
+    def _residual_of(self, o_y: FloatArray, o_v: FloatArray, measured: bool = False) -> FloatArray:
+        """Weighted stacked signals (measured) or signals minus data, per parameter set."""
+        parts = []
+        for i in range(self.n_rec):
+            a, b = self.t_off[i], self.t_off[i + 1]
+            if self.w_v:
+                parts.append(self.w_v * o_v[:, a:b])
+            if self.w_y:
+                parts.append(self.w_y * o_y[:, a:b])
+        out = np.concatenate(parts, axis=1)
+        return out if measured else out - self.data[None]
+
+    # ------------------------------------------------------------ simulation
+    def unpack(self, sets: FloatArray, rigid: bool = False) -> tuple:
+        """Kernel arrays for parameter sets (rows of full parameter vectors)."""
+        n_par = sets.shape[0]
+        banks = []
+        for p in range(n_par):
+            q = dict(zip(self.names, sets[p], strict=True))
+            c1, k, r = self.spec.bank(q)
+            if rigid:  # element 1 rigid-plastic (k_1 → ∞): its c_1 joins c1
+                c1, k, r = c1 + k[0] * r[0], k[1:], r[1:]
+            banks.append((c1, k, r))
+        n_el = max(b[1].shape[0] for b in banks)
+        k_arr = np.zeros((n_par, n_el))
+        r_arr = np.ones((n_par, n_el))
+        for p, (_, k, r) in enumerate(banks):
+            k_arr[p, : k.shape[0]], r_arr[p, : r.shape[0]] = k, r
+            r_arr[p, k.shape[0] :] = r.max() if r.shape[0] else 1.0
+        c1 = np.array([b[0] for b in banks])
+        col = self.index
+        mass = np.maximum(sets[:, col["mass"]], TINY)
+        offset = sets[:, col["offset"]] if "offset" in col else np.zeros(n_par)
+        per = len(self.shared) + np.arange(self.n_rec) * len(self.kinds)
+        y0 = np.ascontiguousarray(sets[:, per])
+        v0 = np.ascontiguousarray(sets[:, per + 1])
+        if self.initial_state == "preload":
+            frac = np.clip(sets[:, per + 2], -1.0, 1.0)
+        else:
+            frac = np.ones((n_par, self.n_rec))
+        return mass, c1, k_arr, r_arr, offset, y0, v0, np.ascontiguousarray(frac)
+
+    def simulate(self, sets: FloatArray, rigid: bool = False) -> tuple:
+        """Positions, velocities (P, S), status and reversal counts (P, R)."""
+        mass, c1, k, r, offset, y0, v0, frac = self.unpack(np.atleast_2d(sets), rigid)
+        n_par, n_s = mass.shape[0], self.t_all.shape[0]
+        o_y, o_v = np.empty((n_par, n_s)), np.empty((n_par, n_s))
+        status = np.zeros((n_par, self.n_rec), dtype=np.int64)
+        n_rev = np.zeros((n_par, self.n_rec), dtype=np.int64)
+        pk.pooled_responses(
+            mass, c1, k, r, offset, y0, v0, frac, self.mode, self.direction, self.t_all,
+            self.t_off, self.ut_all, self.uv_all, self.u_off, MAX_EVENTS, o_y, o_v, status, n_rev,
+        )  # fmt: skip
+        return o_y, o_v, status, n_rev
+
+    def residuals(self, sets: FloatArray, rigid: bool = False) -> FloatArray:
+        """Residual of every parameter set (P, n_res); inf rows where a simulation failed."""
+        o_y, o_v, status, _ = self.simulate(sets, rigid)
+        out = self._residual_of(o_y, o_v)
+        bad = np.any(status != 0, axis=1) | ~np.all(np.isfinite(out), axis=1)
+        out[bad] = np.inf
+        return out
+
+    def residual(self, rigid: bool = False):
+        """fun(p) -> r for the least-squares solver (p: all parameters, in order)."""
+        return lambda p: self.residuals(p[None], rigid)[0]
+
+    # ------------------------------------------------------------ Jacobian
+    def free_jacobian(self, rigid: bool = False):
+        """jac(pm, x, lo, hi) -> dense Jacobian over the free parameters (module notes)."""
+
+        def jac(pm: _Map, x: FloatArray, lo: FloatArray, hi: FloatArray) -> FloatArray:
+            groups = self.column_groups(pm)
+            h = np.cbrt(np.finfo(float).eps) * np.maximum(np.abs(x), self.typical(pm))
+            up, down = np.minimum(h, hi - x), np.minimum(h, x - lo)
+            sets = []
+            for g in groups:
+                xp, xm = x.copy(), x.copy()
+                xp[g] += up[g]
+                xm[g] -= down[g]
+                sets += [pm.full(xp), pm.full(xm)]
+            res = self.residuals(np.array(sets), rigid)
+            out = np.zeros((self.n_res, x.shape[0]))
+            for n, g in enumerate(groups):
+                diff = res[2 * n] - res[2 * n + 1]
+                for j in g:
+                    span = up[j] + down[j]
+                    if span <= 0:
+                        continue
+                    rows = self.rows_of_column(pm, j)
+                    out[rows, j] = diff[rows] / span
+            out[~np.isfinite(out)] = 0.0
+            return out
+
+        return jac
+
+    def typical(self, pm: _Map) -> FloatArray:
+        """A magnitude of each free parameter, below which the difference step stays."""
+        return np.array([self._typ.get(n, 1e-12) for n in pm.free])
+
+    def set_typical(self, start: dict[str, float]) -> None:
+        """Magnitudes of the parameters: from the start values and the signal spans."""
+        v_span = max(max(float(np.ptp(r.velocity)) for r in self.records), TINY)
+        p_span = max(max(float(np.ptp(r.position)) for r in self.records), TINY)
+        floor = {"initial_position": 1e-3 * p_span, "initial_velocity": 1e-3 * v_span,
+                 "preload_fraction": 1e-3}  # fmt: skip
+        self._typ = {}
+        for x in self.names:
+            kind = next((k for k in NUISANCE if x.startswith(k)), None)
+            self._typ[x] = floor[kind] if kind else 1e-6 * max(abs(start.get(x, 0.0)), TINY)
+
+    def records_of_column(self, pm: _Map, j: int) -> set[int] | None:
+        """Records a free parameter touches (None: all)."""
+        out: set[int] = set()
+        for i in np.flatnonzero(pm.matrix[:, j]):
+            rec = self.record_of[self.names[i]]
+            if rec is None:
+                return None
+            out.add(rec)
+        return out
+
+    def rows_of_column(self, pm: _Map, j: int) -> NDArray[np.intp] | slice:
+        recs = self.records_of_column(pm, j)
+        if recs is None:
+            return slice(None)
+        return np.concatenate([self.record_rows(i) for i in sorted(recs)])
+
+    def column_groups(self, pm: _Map) -> list[list[int]]:
+        """Free columns perturbed together: those touching disjoint sets of records."""
+        groups: list[tuple[list[int], set[int] | None]] = []
+        for j in range(len(pm.free)):
+            recs = self.records_of_column(pm, j)
+            for cols, used in groups:
+                if recs is not None and used is not None and not (recs & used):
+                    cols.append(j)
+                    used |= recs
+                    break
+            else:
+                groups.append(([j], None if recs is None else set(recs)))
+        return [cols for cols, _ in groups]

@@ -1,0 +1,223 @@
+"""Helpers of the pooled `fit_response`: entry checks, bounds, pruning, record bootstrap.
+
+Pruning. Element j can slide after a reversal only if a swing of the motion
+(the travel between two turning points) exceeds 2·r_j (Masing's rule); an
+element with k_j → 0 or 2·r_j beyond the largest swing of the fitted motion
+never slides in the data, so its break-away force is a level the data never
+reach. The reachable Coulomb level is c1 + Σ_j k_j·min(r_j, s) with s half the
+largest swing (c1 + φ(s) for a density): the largest friction force the model
+produces over the travel seen.
+
+Bootstrap. The records are resampled with replacement (each copy keeps its own
+nuisance parameters) and refitted from the pooled optimum; the standard
+deviation and the percentile interval of each shared parameter are reported,
+and the result's interval becomes the union of the HAC and percentile
+intervals (its standard error the larger of the two), so that neither a too
+short bandwidth nor too few records makes it optimistic.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field, replace
+from typing import Any
+
+import numpy as np
+
+from presliding._validation import (
+    as_choice,
+    as_count,
+    as_nonnegative_scalar,
+    as_positive_scalar,
+    as_real_scalar,
+)
+from presliding.identification import _pi_regression as pr
+from presliding.identification import _pooled_problem as pp
+from presliding.identification._least_squares import Solution, solve_least_squares
+from presliding.identification.fit_presliding import check_varies
+from presliding.identification.measurement import Measurement
+
+NEED = {"velocity": ("velocity",), "position": ("position",), "both": ("velocity", "position")}
+
+
+def check_records(records: Any, signal: str, signals: tuple[str, ...]) -> list[pp.Record]:
+    """The records as a checked list (each a Measurement with the signals compared)."""
+    if isinstance(records, Measurement):
+        found = [records]
+    elif isinstance(records, Sequence) and not isinstance(records, (str, bytes)):
+        found = list(records)
+        for i, m in enumerate(found):
+            if not isinstance(m, Measurement):
+                raise TypeError(f"`records[{i}]` must be a Measurement; got {type(m).__name__}.")
+        if not found:
+            raise ValueError("`records` must hold at least one Measurement; got none.")
+    else:
+        raise TypeError(
+            f"`records` must be a Measurement or a sequence of them; got {type(records).__name__}."
+        )
+    signal = as_choice("signal", signal, signals)
+    for m in found:
+        m.require(*NEED[signal], purpose=f"fit_response(signal={signal!r})")
+        which = "velocity" if m.velocity is not None else "position"
+        check_varies(which, getattr(m, which))
+    return [pp.as_record(m) for m in found]
+
+
+def check_model_values(spec: Any, fixed: dict, tied: dict, initial: Mapping | None) -> None:
+    """Fixed and start values in the model's domain; ties of model parameters positive."""
+
+    def positive(x: object) -> bool:
+        return x in ("mass", "coulomb_level") or (isinstance(x, str) and spec.positive(x))
+
+    if initial is not None and not isinstance(initial, Mapping):
+        raise TypeError(
+            f"`initial` must be a mapping of parameter names to start values; "
+            f"got {type(initial).__name__}."
+        )
+    for label, values in (("fixed", fixed), ("initial", initial or {})):
+        for x, v in values.items():
+            name = f"{label}[{x!r}]"
+            if positive(x):
+                as_positive_scalar(name, v)
+            elif x == "coulomb":
+                as_nonnegative_scalar(name, v)
+            else:
+                as_real_scalar(name, v)
+    for x, spec_ in tied.items():
+        if positive(x) and not isinstance(spec_, str):
+            as_positive_scalar(f"tied[{x!r}][1]", spec_[1])
+
+
+def initial_bounds(problem: pp.PooledProblem, initial_state: str) -> dict[str, tuple]:
+    """Bounds of the per-record parameters (a saturated start moves in its direction)."""
+    out: dict[str, tuple] = {}
+    for i in range(problem.n_rec):
+        d = problem.direction[i]
+        out[problem.nuisance("initial_position", i)] = (-np.inf, np.inf)
+        v = (-np.inf, np.inf)
+        if initial_state != "preload":
+            v = (0.0, np.inf) if d > 0 else ((-np.inf, 0.0) if initial_state == "saturated" else v)
+        out[problem.nuisance("initial_velocity", i)] = v
+        if initial_state == "preload":
+            out[problem.nuisance("preload_fraction", i)] = (-1.0, 1.0)
+    return out
+
+
+# ---------------------------------------------------------------------- pruning
+@dataclass
+class Pruning:
+    """Elements that never slide in the fitted motion (module notes)."""
+
+    dead: list[int]
+    swing: float
+    reachable: float
+    effective: int | None
+    reasons: dict[int, str] = field(default_factory=dict)
+
+    def derived(self, spec: Any) -> dict[str, float]:
+        out = {"largest_swing": self.swing, "reachable_coulomb_level": self.reachable}
+        if self.effective is not None:
+            out["effective_elements"] = float(self.effective)
+        return out
+
+    def note(self, spec: Any) -> str:
+        which = ", ".join(f"{j + 1} ({self.reasons[j]})" for j in self.dead)
+        return (
+            f"element(s) {which} never slide in the data: effective N = {self.effective}, "
+            f"reachable F_c = {self.reachable:.6g} (largest swing {self.swing:.3g})"
+        )
+
+    def start(self, values: dict[str, float], problem: pp.PooledProblem) -> dict[str, float]:
+        """Start values of the refit without the dead elements (renumbered)."""
+        spec = problem.spec
+        alive = [j for j in range(spec.n) if j not in self.dead]
+        out = {x: v for x, v in values.items() if x not in (*spec.k_names, *spec.c_names)}
+        _, k, r = spec.bank(values)
+        for new, j in enumerate(alive):
+            out[f"stiffness_{new + 1}"] = float(k[j])
+            if not spec.equal:
+                out[f"breakaway_{new + 1}"] = float(k[j] * r[j])
+        if spec.equal:
+            out["coulomb_level"] = values["coulomb"] + float(np.sum(k[alive] * r[alive]))
+        return out
+
+
+def prune_elements(problem: pp.PooledProblem, sol: Solution, spec: Any) -> Pruning:
+    """The elements that never slide, the largest swing and the reachable F_c."""
+    values = sol.values
+    full = np.array([values[x] for x in problem.names])
+    o_y = problem.simulate(full)[0][0]
+    swing = 0.0
+    for i in range(problem.n_rec):
+        y = o_y[problem.t_off[i] : problem.t_off[i + 1]]
+        turns = pr.reversal_indices(np.ascontiguousarray(y), 0.0)
+        if turns.shape[0]:
+            marks = np.concatenate([y[turns], [y[-1]]])
+            swing = max(swing, float(np.max(np.abs(np.diff(marks)))) if marks.size > 1 else 0.0)
+    c1, k, r = spec.bank(values)
+    half = 0.5 * swing
+    if spec.density is not None:
+        dens = spec.friction_density(values)
+        return Pruning([], swing, c1 + float(dens.virgin_curve(half)), None)
+    reasons = {}
+    total = float(np.sum(k)) if k.size else 0.0
+    for j in range(spec.n):
+        if k[j] <= 1e-9 * total:
+            reasons[j] = "k → 0"
+        elif 2.0 * r[j] >= swing:
+            reasons[j] = "2·r beyond the largest swing"
+    reachable = c1 + float(np.sum(k * np.minimum(r, half)))
+    return Pruning(sorted(reasons), swing, reachable, spec.n - len(reasons), reasons)
+
+
+# ---------------------------------------------------------------------- bootstrap
+def record_bootstrap(
+    sol: Solution,
+    problem: pp.PooledProblem,
+    settings: dict[str, Any],
+    n_resamples: int,
+    seed: int | None,
+) -> tuple[Solution, dict[str, tuple[float, float, float]], int]:
+    """Record-level bootstrap of the shared parameters (module notes)."""
+    seed = None if seed is None else as_count("seed", seed)
+    rng = np.random.default_rng(seed)
+    fixed, tied, box = settings["fixed"], settings["tied"], settings["bounds"]
+    shared_free = [x for x in problem.shared if x not in fixed and x not in tied]
+    draws, count = [], 0
+    for _ in range(n_resamples):
+        idx = rng.integers(0, problem.n_rec, problem.n_rec)
+        recs = [problem.records[i] for i in idx]
+        sub = pp.PooledProblem(recs, problem.spec, (problem.w_v, problem.w_y),
+                               problem.initial_state, offset="offset" in problem.shared,
+                               suffix=True)  # fmt: skip
+        rename = {}
+        for new, old in enumerate(idx):
+            for kind in problem.kinds:
+                rename[sub.nuisance(kind, new)] = problem.nuisance(kind, int(old))
+        start = {x: sol.values[rename.get(x, x)] for x in sub.names}
+        sub_fixed = {x: fixed[rename.get(x, x)] for x in sub.names if rename.get(x, x) in fixed}
+        sub_tied = {x: v for x, v in tied.items() if x in problem.shared}
+        sub_box = {x: box[rename.get(x, x)] for x in sub.names}
+        sub.set_typical(start)
+        out = solve_least_squares(
+            sub.residual(), start, fixed=sub_fixed, tied=sub_tied, bounds=sub_box,
+            free_jacobian=sub.free_jacobian(), level=settings["level"],
+            max_evaluations=settings["max_evaluations"], tolerance=settings["tolerance"],
+            gradient_tolerance=settings["gradient_tolerance"],
+        )  # fmt: skip
+        count += out.n_evaluations
+        if out.status in ("converged", "not_identifiable", "max_evaluations"):
+            draws.append([out.values[x] for x in shared_free])
+    if len(draws) < 2:
+        return sol, {}, count
+    arr = np.array(draws)
+    alpha = 1.0 - sol.level
+    lo, hi = np.quantile(arr, [alpha / 2, 1 - alpha / 2], axis=0)
+    boot = {x: (float(np.std(arr[:, j], ddof=1)), float(lo[j]), float(hi[j]))
+            for j, x in enumerate(shared_free)}  # fmt: skip
+    se, ci = dict(sol.standard_error), dict(sol.confidence_interval)
+    for x, (b_se, b_lo, b_hi) in boot.items():
+        se[x] = max(se[x], b_se)
+        ci[x] = (min(ci[x][0], b_lo), max(ci[x][1], b_hi))
+    message = f"{sol.message}; intervals joined with a {len(draws)}-resample record bootstrap"
+    return replace(sol, standard_error=se, confidence_interval=ci, message=message), boot, count

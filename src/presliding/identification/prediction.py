@@ -1,0 +1,180 @@
+"""Predictions of a fitted model on a record: signal, NRMSE, reversal counts, rest positions.
+
+`FitResult.predict(measurement)` returns a `Prediction`; `cross_validate`
+collects one per held-out record. Reversals are counted the same way on the
+measured and on the predicted position (`count_reversals`): a turning point
+counts when the path leaves it by more than a tolerance, by default three
+times the larger of the position's quantum (its smallest nonzero step, an
+encoder's resolution) and its noise (the RMS of second differences over √6),
+so that a quantised or noisy record is not credited with reversals it only
+seems to make.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from presliding._validation import as_nonnegative_scalar, as_signal
+from presliding.identification._pi_regression import reversal_indices
+from presliding.identification.fit_result import fit_statistics
+
+if TYPE_CHECKING:  # pragma: no cover
+    from matplotlib.axes import Axes
+
+__all__ = ["Prediction", "count_reversals", "reversal_tolerance"]
+
+FloatArray = NDArray[np.float64]
+
+
+def reversal_tolerance(position: ArrayLike) -> float:
+    """Three times the larger of the quantum and the noise of a position record [m].
+
+    Parameters
+    ----------
+    position : array_like, shape (T,)
+
+    Returns
+    -------
+    float
+        3·max(smallest nonzero |Δy|, RMS(Δ²y)/√6); 0 for a constant record.
+    """
+    y = as_signal("position", position)
+    steps = np.abs(np.diff(y))
+    steps = steps[steps > 0]
+    if not steps.size:
+        return 0.0
+    quantum = float(np.min(steps))
+    noise = float(np.sqrt(np.mean(np.diff(y, 2) ** 2)) / np.sqrt(6)) if y.shape[0] > 2 else 0.0
+    return 3.0 * max(quantum, min(noise, 0.05 * float(np.ptp(y))))
+
+
+def count_reversals(position: ArrayLike, tolerance: float | None = None) -> int:
+    """Number of turning points of a position record, left by more than `tolerance`.
+
+    Parameters
+    ----------
+    position : array_like, shape (T,)
+        y [m].
+    tolerance : float, optional
+        Travel [m] by which the path must leave a turning point (>= 0); default
+        `reversal_tolerance` of the record.
+
+    Returns
+    -------
+    int
+        The motion reversals (the first motion is not one).
+    """
+    y = as_signal("position", position)
+    tol = reversal_tolerance(y) if tolerance is None else as_nonnegative_scalar(
+        "tolerance", tolerance)  # fmt: skip
+    return int(reversal_indices(np.ascontiguousarray(y), tol).shape[0])
+
+
+@dataclass(frozen=True, eq=False)
+class Prediction:
+    """A fitted model's prediction of one record.
+
+    Attributes
+    ----------
+    abscissa, measured, predicted : ndarray, shape (T,)
+        Against time (or force for a quasi-static fit): the compared signal.
+    signal_label, abscissa_label : str
+    nrmse : float
+        RMS(measured − predicted) over the range of the measured signal.
+    measured_reversals, predicted_reversals : int or None
+        `count_reversals` of the measured and the predicted position (same
+        tolerance); None where the record has no time course (virgin curves).
+    measured_rest, predicted_rest : float or None
+        Position at the end of the record, when it is at rest there (a response).
+    parameters : dict
+        The record's own parameters used (initial conditions, preload).
+    status : str
+        "success", or "failed" when the record's initial conditions could not be
+        estimated or its simulation failed.
+    message : str
+    """
+
+    abscissa: FloatArray
+    measured: FloatArray
+    predicted: FloatArray
+    signal_label: str
+    abscissa_label: str
+    nrmse: float
+    measured_reversals: int | None
+    predicted_reversals: int | None
+    measured_rest: float | None
+    predicted_rest: float | None
+    parameters: dict[str, float]
+    status: str = "success"
+    message: str = ""
+
+    @property
+    def success(self) -> bool:
+        """True when the prediction could be computed."""
+        return self.status == "success"
+
+    @property
+    def reversals_match(self) -> bool | None:
+        """Whether the predicted reversal count equals the measured one."""
+        if self.measured_reversals is None or self.predicted_reversals is None:
+            return None
+        return self.measured_reversals == self.predicted_reversals
+
+    @property
+    def rest_error(self) -> float | None:
+        """predicted_rest − measured_rest (None unless both are at rest)."""
+        if self.measured_rest is None or self.predicted_rest is None:
+            return None
+        return self.predicted_rest - self.measured_rest
+
+    @classmethod
+    def build(
+        cls, abscissa: Any, measured: Any, predicted: Any, labels: tuple[str, str], **extra: Any
+    ) -> Prediction:
+        """A prediction with its NRMSE computed."""
+        _, nrmse, _ = fit_statistics(measured, predicted)
+        defaults = {"measured_reversals": None, "predicted_reversals": None,
+                    "measured_rest": None, "predicted_rest": None, "parameters": {}}  # fmt: skip
+        return cls(np.asarray(abscissa, float), np.asarray(measured, float),
+                   np.asarray(predicted, float), labels[0], labels[1], nrmse,
+                   **{**defaults, **extra})  # fmt: skip
+
+    def to_dict(self) -> dict[str, Any]:
+        """The summary figures (not the arrays) as plain values."""
+        return {
+            "nrmse": self.nrmse, "measured_reversals": self.measured_reversals,
+            "predicted_reversals": self.predicted_reversals, "measured_rest": self.measured_rest,
+            "predicted_rest": self.predicted_rest, "parameters": dict(self.parameters),
+            "status": self.status, "message": self.message,
+        }  # fmt: skip
+
+    def to_pandas(self) -> Any:
+        """A DataFrame of the abscissa, measured and predicted signal."""
+        import pandas as pd
+
+        return pd.DataFrame({self.abscissa_label: self.abscissa, "measured": self.measured,
+                             "predicted": self.predicted})  # fmt: skip
+
+    def report(self) -> str:
+        """A one-paragraph summary."""
+        lines = [f"prediction: {self.status}{' — ' + self.message if self.message else ''}",
+                 f"  NRMSE {100 * self.nrmse:.3f} % ({self.signal_label})"]  # fmt: skip
+        if self.measured_reversals is not None:
+            lines.append(f"  reversals: measured {self.measured_reversals}, predicted "
+                         f"{self.predicted_reversals}")  # fmt: skip
+        if self.rest_error is not None:
+            lines.append(f"  rest position: measured {self.measured_rest:.6g}, predicted "
+                         f"{self.predicted_rest:.6g}")  # fmt: skip
+        return "\n".join(lines)
+
+    def plot(self, ax: Axes | None = None) -> Axes:
+        """Measured and predicted signal with the residual below; returns the axes."""
+        from presliding.plotting import plot_fit
+
+        return plot_fit(self.abscissa, self.measured, self.predicted, ax=ax,
+                        xlabel=self.abscissa_label, ylabel=self.signal_label,
+                        title=f"prediction (NRMSE {100 * self.nrmse:.2f} %)")  # fmt: skip
