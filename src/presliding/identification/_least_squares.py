@@ -27,14 +27,15 @@ import numpy as np
 from numpy.typing import NDArray
 
 from presliding._validation import as_choice, as_count, as_positive_scalar, as_real_scalar, fmt
+from presliding.identification._structured_lm import levenberg_marquardt
+from presliding.identification.uncertainty import hac_covariance, ols_covariance
 
 FloatArray = NDArray[np.float64]
 Tie = str | tuple[str, float]
 
 #: Status values of a fit: only "converged" is a success.
 STATUSES = ("converged", "not_identifiable", "at_bound", "max_evaluations", "failed")
-_RANK_TOL = 1e-7  # relative singular value below which a direction counts as undetermined
-#: residuals × free parameters² above which a structured Jacobian takes the LSMR solver
+#: residuals × free parameters² above which a structured problem takes `levenberg_marquardt`
 LARGE_PROBLEM = 2e7
 
 
@@ -188,6 +189,8 @@ def solve_least_squares(
     gradient_tolerance: float | None = None,
     free_jacobian: Callable[..., FloatArray] | None = None,
     blocks: Any = None,
+    residual_size: int = 0,
+    step_limit: Callable[[FloatArray], FloatArray] | None = None,
 ) -> Solution:
     """Minimise ‖residual(p)‖² over named parameters, some fixed or tied.
 
@@ -243,7 +246,7 @@ def solve_least_squares(
         that is not a finite real inside its bounds, a malformed tie or a cycle
         of ties.
     """
-    from scipy import optimize, sparse, stats
+    from scipy import optimize, stats
     from threadpoolctl import threadpool_limits
 
     level, max_evaluations, tolerance = check_options(level, max_evaluations, tolerance)
@@ -284,25 +287,30 @@ def solve_least_squares(
 
         elif free_jacobian is not None:
 
-            def jac(x: FloatArray) -> FloatArray:
+            def jac(x: FloatArray) -> Any:
                 out = free_jacobian(pm, x, lo, hi)
-                return out if solver == "exact" else sparse.csr_matrix(out)
+                return out if large or not hasattr(out, "toarray") else out.toarray()
 
-        # large problems: the exact trust-region step factors the whole Jacobian
-        # every iteration; LSMR on the sparse one needs only products with it
-        n_res = int(np.size(fun(x0))) if free_jacobian is not None else 0
-        solver = "lsmr" if n_res * len(pm.free) ** 2 > LARGE_PROBLEM else "exact"
+        # Large structured problems: the trust-region method would factor the
+        # whole Jacobian every iteration; LM on the small normal equations does not.
+        large = free_jacobian is not None and residual_size * len(pm.free) ** 2 > LARGE_PROBLEM
+        gtol = tolerance if gradient_tolerance is None else gradient_tolerance
         try:
             with threadpool_limits(limits=1, user_api="blas"):
-                res = optimize.least_squares(
-                    fun, x0, jac=jac, bounds=(lo, hi), method="trf", x_scale="jac",
-                    tr_solver=solver, ftol=tolerance, xtol=tolerance, max_nfev=max_evaluations,
-                    gtol=tolerance if gradient_tolerance is None else gradient_tolerance,
-                )  # fmt: skip
+                if large:
+                    res = levenberg_marquardt(
+                        fun, jac, x0, lo, hi, ftol=tolerance, xtol=tolerance, gtol=gtol,
+                        max_nfev=max_evaluations, step_limit=_free_limit(pm, step_limit),
+                    )  # fmt: skip
+                else:
+                    res = optimize.least_squares(
+                        fun, x0, jac=jac, bounds=(lo, hi), method="trf", x_scale="jac",
+                        tr_solver="exact", ftol=tolerance, xtol=tolerance, gtol=gtol,
+                        max_nfev=max_evaluations,
+                    )  # fmt: skip
         except (ValueError, np.linalg.LinAlgError, FloatingPointError) as exc:
             return _failed(pm, x0, fixed, tied, level, f"the optimiser failed: {exc}")
-        x, r, evaluations = res.x, res.fun, int(res.nfev)
-        jac_free = res.jac.toarray() if sparse.issparse(res.jac) else res.jac
+        x, r, jac_free, evaluations = res.x, res.fun, res.jac, int(res.nfev)
         status = "max_evaluations" if res.status == 0 else "converged"
         message = (
             "stopped at the evaluation limit before convergence"
@@ -322,12 +330,10 @@ def solve_least_squares(
     widths: tuple[int, ...] = ()
     with threadpool_limits(limits=1, user_api="blas"):  # tall, thin factorisations
         if blocks is not None and pm.free:
-            from presliding.identification.uncertainty import hac_covariance
-
             cov, undetermined, found = hac_covariance(jac_free, r, blocks)
             widths = tuple(found)
         else:
-            cov, undetermined = _covariance(jac_free, r)
+            cov, undetermined = ols_covariance(jac_free, r)
     full = pm.full(x)
     var = np.einsum("ij,jk,ik->i", pm.matrix, cov, pm.matrix) if pm.free else np.zeros(len(names))
     se = np.sqrt(np.maximum(var, 0.0))
@@ -357,32 +363,26 @@ def solve_least_squares(
     )
 
 
+def _free_limit(pm: _Map, step_limit: Any) -> Any:
+    """A step limit of the free parameters from one of every parameter."""
+    if step_limit is None:
+        return None
+    weight = np.abs(pm.matrix)
+
+    def limit(x: FloatArray) -> FloatArray:
+        full = step_limit(pm.full(x))
+        with np.errstate(divide="ignore"):
+            per = np.where(weight > 0, full[:, None] / np.where(weight > 0, weight, 1.0), np.inf)
+        return per.min(axis=0)
+
+    return limit
+
+
 def _full_covariance(pm: _Map, cov: FloatArray, se: FloatArray) -> FloatArray:
     """Covariance of every parameter (fixed: 0; undetermined: inf variance)."""
     full = pm.matrix @ cov @ pm.matrix.T if pm.free else np.zeros((len(pm.names),) * 2)
     full[np.diag_indices_from(full)] = np.where(np.isinf(se), np.inf, np.diag(full))
     return full
-
-
-def _covariance(jac: FloatArray, r: FloatArray) -> tuple[FloatArray, list[int]]:
-    """s²·(JᵀJ)⁻¹ on the determined subspace, and the undetermined free parameters."""
-    n, p = jac.shape
-    if p == 0:
-        return np.zeros((0, 0)), []
-    if n <= p:
-        return np.zeros((p, p)), list(range(p))
-    norms = np.linalg.norm(jac, axis=0)
-    dead = norms == 0
-    scale = np.where(dead, 1.0, norms)
-    _, s, vt = np.linalg.svd(jac / scale, full_matrices=False)
-    keep = s > _RANK_TOL * s[0] if s[0] > 0 else np.zeros_like(s, dtype=bool)
-    s2 = float(r @ r) / (n - p)
-    inv = (vt[keep].T / s[keep] ** 2) @ vt[keep]
-    cov = s2 * inv / np.outer(scale, scale)
-    undetermined = set(np.flatnonzero(dead).tolist())
-    for row in vt[~keep]:
-        undetermined |= set(np.flatnonzero(np.abs(row) > 1e-3).tolist())
-    return cov, sorted(undetermined)
 
 
 def _failed(pm: _Map, x: FloatArray, fixed: Any, tied: Any, level: float, msg: str) -> Solution:

@@ -61,6 +61,20 @@ def centroid_bank(density: Density, cells: int) -> tuple[FloatArray, FloatArray]
     return k[keep], np.maximum(np.diff(m1)[keep] / k[keep], TINY)
 
 
+def _spread(k: FloatArray, ratio: float = 1.5) -> FloatArray:
+    """Stiffnesses (descending) at least `ratio` apart, around the same geometric mean.
+
+    Equal elements are interchangeable: a start with two nearly equal ones sits
+    next to the symmetric saddle where the data cannot tell them apart.
+    """
+    if k.shape[0] < 2:
+        return k
+    logk = np.log(np.sort(k)[::-1])
+    gaps = np.maximum(-np.diff(logk), np.log(ratio))
+    spread = np.concatenate([[0.0], -np.cumsum(gaps)])
+    return np.exp(spread - spread.mean() + logk.mean())
+
+
 class ModelSpec:
     """Named parameters of a friction model and their bank (module notes)."""
 
@@ -155,7 +169,7 @@ class ModelSpec:
         if self.density is None:
             if self.equal:
                 out["coulomb_level"] = float(fc)
-                k = equal_breakaway_stiffness(grid, weights, fm / max(self.n, 1), self.n)
+                k = _spread(equal_breakaway_stiffness(grid, weights, fm / max(self.n, 1), self.n))
             else:
                 r, k = pr.merge_grid(grid, np.where(weights > 0, weights, 0.0), self.n)
                 out.update({x: float(v) for x, v in zip(self.c_names, k * r, strict=True)})

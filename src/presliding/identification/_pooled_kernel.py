@@ -24,8 +24,7 @@ from presliding.motion._event import run_events
 RELAXED, BRANCH, VIRGIN = 0, 1, 2
 
 
-@nb.njit(cache=True, parallel=True)
-def pooled_responses(  # pragma: no cover - compiled
+def _pooled_responses(  # pragma: no cover - compiled
     mass, c1, k, r, offset, y0, v0, fraction, mode, direction,
     t_all, t_off, ut_all, uv_all, u_off, max_events, o_y, o_v, status, n_rev,
 ):  # fmt: skip
@@ -69,3 +68,25 @@ def pooled_responses(  # pragma: no cover - compiled
             o_v[p, a + j] = o_v[p, a + filled - 1] if filled > 0 else v0[p, i]
         status[p, i] = res[0]
         n_rev[p, i] = res[2]
+
+
+def _assemble(o_y, o_v, index, w_v, w_y, data, out):  # pragma: no cover - compiled
+    """out[p, i] = w_v[i]·o_v[p, index[i]] + w_y[i]·o_y[p, index[i]] − data[i]."""
+    n_par, n_res = out.shape
+    for p in range(n_par):
+        for i in range(n_res):
+            j = index[i]
+            out[p, i] = w_v[i] * o_v[p, j] + w_y[i] * o_y[p, j] - data[i]
+
+
+# Parallel forms for batches of parameter sets (a Jacobian); serial forms for one
+# set, where a parallel region costs more than it saves on a busy machine.
+pooled_responses_parallel = nb.njit(cache=True, parallel=True)(_pooled_responses)
+pooled_responses_serial = nb.njit(cache=True)(_pooled_responses)
+assemble = nb.njit(cache=True)(_assemble)  # memory bound: serial is as fast
+
+
+def pooled_responses(mass, *args):
+    """`_pooled_responses`, in parallel for several parameter sets."""
+    kernel = pooled_responses_parallel if mass.shape[0] > 1 else pooled_responses_serial
+    kernel(mass, *args)

@@ -105,6 +105,7 @@ class PooledProblem:
         self.index = {x: j for j, x in enumerate(self.names)}
         self.rows = self._row_blocks()
         self.n_res = int(self.rows[-1][1].stop) if self.rows else 0
+        self._layout()
         self.data = self._residual_of(
             np.concatenate([r.position for r in records])[None],
             np.concatenate([r.velocity for r in records])[None],
@@ -142,19 +143,31 @@ class PooledProblem:
 
     def record_rows(self, i: int) -> NDArray[np.intp]:
         """Residual rows of record i."""
-        return np.concatenate([np.arange(s.start, s.stop) for j, s in self.rows if j == i])
+        return self._record_rows[i]
+
+    def _layout(self) -> None:
+        """Sample index, signal weights and record rows of every residual row."""
+        idx, wv, wy = [], [], []
+        for i in range(self.n_rec):
+            samples = np.arange(self.t_off[i], self.t_off[i + 1])
+            for w, is_v in ((self.w_v, True), (self.w_y, False)):
+                if w:
+                    idx.append(samples)
+                    wv.append(np.full(samples.shape[0], w if is_v else 0.0))
+                    wy.append(np.full(samples.shape[0], 0.0 if is_v else w))
+        self._idx = np.concatenate(idx)
+        self._wv, self._wy = np.concatenate(wv), np.concatenate(wy)
+        rows: dict[int, list] = {i: [] for i in range(self.n_rec)}
+        for i, block in self.rows:
+            rows[i].append(np.arange(block.start, block.stop))
+        self._record_rows = {i: np.concatenate(r) for i, r in rows.items()}
 
     def _residual_of(self, o_y: FloatArray, o_v: FloatArray, measured: bool = False) -> FloatArray:
         """Weighted stacked signals (measured) or signals minus data, per parameter set."""
-        parts = []
-        for i in range(self.n_rec):
-            a, b = self.t_off[i], self.t_off[i + 1]
-            if self.w_v:
-                parts.append(self.w_v * o_v[:, a:b])
-            if self.w_y:
-                parts.append(self.w_y * o_y[:, a:b])
-        out = np.concatenate(parts, axis=1)
-        return out if measured else out - self.data[None]
+        out = np.empty((o_y.shape[0], self._idx.shape[0]))
+        data = np.zeros(self._idx.shape[0]) if measured else self.data
+        pk.assemble(o_y, o_v, self._idx, self._wv, self._wy, data, out)
+        return out
 
     # ------------------------------------------------------------ simulation
     def unpack(self, sets: FloatArray, rigid: bool = False) -> tuple:
@@ -208,37 +221,111 @@ class PooledProblem:
         return out
 
     def residual(self, rigid: bool = False):
-        """fun(p) -> r for the least-squares solver (p: all parameters, in order)."""
-        return lambda p: self.residuals(p[None], rigid)[0]
+        """fun(p) -> r for the least-squares solver (p: all parameters, in order).
+
+        The last evaluation is kept: a forward-difference Jacobian at the same
+        point starts from it.
+        """
+
+        def fun(p: FloatArray) -> FloatArray:
+            r = self.residuals(p[None], rigid)[0]
+            self._last = (rigid, p.copy(), r)
+            return r
+
+        return fun
 
     # ------------------------------------------------------------ Jacobian
-    def free_jacobian(self, rigid: bool = False):
-        """jac(pm, x, lo, hi) -> dense Jacobian over the free parameters (module notes)."""
+    def free_jacobian(self, rigid: bool = False, sparse_output: bool | None = None):
+        """jac(pm, x, lo, hi) -> Jacobian over the free parameters (module notes).
+
+        Dense, or a CSC matrix (``sparse_output``; default: for large problems,
+        which the solver hands to `_structured_lm`).
+        """
+        from scipy import sparse
+
+        if sparse_output is None:
+            sparse_output = self.n_res > 5000
+        # small problems: central differences; large ones: forward differences from
+        # the residual the solver has just evaluated (half the simulations)
+        central = not sparse_output
+        cache: dict[int, tuple] = {}
 
         def jac(pm: _Map, x: FloatArray, lo: FloatArray, hi: FloatArray) -> FloatArray:
-            groups = self.column_groups(pm)
-            h = np.cbrt(np.finfo(float).eps) * np.maximum(np.abs(x), self.typical(pm))
-            up, down = np.minimum(h, hi - x), np.minimum(h, x - lo)
+            if id(pm) not in cache:
+                rows = [self.rows_of_column(pm, j) for j in range(len(pm.free))]
+                cache[id(pm)] = (pm, self.column_groups(pm), rows)
+            _, groups, col_rows = cache[id(pm)]
+            eps = np.finfo(float).eps
+            h = (np.cbrt(eps) if central else np.sqrt(eps)) * np.maximum(
+                np.abs(x), self.typical(pm) * (1.0 if central else 1e-2)
+            )
+            up = np.minimum(h, hi - x)
+            down = (
+                np.minimum(h, x - lo) if central else np.where(up > 0, 0.0, np.minimum(h, x - lo))
+            )
+            full = pm.full(x)
+            last = getattr(self, "_last", None)
+            base = None
+            if (
+                not central
+                and last is not None
+                and last[0] == rigid
+                and np.array_equal(last[1], full)
+            ):
+                base = last[2]
             sets = []
             for g in groups:
                 xp, xm = x.copy(), x.copy()
                 xp[g] += up[g]
                 xm[g] -= down[g]
-                sets += [pm.full(xp), pm.full(xm)]
+                sets.append(pm.full(xp))
+                if central or base is None or np.any(down[g] > 0):
+                    sets.append(pm.full(xm))
             res = self.residuals(np.array(sets), rigid)
-            out = np.zeros((self.n_res, x.shape[0]))
-            for n, g in enumerate(groups):
-                diff = res[2 * n] - res[2 * n + 1]
+            values: list = [None] * x.shape[0]
+            k = 0
+            for g in groups:
+                plus = res[k]
+                k += 1
+                if central or base is None or np.any(down[g] > 0):
+                    minus = res[k]
+                    k += 1
+                else:
+                    minus = base
+                diff = plus - minus
                 for j in g:
                     span = up[j] + down[j]
-                    if span <= 0:
-                        continue
-                    rows = self.rows_of_column(pm, j)
-                    out[rows, j] = diff[rows] / span
-            out[~np.isfinite(out)] = 0.0
-            return out
+                    rows = col_rows[j]
+                    values[j] = diff[rows] / span if span > 0 else np.zeros(rows.shape[0])
+            data = np.concatenate(values)
+            data[~np.isfinite(data)] = 0.0
+            if not sparse_output:
+                out = np.zeros((self.n_res, x.shape[0]))
+                for j, rows in enumerate(col_rows):
+                    out[rows, j] = values[j]
+                out[~np.isfinite(out)] = 0.0
+                return out
+            indptr = np.concatenate([[0], np.cumsum([r.shape[0] for r in col_rows])])
+            return sparse.csc_matrix(
+                (data, np.concatenate(col_rows), indptr), shape=(self.n_res, x.shape[0])
+            )
 
         return jac
+
+    def step_limit(self, p: FloatArray) -> FloatArray:
+        """Largest change of each parameter in one solver step (a trust box).
+
+        Shared parameters: half their value (or their typical size); initial
+        positions and velocities: a tenth of the records' spans; preloads: 0.25.
+        """
+        out = np.empty(len(self.names))
+        for j, x in enumerate(self.names):
+            kind = next((k for k in NUISANCE if x.startswith(k)), None)
+            if kind is None:
+                out[j] = 0.5 * max(abs(p[j]), 1e6 * self._typ[x])
+            else:
+                out[j] = self._limits[kind]
+        return out
 
     def typical(self, pm: _Map) -> FloatArray:
         """A magnitude of each free parameter, below which the difference step stays."""
@@ -250,6 +337,8 @@ class PooledProblem:
         p_span = max(max(float(np.ptp(r.position)) for r in self.records), TINY)
         floor = {"initial_position": 1e-3 * p_span, "initial_velocity": 1e-3 * v_span,
                  "preload_fraction": 1e-3}  # fmt: skip
+        self._limits = {"initial_position": 0.1 * p_span, "initial_velocity": 0.1 * v_span,
+                        "preload_fraction": 0.25}  # fmt: skip
         self._typ = {}
         for x in self.names:
             kind = next((k for k in NUISANCE if x.startswith(k)), None)
@@ -265,11 +354,13 @@ class PooledProblem:
             out.add(rec)
         return out
 
-    def rows_of_column(self, pm: _Map, j: int) -> NDArray[np.intp] | slice:
+    def rows_of_column(self, pm: _Map, j: int) -> NDArray[np.intp]:
         recs = self.records_of_column(pm, j)
         if recs is None:
-            return slice(None)
-        return np.concatenate([self.record_rows(i) for i in sorted(recs)])
+            return np.arange(self.n_res)
+        if len(recs) == 1:
+            return self._record_rows[next(iter(recs))]
+        return np.concatenate([self._record_rows[i] for i in sorted(recs)])
 
     def column_groups(self, pm: _Map) -> list[list[int]]:
         """Free columns perturbed together: those touching disjoint sets of records."""

@@ -16,6 +16,7 @@ import numpy as np
 from presliding.identification._least_squares import Solution
 
 _BOUND = 1e-8  # a parameter below this fraction of its scale sits on its bound 0
+_NUISANCE = ("initial_velocity", "initial_position", "preload_fraction")
 
 
 def cost(sol: Solution) -> float:
@@ -109,7 +110,9 @@ def bound_check(sol, start, names, fixed, tied, equal_breakaway) -> Solution:
     at = []
     for x in free:
         ref = scale.get(x, k_max if x.startswith("stiffness_") else c_max)
-        if x not in ("initial_velocity", "initial_position") and val[x] <= _BOUND * ref:
+        if x.startswith(_NUISANCE) or x in ("offset", "viscous"):
+            continue  # a record's start, an offset or no viscous friction: not a model bound
+        if val[x] <= _BOUND * ref:
             at.append(f"{x} = 0")
     if equal_breakaway and "coulomb" in free and val["coulomb"] >= val["coulomb_level"]:
         at.append("coulomb = coulomb_level (no force left for the elements)")
@@ -119,7 +122,7 @@ def bound_check(sol, start, names, fixed, tied, equal_breakaway) -> Solution:
             f"do not hold; {sol.message}"
         )
         return replace(sol, status="at_bound", message=message)
-    if "initial_velocity" in free and val["initial_velocity"] == 0.0:
+    if "initial_velocity" in free and val.get("initial_velocity") == 0.0:
         sol = replace(sol, message=sol.message + "; initial_velocity sits on its bound 0")
     return sol
 

@@ -201,7 +201,8 @@ def record_bootstrap(
         sub.set_typical(start)
         out = solve_least_squares(
             sub.residual(), start, fixed=sub_fixed, tied=sub_tied, bounds=sub_box,
-            free_jacobian=sub.free_jacobian(), level=settings["level"],
+            free_jacobian=sub.free_jacobian(), residual_size=sub.n_res, level=settings["level"],
+            step_limit=sub.step_limit,
             max_evaluations=settings["max_evaluations"], tolerance=settings["tolerance"],
             gradient_tolerance=settings["gradient_tolerance"],
         )  # fmt: skip

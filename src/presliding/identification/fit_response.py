@@ -39,7 +39,11 @@ import numpy as np
 
 from presliding._validation import as_choice, as_count, as_positive_scalar, fmt
 from presliding.identification import _pooled_problem as pp
-from presliding.identification._least_squares import check_constraints, check_options
+from presliding.identification._least_squares import (
+    LARGE_PROBLEM,
+    check_constraints,
+    check_options,
+)
 from presliding.identification._model_spec import DENSITIES, ModelSpec
 from presliding.identification._pooled_start import pooled_start
 from presliding.identification._response_checks import (
@@ -65,6 +69,9 @@ from presliding.identification.measurement import Measurement
 __all__ = ["fit_response"]
 
 SIGNALS = ("velocity", "position", "both")
+#: evaluations of the rigid-limit refit of a large pooled problem (an upper bound of its
+#: cost suffices to flag the rigid corner; the refit starts at the optimum)
+RIGID_EVALUATIONS = 30
 STATES = ("saturated", "preload", "relaxed")
 PER_UNIT_MASS = (
     "no record has an applied force, so mass and forces are determined only up to a common "
@@ -259,7 +266,9 @@ def fit_response(
         fun, jac = _with_penalty(problem, rigid, penalty)
         out = solve_least_squares(
             fun, begin, fixed={**fixed, **(extra or {})}, free_jacobian=jac,
-            blocks=[rows for _, rows in problem.rows], **{**options, **kw},
+            blocks=[rows for _, rows in problem.rows], residual_size=problem.n_res,
+            step_limit=problem.step_limit,
+            **{**options, **kw},
         )  # fmt: skip
         evaluations[0] += out.n_evaluations
         return out
@@ -270,7 +279,13 @@ def fit_response(
     search = multistart and density is None and n >= 1 and not (
         {"coulomb", *spec.k_names, *spec.c_names} & shaped)  # fmt: skip
     starts = [start] + ([spread_start(start, spec.k_names)] if search and discrete_equal else [])
-    sol = min((solve(s) for s in starts), key=cost)
+    large = problem.n_res * (len(names) - len(fixed)) ** 2 > LARGE_PROBLEM
+    if len(starts) > 1 and large:  # compare the starts after a few steps, refine the best
+        short = min(max_evaluations, 12 + 2 * len(problem.shared))
+        best = min((solve(s, max_evaluations=short) for s in starts), key=cost)
+        sol = solve(best.values if np.isfinite(cost(best)) else start)
+    else:
+        sol = min((solve(s) for s in starts), key=cost)
     if single:
         sol = polish_initial_velocity(sol, solve, fixed, tied, recs[0].velocity)
     labelled = (set(spec.k_names) | set(spec.c_names)) & (set(fixed) | set(tied))
@@ -279,7 +294,9 @@ def fit_response(
     elif density is None and not equal_breakaway and not labelled and sol.status != "failed":
         sol = smallest_threshold_first(sol, spec.k_names, spec.c_names)
     if search and sol.status == "converged":
-        sol = rigid_check(sol, solve, problem, names, fixed, tied, level)
+        capped = (lambda *a, **k: solve(*a, max_evaluations=RIGID_EVALUATIONS, **k)) if large \
+            else solve  # fmt: skip
+        sol = rigid_check(sol, capped, problem, names, fixed, tied, level)
     sol = bound_check(sol, start, names, fixed, tied, equal_breakaway and density is None)
     notes = [PER_UNIT_MASS] if per_unit_mass else []
     pruned = prune_elements(problem, sol, spec)

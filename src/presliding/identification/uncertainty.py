@@ -27,7 +27,7 @@ from collections.abc import Sequence
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["andrews_bandwidth", "correlation_matrix", "hac_covariance"]
+__all__ = ["andrews_bandwidth", "correlation_matrix", "hac_covariance", "ols_covariance"]
 
 FloatArray = NDArray[np.float64]
 _RANK_TOL = 1e-7
@@ -53,6 +53,22 @@ def andrews_bandwidth(residual: FloatArray) -> int:
     rho = min(max(rho, -0.99), 0.99)
     alpha = 4 * rho**2 / ((1 - rho) ** 2 * (1 + rho) ** 2)
     return int(min(np.floor(1.1447 * (alpha * n) ** (1 / 3)), n - 1))
+
+
+def _singular(mat: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """Singular values (descending) and right singular vectors of a tall matrix.
+
+    Large matrices go through the eigenvalues of the small Gram matrix (the
+    column scaling keeps its condition moderate), which is much faster than
+    factoring the tall matrix itself.
+    """
+    n, p = mat.shape
+    if n * p * p <= 2e7:
+        _, s, vt = np.linalg.svd(mat, full_matrices=False)
+        return s, vt
+    lam, vec = np.linalg.eigh(mat.T @ mat)
+    order = np.argsort(lam)[::-1]
+    return np.sqrt(np.maximum(lam[order], 0.0)), vec[:, order].T
 
 
 def _bartlett_meat(g: FloatArray, lag: int) -> FloatArray:
@@ -106,7 +122,7 @@ def hac_covariance(
     norms = np.linalg.norm(jac, axis=0)
     dead = norms == 0
     scale = np.where(dead, 1.0, norms)
-    _, s, vt = np.linalg.svd(jac / scale, full_matrices=False)
+    s, vt = _singular(jac / scale)
     keep = s > _RANK_TOL * s[0] if s[0] > 0 else np.zeros_like(s, dtype=bool)
     bread = (vt[keep].T / s[keep] ** 2) @ vt[keep] / np.outer(scale, scale)  # (JᵀJ)⁺
     meat = np.zeros((p, p))
@@ -122,6 +138,41 @@ def hac_covariance(
     for row in vt[~keep]:
         undetermined |= set(np.flatnonzero(np.abs(row) > 1e-3).tolist())
     return cov, sorted(undetermined), widths
+
+
+def ols_covariance(jac: FloatArray, r: FloatArray) -> tuple[FloatArray, list[int]]:
+    """s²·(JᵀJ)⁻¹ on the determined subspace, and the undetermined parameters.
+
+    The textbook covariance for independent residuals, s² = ‖r‖²/(n − p).
+
+    Parameters
+    ----------
+    jac : ndarray, shape (n, p)
+    r : ndarray, shape (n,)
+
+    Returns
+    -------
+    covariance : ndarray, shape (p, p)
+    undetermined : list of int
+        Columns the data do not determine (a singular JᵀJ).
+    """
+    n, p = jac.shape
+    if p == 0:
+        return np.zeros((0, 0)), []
+    if n <= p:
+        return np.zeros((p, p)), list(range(p))
+    norms = np.linalg.norm(jac, axis=0)
+    dead = norms == 0
+    scale = np.where(dead, 1.0, norms)
+    _, s, vt = np.linalg.svd(jac / scale, full_matrices=False)
+    keep = s > _RANK_TOL * s[0] if s[0] > 0 else np.zeros_like(s, dtype=bool)
+    s2 = float(r @ r) / (n - p)
+    inv = (vt[keep].T / s[keep] ** 2) @ vt[keep]
+    cov = s2 * inv / np.outer(scale, scale)
+    undetermined = set(np.flatnonzero(dead).tolist())
+    for row in vt[~keep]:
+        undetermined |= set(np.flatnonzero(np.abs(row) > 1e-3).tolist())
+    return cov, sorted(undetermined)
 
 
 def correlation_matrix(covariance: FloatArray) -> FloatArray:
