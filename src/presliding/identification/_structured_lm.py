@@ -18,6 +18,7 @@ between the residual and a free column (gtol).
 
 from __future__ import annotations
 
+import itertools
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
@@ -157,7 +158,7 @@ def _normal(J: Any, r: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
         blocks.setdefault((int(rows[0]), int(rows[-1]), int(nnz[j])), []).append(int(j))
     others = np.flatnonzero((nnz < n) & (nnz > 0))
     spans = sorted((first, last) for first, last, _ in blocks)
-    disjoint = all(b[0] > a[1] for a, b in zip(spans, spans[1:], strict=False))
+    disjoint = all(b[0] > a[1] for a, b in itertools.pairwise(spans))
     same = disjoint and all(
         np.array_equal(idx[ptr[j] : ptr[j + 1]], idx[ptr[cols[0]] : ptr[cols[0] + 1]])
         for cols in blocks.values()
