@@ -29,7 +29,10 @@ free motion (u constant) it then stays exactly at rest forever after:
 nothing changes any more, so the simulation ends there and the remaining
 samples repeat the rest state. ``stop_time`` is the start of the rest that lasts
 until ``t_end`` (None if the mass moves at ``t_end``); with a varying u a later
-change of u may set it in motion again.
+change of u may set it in motion again. With σ > 0 an over-damped piece (σ² >=
+4·m·K, K the stiffness of the sticking elements) that creeps towards the edge
+of the stick band reaches it only as t → ∞: the mass then has no stop time,
+its velocity decays exponentially.
 """
 
 from __future__ import annotations
