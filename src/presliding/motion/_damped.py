@@ -14,7 +14,7 @@ c = ġ + 2γ·g (c(0) = 1, ċ(0) = 0) and Q = ∫g = (1 − c)/ω0²:
     v(t) = v0·c + a0·g,    d(t) = v0·(g + 2γ·Q) + a0·Q,    a(t) = a0·(c − 2γ·g) − v0·ω0²·g.
 
 g, c and Q are evaluated without cancellation in every regime: a Taylor series
-for short times (t·(2γ + ω0) <= 2), and otherwise the damped oscillation
+for short times (t·(2γ + ω0) <= 1/2), and otherwise the damped oscillation
 (ω0 > γ, g = e^{−γt}·sin(ω_d t)/ω_d), the critically damped piece, or the
 over-damped one (ω0 < γ) with the eigenvalues λ1 = −ω0²/(γ + ω_h) (slow) and
 λ2 = −(γ + ω_h) (fast), ω_h = sqrt(γ² − ω0²), the hyperbolic form near
@@ -48,13 +48,19 @@ _EPS = 2.220446049250313e-16
 _MAX_TERMS = 60
 _MAX_ITER = 200
 
-# Gauss–Legendre nodes and weights on [0, 1]
-_X12, _W12 = np.polynomial.legendre.leggauss(12)
-GL12_X = np.ascontiguousarray(0.5 * (_X12 + 1.0))
-GL12_W = np.ascontiguousarray(0.5 * _W12)
-_X4, _W4 = np.polynomial.legendre.leggauss(4)
-GL4_X = np.ascontiguousarray(0.5 * (_X4 + 1.0))
-GL4_W = np.ascontiguousarray(0.5 * _W4)
+
+def _gauss(n: int) -> tuple[np.ndarray, np.ndarray]:
+    """Gauss–Legendre nodes and weights on [0, 1]."""
+    x, w = np.polynomial.legendre.leggauss(n)
+    return np.ascontiguousarray(0.5 * (x + 1.0)), np.ascontiguousarray(0.5 * w)
+
+
+# rules by κ·h (κ the fastest rate of v², h the panel): the error bound
+# (κh)^(2n+1)·(n!)^4/((2n+1)·((2n)!)^3) stays below 1e-15 of the panel
+GL2_X, GL2_W = _gauss(2)  # κh <= 0.005
+GL4_X, GL4_W = _gauss(4)  # κh <= 0.2
+GL10_X, GL10_W = _gauss(10)  # κh <= π
+GL12_X, GL12_W = _gauss(12)  # κh <= 2π (graded panels, where the fast mode has decayed)
 
 
 @nb.njit(**_JIT)
@@ -71,7 +77,9 @@ def basis(gam, w0sq, t):  # pragma: no cover - compiled
     if t <= 0.0:
         return 0.0, 1.0, 0.0
     w0 = math.sqrt(w0sq)
-    if t * (2.0 * gam + w0) <= 2.0:
+    # the series where the closed forms would cancel: short times, unless the damping is
+    # light enough (4γ < ω0²·t) for the under-damped form to lose nothing
+    if t * (2.0 * gam + w0) <= 0.5 and 4.0 * gam >= w0sq * t:
         # Taylor series of Q: T_{n+2} = −(2γt(n+1)·T_{n+1} + ω0²t²·T_n)/((n+2)(n+1))
         gt = 2.0 * gam * t
         wt2 = w0sq * t * t
@@ -89,7 +97,8 @@ def basis(gam, w0sq, t):  # pragma: no cover - compiled
                 break
         return dq / t, 1.0 - w0sq * q, q
     eps = w0sq - gam * gam
-    e = math.exp(-gam * t)
+    em1 = math.expm1(-gam * t)
+    e = 1.0 + em1
     if eps >= 0.0:  # under-damped (critical for eps = 0)
         wd = math.sqrt(eps)
         if wd == 0.0:
@@ -98,13 +107,13 @@ def basis(gam, w0sq, t):  # pragma: no cover - compiled
             half = 0.0
         else:
             th = wd * t
-            sn = math.sin(th) / wd
+            s1 = math.sin(th)
             cs = math.cos(th)
-            h = math.sin(0.5 * th)
-            half = 2.0 * h * h
+            sn = s1 / wd
+            half = s1 * s1 / (1.0 + cs) if cs > 0.0 else 1.0 - cs  # 1 − cos θ
         g = e * sn
         c = e * (cs + gam * sn)
-        one_minus_c = half - math.expm1(-gam * t) * cs - gam * e * sn
+        one_minus_c = half - em1 * cs - gam * e * sn
         return g, c, one_minus_c / w0sq
     wh = math.sqrt(-eps)
     lam1 = -w0sq / (gam + wh)
@@ -115,18 +124,22 @@ def basis(gam, w0sq, t):  # pragma: no cover - compiled
         g = e * sh
         c = e * (ch + gam * sh)
         h = math.sinh(0.5 * wh * t)
-        one_minus_c = -math.expm1(-gam * t) - e * (2.0 * h * h + gam * sh)
+        big = -em1
+        one_minus_c = big - e * (2.0 * h * h + gam * sh)
     else:  # well separated modes
         e1 = math.exp(lam1 * t)
         e21 = math.exp(-2.0 * wh * t)
         g = e1 * (1.0 - e21) / (2.0 * wh)
         c = e1 * (-lam2 + lam1 * e21) / (2.0 * wh)
+        big = 1.0
         one_minus_c = 1.0 - c
-    if c <= 0.9 and w0sq > 0.0:
-        q = one_minus_c / w0sq
-    else:  # the slow mode dominates: the divided difference of the modes
-        q = (_psi(lam1, t) - _psi(lam2, t)) / (2.0 * wh)
-    return g, c, q
+    # Q = (1 − c)/ω0², or the divided difference of the modes (ψ1 − ψ2)/(λ1 − λ2):
+    # the one whose subtraction loses fewer digits (K -> 0 needs the second)
+    p1 = _psi(lam1, t)
+    p2 = _psi(lam2, t)
+    if w0sq > 0.0 and one_minus_c > 0.0 and big * (p1 - p2) <= p1 * one_minus_c:
+        return g, c, one_minus_c / w0sq
+    return g, c, (p1 - p2) / (2.0 * wh)
 
 
 @nb.njit(**_JIT)
@@ -201,32 +214,39 @@ def _panel(v0, a0, gam, w0sq, a, h, xs, ws):  # pragma: no cover - compiled
 def velocity_square_integral(v0, a0, gam, w0sq, ta, tb):  # pragma: no cover - compiled
     """∫_ta^tb v(s)² ds of one damped piece (times since its start), by Gauss–Legendre.
 
-    Panels grow with the time since the start of the piece (the fast mode has
-    decayed there) and are capped by the slow time scale; an over-damped piece
-    that has crept to rest for 40 slow time constants adds nothing more.
+    v² varies at most at the rate κ = 2·max(ω0, γ + ω_h). Panels are at most
+    π/κ long at the start of the piece and grow as half the time since its
+    start (the fast mode has decayed there), capped by a quarter period of the
+    oscillation or by the slow time scale 1/|λ1|; an over-damped piece that has
+    crept towards rest for 40 slow time constants adds nothing more.
     """
     if not tb > ta:
         return 0.0
-    w0 = math.sqrt(w0sq)
-    rate = 2.0 * gam + w0  # the fastest rate of the piece
-    tau0 = 1.0 / rate
     eps = w0sq - gam * gam
+    wh = math.sqrt(-eps) if eps < 0.0 else 0.0
+    kappa = 2.0 * max(math.sqrt(w0sq), gam + wh)
+    h0 = math.pi / kappa
     cap = np.inf
     tail = np.inf
     if eps > 0.0:
-        cap = 0.5 / math.sqrt(eps)
+        cap = 0.5 * math.pi / math.sqrt(eps)  # half a period of v²
     elif w0sq > 0.0:
-        lam1 = w0sq / (gam + math.sqrt(-eps))  # |λ1|
-        cap = 0.5 / lam1
-        tail = max(40.0 / lam1, 40.0 * tau0)
+        lam1 = w0sq / (gam + wh)  # |λ1|
+        cap = 0.5 * math.pi / lam1
+        tail = max(40.0 / lam1, 40.0 * h0)
     total = 0.0
     s = ta
     while s < tb:
         if s >= tail:
             break
-        h = min(max(tau0, s), cap, tb - s)
-        if h * rate <= 0.1:
+        h = min(max(h0, 0.5 * s), cap, tb - s)
+        kh = kappa * h
+        if kh <= 0.005:
+            total += _panel(v0, a0, gam, w0sq, s, h, GL2_X, GL2_W)
+        elif kh <= 0.2:
             total += _panel(v0, a0, gam, w0sq, s, h, GL4_X, GL4_W)
+        elif kh <= math.pi:
+            total += _panel(v0, a0, gam, w0sq, s, h, GL10_X, GL10_W)
         else:
             total += _panel(v0, a0, gam, w0sq, s, h, GL12_X, GL12_W)
         s = s + h if s + h < tb else tb
