@@ -91,3 +91,12 @@ def test_viscous_force_validates_the_velocity():
         model.viscous_force([0.0, np.nan])
     with pytest.raises(TypeError, match="`velocity` must be a real number"):
         model.steady_force("fast")
+
+
+def test_docstring_examples_run():
+    import doctest
+
+    import presliding.friction.pi_friction as module
+
+    result = doctest.testmod(module)
+    assert result.attempted >= 3 and result.failed == 0

@@ -93,6 +93,11 @@ class PIFriction:
     >>> model = PIFriction(coulomb=0.0, stiffness=[500.0, 10.0, 4.0], breakaway=[1.0, 1.0, 1.0])
     >>> model.coulomb_level, model.initial_stiffness
     (3.0, 514.0)
+
+    With a viscous term σ = 2 N·s/m, steady sliding at 0.5 m/s costs F_c + σ·v:
+
+    >>> PIFriction(3.0, viscous=2.0).steady_force(0.5)
+    4.0
     """
 
     coulomb: float

@@ -67,7 +67,8 @@ class MotionResult:
     time, position, velocity, acceleration : ndarray, shape (T,)
         Samples [s, m, m/s, m/s²].
     friction_force : ndarray, shape (T,)
-        c1·σ + F_el with σ ∈ Sign(ẏ), equal to u − m·ÿ (at rest: exactly u) [N].
+        c1·s + σ·ẏ + F_el with s ∈ Sign(ẏ) and σ the viscous coefficient, equal to
+        u − m·ÿ (at rest: exactly u) [N].
     elastic_force : ndarray, shape (T,)
         F_el = Σ k_j (y − x_j) [N].
     applied_force : ndarray, shape (T,)

@@ -135,6 +135,14 @@ def simulate(
     ...                   initial_state="saturated", t_end=2.0)
     >>> round(res.stop_time, 12), res.n_reversals        # 1/3 + π·sqrt(m/k)/1: one reversal
     (0.647492598692, 1)
+
+    With a viscous term σ = 2 N·s/m and no elements, the stop of the
+    Coulomb–viscous decay, (m/σ)·ln(1 + σ·v0/c1) = ln(7)/2:
+
+    >>> res = ps.simulate(ps.PIFriction(coulomb=1.0, viscous=2.0), mass=1.0,
+    ...                   initial_velocity=3.0, t_end=2.0)
+    >>> round(res.stop_time, 12), round(float(res.energy.viscous[-1]), 6)
+    (0.972955074528, 3.486478)
     """
     _run.check_model(model, density_ok=True)
     m = as_positive_scalar("mass", mass)
