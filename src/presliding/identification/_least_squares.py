@@ -191,6 +191,7 @@ def solve_least_squares(
     blocks: Any = None,
     residual_size: int = 0,
     step_limit: Callable[[FloatArray], FloatArray] | None = None,
+    method: str = "auto",
 ) -> Solution:
     """Minimise ‖residual(p)‖² over named parameters, some fixed or tied.
 
@@ -251,6 +252,7 @@ def solve_least_squares(
 
     level, max_evaluations, tolerance = check_options(level, max_evaluations, tolerance)
     difference = as_choice("difference", difference, ("3-point", "2-point"))
+    method = as_choice("method", method, ("auto", "trf", "lm"))
     if gradient_tolerance is not None:
         gradient_tolerance = as_positive_scalar("gradient_tolerance", gradient_tolerance)
     fixed, tied = check_constraints(fixed, tied)
@@ -293,7 +295,10 @@ def solve_least_squares(
 
         # Large structured problems: the trust-region method would factor the
         # whole Jacobian every iteration; LM on the small normal equations does not.
-        large = free_jacobian is not None and residual_size * len(pm.free) ** 2 > LARGE_PROBLEM
+        large = free_jacobian is not None and (
+            method == "lm"
+            or (method == "auto" and residual_size * len(pm.free) ** 2 > LARGE_PROBLEM)
+        )
         gtol = tolerance if gradient_tolerance is None else gradient_tolerance
         try:
             with threadpool_limits(limits=1, user_api="blas"):

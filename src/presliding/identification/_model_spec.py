@@ -146,15 +146,16 @@ class ModelSpec:
             return c1 + self.friction_density(q).max_elastic_force
         return c1 + float(k @ r)
 
-    def model(self, q: Mapping[str, float], keep: NDArray[np.bool_] | None = None) -> PIFriction:
-        """The identified PIFriction (a density model keeps its density)."""
+    def model(self, q: Mapping[str, float]) -> PIFriction:
+        """The identified PIFriction (a density model keeps its density; σ from ``viscous``)."""
+        sigma = max(q.get("viscous", 0.0), 0.0)
         if self.density is not None:
-            return PIFriction(max(q["coulomb"], 0.0), density=self.friction_density(q))
+            dens = self.friction_density(q)
+            return PIFriction(max(q["coulomb"], 0.0), density=dens, viscous=sigma)
         c1, k, r = self.bank(q)
         if self.n == 0:
-            return PIFriction(c1)
-        keep = np.ones(self.n, dtype=bool) if keep is None else keep
-        return PIFriction(c1, k[keep], breakaway=(k * r)[keep]) if keep.any() else PIFriction(c1)
+            return PIFriction(c1, viscous=sigma)
+        return PIFriction(c1, k, breakaway=k * r, viscous=sigma)
 
     # ------------------------------------------------------------ start values
     def start(

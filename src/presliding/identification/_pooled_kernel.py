@@ -25,13 +25,13 @@ RELAXED, BRANCH, VIRGIN = 0, 1, 2
 
 
 def _pooled_responses(  # pragma: no cover - compiled
-    mass, c1, k, r, offset, y0, v0, fraction, mode, direction,
+    mass, c1, sigma, k, r, offset, y0, v0, fraction, mode, direction,
     t_all, t_off, ut_all, uv_all, u_off, max_events, o_y, o_v, status, n_rev,
 ):  # fmt: skip
     """Positions and velocities of every record for every parameter set.
 
     Parameters (P parameter sets, R records, N elements, S samples in all):
-    mass, c1, offset (P,); k, r (P, N); y0, v0, fraction (P, R); mode,
+    mass, c1, sigma (viscous), offset (P,); k, r (P, N); y0, v0, fraction (P, R); mode,
     direction (R,); t_all (S,) sample times, record i at t_off[i]:t_off[i+1];
     ut_all, uv_all the zero-order-hold pieces of u, record i at
     u_off[i]:u_off[i+1]. Outputs o_y, o_v (P, S); status, n_rev (P, R).
@@ -60,7 +60,7 @@ def _pooled_responses(  # pragma: no cover - compiled
         res = run_events(
             mass[p], c1[p], k[p], r[p], f, y0[p, i], v0[p, i], last_dir, u_t, u_val, t_eval,
             t_eval[n_t - 1], max_events, o_y[p, a:b], o_v[p, a:b], scratch[0], scratch[1],
-            scratch[2], scratch[3], scratch[4], scratch[5], rev[0], rev[1],
+            scratch[2], scratch[3], scratch[4], scratch[5], rev[0], rev[1], sigma[p],
         )  # fmt: skip
         filled = res[1]
         for j in range(filled, n_t):  # only after an event limit: hold the last values

@@ -1,7 +1,8 @@
 """The pooled output-error problem: records packed for one compiled call, residual, Jacobian.
 
 Parameters are named. Shared across records: ``mass``, the friction model's
-parameters (`ModelSpec`), ``viscous`` σ and the force ``offset`` when asked.
+parameters (`ModelSpec`), ``viscous`` σ [N·s/m] and the force ``offset`` when
+asked.
 Per record i (suffix ``_i`` from 1, none for a single `Measurement`):
 ``initial_position``, ``initial_velocity`` and, with a preload,
 ``preload_fraction`` (the initial elastic force over F_m).
@@ -71,6 +72,7 @@ class PooledProblem:
         *,
         offset: bool,
         suffix: bool,
+        viscous: bool = False,
     ):
         self.records, self.spec = records, spec
         self.w_v, self.w_y = signal_weights
@@ -90,7 +92,8 @@ class PooledProblem:
         self.uv_all = np.ascontiguousarray(np.concatenate([p[1] for p in pieces]))
         self.mode = np.full(self.n_rec, MODES[initial_state], dtype=np.int64)
         self.direction = np.array([r.direction for r in records])
-        self.shared = ["mass", *spec.names] + (["offset"] if offset else [])
+        self.shared = ["mass", *spec.names] + (["viscous"] if viscous else [])
+        self.shared += ["offset"] if offset else []
         kinds = ["initial_position", "initial_velocity"]
         if initial_state == "preload":
             kinds.append("preload_fraction")
@@ -190,6 +193,7 @@ class PooledProblem:
         col = self.index
         mass = np.maximum(sets[:, col["mass"]], TINY)
         offset = sets[:, col["offset"]] if "offset" in col else np.zeros(n_par)
+        sigma = np.maximum(sets[:, col["viscous"]], 0.0) if "viscous" in col else np.zeros(n_par)
         per = len(self.shared) + np.arange(self.n_rec) * len(self.kinds)
         y0 = np.ascontiguousarray(sets[:, per])
         v0 = np.ascontiguousarray(sets[:, per + 1])
@@ -197,17 +201,17 @@ class PooledProblem:
             frac = np.clip(sets[:, per + 2], -1.0, 1.0)
         else:
             frac = np.ones((n_par, self.n_rec))
-        return mass, c1, k_arr, r_arr, offset, y0, v0, np.ascontiguousarray(frac)
+        return mass, c1, sigma, k_arr, r_arr, offset, y0, v0, np.ascontiguousarray(frac)
 
     def simulate(self, sets: FloatArray, rigid: bool = False) -> tuple:
         """Positions, velocities (P, S), status and reversal counts (P, R)."""
-        mass, c1, k, r, offset, y0, v0, frac = self.unpack(np.atleast_2d(sets), rigid)
+        mass, c1, sigma, k, r, offset, y0, v0, frac = self.unpack(np.atleast_2d(sets), rigid)
         n_par, n_s = mass.shape[0], self.t_all.shape[0]
         o_y, o_v = np.empty((n_par, n_s)), np.empty((n_par, n_s))
         status = np.zeros((n_par, self.n_rec), dtype=np.int64)
         n_rev = np.zeros((n_par, self.n_rec), dtype=np.int64)
         pk.pooled_responses(
-            mass, c1, k, r, offset, y0, v0, frac, self.mode, self.direction, self.t_all,
+            mass, c1, sigma, k, r, offset, y0, v0, frac, self.mode, self.direction, self.t_all,
             self.t_off, self.ut_all, self.uv_all, self.u_off, MAX_EVENTS, o_y, o_v, status, n_rev,
         )  # fmt: skip
         return o_y, o_v, status, n_rev

@@ -2,7 +2,7 @@
 
 Eq. 17 integrated in time, record by record,
 
-    m·(v − v_0) + ∫ (c1·sign v + Σ_g w_g·stop_g(y) + offset) dt = ∫ u dt,
+    m·(v − v_0) + ∫ (c1·sign v + σ·v + Σ_g w_g·stop_g(y) + offset) dt = ∫ u dt,
 
 needs no differentiation of a noisy velocity. The rows of all records are
 stacked and bounded linear least squares gives m, c1, the offset and the
@@ -68,8 +68,9 @@ def pooled_start(
     spec: ModelSpec,
     mass: float | None,
     offset: bool,
+    viscous: bool = False,
 ) -> dict[str, float]:
-    """Start values of the shared parameters (``mass``, the model's, ``offset``).
+    """Start values of the shared parameters (``mass``, the model's, ``viscous``, ``offset``).
 
     Two stages: m, F_c (and the offset) from the Coulomb law alone, which is
     robust; then, with that mass held, c1 and the grid stiffnesses.
@@ -85,7 +86,8 @@ def pooled_start(
     # stage 1, first slides only: m·(v − v0) + F_c·∫sign v dt (+ offset·t) = ∫u dt
     blocks, rhs = [], []
     for t, _, v, u in (_moving_rows(r, first_run=True) for r in records):
-        cols = [rt.integral(t, np.sign(v))] + ([t - t[0]] if offset else [])
+        cols = [rt.integral(t, np.sign(v))] + ([rt.integral(t, v)] if viscous else [])
+        cols += [t - t[0]] if offset else []
         b = rt.integral(t, u)
         if mass is None:
             cols.insert(0, v - v[0])
@@ -102,6 +104,7 @@ def pooled_start(
         m = 1.0
     lead = int(mass is None)
     fc = float(sol[lead]) if sol is not None else m * acc
+    sigma = float(sol[lead + 1]) if sol is not None and viscous else 0.0
     off = float(sol[-1]) if sol is not None and offset else 0.0
     if not fc > 1e-3 * m * acc:  # one acceleration only: m and F_c not separable
         fc = 0.5 * m * acc or 1.0
@@ -110,7 +113,7 @@ def pooled_start(
     for t, y, v, u in parts:
         cols = [np.sign(v), *pr.stop_basis(y)(grid)[0].T]
         blocks.append(np.column_stack([rt.integral(t, c) for c in cols]))
-        rhs.append(rt.integral(t, u - off) - m * (v - v[0]))
+        rhs.append(rt.integral(t, u - off - sigma * v) - m * (v - v[0]))
     sol = _solve(blocks, rhs, np.zeros(grid.shape[0] + 1)) if spec.n or spec.density else None
     c1, weights = (0.5 * fc, np.zeros_like(grid)) if sol is None else (float(sol[0]), sol[1:])
     elastic = float(weights @ grid)
@@ -123,6 +126,8 @@ def pooled_start(
         weights = np.zeros_like(grid)
         weights[len(grid) // 2] = (fc - c1) / grid[len(grid) // 2]
     start = {"mass": float(m), **spec.start(fc, c1, grid, weights)}
+    if viscous:
+        start["viscous"] = sigma
     if offset:
         start["offset"] = off
     return start

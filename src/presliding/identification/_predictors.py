@@ -45,7 +45,8 @@ class ResponsePredictor:
         signal = "both" if p.w_v and p.w_y else ("velocity" if p.w_v else "position")
         (rec,) = check_records(measurement, signal, ("velocity", "position", "both"))
         sub = pp.PooledProblem([rec], p.spec, (p.w_v, p.w_y), p.initial_state,
-                               offset="offset" in p.shared, suffix=False)  # fmt: skip
+                               offset="offset" in p.shared, suffix=False,
+                               viscous="viscous" in p.shared)  # fmt: skip
         start = dict(self.shared)
         start.update(initial_position=float(rec.position[0]),
                      initial_velocity=float(rec.velocity[0]))  # fmt: skip

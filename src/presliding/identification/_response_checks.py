@@ -9,6 +9,7 @@
 
 from __future__ import annotations
 
+import itertools
 from dataclasses import replace
 
 import numpy as np
@@ -39,6 +40,24 @@ def polish_initial_velocity(sol, solve, fixed, tied, v) -> Solution:
     alt = solve(sol.values, extra={x: 0.0})
     rounding = 1e-20 * v.size * float(np.max(v * v))  # costs equal to rounding: keep the bound
     return alt if cost(alt) <= cost(sol) + rounding else sol
+
+
+def split_coalesced(sol: Solution, solve, k_names: list[str], ratio: float = 1.1) -> Solution:
+    """Refit from a split start when two elements of equal break-away force coalesced.
+
+    Interchangeable elements with (nearly) equal stiffnesses sit on the
+    symmetric saddle, where the Jacobian cannot tell them apart; a start with
+    the pair spread by 1.7 each way breaks the symmetry. Kept if it fits better.
+    """
+    if sol.status == "failed" or len(k_names) < 2:
+        return sol
+    ranked = sorted(((sol.values[x], x) for x in k_names), reverse=True)
+    for (ka, xa), (kb, xb) in itertools.pairwise(ranked):
+        if kb > 0 and ka / kb < ratio:
+            start = {**sol.values, xa: 1.7 * ka, xb: kb / 1.7}
+            alt = solve(start)
+            return alt if cost(alt) < cost(sol) else sol
+    return sol
 
 
 def spread_start(start: dict[str, float], k_names: list[str]) -> dict[str, float]:

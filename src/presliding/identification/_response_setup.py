@@ -189,7 +189,7 @@ def record_bootstrap(
         recs = [problem.records[i] for i in idx]
         sub = pp.PooledProblem(recs, problem.spec, (problem.w_v, problem.w_y),
                                problem.initial_state, offset="offset" in problem.shared,
-                               suffix=True)  # fmt: skip
+                               suffix=True, viscous="viscous" in problem.shared)  # fmt: skip
         rename = {}
         for new, old in enumerate(idx):
             for kind in problem.kinds:
@@ -202,7 +202,7 @@ def record_bootstrap(
         out = solve_least_squares(
             sub.residual(), start, fixed=sub_fixed, tied=sub_tied, bounds=sub_box,
             free_jacobian=sub.free_jacobian(), residual_size=sub.n_res, level=settings["level"],
-            step_limit=sub.step_limit,
+            step_limit=sub.step_limit, method="lm",
             max_evaluations=settings["max_evaluations"], tolerance=settings["tolerance"],
             gradient_tolerance=settings["gradient_tolerance"],
         )  # fmt: skip

@@ -52,6 +52,7 @@ from presliding.identification._response_checks import (
     polish_initial_velocity,
     rigid_check,
     smallest_threshold_first,
+    split_coalesced,
     spread_start,
     stiffest_first,
 )
@@ -90,6 +91,7 @@ def fit_response(
     density_cells: int = 32,
     coulomb_level: float | None = None,
     min_coulomb_level: float | None = None,
+    viscous: bool = False,
     offset: bool = False,
     signal: str = "velocity",
     weights: Mapping[str, float] | None = None,
@@ -139,6 +141,9 @@ def fit_response(
     min_coulomb_level : float, optional, keyword only
         A lower bound on F_c [N] (a bound of ``coulomb_level``; for the other
         models a penalty that is zero above it).
+    viscous : bool, keyword only
+        Fit a viscous term σ·ẏ (parameter ``viscous`` σ >= 0 [N·s/m], shared; the
+        model returned carries it, `PIFriction(..., viscous=σ)`).
     offset : bool, keyword only
         Fit a constant force offset (parameter ``offset``): the drive is u − offset.
     signal : {"velocity", "position", "both"}, keyword only
@@ -220,7 +225,13 @@ def fit_response(
         fixed["mass"] = 1.0
     wv, wy = _signal_weights(signal, recs, weights)
     problem = pp.PooledProblem(
-        recs, spec, (wv, wy), initial_state, offset=offset, suffix=not single
+        recs,
+        spec,
+        (wv, wy),
+        initial_state,
+        offset=offset,
+        suffix=not single,
+        viscous=viscous,
     )
     names = problem.names
     for i, rec in enumerate(recs):
@@ -229,10 +240,10 @@ def fit_response(
         if not fit_initial or signal == "velocity":
             fixed.setdefault(problem.nuisance("initial_position", i), float(rec.position[0]))
     check_enough(problem.n_res, len(names) - len(fixed))
-    start = pooled_start(recs, spec, fixed.get("mass", None if forced else 1.0), offset)
+    start = pooled_start(recs, spec, fixed.get("mass", None if forced else 1.0), offset, viscous)
     if not forced and "mass" not in fixed and "coulomb_level" in fixed:
         factor = fixed["coulomb_level"] / start["coulomb_level"]
-        start = {key: val * factor if key != "offset" else val for key, val in start.items()}
+        start = {key: val * factor for key, val in start.items()}
     for i, rec in enumerate(recs):
         start[problem.nuisance("initial_position", i)] = float(rec.position[0])
         start[problem.nuisance("initial_velocity", i)] = float(rec.velocity[0])
@@ -243,7 +254,8 @@ def fit_response(
             raise ValueError(f"`initial` names unknown parameter {key!r}; known: {names}.")
         start[key] = float(val)
     start = {x: start[x] for x in names}
-    box = {**spec.bounds(), "mass": (0.0, np.inf), "offset": (-np.inf, np.inf)}
+    box = {**spec.bounds(), "mass": (0.0, np.inf), "offset": (-np.inf, np.inf),
+           "viscous": (0.0, np.inf)}  # fmt: skip
     box.update(initial_bounds(problem, initial_state))
     if fmin is not None and spec.has_level_parameter:
         box["coulomb_level"] = (fmin, np.inf)
@@ -267,7 +279,7 @@ def fit_response(
         out = solve_least_squares(
             fun, begin, fixed={**fixed, **(extra or {})}, free_jacobian=jac,
             blocks=[rows for _, rows in problem.rows], residual_size=problem.n_res,
-            step_limit=problem.step_limit,
+            step_limit=problem.step_limit, method="lm" if problem.n_rec > 1 else "auto",
             **{**options, **kw},
         )  # fmt: skip
         evaluations[0] += out.n_evaluations
@@ -279,13 +291,15 @@ def fit_response(
     search = multistart and density is None and n >= 1 and not (
         {"coulomb", *spec.k_names, *spec.c_names} & shaped)  # fmt: skip
     starts = [start] + ([spread_start(start, spec.k_names)] if search and discrete_equal else [])
-    large = problem.n_res * (len(names) - len(fixed)) ** 2 > LARGE_PROBLEM
+    large = problem.n_rec > 1 or problem.n_res * (len(names) - len(fixed)) ** 2 > LARGE_PROBLEM
     if len(starts) > 1 and large:  # compare the starts after a few steps, refine the best
         short = min(max_evaluations, 12 + 2 * len(problem.shared))
         best = min((solve(s, max_evaluations=short) for s in starts), key=cost)
         sol = solve(best.values if np.isfinite(cost(best)) else start)
     else:
         sol = min((solve(s) for s in starts), key=cost)
+    if search and discrete_equal:
+        sol = split_coalesced(sol, solve, spec.k_names)
     if single:
         sol = polish_initial_velocity(sol, solve, fixed, tied, recs[0].velocity)
     labelled = (set(spec.k_names) | set(spec.c_names)) & (set(fixed) | set(tied))
@@ -303,6 +317,7 @@ def fit_response(
     if prune and pruned.dead and density is None and spec.n - len(pruned.dead) >= 0:
         kw = dict(n_elements=spec.n - len(pruned.dead), equal_breakaway=equal_breakaway, mass=mass,
                   coulomb_level=coulomb_level, min_coulomb_level=min_coulomb_level, offset=offset,
+                  viscous=viscous,
                   signal=signal, weights=weights, initial_state=initial_state,
                   fit_initial=fit_initial, level=level, max_evaluations=max_evaluations,
                   tolerance=tolerance, multistart=multistart, bootstrap=bootstrap, seed=seed,
