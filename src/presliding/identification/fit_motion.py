@@ -24,6 +24,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from presliding._validation import as_nonnegative_scalar, fmt
 from presliding.identification import _pi_regression as pr
+from presliding.identification._status import sign_hint
 from presliding.identification.fit_presliding import (
     _with_note,
     check_enough,
@@ -147,10 +148,14 @@ def fit_motion(
     )  # fmt: skip
     sol = fit.solution
     model, note = pi_model(sol.values, n, sol.values["coulomb"])
+    rotary = m.source is not None and m.source.rotary
     return FitResult.from_solution(
         _with_note(sol, note), model, m.time[used], u[used], fit.fitted[used],
         kind="motion equation (eq. 17)", abscissa_label="time [s]",
-        signal_label="applied force [N]", derived=derived_quantities(model),
+        signal_label="applied force", signal_unit="N m" if rotary else "N",
+        derived=derived_quantities(model),
+        hint=sign_hint(u, np.sign(m.velocity), "applied force"),
+        rotary=rotary,
     )  # fmt: skip
 
 

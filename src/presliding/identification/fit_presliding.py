@@ -40,6 +40,7 @@ from presliding.friction.pi_friction import PIFriction
 from presliding.identification import _pi_regression as pr
 from presliding.identification._global_search import search_thresholds
 from presliding.identification._least_squares import check_constraints, check_options
+from presliding.identification._status import sign_hint
 from presliding.identification.fit_result import FitResult, Tie
 
 __all__ = ["fit_presliding", "fit_virgin_curve"]
@@ -256,8 +257,8 @@ def fit_presliding(
     sol = _with_note(sol, note + (f"; {how}" if how else ""))
     return FitResult.from_solution(
         sol, model, y[used], f[used], fit.fitted[used], kind="presliding operator",
-        abscissa_label="displacement", signal_label="friction force",
-        derived=derived_quantities(model),
+        abscissa_label="displacement [m]", signal_label="friction force", signal_unit="N",
+        derived=derived_quantities(model), hint=sign_hint(f, _direction(y), "friction force"),
     )  # fmt: skip
 
 
