@@ -116,9 +116,10 @@ def _build_parser() -> argparse.ArgumentParser:
         "simulate",
         help="simulate the motion of a model file (CSV and PNG)",
         description="Simulate m·ÿ + c1·Sign(ẏ) + F_el(y) = u (eq. 17) for the [friction] and "
-        "[motion] tables of a model file, with exact stiction. Writes the samples as CSV "
-        "(time, position, velocity, acceleration, friction_force, applied_force; units in "
-        "the header) and a figure.",
+        "[motion] tables of a model file, with exact stiction; a [measurement] force_offset "
+        "F_0 is subtracted from the applied force (measured u = m·ÿ + F + F_0). Writes the "
+        "samples as CSV (time, position, velocity, acceleration, friction_force, "
+        "elastic_force, applied_force; units in the header) and a figure.",
         epilog="examples:\n  presliding simulate model.toml -o run/\n"
         "  presliding simulate model.toml --applied-force u.csv -o run.csv",
         formatter_class=fmt,
@@ -131,6 +132,11 @@ def _build_parser() -> argparse.ArgumentParser:
         metavar="CSV",
         help="applied force u(t): a CSV file with columns time,value [s, N] (replaces "
         "motion.applied_force)",
+    )
+    simulate.add_argument(
+        "--hold-last",
+        action="store_true",
+        help="hold the last applied-force sample when the CSV ends before t_end (else an error)",
     )
     simulate.add_argument(
         "--hold",
