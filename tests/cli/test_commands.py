@@ -309,7 +309,7 @@ def test_missing_column(tmp_path, capsys):
     [
         ("displacement,friction\n0,1\n1,abc\n", "'abc'"),
         ("displacement,friction\n0,1\n1,nan\n", "finite"),
-        ("displacement,friction\n0,1\n1\n", "row 2"),
+        ("displacement,friction\n0,1\n1\n", "line 3 has 1 cells"),
         ("0,1\n1,2\n", "header"),
         ("", "empty"),
     ],

@@ -77,8 +77,9 @@ def judge(
         "converted to SI, else give `units`/`scale` (--units/--scale))",
         "the window (cut load ramps, idle or saturated stretches away with "
         "Measurement.window or --window START:STOP)",
-        "the sign (friction must oppose positive motion; flip it with a scale of -1)",
     ]
+    if not hint:
+        causes.append("the sign (friction must oppose positive motion; flip it with a scale of -1)")
     text = f"poor fit: {'; '.join(reasons)}. Likely causes: {'; '.join(causes)}. Solver: {message}"
     return "poor_fit", text
 
