@@ -298,3 +298,12 @@ def test_window_is_recorded_in_the_source(tmp_path):
     m = Measurement.from_csv(path, 0, position=1).window(1.0, 2.0)
     np.testing.assert_allclose(m.position, [2e-3, 3e-3])
     assert "window: 1 s to 2 s" in m.source.describe()
+
+
+def test_pint_and_pandas_are_imported_only_when_used():
+    import subprocess
+    import sys
+
+    code = "import sys, presliding; print('pint' in sys.modules, 'pandas' in sys.modules)"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.split() == ["False", "False"]
