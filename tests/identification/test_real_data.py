@@ -124,3 +124,28 @@ def test_tribometer_command_line_fit(tmp_path, capsys):
     model = load_model(tmp_path / "model.toml").model
     assert 2.0 < model.coulomb_level < 2.6
     assert np.all(model.threshold < 3e-4)  # within the 0.24 mm stroke, in m
+
+
+def test_emps_command_line_fit_writes_every_term(tmp_path, capsys):
+    """The published IDIM-LS values within 1 % (offset within 0.1 N), all in model.toml."""
+    path = EMPS / "DATA_EMPS.mat"
+    if not path.exists():
+        pytest.skip(f"measured data not found at {path}")
+    import re
+
+    from presliding.cli import main
+    from presliding.model_io import load_model
+
+    args = ["fit", str(path), "--kind", "motion", "--columns", "time=t", "position=qm",
+            "applied_force=vir", "--scale", "applied_force=gtau", "--viscous", "--offset",
+            "-o", str(tmp_path)]  # fmt: skip
+    assert main(args) == 0
+    out = capsys.readouterr().out
+    viscous = float(re.search(r"^viscous\s+([-\d.e+]+) N s/m", out, re.MULTILINE).group(1))
+    spec = load_model(tmp_path / "model.toml")
+    found = {"mass": spec.motion.mass, "coulomb": spec.model.coulomb, "viscous": viscous}
+    print("EMPS:", found, "offset", spec.measurement.force_offset)
+    for name, value in found.items():
+        assert value == pytest.approx(REFERENCE[name], rel=0.01), name
+    assert spec.measurement.force_offset == pytest.approx(REFERENCE["offset"], abs=0.1)
+    assert "scaled × 35.1507 (variable gtau)" in (tmp_path / "model.toml").read_text()
