@@ -128,7 +128,7 @@ def test_a_byte_order_mark_and_windows_encoding_are_read(tmp_path):
         ("0 1 2\n1 2\n2 3 4\n", r"line 3 has 2 cells but the header names 3 columns"),
         ("0,1,2\n1,,3\n2,3,4\n", r"line 3, column 'x \[mm\]': empty cell"),
         ("0,1,2\n1,abc,3\n2,3,4\n", r"line 3, column 'x \[mm\]': 'abc' is not a number"),
-        ("0,1,2\n1,nan,3\n2,3,4\n", r"line 3, column 'x \[mm\]': nan is not a finite number"),
+        ("0,1,2\n1,nan,3\n2,3,4\n", r"line 3, column 'x \[mm\]': 'nan' is not a finite number"),
         ("0,1,2\n1,2,3\n1,3,4\n", r"`time` must be strictly increasing"),
     ],
 )
@@ -307,3 +307,11 @@ def test_pint_and_pandas_are_imported_only_when_used():
     code = "import sys, presliding; print('pint' in sys.modules, 'pandas' in sys.modules)"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.split() == ["False", "False"]
+
+
+def test_blank_and_comment_lines_keep_the_line_numbers(tmp_path):
+    path = _write(tmp_path, "# rig 7\nt,x\n0,1\n\n# pause\n1,2\n2,oops\n")
+    with pytest.raises(ValueError, match=r"line 7, column 'x': 'oops' is not a number"):
+        Measurement.from_csv(path, "t", position="x")
+    path = _write(tmp_path, "t,x\n0,1\n\n# pause\n1,2\n", name="ok.csv")
+    np.testing.assert_array_equal(Measurement.from_csv(path, "t", position="x").position, [1, 2])

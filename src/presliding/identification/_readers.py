@@ -74,13 +74,13 @@ class TextTable:
     names: tuple[str, ...] | None
     delimiter: str | None
     rows: list[str]
-    lines: list[int]  # 1-based line number of each row in the file
+    first_line: int  # 1-based line number in the file of rows[0]
 
     @property
     def n_columns(self) -> int:
         if self.names is not None:
             return len(self.names)
-        return len(self._split(self.rows[0]))
+        return len(self._split(next(r for r in self.rows if _is_row(r))))
 
     def _split(self, row: str) -> list[str]:
         cells = row.split(self.delimiter) if self.delimiter else row.split()
@@ -130,26 +130,23 @@ class TextTable:
         data = None
         try:
             data = np.loadtxt(self.rows, delimiter=self.delimiter, ndmin=2, dtype=np.float64,
-                              comments=None, quotechar='"')  # fmt: skip
+                              comments="#", quotechar='"')  # fmt: skip
         except ValueError:
             data = None
         if data is None or data.shape[1] != n:
             return self._slow_values(indices)
         out = {j: np.ascontiguousarray(data[:, j]) for j in indices}
-        for j, arr in out.items():
-            bad = ~np.isfinite(arr)
-            if bad.any():
-                i = int(np.argmax(bad))
-                raise ValueError(
-                    f"{self.path}: line {self.lines[i]}, column {self.label(j)!r}: {arr[i]} is "
-                    "not a finite number; remove or fill the gap."
-                )
+        if not all(np.all(np.isfinite(a)) for a in out.values()):
+            return self._slow_values(indices)  # names the line of the first bad value
         return out
 
     def _slow_values(self, indices: list[int]) -> dict[int, FloatArray]:
         n = self.n_columns
         columns: dict[int, list[float]] = {j: [] for j in indices}
-        for row, line in zip(self.rows, self.lines, strict=True):
+        for i, row in enumerate(self.rows):
+            line = self.first_line + i
+            if not _is_row(row):
+                continue
             cells = self._split(row)
             if len(cells) != n:
                 what = "the header names" if self.names is not None else "the first row has"
@@ -178,6 +175,11 @@ class TextTable:
                     )
                 columns[j].append(value)
         return {j: np.asarray(v, dtype=np.float64) for j, v in columns.items()}
+
+
+def _is_row(line: str) -> bool:
+    """A data row: neither blank nor a comment."""
+    return bool(line.strip()) and not line.lstrip().startswith("#")
 
 
 def _decode(path: str, raw: bytes) -> str:
@@ -220,10 +222,12 @@ def read_text(path: Any, *, delimiter: str | None = None, header: bool | None = 
         raise TypeError(f"`header` must be True, False or None; got {fmt(header)}.")
     text = _decode(path, read_bytes(path))
     lines = text.splitlines()
-    content = [(i + 1, ln) for i, ln in enumerate(lines) if ln.strip() and not ln.startswith("#")]
-    if not content:
+    start = 0  # leading blank and comment lines
+    while start < len(lines) and (not lines[start].strip() or lines[start].startswith("#")):
+        start += 1
+    if start == len(lines):
         raise ValueError(f"{path}: holds no data (it is empty or only comments).")
-    first = content[0][1]
+    first = lines[start]
     if delimiter is None:
         delim = next((d for d in ("\t", ";", ",") if d in first), None)
     else:
@@ -232,8 +236,9 @@ def read_text(path: Any, *, delimiter: str | None = None, header: bool | None = 
     has_header = (not all(_is_number(c) for c in cells)) if header is None else header
     if has_header and delim is None:  # "Time [s] Position [mm]": units stay with their names
         cells = _WS_HEADER.findall(first)
-    rows = content[1:] if has_header else content
-    if not rows:
+    begin = start + 1 if has_header else start
+    rows = lines[begin:]  # blank and comment lines stay: they keep the line numbers
+    if not any(_is_row(r) for r in rows):
         raise ValueError(f"{path}: has a header line but no data rows.")
     names = tuple(cells) if has_header else None
-    return TextTable(path, names, delim, [r for _, r in rows], [i for i, _ in rows])
+    return TextTable(path, names, delim, rows, begin + 1)
