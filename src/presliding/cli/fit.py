@@ -84,11 +84,8 @@ FIT_EPILOG = (
     "--window 8:210 -o fit/\n"
     "  presliding fit DATA_EMPS.mat --kind motion --columns time=t position=qm "
     "applied_force=vir --scale applied_force=gtau --viscous --offset -o fit/\n"
-    "  presliding fit pos.txt --kind presliding --columns position=0 friction_force=1 "
-    "--units position=um friction_force=mN -o fit/"
+    "  presliding fit xf.txt --kind presliding --columns position=0 friction_force=1 -o fit/"
 )
-#: Statuses whose model is written, marked as not converged in its header.
-MARKED = ("not_identifiable", "at_bound", "max_evaluations")
 #: A threshold beyond this many times the measured travel is not a model value.
 ABSURD_TRAVEL = 100.0
 
@@ -113,10 +110,8 @@ def parse_window(text: str | None) -> tuple[float | None, float | None] | None:
 
 
 def _is_mat(path: Path) -> bool:
-    if path.suffix.lower() == ".mat":
-        return True
     with open(path, "rb") as fh:
-        return fh.read(19) == b"MATLAB 5.0 MAT-file"
+        return path.suffix.lower() == ".mat" or fh.read(19) == b"MATLAB 5.0 MAT-file"
 
 
 def _locate(signal: str, columns: dict[str, str], names: list[str] | None) -> str | int | None:

@@ -22,6 +22,7 @@ determines every loop.
 from __future__ import annotations
 
 from collections.abc import Mapping
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
@@ -264,8 +265,8 @@ def fit_presliding(
 
 def _cost(fit: pr.SeparableFit) -> float:
     """Sum of squared residuals of a separable fit (inf if it failed)."""
-    sol = fit.solution
-    return float(sol.residual @ sol.residual) if sol.status != "failed" else np.inf
+    r = fit.solution.residual
+    return float(r @ r) if fit.solution.status != "failed" else np.inf
 
 
 def _direction(y: FloatArray) -> FloatArray:
@@ -277,8 +278,6 @@ def _direction(y: FloatArray) -> FloatArray:
 
 
 def _with_note(sol: Any, note: str) -> Any:
-    from dataclasses import replace
-
     return replace(sol, message=sol.message + note) if note else sol
 
 
