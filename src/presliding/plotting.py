@@ -64,8 +64,13 @@ def plot_hysteresis(
     for i, f in enumerate(forces):
         label = None if labels is None else labels[i]
         ax.plot(y, np.asarray(f, dtype=float), lw=1.6, label=label)
-    ax.axhline(0.0, color="0.8", lw=0.8, zorder=0)
-    ax.axvline(0.0, color="0.8", lw=0.8, zorder=0)
+    # axes through the origin only where the data reach them: a loop far from
+    # y = 0 (a stage at -110 mm) must not be squeezed into a vertical line
+    if y.size and y.min() <= 0.0 <= y.max():
+        ax.axvline(0.0, color="0.8", lw=0.8, zorder=0)
+    values = np.concatenate([np.ravel(np.asarray(f, dtype=float)) for f in forces])
+    if values.size and values.min() <= 0.0 <= values.max():
+        ax.axhline(0.0, color="0.8", lw=0.8, zorder=0)
     ax.set_xlabel(f"displacement y [{displacement_unit}]")
     ax.set_ylabel(f"friction force F [{force_unit}]")
     ax.grid(True, alpha=0.3)
@@ -93,9 +98,12 @@ def plot_loop_fit(
     *,
     ax: Axes | None = None,
     measured_label: str = "measured",
+    displacement_unit: str = "m",
+    force_unit: str = "N",
 ) -> Axes:
     """Measured force as dots and the fitted model as a line, against displacement."""
-    ax = plot_hysteresis(displacement, measured, ax=ax)
+    ax = plot_hysteresis(displacement, measured, ax=ax, displacement_unit=displacement_unit,
+                         force_unit=force_unit)  # fmt: skip
     ax.lines[0].set(ls="none", marker=".", ms=2.0, color="0.55", label=measured_label)
     ax.plot(np.asarray(displacement), np.asarray(fitted), color="C1", lw=1.4, label="fitted model")
     ax.legend(frameon=False, loc="upper left")

@@ -170,72 +170,27 @@ class Table:
 def read_table(path: Path, what: str, example: str = "time,value") -> Table:
     """Read a delimited text file: one header line (after '#' comments), then numbers.
 
-    The delimiter is a comma, a tab or a semicolon when the header has one,
-    whitespace otherwise. Every value must be a finite number.
+    The delimiter is a tab, a semicolon, a comma or whitespace; a byte-order
+    mark is skipped; every row must be as long as the header and every value a
+    finite number (see `presliding.identification._readers`).
     """
+    from presliding.identification._readers import read_text
+
     check_readable(path, what)
     try:
-        text = path.read_text(encoding="utf-8")
-    except UnicodeDecodeError:
-        raise UserError(f"{path}: not a text file; the {what} must be a CSV file.") from None
-    except OSError as exc:
-        raise UserError(f"{path}: cannot be read ({exc.strerror}).") from None
-    lines = text.splitlines()
-    start = 0
-    while start < len(lines) and (not lines[start].strip() or lines[start].startswith("#")):
-        start += 1
-    if start == len(lines):
-        raise UserError(f"{path}: is empty; the {what} needs a header line and data rows.")
-    header = lines[start]
-    delim = next((d for d in (",", "\t", ";") if d in header), None)
-    names = [h.strip().strip('"') for h in (header.split(delim) if delim else header.split())]
-    if all(_is_number(n) for n in names):
-        raise UserError(
-            f"{path}: the first line holds numbers, not column names; add a header line "
-            f"(e.g. {example})."
-        )
-    rows = [ln for ln in lines[start + 1 :] if ln.strip() and not ln.startswith("#")]
-    if not rows:
-        raise UserError(f"{path}: has a header but no data rows.")
-    try:
-        data = np.loadtxt(rows, delimiter=delim, ndmin=2, dtype=np.float64)
-        if data.shape[1] != len(names):
-            raise ValueError("row length")
-    except ValueError:
-        _diagnose(path, rows, delim, len(names))
-        raise UserError(f"{path}: cannot be read as numbers after the header.") from None
-    if not np.all(np.isfinite(data)):
-        r, c = np.argwhere(~np.isfinite(data))[0]
-        raise UserError(
-            f"{path}: column {names[c]!r} holds {data[r, c]} at row {r + 1}; every value "
-            "must be finite (remove or fill the gap)."
-        )
-    return Table(path, names, [np.ascontiguousarray(data[:, j]) for j in range(len(names))])
-
-
-def _diagnose(path: Path, rows: list[str], delim: str | None, n_columns: int) -> None:
-    """Raise a UserError naming the first row that is not `n_columns` numbers."""
-    for r, line in enumerate(rows):
-        cells = line.split(delim) if delim else line.split()
-        if len(cells) != n_columns:
+        text = read_text(path)
+        if text.names is None:
             raise UserError(
-                f"{path}: row {r + 1} has {len(cells)} values but the header names "
-                f"{n_columns} columns; make every row as long as the header."
+                f"{path}: the first line holds numbers, not column names; add a header line "
+                f"(e.g. {example})."
             )
-        bad = next((c for c in cells if not _is_number(c)), None)
-        if bad is not None:
-            raise UserError(
-                f"{path}: row {r + 1} holds {bad.strip()!r}, not a number; every value after "
-                "the header must be a number."
-            )
-
-
-def _is_number(text: str) -> bool:
-    try:
-        float(text)
-    except ValueError:
-        return False
-    return True
+        values = text.values(list(range(text.n_columns)))
+    except UserError:
+        raise
+    except (ValueError, OSError) as exc:
+        raise UserError(str(exc)) from None
+    names = list(text.names)
+    return Table(path, names, [values[j] for j in range(len(names))])
 
 
 def write_csv(

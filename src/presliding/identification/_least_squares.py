@@ -33,8 +33,9 @@ from presliding.identification.uncertainty import hac_covariance, ols_covariance
 FloatArray = NDArray[np.float64]
 Tie = str | tuple[str, float]
 
-#: Status values of a fit: only "converged" is a success.
-STATUSES = ("converged", "not_identifiable", "at_bound", "max_evaluations", "failed")
+#: Status values of a fit: only "converged" is a success (see `FitResult.status`).
+STATUSES = ("converged", "not_identifiable", "at_bound", "poor_fit", "max_evaluations", "failed")
+_LISTED = 6  # names listed in a message before "and N more"
 #: residuals × free parameters² above which a structured problem takes `levenberg_marquardt`
 LARGE_PROBLEM = 2e7
 
@@ -172,6 +173,16 @@ class Solution:
     n_evaluations: int
     covariance: FloatArray | None = None  # over every parameter, in the order of `values`
     bandwidths: tuple[int, ...] = ()  # HAC bandwidth of each block (empty: independent)
+    at_bounds: tuple[str, ...] = ()
+    free: tuple[str, ...] = ()
+
+
+def name_list(names: Any, order: tuple[str, ...]) -> str:
+    """Names in parameter order, at most a few, then "and N more"."""
+    rank = {n: i for i, n in enumerate(order)}
+    ordered = sorted(set(names), key=lambda n: (rank.get(n, len(rank)), n))
+    shown = ", ".join(ordered[:_LISTED])
+    return shown + (f" and {len(ordered) - _LISTED} more" if len(ordered) > _LISTED else "")
 
 
 def solve_least_squares(
@@ -316,6 +327,11 @@ def solve_least_squares(
         except (ValueError, np.linalg.LinAlgError, FloatingPointError) as exc:
             return _failed(pm, x0, fixed, tied, level, f"the optimiser failed: {exc}")
         x, r, jac_free, evaluations = res.x, res.fun, res.jac, int(res.nfev)
+        # a parameter the solver left on a bound is reported exactly there (0, not 1e-69)
+        x = np.where(res.active_mask < 0, lo, np.where(res.active_mask > 0, hi, x))
+        on_bound = tuple(n for n, a in zip(pm.free, res.active_mask, strict=True) if a != 0)
+        if on_bound:
+            r = fun(x)
         status = "max_evaluations" if res.status == 0 else "converged"
         message = (
             "stopped at the evaluation limit before convergence"
@@ -330,7 +346,7 @@ def solve_least_squares(
                 "the residual does not change with any parameter (insensitive or failed model)",
             )  # fmt: skip
     else:
-        x, r, jac_free = x0, residual(pm.full(x0)), np.zeros((0, 0))
+        x, r, jac_free, on_bound = x0, residual(pm.full(x0)), np.zeros((0, 0)), ()
         status, message = "converged", "all parameters are fixed; nothing was fitted"
     widths: tuple[int, ...] = ()
     with threadpool_limits(limits=1, user_api="blas"):  # tall, thin factorisations
@@ -346,8 +362,8 @@ def solve_least_squares(
         se[pm.matrix[:, j] != 0] = np.inf
     if undetermined and status == "converged":
         status = "not_identifiable"
-        which = sorted({names[i] for j in undetermined for i in np.flatnonzero(pm.matrix[:, j])})
-        message = f"the data do not determine {', '.join(which)} (singular Jacobian)"
+        which = {names[i] for j in undetermined for i in np.flatnonzero(pm.matrix[:, j])}
+        message = f"the data do not determine {name_list(which, names)} (singular Jacobian)"
     dof = max(r.shape[0] - len(pm.free), 1)
     q = float(stats.t.ppf(0.5 + level / 2, dof))
     return Solution(
@@ -365,6 +381,8 @@ def solve_least_squares(
         n_evaluations=evaluations,
         covariance=_full_covariance(pm, cov, se),
         bandwidths=widths,
+        at_bounds=on_bound,
+        free=pm.free,
     )
 
 
@@ -404,4 +422,5 @@ def _failed(pm: _Map, x: FloatArray, fixed: Any, tied: Any, level: float, msg: s
         status="failed",
         message=msg,
         n_evaluations=0,
+        free=pm.free,
     )

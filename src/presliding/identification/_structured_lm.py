@@ -40,6 +40,7 @@ class LMResult:
     nfev: int
     status: int  # 0: evaluation limit, 1: gtol, 2: ftol, 3: xtol
     message: str
+    active_mask: NDArray[np.int_]  # −1 on a lower bound, 1 on an upper one, 0 inside
 
 
 def levenberg_marquardt(
@@ -116,7 +117,9 @@ def levenberg_marquardt(
                 break
             lam *= nu
             nu *= 2.0
-    return LMResult(x, r, J.toarray() if sparse.issparse(J) else J, nfev, status, message)
+    active = np.where(x <= lower, -1, np.where(x >= upper, 1, 0))
+    jac_out = J.toarray() if sparse.issparse(J) else J
+    return LMResult(x, r, jac_out, nfev, status, message, active)
 
 
 def _damped_step(A: FloatArray, g: FloatArray, d: FloatArray, lam: float, free: Any) -> FloatArray:

@@ -31,6 +31,7 @@ rigid; if the cost rises by no more than s²·t² the status is
 
 from __future__ import annotations
 
+import re
 from collections.abc import Mapping, Sequence
 from dataclasses import replace
 from typing import Any
@@ -70,6 +71,16 @@ from presliding.identification.measurement import Measurement
 __all__ = ["fit_response"]
 
 SIGNALS = ("velocity", "position", "both")
+#: Units of the quantities the pooled fits add (the others: `_units.parameter_units`).
+EXTRA_UNITS = {
+    "height": "N/m^2",
+    "max_threshold": "m",
+    "length": "m",
+    "preload": "N",
+    "largest_swing": "m",
+    "reachable_coulomb_level": "N",
+    "effective_elements": "1",
+}
 #: evaluations of the rigid-limit refit of a large pooled problem (an upper bound of its
 #: cost suffices to flag the rigid corner; the refit starts at the optimum)
 RIGID_EVALUATIONS = 30
@@ -419,12 +430,30 @@ def _result(sol, problem, spec, pruned, notes, boot, per_unit_mass, signal) -> F
         else (np.concatenate([r.velocity for r in problem.records]), o_v[0])
     )
     spans = tuple(zip(problem.t_off[:-1].tolist(), problem.t_off[1:].tolist(), strict=True))
+    units = {**EXTRA_UNITS} if not per_unit_mass else {}
+    units.update({x: "1" for x in problem.names if x.startswith("preload_fraction")})
+    if per_unit_mass:
+        units.update(_per_kg([*problem.names, *derived]))
     result = FitResult.from_solution(
         sol, model, problem.t_all, measured, fitted, kind="output-error response",
         abscissa_label="time [s]", signal_label="position" if signal == "position" else "velocity",
-        derived=derived,
+        signal_unit="m" if signal == "position" else "m/s", units=units, derived=derived,
     )  # fmt: skip
     return replace(
         result, records=spans if problem.n_rec > 1 else (), bootstrap=boot, notes=tuple(notes),
         predictor=ResponsePredictor(problem, values),
     )  # fmt: skip
+
+
+def _per_kg(names: list[str]) -> dict[str, str]:
+    """Units of the parameters reported per unit mass."""
+    per = {"mass": "1 (fixed)", "coulomb": "N/kg", "coulomb_level": "N/kg",
+           "stiffness": "N/(m kg)", "breakaway": "N/kg", "viscous": "N s/(m kg)",
+           "offset": "N/kg", "preload": "N/kg", "reachable_coulomb_level": "N/kg",
+           "height": "N/(m^2 kg)"}  # fmt: skip
+    out = {}
+    for x in names:
+        base = re.sub(r"_\d+$", "", x)
+        if base in per:
+            out[x] = per[base]
+    return out
