@@ -13,30 +13,53 @@ _source.py          `Source`: the file, columns, units, factors and window of a 
 _status.py          the poor-fit test: explained variance, parameters on bounds, likely causes
 fit_presliding.py   `fit_presliding`, `fit_virgin_curve`: force against displacement (eqs. 4–9)
 fit_motion.py       `fit_motion`: eq. 17 as a regression (the inverse model)
-fit_response.py     `fit_response`: simulated against measured motion (output error)
+fit_response.py     `fit_response`: simulated against measured motion, one or many records pooled
+fit_quasi_static.py `fit_quasi_static`: position from a slow force (torque-driven presliding)
 fit_result.py       `FitResult`, the least-squares driver shared by the fits
+prediction.py       `Prediction`, `count_reversals`: a fitted model on another record
+cross_validation.py `cross_validate`, `CrossValidation`: leave-one-record-out tables
+uncertainty.py      HAC (Newey–West) covariance, correlations
 _least_squares.py   the solver around scipy.optimize.least_squares (bounds, ties, statistics)
+_structured_lm.py   Levenberg–Marquardt on structured normal equations (large pooled fits)
+_model_spec.py      the fitted models as named parameters (elements, densities)
+_pooled_kernel.py   compiled batched responses of many records and parameter sets
+_pooled_problem.py  the pooled residual and its structured Jacobian
+_pooled_start.py    pooled start values (eq. 17 as a regression)
+_quasi_static_problem.py   the pooled quasi-static residual
+_response_setup.py, _response_result.py   pooled-fit checks, pruning, bootstrap, result
+_predictors.py      how each fit predicts another record
 _pi_regression.py   separable least squares over the PI thresholds; the fused batch loss
 _global_search.py   differential evolution over thresholds for `fit_presliding`
-_response_tools.py, _response_checks.py   the compiled response simulator, starts and checks
+_response_tools.py, _response_checks.py   response start helpers and checks after a fit
 _filters.py         zero-phase filters and derivative estimates
 
 May import: `presliding.motion`, `presliding.analysis`, `presliding.friction`,
 `presliding.hysteresis` and the root's shared modules.
 """
 
+from presliding.identification.cross_validation import CrossValidation, cross_validate
 from presliding.identification.fit_motion import fit_motion, predict_motion_force
 from presliding.identification.fit_presliding import fit_presliding, fit_virgin_curve
+from presliding.identification.fit_quasi_static import fit_quasi_static
 from presliding.identification.fit_response import fit_response
 from presliding.identification.fit_result import FitResult
 from presliding.identification.measurement import Measurement
+from presliding.identification.prediction import Prediction, count_reversals
+from presliding.identification.uncertainty import correlation_matrix, hac_covariance
 
 __all__ = [
+    "CrossValidation",
     "FitResult",
     "Measurement",
+    "Prediction",
+    "correlation_matrix",
+    "count_reversals",
+    "cross_validate",
     "fit_motion",
     "fit_presliding",
+    "fit_quasi_static",
     "fit_response",
     "fit_virgin_curve",
+    "hac_covariance",
     "predict_motion_force",
 ]

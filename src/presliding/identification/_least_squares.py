@@ -27,8 +27,12 @@ import numpy as np
 from numpy.typing import NDArray
 
 from presliding._validation import as_choice, as_count, as_positive_scalar, as_real_scalar, fmt
-from presliding.identification._structured_lm import levenberg_marquardt
-from presliding.identification.uncertainty import hac_covariance, ols_covariance
+from presliding.identification._structured_lm import free_limit, levenberg_marquardt
+from presliding.identification.uncertainty import (
+    full_covariance,
+    hac_covariance,
+    ols_covariance,
+)
 
 FloatArray = NDArray[np.float64]
 Tie = str | tuple[str, float]
@@ -316,7 +320,7 @@ def solve_least_squares(
                 if large:
                     res = levenberg_marquardt(
                         fun, jac, x0, lo, hi, ftol=tolerance, xtol=tolerance, gtol=gtol,
-                        max_nfev=max_evaluations, step_limit=_free_limit(pm, step_limit),
+                        max_nfev=max_evaluations, step_limit=free_limit(pm, step_limit),
                     )  # fmt: skip
                 else:
                     res = optimize.least_squares(
@@ -379,33 +383,11 @@ def solve_least_squares(
         status=status,
         message=message,
         n_evaluations=evaluations,
-        covariance=_full_covariance(pm, cov, se),
+        covariance=full_covariance(pm.matrix, cov, se),
         bandwidths=widths,
         at_bounds=on_bound,
         free=pm.free,
     )
-
-
-def _free_limit(pm: _Map, step_limit: Any) -> Any:
-    """A step limit of the free parameters from one of every parameter."""
-    if step_limit is None:
-        return None
-    weight = np.abs(pm.matrix)
-
-    def limit(x: FloatArray) -> FloatArray:
-        full = step_limit(pm.full(x))
-        with np.errstate(divide="ignore"):
-            per = np.where(weight > 0, full[:, None] / np.where(weight > 0, weight, 1.0), np.inf)
-        return per.min(axis=0)
-
-    return limit
-
-
-def _full_covariance(pm: _Map, cov: FloatArray, se: FloatArray) -> FloatArray:
-    """Covariance of every parameter (fixed: 0; undetermined: inf variance)."""
-    full = pm.matrix @ cov @ pm.matrix.T if pm.free else np.zeros((len(pm.names),) * 2)
-    full[np.diag_indices_from(full)] = np.where(np.isinf(se), np.inf, np.diag(full))
-    return full
 
 
 def _failed(pm: _Map, x: FloatArray, fixed: Any, tied: Any, level: float, msg: str) -> Solution:

@@ -92,11 +92,8 @@ class PooledProblem:
         self.uv_all = np.ascontiguousarray(np.concatenate([p[1] for p in pieces]))
         self.mode = np.full(self.n_rec, MODES[initial_state], dtype=np.int64)
         self.direction = np.array([r.direction for r in records])
-        self.shared = ["mass", *spec.names] + (["viscous"] if viscous else [])
-        self.shared += ["offset"] if offset else []
-        kinds = ["initial_position", "initial_velocity"]
-        if initial_state == "preload":
-            kinds.append("preload_fraction")
+        self.shared = self.shared_names(spec, offset, viscous)
+        kinds = self.nuisance_kinds(initial_state)
         self.kinds = kinds
         self.record_of: dict[str, int | None] = dict.fromkeys(self.shared)
         self.names = list(self.shared)
@@ -115,7 +112,25 @@ class PooledProblem:
             measured=True,
         )[0]
 
+    def subset(self, records: list[Record], suffix: bool = True) -> PooledProblem:
+        """The same problem (model, weights, memory, offset, σ) on other records."""
+        return PooledProblem(records, self.spec, (self.w_v, self.w_y), self.initial_state,
+                             offset="offset" in self.shared, suffix=suffix,
+                             viscous="viscous" in self.shared)  # fmt: skip
+
     # ------------------------------------------------------------ layout
+    @staticmethod
+    def shared_names(spec: ModelSpec, offset: bool, viscous: bool) -> list[str]:
+        """The parameters every record shares."""
+        return ["mass", *spec.names] + (["viscous"] if viscous else []) + (
+            ["offset"] if offset else [])  # fmt: skip
+
+    @staticmethod
+    def nuisance_kinds(initial_state: str) -> list[str]:
+        """The kinds of parameters each record has of its own."""
+        kinds = ["initial_position", "initial_velocity"]
+        return kinds + (["preload_fraction"] if initial_state == "preload" else [])
+
     @property
     def equal(self) -> bool:
         """Equal break-away forces (elements)."""

@@ -44,9 +44,7 @@ class ResponsePredictor:
         p = self.problem
         signal = "both" if p.w_v and p.w_y else ("velocity" if p.w_v else "position")
         (rec,) = check_records(measurement, signal, ("velocity", "position", "both"))
-        sub = pp.PooledProblem([rec], p.spec, (p.w_v, p.w_y), p.initial_state,
-                               offset="offset" in p.shared, suffix=False,
-                               viscous="viscous" in p.shared)  # fmt: skip
+        sub = p.subset([rec], suffix=False)
         start = dict(self.shared)
         start.update(initial_position=float(rec.position[0]),
                      initial_velocity=float(rec.velocity[0]))  # fmt: skip
@@ -86,4 +84,48 @@ class ResponsePredictor:
             measured_rest=_rest(rec.position, measured_v, tol),
             predicted_rest=_rest(y_sim, v_sim, tol),
             parameters=own, status=status, message=message,
+        )  # fmt: skip
+
+
+class QuasiStaticPredictor:
+    """Prediction of a record's positions by a pooled quasi-static fit."""
+
+    def __init__(self, problem: Any, values: dict[str, float]):
+        self.problem = problem
+        self.shared = {x: values[x] for x in problem.shared}
+
+    def predict(self, result: Any, measurement: Any, initial: str = "fit") -> Prediction:
+        from presliding.identification._response_setup import check_quasi_static_records
+
+        initial = as_choice("initial", initial, INITIAL)
+        p = self.problem
+        (rec,) = check_quasi_static_records(measurement)
+        sub = p.subset([rec], suffix=False)
+        start = {**self.shared, "initial_position": float(rec.position[0])}
+        if p.initial_state == "preload":
+            start["preload_fraction"] = 0.0
+        start = {x: start[x] for x in sub.names}
+        status, message = "success", ""
+        if initial == "fit":
+            sub.set_typical(start)
+            bounds = {"preload_fraction": (-1.0, 1.0)} if p.initial_state == "preload" else {}
+            out = solve_least_squares(
+                sub.residual(), start, fixed=dict(self.shared), bounds=bounds,
+                free_jacobian=sub.free_jacobian(), tolerance=1e-8, max_evaluations=200,
+                step_limit=sub.step_limit, method="lm",
+            )  # fmt: skip
+            if out.status == "failed":
+                status, message = "failed", f"initial conditions not found: {out.message}"
+            else:
+                start = out.values
+        o_y, _, st, _ = sub.simulate(np.array([start[x] for x in sub.names]))
+        if np.any(st != 0):
+            status, message = "failed", "no quasi-static response (|u| >= F_c)"
+        tol = reversal_tolerance(rec.position)
+        own = {x: float(start[x]) for x in sub.names if x not in self.shared}
+        return Prediction.build(
+            rec.applied_force, rec.position, o_y[0], ("position", "applied force"),
+            measured_reversals=count_reversals(rec.position, tol),
+            predicted_reversals=count_reversals(o_y[0], tol), parameters=own, status=status,
+            message=message,
         )  # fmt: skip

@@ -30,6 +30,7 @@ from presliding._validation import (
     as_nonnegative_scalar,
     as_positive_scalar,
     as_real_scalar,
+    fmt,
 )
 from presliding.identification import _pi_regression as pr
 from presliding.identification import _pooled_problem as pp
@@ -60,6 +61,20 @@ def check_records(records: Any, signal: str, signals: tuple[str, ...]) -> list[p
         m.require(*NEED[signal], purpose=f"fit_response(signal={signal!r})")
         which = "velocity" if m.velocity is not None else "position"
         check_varies(which, getattr(m, which))
+    return [pp.as_record(m) for m in found]
+
+
+def check_quasi_static_records(records: Any) -> list[pp.Record]:
+    """The records of a quasi-static fit as a checked list (position and applied force)."""
+    found = [records] if isinstance(records, Measurement) else list(records)
+    if not found:
+        raise ValueError("`records` must hold at least one Measurement; got none.")
+    for i, m in enumerate(found):
+        if not isinstance(m, Measurement):
+            raise TypeError(f"`records[{i}]` must be a Measurement; got {type(m).__name__}.")
+        m.require("position", "applied_force", purpose="fit_quasi_static")
+        check_varies("position", m.position)
+        check_varies("applied_force", m.applied_force)
     return [pp.as_record(m) for m in found]
 
 
@@ -187,9 +202,7 @@ def record_bootstrap(
     for _ in range(n_resamples):
         idx = rng.integers(0, problem.n_rec, problem.n_rec)
         recs = [problem.records[i] for i in idx]
-        sub = pp.PooledProblem(recs, problem.spec, (problem.w_v, problem.w_y),
-                               problem.initial_state, offset="offset" in problem.shared,
-                               suffix=True, viscous="viscous" in problem.shared)  # fmt: skip
+        sub = problem.subset(recs)
         rename = {}
         for new, old in enumerate(idx):
             for kind in problem.kinds:
@@ -222,3 +235,55 @@ def record_bootstrap(
         ci[x] = (min(ci[x][0], b_lo), max(ci[x][1], b_hi))
     message = f"{sol.message}; intervals joined with a {len(draws)}-resample record bootstrap"
     return replace(sol, standard_error=se, confidence_interval=ci, message=message), boot, count
+
+
+# ---------------------------------------------------------------------- residual set-up
+def signal_weights(signal: str, recs: list[pp.Record], weights: Any) -> tuple[float, float]:
+    """Weights of the velocity and position residuals (0: not compared)."""
+    extra = {"velocity": 1.0, "position": 1.0}
+    if weights is not None:
+        if not isinstance(weights, Mapping):
+            raise TypeError(f"`weights` must be a mapping of signal names; got {fmt(weights)}.")
+        for key, val in weights.items():
+            as_choice("weights", key, ("velocity", "position"))
+            extra[key] = as_positive_scalar(f"weights[{key!r}]", val)
+    wv = wy = 0.0
+    if signal in ("velocity", "both"):
+        rv = float(np.sqrt(np.mean(np.concatenate([r.velocity for r in recs]) ** 2)))
+        wv = extra["velocity"] / (rv if signal == "both" and rv > 0 else 1.0)
+    if signal in ("position", "both"):
+        dev = np.concatenate([r.position - np.mean(r.position) for r in recs])
+        ry = float(np.sqrt(np.mean(dev**2)))
+        if signal == "both" and not ry > 0:
+            raise ValueError("`position` must vary for signal='both'; got constant records.")
+        wy = extra["position"] / (ry if signal == "both" else 1.0)
+    return wv, wy
+
+
+def with_penalty(problem: pp.PooledProblem, rigid: bool, fmin: float | None):
+    """Residual and Jacobian, with a hinge row max(0, F_min − F_c) when F_c is derived."""
+    fun, jac = problem.residual(rigid), problem.free_jacobian(rigid)
+    if fmin is None:
+        return fun, jac
+    names = problem.names
+    scale = 10.0 * float(np.sqrt(max(problem.n_res, 1)) * np.max(np.abs(problem.data)) / fmin)
+
+    def hinge(p):
+        q = dict(zip(names, p, strict=True))
+        return scale * max(0.0, fmin - problem.spec.coulomb_level(q))
+
+    def fun_p(p):
+        return np.append(fun(p), hinge(p))
+
+    def jac_p(pm, x, lo, hi):
+        base = jac(pm, x, lo, hi)
+        row = np.zeros(x.shape[0])
+        h0 = hinge(pm.full(x))
+        for j in range(x.shape[0]):
+            step = 1e-7 * max(abs(x[j]), 1e-12)
+            xs = x.copy()
+            xs[j] += step
+            row[j] = (hinge(pm.full(xs)) - h0) / step
+        return np.vstack([base, row])
+
+    return fun_p, jac_p

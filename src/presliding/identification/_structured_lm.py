@@ -183,3 +183,18 @@ def _normal(J: Any, r: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
         A[np.ix_(cols, full)] = cross.T
         g[cols] = P.T @ r[rows]
     return A, g, np.sqrt(np.maximum(np.diag(A), 0.0))
+
+
+def free_limit(pm: Any, step_limit: Any) -> Any:
+    """A step limit of the free parameters (of the map `pm`) from one of every parameter."""
+    if step_limit is None:
+        return None
+    weight = np.abs(pm.matrix)
+
+    def limit(x: FloatArray) -> FloatArray:
+        full = step_limit(pm.full(x))
+        with np.errstate(divide="ignore"):
+            per = np.where(weight > 0, full[:, None] / np.where(weight > 0, weight, 1.0), np.inf)
+        return per.min(axis=0)
+
+    return limit

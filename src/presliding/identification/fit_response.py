@@ -31,10 +31,8 @@ rigid; if the cost rises by no more than s²·t² the status is
 
 from __future__ import annotations
 
-import re
 from collections.abc import Mapping, Sequence
 from dataclasses import replace
-from typing import Any
 
 import numpy as np
 
@@ -57,12 +55,15 @@ from presliding.identification._response_checks import (
     spread_start,
     stiffest_first,
 )
+from presliding.identification._response_result import PER_UNIT_MASS, response_result
 from presliding.identification._response_setup import (
     check_model_values,
     check_records,
     initial_bounds,
     prune_elements,
     record_bootstrap,
+    signal_weights,
+    with_penalty,
 )
 from presliding.identification.fit_presliding import check_enough, element_count
 from presliding.identification.fit_result import FitResult, Tie, solve_least_squares
@@ -85,11 +86,6 @@ EXTRA_UNITS = {
 #: cost suffices to flag the rigid corner; the refit starts at the optimum)
 RIGID_EVALUATIONS = 30
 STATES = ("saturated", "preload", "relaxed")
-PER_UNIT_MASS = (
-    "no record has an applied force, so mass and forces are determined only up to a common "
-    "factor: they are reported per unit mass (mass = 1; forces in N/kg, stiffnesses in "
-    "N/(m·kg)); give `mass` or `coulomb_level` to scale them"
-)
 
 
 def fit_response(
@@ -234,7 +230,7 @@ def fit_response(
     per_unit_mass = not forced and not ({"mass", "coulomb_level"} & set(fixed))
     if per_unit_mass:
         fixed["mass"] = 1.0
-    wv, wy = _signal_weights(signal, recs, weights)
+    wv, wy = signal_weights(signal, recs, weights)
     problem = pp.PooledProblem(
         recs,
         spec,
@@ -286,7 +282,7 @@ def fit_response(
     evaluations = [0]
 
     def solve(begin, rigid=False, extra=None, **kw):
-        fun, jac = _with_penalty(problem, rigid, penalty)
+        fun, jac = with_penalty(problem, rigid, penalty)
         out = solve_least_squares(
             fun, begin, fixed={**fixed, **(extra or {})}, free_jacobian=jac,
             blocks=[rows for _, rows in problem.rows], residual_size=problem.n_res,
@@ -345,115 +341,4 @@ def fit_response(
         sol, boot, count = record_bootstrap(sol, problem, settings, bootstrap, seed)
         evaluations[0] += count
     sol = replace(sol, n_evaluations=evaluations[0])
-    return _result(sol, problem, spec, pruned, notes, boot, per_unit_mass, signal)
-
-
-def _signal_weights(signal: str, recs: list[pp.Record], weights: Any) -> tuple[float, float]:
-    """Weights of the velocity and position residuals (0: not compared)."""
-    extra = {"velocity": 1.0, "position": 1.0}
-    if weights is not None:
-        if not isinstance(weights, Mapping):
-            raise TypeError(f"`weights` must be a mapping of signal names; got {fmt(weights)}.")
-        for key, val in weights.items():
-            as_choice("weights", key, ("velocity", "position"))
-            extra[key] = as_positive_scalar(f"weights[{key!r}]", val)
-    wv = wy = 0.0
-    if signal in ("velocity", "both"):
-        rv = float(np.sqrt(np.mean(np.concatenate([r.velocity for r in recs]) ** 2)))
-        wv = extra["velocity"] / (rv if signal == "both" and rv > 0 else 1.0)
-    if signal in ("position", "both"):
-        dev = np.concatenate([r.position - np.mean(r.position) for r in recs])
-        ry = float(np.sqrt(np.mean(dev**2)))
-        if signal == "both" and not ry > 0:
-            raise ValueError("`position` must vary for signal='both'; got constant records.")
-        wy = extra["position"] / (ry if signal == "both" else 1.0)
-    return wv, wy
-
-
-def _with_penalty(problem: pp.PooledProblem, rigid: bool, fmin: float | None):
-    """Residual and Jacobian, with a hinge row max(0, F_min − F_c) when F_c is derived."""
-    fun, jac = problem.residual(rigid), problem.free_jacobian(rigid)
-    if fmin is None:
-        return fun, jac
-    names = problem.names
-    scale = 10.0 * float(np.sqrt(max(problem.n_res, 1)) * np.max(np.abs(problem.data)) / fmin)
-
-    def hinge(p):
-        q = dict(zip(names, p, strict=True))
-        return scale * max(0.0, fmin - problem.spec.coulomb_level(q))
-
-    def fun_p(p):
-        return np.append(fun(p), hinge(p))
-
-    def jac_p(pm, x, lo, hi):
-        base = jac(pm, x, lo, hi)
-        row = np.zeros(x.shape[0])
-        h0 = hinge(pm.full(x))
-        for j in range(x.shape[0]):
-            step = 1e-7 * max(abs(x[j]), 1e-12)
-            xs = x.copy()
-            xs[j] += step
-            row[j] = (hinge(pm.full(xs)) - h0) / step
-        return np.vstack([base, row])
-
-    return fun_p, jac_p
-
-
-def _result(sol, problem, spec, pruned, notes, boot, per_unit_mass, signal) -> FitResult:
-    """The public result of a pooled response fit."""
-    from presliding.identification._predictors import ResponsePredictor
-
-    values = sol.values
-    full = np.array([values[x] for x in problem.names])
-    o_y, o_v, status, _ = problem.simulate(full)
-    ok = bool(np.all(status == 0) and np.all(np.isfinite(o_v)))
-    if not ok and sol.status == "converged":
-        sol = replace(sol, status="failed", message="the simulation failed at the optimum")
-    if per_unit_mass:
-        sol = replace(sol, message=f"{sol.message}; {PER_UNIT_MASS}")
-    model = spec.model(values)
-    derived = {"coulomb_level": spec.coulomb_level(values)} if not spec.has_level_parameter else {}
-    c1, k, r = spec.bank(values)
-    if spec.density is None:
-        derived.update({f"threshold_{j + 1}": float(x) for j, x in enumerate(r)})
-        if spec.equal and spec.n:
-            derived["breakaway_each"] = float(k[0] * r[0])
-    fm = spec.coulomb_level(values) - c1
-    if problem.initial_state == "preload":
-        for i in range(problem.n_rec):
-            x = problem.nuisance("preload_fraction", i)
-            derived[x.replace("preload_fraction", "preload")] = values[x] * fm
-    derived.update(pruned.derived(spec))
-    measured, fitted = (
-        (np.concatenate([r.position for r in problem.records]), o_y[0])
-        if signal == "position"
-        else (np.concatenate([r.velocity for r in problem.records]), o_v[0])
-    )
-    spans = tuple(zip(problem.t_off[:-1].tolist(), problem.t_off[1:].tolist(), strict=True))
-    units = {**EXTRA_UNITS} if not per_unit_mass else {}
-    units.update({x: "1" for x in problem.names if x.startswith("preload_fraction")})
-    if per_unit_mass:
-        units.update(_per_kg([*problem.names, *derived]))
-    result = FitResult.from_solution(
-        sol, model, problem.t_all, measured, fitted, kind="output-error response",
-        abscissa_label="time [s]", signal_label="position" if signal == "position" else "velocity",
-        signal_unit="m" if signal == "position" else "m/s", units=units, derived=derived,
-    )  # fmt: skip
-    return replace(
-        result, records=spans if problem.n_rec > 1 else (), bootstrap=boot, notes=tuple(notes),
-        predictor=ResponsePredictor(problem, values),
-    )  # fmt: skip
-
-
-def _per_kg(names: list[str]) -> dict[str, str]:
-    """Units of the parameters reported per unit mass."""
-    per = {"mass": "1 (fixed)", "coulomb": "N/kg", "coulomb_level": "N/kg",
-           "stiffness": "N/(m kg)", "breakaway": "N/kg", "viscous": "N s/(m kg)",
-           "offset": "N/kg", "preload": "N/kg", "reachable_coulomb_level": "N/kg",
-           "height": "N/(m^2 kg)"}  # fmt: skip
-    out = {}
-    for x in names:
-        base = re.sub(r"_\d+$", "", x)
-        if base in per:
-            out[x] = per[base]
-    return out
+    return response_result(sol, problem, spec, pruned, notes, boot, per_unit_mass, signal)

@@ -27,7 +27,13 @@ from collections.abc import Sequence
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["andrews_bandwidth", "correlation_matrix", "hac_covariance", "ols_covariance"]
+__all__ = [
+    "andrews_bandwidth",
+    "correlation_matrix",
+    "full_covariance",
+    "hac_covariance",
+    "ols_covariance",
+]
 
 FloatArray = NDArray[np.float64]
 _RANK_TOL = 1e-7
@@ -173,6 +179,18 @@ def ols_covariance(jac: FloatArray, r: FloatArray) -> tuple[FloatArray, list[int
     for row in vt[~keep]:
         undetermined |= set(np.flatnonzero(np.abs(row) > 1e-3).tolist())
     return cov, sorted(undetermined)
+
+
+def full_covariance(matrix: FloatArray, cov: FloatArray, se: FloatArray) -> FloatArray:
+    """Covariance of every parameter from that of the free ones: M·C·Mᵀ.
+
+    `matrix` maps the free parameters to all of them (fixed rows 0, tied rows
+    their factor); a parameter whose standard error is inf (undetermined) gets
+    an infinite variance.
+    """
+    full = matrix @ cov @ matrix.T if matrix.shape[1] else np.zeros((matrix.shape[0],) * 2)
+    full[np.diag_indices_from(full)] = np.where(np.isinf(se), np.inf, np.diag(full))
+    return full
 
 
 def correlation_matrix(covariance: FloatArray) -> FloatArray:

@@ -1,0 +1,232 @@
+"""Quasi-static fit: position from a slowly applied force (torque-driven presliding).
+
+A joint driven by a slow force (torque) below break-away moves through its
+presliding hysteresis only: inertia and viscous friction are negligible, and
+the position follows the force exactly through the inverse of the friction
+model, y = Γ[u] with the Coulomb element c1 as a play on the force side
+(`presliding.motion.quasi_static_response`). `fit_quasi_static` fits that
+model to measured positions, pooling records like `fit_response`: the model
+(c1 and the elements or a density) and a force offset are shared; each record
+has its initial position and, with ``initial_state="preload"``, the elastic
+force its memory starts with (the branch family of `preloaded_state`, on the
+branch opposite to the record's first motion: the record starts with a
+reversal at its preload; a branch the first motion continued could not be
+told apart from a shift of the position).
+
+F_c from below. A quasi-static response exists only while |u| < F_c, so the
+Coulomb level is bounded below by the largest applied force (and by
+`min_coulomb_level`): a model whose inverse would diverge is never returned.
+Above that, loops that stay well below F_c hardly constrain it (the
+intervals say so).
+
+Start: eq. 8 as a regression, u = c1·sign(ẏ) + Σ_g w_g·stop_g(y) (+ offset) on
+the samples where the position moves (there the balance holds with equality),
+after each record's first reversal (an unknown earlier memory wiped out).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import replace
+
+import numpy as np
+
+from presliding._validation import as_choice, as_count, as_positive_scalar, fmt
+from presliding.identification import _pi_regression as pr
+from presliding.identification._least_squares import check_constraints, check_options
+from presliding.identification._model_spec import DENSITIES, ModelSpec
+from presliding.identification._quasi_static_problem import QuasiStaticProblem
+from presliding.identification._response_checks import bound_check, cost, stiffest_first
+from presliding.identification._response_setup import (
+    check_model_values,
+    check_quasi_static_records,
+    record_bootstrap,
+)
+from presliding.identification.fit_presliding import check_enough, element_count
+from presliding.identification.fit_result import FitResult, Tie, solve_least_squares
+from presliding.identification.measurement import Measurement
+
+__all__ = ["fit_quasi_static"]
+
+STATES = ("preload", "continuing", "relaxed")
+
+
+def quasi_static_start(recs: list, spec: ModelSpec, offset: bool) -> dict[str, float]:
+    """Start values from eq. 8 as a regression on the moving samples (module notes)."""
+    from scipy.optimize import lsq_linear
+    from threadpoolctl import threadpool_limits
+
+    span = max(float(np.ptp(r.position)) for r in recs)
+    steps = np.concatenate([np.abs(np.diff(r.position)) for r in recs])
+    quantum = float(np.min(steps[steps > 0]))
+    grid = pr.geometric_grid(max(2.0 * quantum, 1e-3 * span), 0.5 * span, span, 32)
+    rows, rhs = [], []
+    for r in recs:
+        y, u = r.position, r.applied_force
+        turns = pr.reversal_indices(np.ascontiguousarray(y), 2.0 * quantum)
+        start = int(turns[0]) if turns.size else 0
+        dy = np.diff(y, prepend=y[0])
+        moving = (np.abs(dy) > 0) & (np.arange(y.shape[0]) > start)
+        cols = [np.sign(dy), *pr.stop_basis(y)(grid)[0].T] + ([np.ones_like(y)] if offset else [])
+        rows.append(np.column_stack(cols)[moving])
+        rhs.append(u[moving])
+    mat, b = np.vstack(rows), np.concatenate(rhs)
+    lower = np.zeros(mat.shape[1])
+    if offset:
+        lower[-1] = -np.inf
+    u_max = max(float(np.max(np.abs(r.applied_force))) for r in recs)
+    if mat.shape[0] > mat.shape[1]:
+        scale = np.linalg.norm(mat, axis=0)
+        scale[scale == 0] = 1.0
+        with threadpool_limits(limits=1, user_api="blas"):
+            sol = lsq_linear(mat / scale, b, bounds=(lower, np.inf)).x / scale
+        c1, weights = float(sol[0]), sol[1 : 1 + grid.shape[0]]
+        off = float(sol[-1]) if offset else 0.0
+    else:
+        c1, weights, off = 0.1 * u_max, np.zeros_like(grid), 0.0
+    fc = max(c1 + float(weights @ grid), 1.2 * u_max)
+    c1 = min(max(c1, 0.02 * fc), 0.9 * fc)
+    if not np.any(weights > 0):
+        weights = np.zeros_like(grid)
+        weights[len(grid) // 2] = (fc - c1) / grid[len(grid) // 2]
+    start = spec.start(fc, c1, grid, weights)
+    k_max = max([start[x] for x in spec.k_names], default=0.0)
+    for x in spec.k_names:  # an element too soft to slide would blow the positions up
+        start[x] = max(start[x], 0.02 * k_max)
+    if offset:
+        start["offset"] = off
+    return start
+
+
+def fit_quasi_static(
+    records: Measurement | Sequence[Measurement],
+    n_elements: int = 3,
+    equal_breakaway: bool = True,
+    *,
+    density: str | None = None,
+    density_cells: int = 32,
+    min_coulomb_level: float | None = None,
+    offset: bool = False,
+    initial_state: str = "preload",
+    initial: Mapping[str, float] | None = None,
+    fixed: Mapping[str, float] | None = None,
+    tied: Mapping[str, Tie] | None = None,
+    bootstrap: int = 0,
+    seed: int | None = None,
+    level: float = 0.95,
+    max_evaluations: int | None = None,
+    tolerance: float = 1e-8,
+) -> FitResult:
+    """Fit the quasi-static response y = Γ[u] (c1 included) to measured positions.
+
+    Parameters
+    ----------
+    records : Measurement or sequence of Measurement
+        Each with `position` y [m] and `applied_force` u [N] (a torque and an
+        angle work alike), u slow enough for inertia to be negligible.
+    n_elements, equal_breakaway, density, density_cells : as in `fit_response`
+    min_coulomb_level : float, optional, keyword only
+        A lower bound on F_c [N], besides the largest |u| (module notes).
+    offset : bool, keyword only
+        Fit a force offset (parameter ``offset``; the model sees u − offset).
+    initial_state : {"preload", "continuing", "relaxed"}, keyword only
+        The memory each record starts with: a fitted preload
+        (``preload_fraction``; the record reverses at it), a branch its first
+        motion continues (module notes), or relaxed.
+    initial, fixed, tied, bootstrap, seed, level, max_evaluations, tolerance
+        As in `fit_response`.
+
+    Returns
+    -------
+    FitResult
+        Position against the applied force, records one after the other; the
+        model is `PIFriction` (no mass: quasi-static), `predict` gives the
+        response of another record.
+    """
+    from presliding.identification._predictors import QuasiStaticPredictor
+
+    single = isinstance(records, Measurement)
+    recs = check_quasi_static_records(records)
+    initial_state = as_choice("initial_state", initial_state, STATES)
+    if density is not None:
+        density = as_choice("density", density, DENSITIES)
+    n = element_count(n_elements, None, 3)
+    if n < 1:
+        raise ValueError(f"`n_elements` must be at least 1 (the position needs elements); got {n}.")
+    cells = as_count("density_cells", density_cells, minimum=4)
+    level, max_evaluations, tolerance = check_options(level, max_evaluations, tolerance)
+    fixed, tied = check_constraints(fixed, tied)
+    spec = ModelSpec(n, equal_breakaway, density, cells)
+    check_model_values(spec, fixed, tied, initial)
+    bootstrap = as_count("bootstrap", bootstrap)
+    fmin = 0.0 if min_coulomb_level is None else as_positive_scalar(
+        "min_coulomb_level", min_coulomb_level)  # fmt: skip
+    problem = QuasiStaticProblem(recs, spec, initial_state, offset=offset, suffix=not single)
+    names = problem.names
+    check_enough(problem.n_res, len(names) - len(fixed))
+    start = quasi_static_start(recs, spec, offset)
+    floor = max(fmin, problem.u_max * (1 + 1e-9)) if not offset else fmin
+    for i, rec in enumerate(recs):
+        start[problem.nuisance("initial_position", i)] = float(rec.position[0])
+        if initial_state == "preload":
+            start[problem.nuisance("preload_fraction", i)] = 0.0
+    for key, val in dict(initial or {}).items():
+        if key not in names:
+            raise ValueError(f"`initial` names unknown parameter {key!r}; known: {names}.")
+        start[key] = float(val)
+    start = {x: start[x] for x in names}
+    box = {**spec.bounds(), "offset": (-np.inf, np.inf)}
+    for i in range(problem.n_rec):
+        box[problem.nuisance("initial_position", i)] = (-np.inf, np.inf)
+        if initial_state == "preload":
+            box[problem.nuisance("preload_fraction", i)] = (-1.0, 1.0)
+    if spec.has_level_parameter and floor > 0:
+        box["coulomb_level"] = (floor, np.inf)
+        start["coulomb_level"] = max(start["coulomb_level"], floor * 1.01)
+    box = {x: box.get(x, (-np.inf, np.inf)) for x in names}
+    problem.set_typical(start)
+    if max_evaluations is None:
+        max_evaluations = 50 * len(names)
+    options = {"bounds": box, "tied": tied, "level": level, "max_evaluations": max_evaluations,
+               "tolerance": tolerance, "gradient_tolerance": max(tolerance**2, 1e-15)}  # fmt: skip
+    sol = solve_least_squares(
+        problem.residual(), start, fixed=fixed, free_jacobian=problem.free_jacobian(),
+        blocks=[rows for _, rows in problem.rows], residual_size=problem.n_res,
+        step_limit=problem.step_limit, method="lm", **options,
+    )  # fmt: skip
+    if density is None and equal_breakaway and not (set(spec.k_names) & (set(fixed) | set(tied))):
+        sol = stiffest_first(sol, spec.k_names)
+    sol = bound_check(sol, {**start, "mass": 1.0}, names, fixed, tied,
+                      equal_breakaway and density is None)  # fmt: skip
+    count, boot = sol.n_evaluations, None
+    if bootstrap and len(recs) >= 3 and np.isfinite(cost(sol)):
+        sol, boot, extra = record_bootstrap(sol, problem, {**options, "fixed": fixed},
+                                            bootstrap, seed)  # fmt: skip
+        count += extra
+    values = sol.values
+    full = np.array([values[x] for x in names])
+    o_y, _, status, _ = problem.simulate(full)
+    if np.any(status != 0) and sol.status == "converged":
+        sol = replace(sol, status="failed", message="no quasi-static response at the optimum")
+    derived = {"coulomb_level": spec.coulomb_level(values)} if not spec.has_level_parameter else {}
+    fm = spec.coulomb_level(values) - max(values["coulomb"], 0.0)
+    if initial_state == "preload":
+        for i in range(problem.n_rec):
+            x = problem.nuisance("preload_fraction", i)
+            derived[x.replace("preload_fraction", "preload")] = values[x] * fm
+    u_all = np.concatenate([r.applied_force for r in recs])
+    units = {x: "1" for x in names if x.startswith("preload_fraction")}
+    units.update({"height": "N/m^2", "max_threshold": "m", "length": "m", "preload": "N"})
+    result = FitResult.from_solution(
+        replace(sol, n_evaluations=count), spec.model(values), u_all,
+        np.concatenate([r.position for r in recs]), o_y[0], kind="quasi-static",
+        abscissa_label="applied force", signal_label="position", signal_unit="m",
+        units=units, derived=derived,
+    )  # fmt: skip
+    spans = tuple(zip(problem.t_off[:-1].tolist(), problem.t_off[1:].tolist(), strict=True))
+    if floor > 0 and spec.has_level_parameter and values["coulomb_level"] <= floor * (1 + 1e-6):
+        note = (f"F_c sits on its lower bound {fmt(floor)} (the largest applied force or "
+                "`min_coulomb_level`): the loops do not determine it")  # fmt: skip
+        result = replace(result, notes=(note,))
+    return replace(result, records=spans if problem.n_rec > 1 else (), bootstrap=boot,
+                   predictor=QuasiStaticPredictor(problem, values))  # fmt: skip
