@@ -53,6 +53,7 @@ from presliding.hysteresis import (
 from presliding.identification import (
     CrossValidation,
     FitResult,
+    MasingCheck,
     Measurement,
     Prediction,
     correlation_matrix,
@@ -64,6 +65,7 @@ from presliding.identification import (
     fit_response,
     fit_virgin_curve,
     hac_covariance,
+    masing_check,
     predict_motion_force,
 )
 from presliding.motion import (
@@ -117,6 +119,7 @@ __all__ = [
     "GeneralPIOperator",
     "LuGreFriction",
     "LuGreState",
+    "MasingCheck",
     "Measurement",
     "MemoryState",
     "MotionBatch",
@@ -149,6 +152,7 @@ __all__ = [
     "hac_covariance",
     "inverse_state",
     "iosys_state",
+    "masing_check",
     "phi",
     "pi_inverse",
     "play",

@@ -11,7 +11,9 @@ _join.py            `Measurement.join`: per-signal records on one time base
 _units.py           units in column headers → SI factors (pint), parameter units
 _source.py          `Source`: the file, columns, units, factors and window of a measurement
 _status.py          the poor-fit test: explained variance, parameters on bounds, likely causes
-fit_presliding.py   `fit_presliding`, `fit_virgin_curve`: force against displacement (eqs. 4–9)
+fit_presliding.py   `fit_presliding`: force against displacement (eqs. 4–9)
+fit_virgin.py       `fit_virgin_curve`: virgin curves from ramps or loops, pooled, quantised
+masing.py           `masing_check`, `MasingCheck`: do measured loops follow a virgin curve?
 fit_motion.py       `fit_motion`: eq. 17 as a regression (the inverse model)
 fit_response.py     `fit_response`: simulated against measured motion, one or many records pooled
 fit_quasi_static.py `fit_quasi_static`: position from a slow force (torque-driven presliding)
@@ -37,19 +39,27 @@ May import: `presliding.motion`, `presliding.analysis`, `presliding.friction`,
 `presliding.hysteresis` and the root's shared modules.
 """
 
+from presliding.identification import fit_presliding as _fit_presliding
 from presliding.identification.cross_validation import CrossValidation, cross_validate
 from presliding.identification.fit_motion import fit_motion, predict_motion_force
-from presliding.identification.fit_presliding import fit_presliding, fit_virgin_curve
+from presliding.identification.fit_presliding import fit_presliding
 from presliding.identification.fit_quasi_static import fit_quasi_static
 from presliding.identification.fit_response import fit_response
 from presliding.identification.fit_result import FitResult
+from presliding.identification.fit_virgin import fit_virgin_curve, virgin_samples
+from presliding.identification.masing import MasingCheck, masing_check
 from presliding.identification.measurement import Measurement
 from presliding.identification.prediction import Prediction, count_reversals
 from presliding.identification.uncertainty import correlation_matrix, hac_covariance
 
+# the virgin-curve fit lived in fit_presliding before: its old names keep working
+_fit_presliding.fit_virgin_curve = fit_virgin_curve  # type: ignore[attr-defined]
+_fit_presliding.virgin_samples = virgin_samples  # type: ignore[attr-defined]
+
 __all__ = [
     "CrossValidation",
     "FitResult",
+    "MasingCheck",
     "Measurement",
     "Prediction",
     "correlation_matrix",
@@ -61,5 +71,6 @@ __all__ = [
     "fit_response",
     "fit_virgin_curve",
     "hac_covariance",
+    "masing_check",
     "predict_motion_force",
 ]

@@ -12,11 +12,7 @@ thresholds enter linearly: nonnegative least squares for the stiffnesses on a
 geometric threshold grid gives the start, nonlinear least squares over all
 parameters refines it (see `presliding.identification._pi_regression`).
 
-`fit_virgin_curve` uses the Madelung/Masing property instead: after a reversal
-at (y_r, F_r) every branch follows F_r ∓ 2·F_v(|y − y_r|/2) at least until it
-returns to the previous turning point, so each branch of a loop measures the
-virgin curve F_v(s) = c1 + Σ_j k_j min(s, r_j) (s > 0), and the virgin curve
-determines every loop.
+The virgin-curve fit (Madelung/Masing rules) lives in `fit_virgin`.
 """
 
 from __future__ import annotations
@@ -31,7 +27,6 @@ from numpy.typing import ArrayLike, NDArray
 from presliding._validation import (
     as_choice,
     as_count,
-    as_nonnegative_scalar,
     as_parameter_vector,
     as_signal,
     check_same_length,
@@ -44,7 +39,7 @@ from presliding.identification._least_squares import check_constraints, check_op
 from presliding.identification._status import sign_hint
 from presliding.identification.fit_result import FitResult, Tie
 
-__all__ = ["fit_presliding", "fit_virgin_curve"]
+__all__ = ["fit_presliding"]
 
 FloatArray = NDArray[np.float64]
 
@@ -279,126 +274,3 @@ def _direction(y: FloatArray) -> FloatArray:
 
 def _with_note(sol: Any, note: str) -> Any:
     return replace(sol, message=sol.message + note) if note else sol
-
-
-def virgin_samples(
-    displacement: FloatArray, force: FloatArray, reversal_tolerance: float = 0.0
-) -> tuple[FloatArray, FloatArray]:
-    """Virgin-curve samples (s, F_v(s)) from the branches of measured loops (Masing's rule).
-
-    Every branch that starts at the second or a later turning point measures
-    F_v(s) = ±(F − F_r)/2 at s = |y − y_r|/2 until it has travelled as far as the
-    branch before it (where it closes the loop and may join an older branch).
-
-    Parameters
-    ----------
-    displacement, force : ndarray, shape (T,)
-        A checked path with hysteresis loops and its force.
-    reversal_tolerance : float
-        Travel a turning point must be left by to count (nonnegative).
-
-    Returns
-    -------
-    s, virgin_force : ndarray
-        The abscissa s = |y − y_r|/2 and F_v(s) of every usable sample, branch
-        after branch (not sorted).
-    """
-    idx = pr.reversal_indices(displacement, reversal_tolerance)
-    if idx.shape[0] < 2:
-        raise ValueError(
-            f"`displacement` must have at least two turning points to read the virgin curve from "
-            f"its loops; got {idx.shape[0]}."
-        )
-    marks = np.concatenate([idx, [displacement.shape[0] - 1]])
-    s_parts, f_parts = [], []
-    for k in range(1, idx.shape[0]):
-        i0, i1 = marks[k], marks[k + 1]
-        yr, fr = displacement[i0], force[i0]
-        direction = np.sign(displacement[i1] - yr)
-        span = abs(yr - displacement[marks[k - 1]])
-        seg_y, seg_f = displacement[i0 + 1 : i1 + 1], force[i0 + 1 : i1 + 1]
-        travel = direction * (seg_y - yr)
-        ok = (travel > 0) & (travel <= span * (1 + 1e-12))
-        s_parts.append(0.5 * travel[ok])
-        f_parts.append(0.5 * direction * (seg_f[ok] - fr))
-    return np.concatenate(s_parts), np.concatenate(f_parts)
-
-
-def fit_virgin_curve(
-    displacement: ArrayLike,
-    force: ArrayLike,
-    n_elements: int | None = None,
-    thresholds: ArrayLike | None = None,
-    *,
-    loops: bool = True,
-    reversal_tolerance: float = 0.0,
-    fixed: Mapping[str, float] | None = None,
-    tied: Mapping[str, Tie] | None = None,
-    level: float = 0.95,
-    grid_size: int = pr.DEFAULT_GRID,
-    max_evaluations: int | None = None,
-    tolerance: float = 1e-8,
-) -> FitResult:
-    """Fit the virgin (initial loading) curve F_v(s) = c1 + Σ_j k_j·min(s, r_j), s > 0.
-
-    Parameters
-    ----------
-    displacement, force : array_like, shape (T,)
-        With ``loops=True``: a path with hysteresis loops; each branch from the
-        second turning point on is turned into virgin-curve samples by Masing's
-        rule (`virgin_samples`), so a force offset cancels. With ``loops=False``:
-        a monotone loading from the relaxed state at ``displacement[0]`` (where
-        the force is taken as zero); s = |y − y[0]|, F_v = ±F.
-    n_elements, thresholds : as in `fit_presliding`
-    reversal_tolerance : float
-        Travel [m] a turning point must be left by to count (against noise;
-        nonnegative, used only with ``loops=True``).
-    fixed, tied, level, grid_size, max_evaluations, tolerance : as in `fit_presliding`
-
-    Returns
-    -------
-    FitResult
-        Fitted against s (the virgin-curve abscissa, sorted); the model
-        reproduces every loop by the Madelung/Masing rules.
-    """
-    y = as_signal("displacement", displacement)
-    f = as_signal("force", force)
-    check_same_length(displacement=y, force=f)
-    n = element_count(n_elements, thresholds, 3)
-    reversal_tolerance = as_nonnegative_scalar("reversal_tolerance", reversal_tolerance)
-    fixed, tied, level, grid_size, max_evaluations, tolerance = check_fit_options(
-        fixed, tied, level, grid_size, max_evaluations, tolerance
-    )
-    check_varies("displacement", y)
-    check_varies("force", f)
-    if loops:
-        s, fv = virgin_samples(y, f, reversal_tolerance)
-    else:
-        steps = np.diff(y)
-        if not (np.all(steps >= 0) or np.all(steps <= 0)):
-            raise ValueError(
-                "`displacement` must be monotone for a virgin loading (loops=False); it reverses "
-                f"at index {int(np.argmax(steps * np.sign(y[-1] - y[0]) < 0))}."
-            )
-        sign = np.sign(y[-1] - y[0])
-        s, fv = sign * (y - y[0]), sign * f
-        keep = s > 0
-        s, fv = s[keep], fv[keep]
-    order = np.argsort(s, kind="stable")
-    s, fv = s[order], fv[order]
-    check_enough(s.shape[0], 1 + 2 * n, "virgin-curve samples")
-    # grid thresholds at the first samples would mimic the Coulomb element
-    lo = max(4.0 * float(s[0]), float(np.quantile(s, 0.01)))
-    grid = pr.geometric_grid(lo, float(s[-1]), float(s[-1]), grid_size)
-    fit = pr.fit_separable(
-        fv, np.ones((s.shape[0], 1)), ("coulomb",), {"coulomb": (0.0, np.inf)},
-        pr.virgin_basis(s), n, grid=grid, thresholds=thresholds, fixed=fixed, tied=tied,
-        level=level, max_evaluations=max_evaluations, tolerance=tolerance,
-        smallest_threshold=float(s[0]),
-    )  # fmt: skip
-    model, note = pi_model(fit.solution.values, n, fit.solution.values["coulomb"])
-    return FitResult.from_solution(
-        _with_note(fit.solution, note), model, s, fv, fit.fitted, kind="virgin curve",
-        abscissa_label="s = half travel since reversal", signal_label="virgin-curve force",
-        derived=derived_quantities(model),
-    )  # fmt: skip

@@ -1,0 +1,229 @@
+"""Virgin-curve fits: the initial loading curve from ramps or loops (Madelung/Masing).
+
+The virgin curve F_v(s) = c1 + Σ_j k_j·min(s, r_j) (s > 0) determines every
+loop of a PI friction model: after a reversal at (y_r, F_r) each branch
+follows F_r ∓ 2·F_v(|y − y_r|/2) at least until it returns to the previous
+turning point (section 1; Madelung's and Masing's rules). `fit_virgin_curve`
+reads virgin-curve samples from
+
+* loading ramps from a relaxed contact (``loops=False``): s = |y − y_0|,
+  F_v = ±F, ramps of either sign pooled;
+* hysteresis loops (``loops=True``): each branch from the second turning point
+  on gives F_v(s) = ±(F − F_r)/2 at s = |y − y_r|/2 (`virgin_samples`), so a
+  force offset cancels.
+
+Quantised data. An encoder's position steps back and forth by a quantum (and
+noise) even on a ramp: a ramp may retreat by up to `reversal_tolerance`
+(default: `count_reversals`' tolerance of the record, three times its quantum
+or noise) without counting as a reversal. The samples of all records are
+pooled and sorted by s, and the monotone envelope F_iso(s), the
+nondecreasing function closest to them in least squares
+(`scipy.optimize.isotonic_regression`, pool-adjacent-violators), is what the
+model is fitted to: the virgin curve is nondecreasing by construction, so
+the envelope removes only noise that no PI model could follow.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from presliding._validation import as_nonnegative_scalar, as_signal, check_same_length, fmt
+from presliding.identification import _pi_regression as pr
+from presliding.identification.fit_presliding import (
+    check_enough,
+    check_fit_options,
+    check_varies,
+    derived_quantities,
+    element_count,
+    pi_model,
+)
+from presliding.identification.fit_result import FitResult, Tie
+from presliding.identification.prediction import reversal_tolerance as auto_tolerance
+
+__all__ = ["fit_virgin_curve", "virgin_samples"]
+
+FloatArray = NDArray[np.float64]
+
+
+def virgin_samples(
+    displacement: FloatArray, force: FloatArray, reversal_tolerance: float = 0.0
+) -> tuple[FloatArray, FloatArray]:
+    """Virgin-curve samples (s, F_v(s)) from the branches of measured loops (Masing's rule).
+
+    Every branch that starts at the second or a later turning point measures
+    F_v(s) = ±(F − F_r)/2 at s = |y − y_r|/2 until it has travelled as far as the
+    branch before it (where it closes the loop and may join an older branch).
+
+    Parameters
+    ----------
+    displacement, force : ndarray, shape (T,)
+        A checked path with hysteresis loops and its force.
+    reversal_tolerance : float
+        Travel a turning point must be left by to count (nonnegative).
+
+    Returns
+    -------
+    s, virgin_force : ndarray
+        The abscissa s = |y − y_r|/2 and F_v(s) of every usable sample, branch
+        after branch (not sorted).
+    """
+    idx = pr.reversal_indices(np.ascontiguousarray(displacement), reversal_tolerance)
+    if idx.shape[0] < 2:
+        raise ValueError(
+            f"`displacement` must have at least two turning points to read the virgin curve from "
+            f"its loops; got {idx.shape[0]}."
+        )
+    marks = np.concatenate([idx, [displacement.shape[0] - 1]])
+    s_parts, f_parts = [], []
+    for k in range(1, idx.shape[0]):
+        i0, i1 = marks[k], marks[k + 1]
+        yr, fr = displacement[i0], force[i0]
+        direction = np.sign(displacement[i1] - yr)
+        span = abs(yr - displacement[marks[k - 1]])
+        seg_y, seg_f = displacement[i0 + 1 : i1 + 1], force[i0 + 1 : i1 + 1]
+        travel = direction * (seg_y - yr)
+        ok = (travel > 0) & (travel <= span * (1 + 1e-12))
+        s_parts.append(0.5 * travel[ok])
+        f_parts.append(0.5 * direction * (seg_f[ok] - fr))
+    return np.concatenate(s_parts), np.concatenate(f_parts)
+
+
+def _ramp_samples(y: FloatArray, f: FloatArray, tol: float, which: str) -> tuple:
+    """(s, F_v) of a loading ramp from rest at y[0], allowed to retreat by at most `tol`."""
+    sign = np.sign(y[-1] - y[0])
+    if sign == 0:
+        raise ValueError(f"{which}: a virgin loading must end away from its start; got none.")
+    s = sign * (y - y[0])
+    retreat = np.maximum.accumulate(s) - s
+    if float(np.max(retreat)) > tol:
+        i = int(np.argmax(retreat > tol))
+        raise ValueError(
+            f"{which} must be a monotone loading for loops=False (quantisation allowed up to "
+            f"`reversal_tolerance` {fmt(tol)}); it reverses by {fmt(float(retreat[i]))} at "
+            f"index {i}."
+        )
+    keep = s > 0
+    return s[keep], sign * f[keep]
+
+
+def _as_records(displacement: Any, force: Any) -> list[tuple[FloatArray, FloatArray]]:
+    """One (displacement, force) pair or sequences of them, checked."""
+    if isinstance(displacement, np.ndarray):
+        single = displacement.ndim == 1
+    else:
+        single = not (
+            isinstance(displacement, Sequence)
+            and len(displacement) > 0
+            and all(np.ndim(d) == 1 for d in displacement)
+        )
+    if single:
+        pairs = [(displacement, force)]
+    else:
+        if not isinstance(displacement, Sequence) or not isinstance(force, Sequence):
+            raise TypeError(
+                "`displacement` and `force` must be arrays or sequences of arrays (one per "
+                f"ramp or record); got {type(displacement).__name__}."
+            )
+        if len(displacement) != len(force) or not displacement:
+            raise ValueError(
+                "`displacement` and `force` must hold the same number of records (at least "
+                f"one); got {len(displacement)} and {len(force)}."
+            )
+        pairs = list(zip(displacement, force, strict=True))
+    out = []
+    for i, (y_in, f_in) in enumerate(pairs):
+        tag = "" if single else f"[{i}]"
+        y, f = as_signal(f"displacement{tag}", y_in), as_signal(f"force{tag}", f_in)
+        check_same_length(**{f"displacement{tag}": y, f"force{tag}": f})
+        check_varies(f"displacement{tag}", y)
+        out.append((y, f))
+    return out
+
+
+def fit_virgin_curve(
+    displacement: ArrayLike | Sequence[ArrayLike],
+    force: ArrayLike | Sequence[ArrayLike],
+    n_elements: int | None = None,
+    thresholds: ArrayLike | None = None,
+    *,
+    loops: bool = True,
+    reversal_tolerance: float | None = 0.0,
+    envelope: bool = True,
+    fixed: Mapping[str, float] | None = None,
+    tied: Mapping[str, Tie] | None = None,
+    level: float = 0.95,
+    grid_size: int = pr.DEFAULT_GRID,
+    max_evaluations: int | None = None,
+    tolerance: float = 1e-8,
+) -> FitResult:
+    """Fit the virgin (initial loading) curve F_v(s) = c1 + Σ_j k_j·min(s, r_j), s > 0.
+
+    Parameters
+    ----------
+    displacement, force : array_like, shape (T,), or sequences of them
+        One record or several (ramps of both signs, or loop records), pooled.
+        With ``loops=True``: paths with hysteresis loops (module notes). With
+        ``loops=False``: loadings from the relaxed state at their first sample
+        (where the force is taken as zero); s = |y − y[0]|, F_v = ±F.
+    n_elements, thresholds : as in `fit_presliding`
+    reversal_tolerance : float or None
+        Travel [m] a turning point must be left by to count (loops), or by
+        which a ramp may retreat (quantisation); None: each record's own
+        `reversal_tolerance` (three times its quantum or noise).
+    envelope : bool
+        Fit the monotone envelope of the pooled samples (module notes);
+        False fits the samples themselves.
+    fixed, tied, level, grid_size, max_evaluations, tolerance : as in `fit_presliding`
+
+    Returns
+    -------
+    FitResult
+        Fitted against s (sorted); `measured` holds the pooled samples, `fitted`
+        the model; the model reproduces every loop by the Madelung/Masing rules.
+    """
+    from scipy.optimize import isotonic_regression
+
+    records = _as_records(displacement, force)
+    n = element_count(n_elements, thresholds, 3)
+    if reversal_tolerance is not None:
+        reversal_tolerance = as_nonnegative_scalar("reversal_tolerance", reversal_tolerance)
+    fixed, tied, level, grid_size, max_evaluations, tolerance = check_fit_options(
+        fixed, tied, level, grid_size, max_evaluations, tolerance
+    )
+    s_parts, f_parts = [], []
+    for i, (y, f) in enumerate(records):
+        check_varies("force" if len(records) == 1 else f"force[{i}]", f)
+        tol = auto_tolerance(y) if reversal_tolerance is None else reversal_tolerance
+        which = "`displacement`" if len(records) == 1 else f"`displacement[{i}]`"
+        s, fv = virgin_samples(y, f, tol) if loops else _ramp_samples(y, f, tol, which)
+        s_parts.append(s)
+        f_parts.append(fv)
+    s, fv = np.concatenate(s_parts), np.concatenate(f_parts)
+    order = np.argsort(s, kind="stable")
+    s, fv = s[order], fv[order]
+    check_enough(s.shape[0], 1 + 2 * n, "virgin-curve samples")
+    target = isotonic_regression(fv, increasing=True).x if envelope else fv
+    # grid thresholds at the first samples would mimic the Coulomb element
+    lo = max(4.0 * float(s[0]), float(np.quantile(s, 0.01)))
+    grid = pr.geometric_grid(lo, float(s[-1]), float(s[-1]), grid_size)
+    fit = pr.fit_separable(
+        target, np.ones((s.shape[0], 1)), ("coulomb",), {"coulomb": (0.0, np.inf)},
+        pr.virgin_basis(s), n, grid=grid, thresholds=thresholds, fixed=fixed, tied=tied,
+        level=level, max_evaluations=max_evaluations, tolerance=tolerance,
+        smallest_threshold=float(s[0]),
+    )  # fmt: skip
+    model, note = pi_model(fit.solution.values, n, fit.solution.values["coulomb"])
+    sol = fit.solution
+    if note:
+        from dataclasses import replace
+
+        sol = replace(sol, message=sol.message + note)
+    return FitResult.from_solution(
+        sol, model, s, fv, fit.fitted, kind="virgin curve",
+        abscissa_label="s = half travel since reversal" if loops else "s = travel from rest",
+        signal_label="virgin-curve force", signal_unit="N", derived=derived_quantities(model),
+    )  # fmt: skip
