@@ -47,7 +47,7 @@ def stop_record(rng, samples=1000, dt=1e-3, quantum=1e-6, noise=2e-7, forced=Tru
     y = quantum * np.round((res.position + noise * rng.standard_normal(samples)) / quantum)
     v = np.gradient(y, t)
     meas = Measurement(t, position=y, velocity=v, applied_force=None if free_only else u)
-    nuisance = {"initial_position": y0, "initial_velocity": v0, "preload_fraction": fraction}
+    nuisance = {"initial_position": y0, "initial_velocity": v0, "preload_fraction": fraction * d}
     return meas, nuisance, res
 
 

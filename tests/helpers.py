@@ -108,3 +108,39 @@ def one_error_line(capsys, *needles):
     for needle in needles:
         assert needle in lines[0], lines[0]
     return lines[0]
+
+
+# ----------------------------------------------------------------- pooled identification
+def stop_records(seed: int, n_records: int, model: PIFriction, mass: float = 2.0, *,
+                 samples: int = 600, dt: float = 1e-3, quantum: float = 0.0, noise: float = 0.0,
+                 free: bool = False, preload: bool = True):  # fmt: skip
+    """Synthetic stops (exact event method): a slide decelerated by a force, then free.
+
+    Each record starts at y0 with v0 and a preload on the branch of its motion
+    (`preloaded_state`); the position is rounded to `quantum` (if > 0) after
+    Gaussian `noise`, the velocity is its difference quotient. Returns the
+    measurements and the true per-record values.
+    """
+    from presliding import Measurement, preloaded_state, simulate
+
+    rng = np.random.default_rng(seed)
+    t = np.arange(samples) * dt
+    out, truth = [], []
+    for _ in range(n_records):
+        d = float(rng.choice([-1.0, 1.0]))
+        v0 = d * rng.uniform(0.02, 0.06)
+        frac = rng.uniform(0.2, 1.0) if preload else 1.0
+        y0 = rng.uniform(-1e-3, 1e-3)
+        state = preloaded_state(model, frac * model.max_elastic_force * d, direction=d,
+                                position=y0)  # fmt: skip
+        u = np.zeros(samples) if free else np.where(t < rng.uniform(0.03, 0.08), -0.3 * d, 0.0)
+        res = simulate(model, mass, applied_force=(t, u), initial_position=y0,
+                       initial_velocity=v0, initial_state=state, t_eval=t)  # fmt: skip
+        y = res.position + noise * rng.standard_normal(samples)
+        if quantum > 0:
+            y = quantum * np.round(y / quantum)
+        v = np.gradient(y, t) if (quantum > 0 or noise > 0) else res.velocity
+        out.append(Measurement(t, position=y, velocity=v, applied_force=None if free else u))
+        truth.append({"initial_position": y0, "initial_velocity": v0, "preload_fraction": frac * d,
+                      "n_reversals": res.n_reversals})  # fmt: skip
+    return out, truth

@@ -4,9 +4,11 @@ Pruning. Element j can slide after a reversal only if a swing of the motion
 (the travel between two turning points) exceeds 2·r_j (Masing's rule); an
 element with k_j → 0 or 2·r_j beyond the largest swing of the fitted motion
 never slides in the data, so its break-away force is a level the data never
-reach. The reachable Coulomb level is c1 + Σ_j k_j·min(r_j, s) with s half the
-largest swing (c1 + φ(s) for a density): the largest friction force the model
-produces over the travel seen.
+reach. Elements with k_j → 0 are dropped; those beyond the swing act as linear
+springs over the data, indistinguishable from one another, and are merged
+into one (the stiffnesses added). The reachable Coulomb level is
+c1 + Σ_j k_j·min(r_j, s) with s half the largest swing (c1 + φ(s) for a
+density): the largest friction force the model produces over the travel seen.
 
 Bootstrap. The records are resampled with replacement (each copy keeps its own
 nuisance parameters) and refitted from the pooled optimum; the standard
@@ -128,6 +130,7 @@ class Pruning:
     reachable: float
     effective: int | None
     reasons: dict[int, str] = field(default_factory=dict)
+    spring: int | None = None  # the never-sliding element the others merge into
 
     def derived(self, spec: Any) -> dict[str, float]:
         out = {"largest_swing": self.swing, "reachable_coulomb_level": self.reachable}
@@ -148,8 +151,10 @@ class Pruning:
         alive = [j for j in range(spec.n) if j not in self.dead]
         out = {x: v for x, v in values.items() if x not in (*spec.k_names, *spec.c_names)}
         _, k, r = spec.bank(values)
+        merged = [j for j in self.dead if "merged" in self.reasons[j]]
         for new, j in enumerate(alive):
-            out[f"stiffness_{new + 1}"] = float(k[j])
+            extra = float(np.sum(k[merged])) if j == self.spring else 0.0
+            out[f"stiffness_{new + 1}"] = float(k[j]) + extra
             if not spec.equal:
                 out[f"breakaway_{new + 1}"] = float(k[j] * r[j])
         if spec.equal:
@@ -176,13 +181,15 @@ def prune_elements(problem: pp.PooledProblem, sol: Solution, spec: Any) -> Pruni
         return Pruning([], swing, c1 + float(dens.virgin_curve(half)), None)
     reasons = {}
     total = float(np.sum(k)) if k.size else 0.0
+    springs = [j for j in range(spec.n) if k[j] > 1e-9 * total and 2.0 * r[j] >= swing]
+    keep = min(springs, key=lambda j: r[j]) if springs else None
     for j in range(spec.n):
         if k[j] <= 1e-9 * total:
             reasons[j] = "k → 0"
-        elif 2.0 * r[j] >= swing:
-            reasons[j] = "2·r beyond the largest swing"
+        elif j in springs and j != keep:
+            reasons[j] = f"2·r beyond the largest swing: a spring there, merged into {keep + 1}"
     reachable = c1 + float(np.sum(k * np.minimum(r, half)))
-    return Pruning(sorted(reasons), swing, reachable, spec.n - len(reasons), reasons)
+    return Pruning(sorted(reasons), swing, reachable, spec.n - len(reasons), reasons, keep)
 
 
 # ---------------------------------------------------------------------- bootstrap

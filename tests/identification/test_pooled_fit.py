@@ -1,0 +1,209 @@
+"""Pooled output-error fits: shared physics, per-record starts, structure, uncertainty."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from presliding import PIFriction, Uniform, cross_validate, fit_response
+from presliding.identification import _pooled_problem as pp
+from presliding.identification._least_squares import _parameter_map
+from presliding.identification._model_spec import ModelSpec, centroid_bank
+from presliding.identification._structured_lm import _normal
+from tests.helpers import stop_records
+
+MODEL = PIFriction(0.3, [4000.0, 2000.0, 1000.0, 500.0], breakaway=[0.175] * 4)
+SHARED = {"mass": 2.0, "coulomb_level": 1.0, "coulomb": 0.3, "stiffness_1": 4000.0,
+          "stiffness_2": 2000.0, "stiffness_3": 1000.0, "stiffness_4": 500.0}  # fmt: skip
+
+
+@pytest.fixture(scope="module")
+def clean():
+    return stop_records(1, 4, MODEL)
+
+
+def _truth(nuisance):
+    out = dict(SHARED)
+    for i, n in enumerate(nuisance):
+        for k in ("initial_position", "initial_velocity", "preload_fraction"):
+            out[f"{k}_{i + 1}"] = n[k]
+    return out
+
+
+def test_noise_free_pooled_stops_recover_every_parameter(clean):
+    records, nuisance = clean
+    fit = fit_response(records, signal="both", initial_state="preload")
+    assert fit.success, fit.message
+    for name, value in _truth(nuisance).items():
+        assert fit.parameters[name] == pytest.approx(value, rel=1e-6, abs=1e-9), name
+    assert fit.records == ((0, 600), (600, 1200), (1200, 1800), (1800, 2400))
+    assert fit.nfev == fit.n_evaluations > 0
+    assert fit.covariance.shape == (len(fit.parameters),) * 2
+    corr = fit.correlation
+    np.testing.assert_allclose(np.diag(corr)[:7], 1.0)
+    assert np.all(np.abs(corr) <= 1.0)
+    assert "in 4 records" in fit.report()
+    d = fit.to_dict()
+    assert d["nfev"] == fit.nfev and len(d["covariance"]) == len(fit.parameters)
+
+
+def test_structured_jacobian_equals_dense_differences(clean):
+    """Grouped columns (one per kind of record parameter) give every column exactly."""
+    records, nuisance = clean
+    recs = [pp.as_record(m) for m in records[:3]]
+    problem = pp.PooledProblem(recs, ModelSpec(4, True, None, 32), (1.0, 50.0), "preload",
+                               offset=False, suffix=True)  # fmt: skip
+    truth = _truth(nuisance)
+    problem.set_typical(truth)
+    pm = _parameter_map(tuple(problem.names), {}, {})
+    x = np.array([truth[n] for n in problem.names])
+    lo, hi = np.full(x.shape, -np.inf), np.full(x.shape, np.inf)
+    groups = problem.column_groups(pm)
+    assert len(groups) == 7 + 3  # shared columns alone, record columns three by three
+    jac = problem.free_jacobian(sparse_output=False)(pm, x, lo, hi)
+    for j in range(x.shape[0]):
+        h = 1e-6 * max(abs(x[j]), 1e-3)
+        xp, xm = x.copy(), x.copy()
+        xp[j] += h
+        xm[j] -= h
+        col = (problem.residuals(xp[None])[0] - problem.residuals(xm[None])[0]) / (2 * h)
+        scale = np.linalg.norm(col) + 1e-300
+        assert np.linalg.norm(jac[:, j] - col) <= 1e-4 * scale, problem.names[j]
+    sparse_jac = problem.free_jacobian(sparse_output=True)(pm, x, lo, hi)
+    a, g, _ = _normal(sparse_jac, np.ones(problem.n_res))
+    dense = sparse_jac.toarray()
+    np.testing.assert_allclose(a, dense.T @ dense, rtol=1e-12, atol=1e-12 * np.abs(a).max())
+    np.testing.assert_allclose(g, dense.T @ np.ones(problem.n_res), rtol=1e-12, atol=1e-9)
+
+
+def test_free_records_are_fitted_per_unit_mass():
+    records, _ = stop_records(2, 3, MODEL, free=True)
+    fit = fit_response(records, signal="both", initial_state="preload")
+    assert fit.status == "converged", fit.message
+    assert "per unit mass" in fit.message and any("per unit mass" in n for n in fit.notes)
+    assert fit.parameters["mass"] == 1.0 and "mass" in fit.fixed
+    assert fit.parameters["coulomb_level"] == pytest.approx(0.5, rel=1e-5)
+    assert fit.parameters["stiffness_1"] == pytest.approx(2000.0, rel=1e-5)
+    assert fit.units["coulomb_level"] == "N/kg"
+    scaled = fit_response(records, signal="both", initial_state="preload", mass=2.0)
+    assert scaled.parameters["coulomb"] == pytest.approx(0.3, rel=1e-5)
+
+
+def test_viscous_term_and_offset_are_shared_parameters():
+    model = PIFriction(0.3, [4000.0, 1000.0], breakaway=[0.35, 0.35], viscous=4.0)
+    records, _ = stop_records(3, 3, model)
+    fit = fit_response(records, 2, signal="both", initial_state="preload", viscous=True,
+                       offset=True)  # fmt: skip
+    assert fit.success, fit.message
+    assert fit.parameters["viscous"] == pytest.approx(4.0, rel=1e-5)
+    assert fit.parameters["offset"] == pytest.approx(0.0, abs=1e-6)
+    assert fit.model.viscous == pytest.approx(4.0, rel=1e-5)
+    assert fit.units["viscous"] == "N s/m"
+
+
+def test_uniform_density_through_its_centroid_discretisation():
+    dens = Uniform(2.0e7, 2.0e-4)  # F_m = a R²/2 = 0.4, Σk = a R = 4000
+    k, r = centroid_bank(dens, 32)
+    assert k.sum() == pytest.approx(dens.total_stiffness, rel=1e-12)
+    assert k @ r == pytest.approx(dens.max_elastic_force, rel=1e-12)
+    model = PIFriction(0.2, k, threshold=r)
+    records, _ = stop_records(4, 3, model)
+    fit = fit_response(records, density="uniform", signal="both", initial_state="preload")
+    assert fit.success, fit.message
+    assert fit.parameters["height"] == pytest.approx(2.0e7, rel=1e-5)
+    assert fit.parameters["max_threshold"] == pytest.approx(2.0e-4, rel=1e-5)
+    assert fit.model.density == Uniform(fit.parameters["height"], fit.parameters["max_threshold"])
+    assert fit.derived["coulomb_level"] == pytest.approx(0.6, rel=1e-5)
+
+
+def test_centroid_discretisation_converges_at_second_order():
+    dens = Uniform(3.0, 1.5)
+    s = np.linspace(0.0, 2.0, 801)
+    errors = []
+    for n in (8, 16, 32):
+        k, r = centroid_bank(dens, n)
+        errors.append(np.max(np.abs(np.minimum(s[:, None], r) @ k - dens.virgin_curve(s))))
+    assert 3.5 < errors[0] / errors[1] < 4.5 and 3.5 < errors[1] / errors[2] < 4.5
+
+
+def test_min_coulomb_level_bounds_the_level_from_below(clean):
+    records, _ = clean
+    fit = fit_response(records[:2], signal="both", min_coulomb_level=1.2, multistart=False)
+    assert fit.parameters["coulomb_level"] >= 1.2
+    free = fit_response(records[:2], 4, False, signal="both", min_coulomb_level=1.2,
+                        multistart=False)  # fmt: skip
+    assert free.derived["coulomb_level"] >= 1.2 * (1 - 1e-6)
+
+
+def test_elements_that_never_slide_are_reported_and_pruned():
+    """Stops whose swings stay below 2·r of the softer elements: those act as springs.
+
+    They are reported; with prune=True they are merged into one and the model
+    is refitted: the effective N, and the reachable F_c below the model's F_c.
+    """
+    model = PIFriction(0.3, [4000.0, 800.0], breakaway=[0.3, 0.3])
+    records, _ = stop_records(5, 3, model)
+    fit = fit_response(records, 4, signal="both", initial_state="preload")
+    assert fit.derived["effective_elements"] < 4
+    assert any("never slide" in n and "prune=True" in n for n in fit.notes)
+    assert fit.derived["reachable_coulomb_level"] < fit.model.coulomb_level
+    pruned = fit_response(records, 4, signal="both", initial_state="preload", prune=True)
+    assert pruned.model.n_elements == int(fit.derived["effective_elements"])
+    assert any("refitted without them" in n for n in pruned.notes)
+    assert pruned.relative_residual < 1e-2  # the springs merged still carry the presliding
+
+
+def test_noisy_pooled_fit_intervals_hold_the_truth():
+    """Quantised stops (1 µm), three seeds: the HAC 95 % intervals hold the truth."""
+    inside = total = 0
+    for seed in range(3):
+        records, nuisance = stop_records(10 + seed, 6, MODEL, quantum=1e-6, noise=2e-7)
+        fit = fit_response(records, signal="both", initial_state="preload")
+        assert fit.status in ("converged", "not_identifiable"), fit.message
+        for name, value in SHARED.items():
+            lo, hi = fit.confidence_interval[name]
+            inside += lo <= value <= hi
+            total += 1
+    assert inside / total >= 0.8
+
+
+def test_bootstrap_over_records_widens_the_intervals(clean):
+    records, _ = clean
+    noisy, _ = stop_records(6, 4, MODEL, quantum=1e-6, noise=2e-7)
+    fit = fit_response(noisy, signal="both", initial_state="preload", bootstrap=8, seed=1)
+    assert set(fit.bootstrap) >= {"mass", "coulomb_level"}
+    for name, (se, lo, hi) in fit.bootstrap.items():
+        assert fit.confidence_interval[name][0] <= lo and hi <= fit.confidence_interval[name][1]
+        assert fit.standard_error[name] >= se
+    assert "bootstrap" in fit.message and "bootstrap" in fit.report()
+
+
+def test_prediction_and_cross_validation_of_held_out_stops(clean):
+    records, nuisance = clean
+    fit = fit_response(records[:3], signal="both", initial_state="preload")
+    pred = fit.predict(records[3])
+    assert pred.success and pred.nrmse < 1e-6
+    assert pred.reversals_match and pred.measured_reversals == nuisance[3]["n_reversals"]
+    assert pred.rest_error == pytest.approx(0.0, abs=1e-9)
+    cv = cross_validate(records, signal="both", initial_state="preload")
+    assert cv.success and cv.reversals_exact == 1.0
+    assert np.all(cv.nrmse < 1e-6)
+    assert len(cv.table()) == 5 and "cross-validation" in cv.result.report()
+
+
+@pytest.mark.parametrize(
+    ("records", "kwargs", "error", "message"),
+    [
+        ([], {}, ValueError, "`records` must hold at least one Measurement"),
+        (["x"], {}, TypeError, "`records[0]` must be a Measurement"),
+        (None, {"density": "gauss"}, ValueError, "`density` must be one of"),
+        (None, {"weights": {"force": 1.0}}, ValueError, "`weights` must be one of"),
+        (None, {"initial_state": "warm"}, ValueError, "`initial_state` must be one of"),
+        (None, {"bootstrap": -1}, ValueError, "`bootstrap` must be"),
+        (None, {"density_cells": 2}, ValueError, "`density_cells` must be"),
+    ],
+)
+def test_bad_input(clean, records, kwargs, error, message):
+    recs = clean[0][:2] if records is None else records
+    with pytest.raises(error, match=message.replace("[", r"\[").replace("]", r"\]")):
+        fit_response(recs, **kwargs)
