@@ -196,9 +196,9 @@ class ModelSpec:
             guess = {"max_threshold": span, **dict.fromkeys(self.h_names, h)}
 
         def curve(logp: FloatArray) -> FloatArray:
-            q = {"coulomb": 0.0, **dict(zip(names, np.exp(logp), strict=True))}
+            q = {"coulomb": 0.0, **dict(zip(names, np.exp(np.clip(logp, -700, 700)), strict=True))}
             return self.friction_density(q).virgin_curve(s) - target
 
         x0 = np.log([guess[x] for x in names])
         fit = least_squares(curve, x0, method="trf", xtol=1e-10, max_nfev=200 * len(x0))
-        return dict(zip(names, np.exp(fit.x).tolist(), strict=True))
+        return dict(zip(names, np.exp(np.clip(fit.x, -700, 700)).tolist(), strict=True))

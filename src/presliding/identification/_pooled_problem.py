@@ -36,7 +36,8 @@ from presliding.motion._forcing import as_forcing
 FloatArray = NDArray[np.float64]
 MAX_EVENTS = 10_000_000
 NUISANCE = ("initial_position", "initial_velocity", "preload_fraction")
-MODES = {"relaxed": pk.RELAXED, "saturated": pk.BRANCH, "preload": pk.BRANCH}
+MODES = {"relaxed": pk.RELAXED, "saturated": pk.BRANCH, "preload": pk.BRANCH,
+         "continuing": pk.BRANCH}  # fmt: skip
 
 
 @dataclass(frozen=True)

@@ -107,17 +107,9 @@ class QuasiStaticPredictor:
         start = {x: start[x] for x in sub.names}
         status, message = "success", ""
         if initial == "fit":
-            sub.set_typical(start)
-            bounds = {"preload_fraction": (-1.0, 1.0)} if p.initial_state == "preload" else {}
-            out = solve_least_squares(
-                sub.residual(), start, fixed=dict(self.shared), bounds=bounds,
-                free_jacobian=sub.free_jacobian(), tolerance=1e-8, max_evaluations=200,
-                step_limit=sub.step_limit, method="lm",
-            )  # fmt: skip
-            if out.status == "failed":
-                status, message = "failed", f"initial conditions not found: {out.message}"
-            else:
-                start = out.values
+            from presliding.identification._response_setup import record_starts
+
+            start = record_starts(sub, start)
         o_y, _, st, _ = sub.simulate(np.array([start[x] for x in sub.names]))
         if np.any(st != 0):
             status, message = "failed", "no quasi-static response (|u| >= F_c)"

@@ -294,3 +294,58 @@ def with_penalty(problem: pp.PooledProblem, rigid: bool, fmin: float | None):
         return np.vstack([base, row])
 
     return fun_p, jac_p
+
+
+def nuisance_only(sol: Solution, problem: pp.PooledProblem, fixed: Mapping) -> Solution:
+    """A fit whose undetermined parameters are all records' own keeps "converged".
+
+    The shared (physical) parameters are determined; a record whose start the
+    data cannot pin down (its preload and position enter only together) is
+    said in the message, with its infinite intervals.
+    """
+    if sol.status != "not_identifiable":
+        return sol
+    loose = [x for x, se in sol.standard_error.items() if np.isinf(se) and x not in fixed]
+    if not loose or any(problem.record_of.get(x) is None for x in loose):
+        return sol
+    records = sorted({problem.record_of[x] + 1 for x in loose})
+    message = (
+        f"converged; the data do not determine the own parameters of record(s) "
+        f"{', '.join(map(str, records))} (infinite intervals); the shared parameters are "
+        "determined"
+    )
+    return replace(sol, status="converged", message=message)
+
+
+def record_starts(problem: pp.PooledProblem, start: dict[str, float],
+                  fractions: tuple[float, ...] = (-0.6, 0.0, 0.6)) -> dict[str, float]:  # fmt: skip
+    """Each record's own start (position, preload) fitted alone, the shared values held.
+
+    Preloads start from several fractions (the residual of a preload is not
+    convex); the best fit of each record is kept. Cheap: one record at a time.
+    """
+    out = dict(start)
+    for i, rec in enumerate(problem.records):
+        sub = problem.subset([rec], suffix=False)
+        best, best_cost = None, np.inf
+        for frac in fractions:
+            begin = {x: start[x] for x in problem.shared}
+            for kind in sub.kinds:
+                begin[kind] = (
+                    frac if kind == "preload_fraction" else start[problem.nuisance(kind, i)]
+                )
+            begin = {x: begin[x] for x in sub.names}
+            sub.set_typical(begin)
+            bounds = {"preload_fraction": (-1.0, 1.0)} if "preload_fraction" in sub.kinds else {}
+            fit = solve_least_squares(
+                sub.residual(), begin, fixed={x: start[x] for x in problem.shared},
+                bounds=bounds, free_jacobian=sub.free_jacobian(), tolerance=1e-6,
+                max_evaluations=60, step_limit=sub.step_limit, method="lm",
+            )  # fmt: skip
+            c = float(fit.residual @ fit.residual) if fit.status != "failed" else np.inf
+            if c < best_cost:
+                best, best_cost = fit, c
+        if best is not None:
+            for kind in sub.kinds:
+                out[problem.nuisance(kind, i)] = best.values[kind]
+    return out

@@ -40,7 +40,8 @@ def equal_breakaway_stiffness(grid: FloatArray, weight: FloatArray, c: float, n:
     r0 = np.maximum(r0, s[0])
 
     def res(logk: FloatArray) -> FloatArray:
-        return np.minimum(np.exp(logk)[None, :] * s[:, None], c).sum(axis=1) - target
+        k = np.exp(np.clip(logk, -700.0, 700.0))
+        return np.minimum(k[None, :] * s[:, None], c).sum(axis=1) - target
 
     fit = least_squares(res, np.log(c / r0), method="lm", xtol=1e-10)
     return np.sort(np.exp(fit.x))[::-1]

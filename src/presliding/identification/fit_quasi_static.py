@@ -28,6 +28,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from dataclasses import replace
+from typing import Any
 
 import numpy as np
 
@@ -36,11 +37,19 @@ from presliding.identification import _pi_regression as pr
 from presliding.identification._least_squares import check_constraints, check_options
 from presliding.identification._model_spec import DENSITIES, ModelSpec
 from presliding.identification._quasi_static_problem import QuasiStaticProblem
-from presliding.identification._response_checks import bound_check, cost, stiffest_first
+from presliding.identification._response_checks import (
+    bound_check,
+    cost,
+    split_coalesced,
+    spread_start,
+    stiffest_first,
+)
 from presliding.identification._response_setup import (
     check_model_values,
     check_quasi_static_records,
+    nuisance_only,
     record_bootstrap,
+    record_starts,
 )
 from presliding.identification.fit_presliding import check_enough, element_count
 from presliding.identification.fit_result import FitResult, Tie, solve_least_squares
@@ -189,15 +198,44 @@ def fit_quasi_static(
         max_evaluations = 50 * len(names)
     options = {"bounds": box, "tied": tied, "level": level, "max_evaluations": max_evaluations,
                "tolerance": tolerance, "gradient_tolerance": max(tolerance**2, 1e-15)}  # fmt: skip
-    sol = solve_least_squares(
-        problem.residual(), start, fixed=fixed, free_jacobian=problem.free_jacobian(),
-        blocks=[rows for _, rows in problem.rows], residual_size=problem.n_res,
-        step_limit=problem.step_limit, method="lm", **options,
-    )  # fmt: skip
-    if density is None and equal_breakaway and not (set(spec.k_names) & (set(fixed) | set(tied))):
+    evaluations = [0]
+
+    def solve(begin: dict[str, float], limit: int | None = None) -> Any:
+        opts = {**options, "max_evaluations": limit or options["max_evaluations"]}
+        out = solve_least_squares(
+            problem.residual(), begin, fixed=fixed, free_jacobian=problem.free_jacobian(),
+            blocks=[rows for _, rows in problem.rows], residual_size=problem.n_res,
+            step_limit=problem.step_limit, method="lm", **opts,
+        )  # fmt: skip
+        evaluations[0] += out.n_evaluations
+        return out
+
+    # the residual is far from convex in the records' preloads, in c1 against the
+    # stiffest element and in the element split: from the regression start and spread
+    # ones (the records' own starts fitted one by one for each), a few steps each; the
+    # best is refined, the records' own starts fitted again with its shared values
+    own = initial_state == "preload" and not any(x in fixed or x in tied for x in names)
+    shaped = set(spec.k_names) & (set(fixed) | set(tied))
+    starts = [start]
+    if density is None and equal_breakaway and spec.n > 1 and not shaped:
+        spread = spread_start(start, spec.k_names)
+        starts.append(spread)
+        if "coulomb" not in fixed and "coulomb" not in tied:  # c1 against the stiffest element
+            starts += [
+                {**spread, "coulomb": share * spread["coulomb_level"]} for share in (0.1, 0.4)
+            ]
+    short = min(max_evaluations, 40)
+    tries = [solve(record_starts(problem, s) if own else s, short) for s in starts]
+    best = min(tries, key=cost)
+    begin = best.values if np.isfinite(cost(best)) else start
+    sol = solve(record_starts(problem, begin) if own else begin)
+    if density is None and equal_breakaway and not shaped:
+        sol = split_coalesced(sol, solve, spec.k_names)
         sol = stiffest_first(sol, spec.k_names)
+    sol = replace(sol, n_evaluations=evaluations[0])
     sol = bound_check(sol, {**start, "mass": 1.0}, names, fixed, tied,
                       equal_breakaway and density is None)  # fmt: skip
+    sol = nuisance_only(sol, problem, fixed)
     count, boot = sol.n_evaluations, None
     if bootstrap and len(recs) >= 3 and np.isfinite(cost(sol)):
         sol, boot, extra = record_bootstrap(sol, problem, {**options, "fixed": fixed},

@@ -60,6 +60,7 @@ from presliding.identification._response_setup import (
     check_model_values,
     check_records,
     initial_bounds,
+    nuisance_only,
     prune_elements,
     record_bootstrap,
     signal_weights,
@@ -319,6 +320,7 @@ def fit_response(
             else solve  # fmt: skip
         sol = rigid_check(sol, capped, problem, names, fixed, tied, level)
     sol = bound_check(sol, start, names, fixed, tied, equal_breakaway and density is None)
+    sol = nuisance_only(sol, problem, fixed)
     notes = [PER_UNIT_MASS] if per_unit_mass else []
     pruned = prune_elements(problem, sol, spec)
     if prune and pruned.dead and density is None and spec.n - len(pruned.dead) >= 0:

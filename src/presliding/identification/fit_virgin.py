@@ -18,9 +18,12 @@ noise) even on a ramp: a ramp may retreat by up to `reversal_tolerance`
 or noise) without counting as a reversal. The samples of all records are
 pooled and sorted by s, and the monotone envelope F_iso(s), the
 nondecreasing function closest to them in least squares
-(`scipy.optimize.isotonic_regression`, pool-adjacent-violators), is what the
-model is fitted to: the virgin curve is nondecreasing by construction, so
-the envelope removes only noise that no PI model could follow.
+(`scipy.optimize.isotonic_regression`, pool-adjacent-violators), gives a
+second start: the thresholds fitted to the envelope (which no noise makes
+turn back), refined on the samples themselves. The better of that fit and
+the fit from the threshold grid is kept. The final fit is always to the
+samples: the envelope is biased upwards where the curve is flat and noisy
+(pool-adjacent-violators keeps the running maxima there), the samples are not.
 """
 
 from __future__ import annotations
@@ -144,6 +147,11 @@ def _as_records(displacement: Any, force: Any) -> list[tuple[FloatArray, FloatAr
     return out
 
 
+def _cost(fit: pr.SeparableFit) -> float:
+    sol = fit.solution
+    return float(sol.residual @ sol.residual) if sol.status != "failed" else np.inf
+
+
 def fit_virgin_curve(
     displacement: ArrayLike | Sequence[ArrayLike],
     force: ArrayLike | Sequence[ArrayLike],
@@ -175,8 +183,8 @@ def fit_virgin_curve(
         which a ramp may retreat (quantisation); None: each record's own
         `reversal_tolerance` (three times its quantum or noise).
     envelope : bool
-        Fit the monotone envelope of the pooled samples (module notes);
-        False fits the samples themselves.
+        Also start from the thresholds fitted to the monotone envelope of the
+        pooled samples (module notes), keeping the better fit to the samples.
     fixed, tied, level, grid_size, max_evaluations, tolerance : as in `fit_presliding`
 
     Returns
@@ -206,16 +214,26 @@ def fit_virgin_curve(
     order = np.argsort(s, kind="stable")
     s, fv = s[order], fv[order]
     check_enough(s.shape[0], 1 + 2 * n, "virgin-curve samples")
-    target = isotonic_regression(fv, increasing=True).x if envelope else fv
     # grid thresholds at the first samples would mimic the Coulomb element
     lo = max(4.0 * float(s[0]), float(np.quantile(s, 0.01)))
     grid = pr.geometric_grid(lo, float(s[-1]), float(s[-1]), grid_size)
-    fit = pr.fit_separable(
-        target, np.ones((s.shape[0], 1)), ("coulomb",), {"coulomb": (0.0, np.inf)},
-        pr.virgin_basis(s), n, grid=grid, thresholds=thresholds, fixed=fixed, tied=tied,
-        level=level, max_evaluations=max_evaluations, tolerance=tolerance,
-        smallest_threshold=float(s[0]),
-    )  # fmt: skip
+
+    def separable(target: FloatArray, start: FloatArray | None) -> pr.SeparableFit:
+        return pr.fit_separable(
+            target, np.ones((s.shape[0], 1)), ("coulomb",), {"coulomb": (0.0, np.inf)},
+            pr.virgin_basis(s), n, grid=grid, thresholds=start, fixed=fixed, tied=tied,
+            level=level, max_evaluations=max_evaluations, tolerance=tolerance,
+            smallest_threshold=float(s[0]),
+        )  # fmt: skip
+
+    fit = separable(fv, thresholds)
+    if envelope and thresholds is None and n:
+        shaped = separable(isotonic_regression(fv, increasing=True).x, None)
+        r_names = pr.element_names(n)[1]
+        start = np.array([shaped.solution.values[x] for x in r_names])
+        other = separable(fv, start)
+        if _cost(other) < _cost(fit):
+            fit = other
     model, note = pi_model(fit.solution.values, n, fit.solution.values["coulomb"])
     sol = fit.solution
     if note:

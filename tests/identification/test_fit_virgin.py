@@ -1,0 +1,65 @@
+"""Virgin-curve fits from pooled, quantised ramps; the Masing check of loops."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from presliding import PIFriction, fit_virgin_curve, masing_check
+
+MODEL = PIFriction(0.1, [1e4, 3e3, 1e3], breakaway=[0.2, 0.2, 0.2])
+
+
+def _ramps(seed, quantum=1e-6):
+    rng = np.random.default_rng(seed)
+    ys, fs = [], []
+    for sign in (1.0, -1.0, 1.0):
+        y = sign * np.linspace(0.0, 8e-4, 400)
+        y = quantum * np.round((y + 0.2 * quantum * rng.standard_normal(400)) / quantum)
+        ys.append(y)
+        fs.append(MODEL.force(y)[0] + 0.002 * rng.standard_normal(400))
+    return ys, fs
+
+
+def test_quantised_ramps_of_both_signs_are_pooled():
+    ys, fs = _ramps(0)
+    fit = fit_virgin_curve(ys, fs, 3, loops=False, reversal_tolerance=None)
+    assert fit.success, fit.message
+    assert fit.parameters["coulomb"] == pytest.approx(0.1, abs=0.01)
+    np.testing.assert_allclose(sorted(fit.model.stiffness), [1e3, 3e3, 1e4], rtol=0.1)
+    assert np.all(np.diff(fit.abscissa) >= 0)
+
+
+def test_a_ramp_that_reverses_beyond_the_tolerance_is_refused():
+    ys, fs = _ramps(1)
+    ys[1] = np.concatenate([ys[1], ys[1][-1] + np.linspace(0, 5e-5, 20)])
+    fs[1] = np.concatenate([fs[1], np.full(20, fs[1][-1])])
+    with pytest.raises(ValueError, match=r"`displacement\[1\]` must be a monotone loading"):
+        fit_virgin_curve(ys, fs, 3, loops=False, reversal_tolerance=None)
+
+
+def test_envelope_is_monotone_and_matches_the_raw_fit_on_clean_data():
+    y = np.linspace(0.0, 8e-4, 300)
+    f = MODEL.force(y)[0]
+    a = fit_virgin_curve(y, f, 3, loops=False)
+    b = fit_virgin_curve(y, f, 3, loops=False, envelope=False)
+    assert a.parameters["coulomb"] == pytest.approx(b.parameters["coulomb"], rel=1e-6)
+
+
+def test_masing_check_passes_model_loops_and_flags_creep():
+    t = np.linspace(0.0, 1.0, 3000)
+    y = 6e-4 * np.sin(6 * np.pi * t) * np.exp(-0.5 * t)
+    f = MODEL.force(y)[0]
+    ok = masing_check(MODEL, (y, f))
+    assert ok.passed and ok.discrepancy < 1e-9 and "passed" in ok.report()
+    # a Maxwell element in parallel (stiffness 3e3 N/m, relaxation time 0.05 s): creep
+    decay, maxwell = np.exp(-(t[1] - t[0]) / 0.05), np.zeros_like(y)
+    for i in range(1, len(t)):
+        maxwell[i] = maxwell[i - 1] * decay + 3e3 * (y[i] - y[i - 1])
+    bad = masing_check(MODEL, (y, f + maxwell))
+    assert not bad.passed and "break Masing's rule" in bad.message
+    assert bad.branch_discrepancy.shape[0] >= 4
+    with pytest.raises(TypeError, match="`virgin_model` must be a PIFriction"):
+        masing_check("model", (y, f))
+    with pytest.raises(ValueError, match="at least one branch"):
+        masing_check(MODEL, (np.linspace(0, 1, 50), np.linspace(0, 1, 50)))
