@@ -157,7 +157,7 @@ def test_noisy_pooled_fit_intervals_hold_the_truth():
     """Quantised stops (1 µm), three seeds: the HAC 95 % intervals hold the truth."""
     inside = total = 0
     for seed in range(3):
-        records, nuisance = stop_records(10 + seed, 6, MODEL, quantum=1e-6, noise=2e-7)
+        records, _ = stop_records(10 + seed, 6, MODEL, quantum=1e-6, noise=2e-7)
         fit = fit_response(records, signal="both", initial_state="preload")
         assert fit.status in ("converged", "not_identifiable"), fit.message
         for name, value in SHARED.items():
@@ -167,8 +167,7 @@ def test_noisy_pooled_fit_intervals_hold_the_truth():
     assert inside / total >= 0.8
 
 
-def test_bootstrap_over_records_widens_the_intervals(clean):
-    records, _ = clean
+def test_bootstrap_over_records_widens_the_intervals():
     noisy, _ = stop_records(6, 4, MODEL, quantum=1e-6, noise=2e-7)
     fit = fit_response(noisy, signal="both", initial_state="preload", bootstrap=8, seed=1)
     assert set(fit.bootstrap) >= {"mass", "coulomb_level"}
