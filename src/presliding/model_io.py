@@ -35,6 +35,7 @@ from pathlib import Path
 from typing import Any
 
 from presliding._io import write_text
+from presliding._validation import check_type
 from presliding.friction.pi_friction import PIFriction
 from presliding.hysteresis.densities import Density, Exponential, PiecewiseConstant, Uniform
 
@@ -312,6 +313,9 @@ def save_model(
 
     An existing file is replaced only with ``overwrite=True``.
     """
+    check_type("model", model, PIFriction)
+    if motion is not None:
+        check_type("motion", motion, MotionSettings)
     path = Path(path)
     if path.exists() and not overwrite:
         raise FileExistsError(

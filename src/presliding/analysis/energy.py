@@ -20,7 +20,12 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from presliding._validation import as_nonnegative_scalar, as_real_scalar, as_signal
+from presliding._validation import (
+    as_nonnegative_scalar,
+    as_real_scalar,
+    as_signal,
+    check_finite_derived,
+)
 from presliding.friction.pi_friction import PIFriction
 from presliding.hysteresis.general_pi import GeneralPIOperator, MemoryState, run_density
 from presliding.hysteresis.operators import PIState, play, start_memory
@@ -91,7 +96,9 @@ def total_energy(
     """
     m = as_nonnegative_scalar("mass", mass)
     v = as_real_scalar("velocity", velocity)
-    return 0.5 * m * v * v + elastic_energy(model, state)
+    total = 0.5 * m * v * v + elastic_energy(model, state)  # Python floats: overflow gives inf
+    check_finite_derived("energy ½·m·v² + ½∫ f² dμ", total, ("mass", "velocity"))
+    return total
 
 
 def dissipated_energy(

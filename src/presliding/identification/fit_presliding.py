@@ -94,6 +94,33 @@ def check_enough(n_used: int, n_parameters: int, what: str = "samples") -> None:
         )
 
 
+def check_budget(
+    n_samples: int, burn_in: int, n_elements: int, n_other: int, elements_from: str
+) -> None:
+    """On entry: `burn_in` and the element count leave more used samples than parameters.
+
+    Each element has two parameters (stiffness and threshold); `n_other` counts
+    the others (Coulomb element, offset). `elements_from` names the argument
+    that set the element count ("n_elements" or "thresholds").
+    """
+    n_params = n_other + 2 * n_elements
+    if n_samples - burn_in <= n_params:
+        if burn_in > 0 and n_samples - n_params - 1 >= 0 and burn_in >= n_samples - n_params:
+            raise ValueError(
+                f"`burn_in` must leave more samples than parameters ({n_params}), i.e. be at "
+                f"most {n_samples - n_params - 1} for {n_samples} samples; got {burn_in}."
+            )
+        if burn_in >= n_samples:
+            raise ValueError(
+                f"`burn_in` must be below the number of samples ({n_samples}); got {burn_in}."
+            )
+        most, used = max((n_samples - burn_in - 1 - n_other) // 2, 0), n_samples - burn_in
+        raise ValueError(
+            f"`{elements_from}` must give at most {most} elements for {used} used samples "
+            f"(two parameters each, and more samples than parameters); got {n_elements}."
+        )
+
+
 def pi_model(values: Mapping[str, float], n: int, coulomb: float) -> tuple[PIFriction | None, str]:
     """The friction model from fitted values; elements of zero stiffness are left out."""
     k_names, r_names = pr.element_names(n)
@@ -212,6 +239,8 @@ def fit_presliding(
             "`search` must be 'grid' when `thresholds` are given (they are the start); "
             "got 'global'."
         )
+    elements_from = "thresholds" if thresholds is not None else "n_elements"
+    check_budget(y.shape[0], burn_in, n, int(bool(coulomb)) + int(bool(offset)), elements_from)
     check_varies("displacement", y)
     check_varies("force", f)
     if pr.reversal_indices(y, 0.0).shape[0] == 0:
