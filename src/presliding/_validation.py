@@ -232,11 +232,8 @@ def check_increasing(name: str, arr: np.ndarray, after: float | None = None) -> 
 
 
 def as_count(name: str, value: Any, *, minimum: int = 0, maximum: int | None = None) -> int:
-    """An integer in [`minimum`, `maximum`] (a count of elements or samples); bools are rejected.
-
-    `maximum` bounds counts that set the length of a loop (iterations, filter
-    orders), so that an absurd value is an error rather than a hang.
-    """
+    """An integer in [`minimum`, `maximum`] (a count); bools are rejected. `maximum` bounds
+    counts that set the length of a loop, so that an absurd value is an error, not a hang."""
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Integral):
         raise TypeError(f"`{name}` must be an integer; got {fmt(value)}.")
     if value < minimum:
@@ -248,10 +245,7 @@ def as_count(name: str, value: Any, *, minimum: int = 0, maximum: int | None = N
 
 
 def check_type(name: str, value: Any, expected: type | tuple[type, ...], *, where: str = "") -> Any:
-    """`value` is an instance of `expected` (a class or a tuple of classes); returns it.
-
-    `where` locates the value inside the argument (" at index 2").
-    """
+    """`value` is an instance of `expected` (class or tuple); `where` locates it (" at index 2")."""
     if not isinstance(value, expected):
         classes = expected if isinstance(expected, tuple) else (expected,)
         names = [c.__name__ for c in classes]
@@ -269,23 +263,9 @@ def _sources(names: str | tuple[str, ...]) -> str:
 
 
 def check_finite_derived(what: str, value: Any, names: str | tuple[str, ...]) -> None:
-    """A quantity computed from the arguments `names` came out finite (did not overflow).
-
-    Parameters
-    ----------
-    what : str
-        The quantity with its formula, e.g. ``"Coulomb level F_c = c1 + Σ c_j (eq. 9)"``.
-    value : float or ndarray
-        Its value(s); an array is checked element by element (index reported).
-    names : str or tuple of str
-        The arguments the user passed that it is computed from.
-
-    Raises
-    ------
-    ValueError
-        "`coulomb` and `breakaway` must give a finite Coulomb level ...; got inf
-        (beyond the floating-point range: ...)."
-    """
+    """The quantity `what` (with its formula), computed from the arguments `names` the user
+    passed, came out finite: "`coulomb` and `breakaway` must give a finite Coulomb level
+    F_c = c1 + Σ c_j (eq. 9); got inf (...)." An array is checked element by element."""
     arr = np.asarray(value, dtype=np.float64)
     bad = ~np.isfinite(arr)
     if bad.any():
@@ -302,11 +282,7 @@ MAX_ALLOCATION_BYTES: int | None = None
 
 
 def size_limit() -> int:
-    """The largest allocation in bytes `check_size` accepts.
-
-    `MAX_ALLOCATION_BYTES` when set, else half of the physical memory (16 GiB
-    where the memory size cannot be read).
-    """
+    """Bytes `check_size` accepts: `MAX_ALLOCATION_BYTES`, else half the physical memory."""
     if MAX_ALLOCATION_BYTES is not None:
         return int(MAX_ALLOCATION_BYTES)
     try:
@@ -317,11 +293,8 @@ def size_limit() -> int:
 
 
 def _bytes(n: float) -> str:
-    for unit in ("B", "KiB", "MiB", "GiB", "TiB", "PiB", "EiB"):
-        if n < 1024 or unit == "EiB":
-            return f"{n:.3g} {unit}" if unit != "B" else f"{int(n)} B"
-        n /= 1024
-    return f"{n:.3g} EiB"  # pragma: no cover
+    k = min(int(math.log(max(n, 1.0), 1024)), 6)
+    return f"{int(n)} B" if k == 0 else f"{n / 1024**k:.3g} {'KMGTPE'[k - 1]}iB"
 
 
 def _amount(count: float) -> str:
@@ -333,28 +306,11 @@ def _amount(count: float) -> str:
 def check_size(
     name: str, value: Any, count: float, *, what: str = "values", item_bytes: int = 8
 ) -> int:
-    """A requested allocation of `count` items fits `size_limit()`; returns ``int(count)``.
-
-    Call it before allocating, with the argument the user passed (`name`,
-    `value`) and the number of items it asks for (a float is fine: an overflow
-    to inf is reported as such).
-
-    Parameters
-    ----------
-    name, value : str, Any
-        The argument that sets the size, as the user passed it.
-    count : int or float
-        Number of items it asks for (samples, elements, cells).
-    what : str
-        What the items are, for the message ("samples", "elements").
-    item_bytes : int
-        Bytes per item over all arrays allocated per item (8 for one float64 array).
-
-    Raises
-    ------
-    ValueError
-        "`n` must ask for at most 805306368 values (6 GiB, the size limit); got
-        1000000000000, which asks for 1000000000000 values (7.28 TiB)."
+    """Before allocating: `count` items of `item_bytes` (over all arrays per item) fit
+    `size_limit()`; returns ``int(count)``. `name` and `value` are the argument the user
+    passed that sets the size; a float `count` may be inf (an overflow, reported as such).
+    "`n` must ask for at most 805306368 values (6 GiB, half of this machine's memory); got
+    1000000000000, which asks for 1000000000000 values (7.28 TiB)."
     """
     limit = size_limit()
     most = limit // max(int(item_bytes), 1)

@@ -39,7 +39,11 @@ from presliding._validation import (
 from presliding.friction.pi_friction import PIFriction
 from presliding.identification import _pi_regression as pr
 from presliding.identification._global_search import search_thresholds
-from presliding.identification._least_squares import check_constraints, check_options
+from presliding.identification._least_squares import (
+    check_budget,
+    check_constraints,
+    check_options,
+)
 from presliding.identification.fit_result import FitResult, Tie
 
 __all__ = ["fit_presliding", "fit_virgin_curve"]
@@ -91,33 +95,6 @@ def check_enough(n_used: int, n_parameters: int, what: str = "samples") -> None:
     if n_used <= n_parameters:
         raise ValueError(
             f"the fit needs more {what} than parameters ({n_parameters}); got {n_used}."
-        )
-
-
-def check_budget(
-    n_samples: int, burn_in: int, n_elements: int, n_other: int, elements_from: str
-) -> None:
-    """On entry: `burn_in` and the element count leave more used samples than parameters.
-
-    Each element has two parameters (stiffness and threshold); `n_other` counts
-    the others (Coulomb element, offset). `elements_from` names the argument
-    that set the element count ("n_elements" or "thresholds").
-    """
-    n_params = n_other + 2 * n_elements
-    if n_samples - burn_in <= n_params:
-        if burn_in > 0 and n_samples - n_params - 1 >= 0 and burn_in >= n_samples - n_params:
-            raise ValueError(
-                f"`burn_in` must leave more samples than parameters ({n_params}), i.e. be at "
-                f"most {n_samples - n_params - 1} for {n_samples} samples; got {burn_in}."
-            )
-        if burn_in >= n_samples:
-            raise ValueError(
-                f"`burn_in` must be below the number of samples ({n_samples}); got {burn_in}."
-            )
-        most, used = max((n_samples - burn_in - 1 - n_other) // 2, 0), n_samples - burn_in
-        raise ValueError(
-            f"`{elements_from}` must give at most {most} elements for {used} used samples "
-            f"(two parameters each, and more samples than parameters); got {n_elements}."
         )
 
 
