@@ -27,7 +27,7 @@ def test_markdown_and_html(tmp_path):
     md_path, html_path = write_report(tmp_path, "Title", sections)
     md = md_path.read_text(encoding="utf-8")
     assert md.startswith("# Title\n")
-    assert "## First <part>" in md and "![Figure 1. First <part>.](a.png)" in md
+    assert "## First <part>" in md and "![a](a.png)" in md
     assert "```text\nx = 1\n<y>\n```" in md
     assert "| name | value |\n| --- | --- |\n| k | 1 < 2 |" in md
     page = html_path.read_text(encoding="utf-8")

@@ -49,7 +49,7 @@ def write_report(out_dir: Path, title: str, sections: Sequence[Section]) -> list
         for i, p in enumerate(s.figures):
             number += 1
             captions.append(_caption(number, s, i))
-            md += [f"![{_plain(captions[-1])}]({Path(p).name})", "", f"*{captions[-1]}*", ""]
+            md += [f"![{Path(p).stem}]({Path(p).name})", "", f"*{captions[-1]}*", ""]
         if s.code:
             md += ["```text", s.code.rstrip(), "```", ""]
         body.append(f"<h2>{_inline(s.title)}</h2>")
