@@ -68,6 +68,28 @@ def check_options(
     return level, max_evaluations, as_positive_scalar("tolerance", tolerance)
 
 
+def check_budget(n_samples: int, burn_in: int, n_elements: int, n_other: int, source: str) -> None:
+    """On entry: `burn_in` and the element count (two parameters each, besides `n_other`)
+    leave more used samples than parameters; `source` names the argument of the count."""
+    n_params = n_other + 2 * n_elements
+    if n_samples - burn_in > n_params:
+        return
+    if burn_in > 0 and n_samples > n_params:
+        raise ValueError(
+            f"`burn_in` must leave more samples than parameters ({n_params}), i.e. be at "
+            f"most {n_samples - n_params - 1} for {n_samples} samples; got {burn_in}."
+        )
+    if burn_in >= n_samples:
+        raise ValueError(
+            f"`burn_in` must be below the number of samples ({n_samples}); got {burn_in}."
+        )
+    most, used = max((n_samples - burn_in - 1 - n_other) // 2, 0), n_samples - burn_in
+    raise ValueError(
+        f"`{source}` must give at most {most} elements for {used} used samples "
+        f"(two parameters each, and more samples than parameters); got {n_elements}."
+    )
+
+
 def check_constraints(
     fixed: Mapping[str, Any] | None, tied: Mapping[str, Any] | None
 ) -> tuple[dict[str, float], dict[str, Tie]]:
