@@ -47,6 +47,7 @@ from pathlib import Path
 from typing import Any
 
 from presliding._io import write_text
+from presliding._validation import check_type
 from presliding.friction.pi_friction import PIFriction
 from presliding.hysteresis.densities import Density, Exponential, PiecewiseConstant, Uniform
 
@@ -383,6 +384,9 @@ def save_model(
     `measurement` adds the `[measurement]` table, `header` comment lines at the
     top. An existing file is replaced only with ``overwrite=True``.
     """
+    check_type("model", model, PIFriction)
+    if motion is not None:
+        check_type("motion", motion, MotionSettings)
     path = Path(path)
     text = model_to_toml(model, motion, measurement, header)
     if path.exists() and not overwrite:

@@ -12,7 +12,7 @@ import pytest
 import presliding as ps
 from presliding import analysis
 from presliding.cli import main
-from presliding.cli.common import MANIFEST
+from presliding.cli.common import LOCK, MANIFEST
 from presliding.model_io import load_model
 from presliding.signals import piecewise_linear
 from tests.helpers import one_error_line
@@ -47,7 +47,8 @@ def _is_png(path):
 
 
 def _no_temporaries(folder):
-    assert not [p for p in folder.iterdir() if p.name.startswith(".") and p.name != MANIFEST]
+    hidden = [p.name for p in folder.iterdir() if p.name.startswith(".")]
+    assert not [n for n in hidden if n not in (MANIFEST, LOCK)]
 
 
 # ---------------------------------------------------------------------- basics

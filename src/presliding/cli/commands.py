@@ -373,6 +373,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     if args.command is None:
         parser.print_help()
         return 0
+    from presliding.cli.common import release_folders
+
     try:
         return int(args.handler(args))
     except KeyboardInterrupt:
@@ -384,6 +386,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         text = " ".join(str(exc).split()) or type(exc).__name__
         print(f"presliding {args.command}: error: {text}", file=sys.stderr)
         return 2
+    finally:
+        release_folders()
 
 
 if __name__ == "__main__":  # pragma: no cover

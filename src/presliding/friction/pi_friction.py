@@ -35,6 +35,7 @@ from presliding._validation import (
     as_real_array,
     as_signal,
     check_derived,
+    check_finite_derived,
     check_has_friction,
     fmt,
 )
@@ -112,6 +113,11 @@ class PIFriction:
         c1 = as_nonnegative_scalar("coulomb", self.coulomb)
         object.__setattr__(self, "viscous", as_nonnegative_scalar("viscous", self.viscous))
         if self.density is not None and _take_density(self, c1):
+            check_finite_derived(
+                "Coulomb level F_c = c1 + F_m (eq. 9)",
+                c1 + self.density.max_elastic_force,  # type: ignore[union-attr]
+                ("coulomb", "density"),
+            )
             return
         k = as_parameter_vector("stiffness", self.stiffness, allow_empty=True)
         if (self.breakaway is None) == (self.threshold is None):
@@ -132,7 +138,8 @@ class PIFriction:
             _same_length(k, r, "threshold")
             with np.errstate(over="ignore", under="ignore"):  # reported below
                 c = k * r
-        check_derived(k, c, r)
+        given = "threshold" if self.threshold is not None else "breakaway"
+        check_derived(k, c, r, coulomb=c1, given=given)
         check_has_friction(np.array([c1]), k.shape[0])
         for arr in (c, r):
             arr = np.asarray(arr)
@@ -191,23 +198,10 @@ class PIFriction:
         return PIOperator(self.threshold, self.stiffness)
 
     def inverse(self) -> PIInverse:
-        """The quasi-static inverse: applied force u → displacement y (module notes of inverse).
+        """The quasi-static inverse u → y (`PIInverse`: F_el = play_c1[u], y = Φ⁻¹[F_el]).
 
-        With inertia negligible the contact moves only while |u − F_el| > c1,
-        and then F_el(y) = u ∓ c1: the elastic force is a play of threshold c1
-        on u, and y follows from the inverse of the bank on its range.
-
-        Returns
-        -------
-        PIInverse
-            ``apply(u, state)`` gives y and the final memory; defined while
-            |u| < F_c (eq. 9).
-
-        Raises
-        ------
-        ValueError
-            For a model without elements (pure Coulomb friction: the position is
-            not determined by the force) or with a continuous density.
+        Defined while |u| < F_c (eq. 9); ValueError for a model without elements
+        (its position is not determined by the force) or with a continuous density.
         """
         if not self.is_discrete or self.n_elements == 0:
             what = "a continuous density" if not self.is_discrete else "no elements"

@@ -78,7 +78,13 @@ from presliding.hysteresis._inversion import (
     range_inverse_parameters,
     slopes,
 )
-from presliding.hysteresis.operators import _SLACK, RANGE_INVERSE, PIOperator, PIState
+from presliding.hysteresis.operators import (
+    _SLACK,
+    RANGE_INVERSE,
+    PIOperator,
+    PIState,
+    check_inverse_parameters,
+)
 
 __all__ = ["PIInverse", "inverse_state", "loading_slopes", "pi_inverse"]
 
@@ -245,7 +251,9 @@ class PIInverse:
                 "`operator` of a PIInverse must have no linear term (pi_inverse inverts one "
                 f"with a linear term on all forces); got linear {fmt(op.linear)}."
             )
-        rho, v, lin, anchor = range_inverse_parameters(op.threshold, op.weight)
+        with np.errstate(over="ignore", divide="ignore", invalid="ignore"):  # checked below
+            rho, v, lin, anchor = range_inverse_parameters(op.threshold, op.weight)
+        check_inverse_parameters(rho, v, lin, float(np.sum(op.weight)))
         object.__setattr__(self, "coulomb", as_nonnegative_scalar("coulomb", self.coulomb))
         object.__setattr__(self, "_parts", (rho, v, lin, anchor))
 

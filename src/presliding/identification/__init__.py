@@ -22,6 +22,7 @@ prediction.py       `Prediction`, `count_reversals`: a fitted model on another r
 cross_validation.py `cross_validate`, `CrossValidation`: leave-one-record-out tables
 uncertainty.py      HAC (Newey–West) covariance, correlations
 _least_squares.py   the solver around scipy.optimize.least_squares (bounds, ties, statistics)
+_fit_options.py     the options every fit shares (level, evaluations, fixed, tied), checked
 _structured_lm.py   Levenberg–Marquardt on structured normal equations (large pooled fits)
 _model_spec.py      the fitted models as named parameters (elements, densities)
 _pooled_kernel.py   compiled batched responses of many records and parameter sets

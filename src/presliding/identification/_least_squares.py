@@ -26,7 +26,12 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from presliding._validation import as_choice, as_count, as_positive_scalar, as_real_scalar, fmt
+from presliding._validation import as_choice, as_positive_scalar, as_real_scalar, fmt
+from presliding.identification._fit_options import (  # noqa: F401 (their home before)
+    check_budget,
+    check_constraints,
+    check_options,
+)
 from presliding.identification._structured_lm import free_limit, levenberg_marquardt
 from presliding.identification.uncertainty import (
     full_covariance,
@@ -56,55 +61,6 @@ class _Map:
 
     def full(self, free: FloatArray) -> FloatArray:
         return self.matrix @ free + self.const
-
-
-def check_options(
-    level: Any, max_evaluations: Any, tolerance: Any
-) -> tuple[float, int | None, float]:
-    """The options every fit shares, checked on entry.
-
-    `level` must be a real number in (0, 1), `max_evaluations` None or an
-    integer >= 1, `tolerance` a positive finite real; returned as float,
-    int (or None) and float.
-    """
-    level = as_real_scalar("level", level)
-    if not 0 < level < 1:
-        raise ValueError(f"`level` must be between 0 and 1 (exclusive); got {fmt(level)}.")
-    if max_evaluations is not None:
-        max_evaluations = as_count("max_evaluations", max_evaluations, minimum=1)
-    return level, max_evaluations, as_positive_scalar("tolerance", tolerance)
-
-
-def check_constraints(
-    fixed: Mapping[str, Any] | None, tied: Mapping[str, Any] | None
-) -> tuple[dict[str, float], dict[str, Tie]]:
-    """`fixed` and `tied` checked entry by entry, as new dicts.
-
-    Every fixed value must be a finite real number (returned as float); every
-    tie a parameter name or a (name, factor) pair with a finite real factor
-    (returned as a name or a (name, float) tuple). The names themselves are
-    checked against the parameters by `solve_least_squares`.
-    """
-    out_fixed: dict[str, float] = {}
-    out_tied: dict[str, Tie] = {}
-    for label, spec, what in (("fixed", fixed, "values"), ("tied", tied, "ties")):
-        if spec is not None and not isinstance(spec, Mapping):
-            raise TypeError(
-                f"`{label}` must be a mapping of parameter names to {what}; "
-                f"got {type(spec).__name__}."
-            )
-    for n, v in (fixed or {}).items():
-        out_fixed[n] = as_real_scalar(f"fixed[{n!r}]", v)
-    for n, v in (tied or {}).items():
-        if isinstance(v, str):
-            out_tied[n] = v
-            continue
-        if not (isinstance(v, (tuple, list)) and len(v) == 2 and isinstance(v[0], str)):
-            raise TypeError(
-                f"`tied[{n!r}]` must be a parameter name or a (name, factor) pair; got {fmt(v)}."
-            )
-        out_tied[n] = (v[0], as_real_scalar(f"tied[{n!r}][1]", v[1]))
-    return out_fixed, out_tied
 
 
 def _parameter_map(

@@ -35,7 +35,11 @@ from presliding._validation import (
 from presliding.friction.pi_friction import PIFriction
 from presliding.identification import _pi_regression as pr
 from presliding.identification._global_search import search_thresholds
-from presliding.identification._least_squares import check_constraints, check_options
+from presliding.identification._least_squares import (
+    check_budget,
+    check_constraints,
+    check_options,
+)
 from presliding.identification._status import sign_hint
 from presliding.identification.fit_result import FitResult, Tie
 
@@ -209,6 +213,8 @@ def fit_presliding(
             "`search` must be 'grid' when `thresholds` are given (they are the start); "
             "got 'global'."
         )
+    elements_from = "thresholds" if thresholds is not None else "n_elements"
+    check_budget(y.shape[0], burn_in, n, int(bool(coulomb)) + int(bool(offset)), elements_from)
     check_varies("displacement", y)
     check_varies("force", f)
     if pr.reversal_indices(y, 0.0).shape[0] == 0:
