@@ -7,7 +7,10 @@ common.py       user errors, input and output paths, CSV tables, figures
 demo.py, demo_sections.py, _demo_common.py   ``presliding demo``: the built-in main job
 simulate.py     ``presliding simulate``
 analyze.py      ``presliding analyze``
-fit.py          ``presliding fit``
+fit.py          ``presliding fit``: reading the data, one-file kinds, model file
+fit_options.py  the options of ``presliding fit``
+fit_pooled.py   ``presliding fit FILE ...`` for response, quasi-static and virgin fits
+fit_figure.py   the figure of a fit
 sweep.py, sweep_spec.py     ``presliding sweep`` and its specification files
 report.py       Markdown and HTML reports
 

@@ -190,91 +190,9 @@ def _build_parser() -> argparse.ArgumentParser:
     analyze.add_argument("--json", action="store_true", help="print JSON for machines")
     analyze.set_defaults(handler=_cmd_analyze)
 
-    from presliding.cli.fit import FIT_DESCRIPTION, FIT_EPILOG
+    from presliding.cli.fit_options import add_fit_parser
 
-    fit = sub.add_parser(
-        "fit",
-        help="identify a model from measured data (CSV or MAT): model TOML, report, plots",
-        description=FIT_DESCRIPTION,
-        epilog=FIT_EPILOG,
-        formatter_class=fmt,
-        parents=[common, writes],
-    )
-    fit.add_argument("data", type=Path, help="measured data (delimited text, or a .mat file)")
-    fit.add_argument(
-        "--kind",
-        choices=("presliding", "motion", "response"),
-        required=True,
-        help="what to fit (see above)",
-    )
-    fit.add_argument(
-        "--columns",
-        nargs="+",
-        metavar="SIGNAL=COLUMN",
-        default=(),
-        help="columns by signal (time, position, velocity, acceleration, applied_force, "
-        "friction_force): a header name, a 0-based index, or a MAT variable",
-    )
-    fit.add_argument(
-        "--units",
-        nargs="+",
-        metavar="SIGNAL=UNIT",
-        default=(),
-        help="unit of a signal's values (e.g. position=mm), overriding its header",
-    )
-    fit.add_argument(
-        "--scale",
-        nargs="+",
-        metavar="SIGNAL=FACTOR",
-        default=(),
-        help="factors applied after the unit conversion, e.g. friction_force=-1 to flip a "
-        "sign; for MAT files also a scalar variable (applied_force=gtau)",
-    )
-    fit.add_argument(
-        "--window",
-        metavar="START:STOP",
-        default=None,
-        help="fit only the samples with START <= t <= STOP [s] (either side may be empty)",
-    )
-    fit.add_argument(
-        "--sample-rate",
-        type=float,
-        default=None,
-        metavar="HZ",
-        help="sample rate [Hz] when the file has no time column",
-    )
-    fit.add_argument(
-        "--elements",
-        type=int,
-        default=None,
-        metavar="N",
-        help="number of elasto-plastic elements (default: 3 presliding, 0 motion, 4 response)",
-    )
-    fit.add_argument("--viscous", action="store_true", help="motion: add a viscous term F_v·ẏ")
-    fit.add_argument("--offset", action="store_true", help="add a constant force offset")
-    fit.add_argument(
-        "--search",
-        choices=("grid", "global"),
-        default="grid",
-        help="presliding: start thresholds from the threshold grid (default), or also from a "
-        "global search (differential evolution), keeping the better fit",
-    )
-    fit.add_argument(
-        "--seed", type=int, default=None, help="seed of the global search (reproducible runs)"
-    )
-    fit.add_argument(
-        "--mass", type=float, default=None, help="response/motion: known mass m [kg] (held fixed)"
-    )
-    fit.add_argument(
-        "--cutoff",
-        type=float,
-        default=None,
-        metavar="HZ",
-        help="motion: low-pass cut-off for the velocity/acceleration estimate "
-        "(default: a tenth of the sampling rate)",
-    )
-    fit.add_argument("-o", "--output", type=Path, required=True, help="output folder")
-    fit.set_defaults(handler=_cmd_fit)
+    add_fit_parser(sub, [common, writes], fmt, _cmd_fit)
 
     from presliding.cli.sweep_spec import SCHEMA
 

@@ -32,9 +32,7 @@ from presliding.cli.common import (
     check_outputs,
     check_readable,
     column_key,
-    new_figure,
     record_outputs,
-    tidy_fit_axes,
 )
 
 SIGNALS = ("time", "position", "velocity", "acceleration", "applied_force", "friction_force")
@@ -52,13 +50,17 @@ NEEDS = {
     "presliding": (("position",), ("friction_force",)),
     "motion": (("time",), ("position",), ("applied_force",)),
     "response": (("time",), ("velocity", "position")),
+    "quasi-static": (("position",), ("applied_force",)),
+    "virgin": (("position",), ("friction_force", "applied_force")),
 }
 OPTIONAL = {
     "presliding": ("time",),
     "motion": ("velocity", "acceleration"),
     "response": ("applied_force",),
+    "quasi-static": ("time",),
+    "virgin": ("time",),
 }
-DEFAULT_ELEMENTS = {"presliding": 3, "motion": 0, "response": 4}
+DEFAULT_ELEMENTS = {"presliding": 3, "motion": 0, "response": 4, "quasi-static": 3, "virgin": 3}
 #: The help text of `presliding fit` (description and examples).
 FIT_DESCRIPTION = (
     "Identify friction parameters (section 4) from a data file: delimited "
@@ -67,8 +69,12 @@ FIT_DESCRIPTION = (
     "--kind presliding: friction force against displacement (columns position, "
     "friction_force; time for --window); motion: eq. 17 as a regression (time, position, "
     "applied_force; velocity and acceleration are estimated when absent); response: "
-    "simulated against measured free response (time, velocity and/or position, optional "
-    "applied_force). Columns are found by name ('Position [mm]' is position) unless "
+    "simulated against measured motion (time, velocity and/or position, optional "
+    "applied_force; several files pooled with shared physics and per-record starts); "
+    "quasi-static: position from a slow force (position, applied_force; pooled); virgin: "
+    "the virgin curve from loading ramps or loops (position, friction or applied force). "
+    "With two or more files the report has a leave-one-record-out table. "
+    "Columns are found by name ('Position [mm]' is position) unless "
     "--columns names them. A unit at the end of a header ('Position [mm]', 'x (um)', "
     "'Friction [uN]', 'torque [mN m]', 't [ms]', 'angle [deg]') is converted to SI (m, N, "
     "s; rad and N m for rotary axes); --units gives or overrides units, --scale applies "
@@ -84,7 +90,10 @@ FIT_EPILOG = (
     "--window 8:210 -o fit/\n"
     "  presliding fit DATA_EMPS.mat --kind motion --columns time=t position=qm "
     "applied_force=vir --scale applied_force=gtau --viscous --offset -o fit/\n"
-    "  presliding fit xf.txt --kind presliding --columns position=0 friction_force=1 -o fit/"
+    "  presliding fit xf.txt --kind presliding --columns position=0 friction_force=1 -o fit/\n"
+    "  presliding fit stop1.csv stop2.csv stop3.csv --kind response --signal both "
+    "--initial-state preload -o fit/\n"
+    "  presliding fit loop*.csv --kind quasi-static --elements 3 -o fit/"
 )
 #: A threshold beyond this many times the measured travel is not a model value.
 ABSURD_TRAVEL = 100.0
@@ -298,9 +307,17 @@ def _header(args: argparse.Namespace, meas: Any, result: Any) -> str:
 
 def run(args: argparse.Namespace) -> int:
     """Read, fit, write model.toml, fit.png and the report; print the fit report."""
+    from presliding.cli.fit_figure import save_fit_figure
     from presliding.cli.report import Section, write_report
     from presliding.model_io import MeasurementTerms, save_model
 
+    if args.kind in ("response", "quasi-static", "virgin"):
+        from presliding.cli.fit_pooled import run_pooled
+
+        return run_pooled(args)
+    if len(args.data) != 1:
+        raise UserError(f"--kind {args.kind} takes one data file; got {len(args.data)}.")
+    args.data = args.data[0]
     folder = check_folder(args.output)
     paths = {
         "model": folder / "model.toml",
@@ -318,7 +335,7 @@ def run(args: argparse.Namespace) -> int:
             raise UserError(f"{args.data}: cannot fit: {exc}") from None
         bar.update()
         record_outputs(paths.values())
-        _save_fit_figure(args, meas, result, paths["figure"])
+        save_fit_figure(args, meas, result, paths["figure"])
         written = [paths["figure"]]
         problem = model_problem(result, meas)
         if not problem:
@@ -351,41 +368,6 @@ def run(args: argparse.Namespace) -> int:
         for p in written:
             print(f"wrote {p}")
     return 0 if result.success else 1
-
-
-def _timed(meas: Any) -> bool:
-    """True unless the samples were only numbered (a presliding file without time)."""
-    src = meas.source
-    return src.sample_rate is not None or any(c.signal == "time" for c in src.conversions)
-
-
-def _save_fit_figure(args: argparse.Namespace, meas: Any, result: Any, path: Path) -> None:
-    from presliding.plotting import plot_fit, plot_loop_fit, save_figure
-
-    rotary = meas.source is not None and meas.source.rotary
-    unit = result.signal_unit or ("N m" if rotary else "N")
-    head = f"{args.data.name}: {result.kind} fit, {result.status}, NRMSE {100 * result.nrmse:.2f} %"
-    if args.kind == "presliding":
-        fig, axes = new_figure(2, 1, size=(13.2, 4.8))
-        ax = plot_loop_fit(result.abscissa, result.measured, result.fitted, ax=axes[0, 0],
-                           displacement_unit="rad" if rotary else "m")  # fmt: skip
-        ax.set_title("friction force against displacement")
-        timed = _timed(meas) and meas.n_samples == result.measured.shape[0]
-        ax = plot_fit(
-            meas.time if timed else np.arange(result.measured.shape[0]),
-            result.measured,
-            result.fitted,
-            ax=axes[0, 1],
-            xlabel="time [s]" if timed else "sample",
-            title="measured and fitted force",
-        )
-        fig.suptitle(head)
-    else:
-        fig, axes = new_figure(1, 1, size=(8.0, 5.2))
-        ax = result.plot(ax=axes[0, 0])
-        ax.set_title(head)
-    tidy_fit_axes(fig, ax, result.signal_label, unit)
-    save_figure(fig, path)
 
 
 __all__ = [

@@ -1,0 +1,49 @@
+"""The figure of ``presliding fit`` (fit.png)."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from presliding.cli.common import new_figure, tidy_fit_axes
+
+__all__ = ["save_fit_figure"]
+
+
+def _timed(meas: Any) -> bool:
+    """True unless the samples were only numbered (a presliding file without time)."""
+    src = meas.source
+    return src.sample_rate is not None or any(c.signal == "time" for c in src.conversions)
+
+
+def save_fit_figure(args: argparse.Namespace, meas: Any, result: Any, path: Path) -> None:
+    from presliding.plotting import plot_fit, plot_loop_fit, save_figure
+
+    rotary = meas.source is not None and meas.source.rotary
+    unit = result.signal_unit or ("N m" if rotary else "N")
+    name = Path(args.data[0] if isinstance(args.data, list) else args.data).name
+    head = f"{name}: {result.kind} fit, {result.status}, NRMSE {100 * result.nrmse:.2f} %"
+    if args.kind == "presliding":
+        fig, axes = new_figure(2, 1, size=(13.2, 4.8))
+        ax = plot_loop_fit(result.abscissa, result.measured, result.fitted, ax=axes[0, 0],
+                           displacement_unit="rad" if rotary else "m")  # fmt: skip
+        ax.set_title("friction force against displacement")
+        timed = _timed(meas) and meas.n_samples == result.measured.shape[0]
+        ax = plot_fit(
+            meas.time if timed else np.arange(result.measured.shape[0]),
+            result.measured,
+            result.fitted,
+            ax=axes[0, 1],
+            xlabel="time [s]" if timed else "sample",
+            title="measured and fitted force",
+        )
+        fig.suptitle(head)
+    else:
+        fig, axes = new_figure(1, 1, size=(8.0, 5.2))
+        ax = result.plot(ax=axes[0, 0])
+        ax.set_title(head)
+    tidy_fit_axes(fig, ax, result.signal_label, unit)
+    save_figure(fig, path)

@@ -1,0 +1,157 @@
+"""The options of ``presliding fit`` (its sub-parser)."""
+
+from __future__ import annotations
+
+import argparse
+from collections.abc import Callable, Sequence
+from pathlib import Path
+from typing import Any
+
+__all__ = ["add_fit_parser"]
+
+
+def add_fit_parser(
+    sub: Any, parents: Sequence[argparse.ArgumentParser], fmt: Any, handler: Callable[..., int]
+) -> argparse.ArgumentParser:
+    """Add the ``fit`` sub-parser with every option; returns it."""
+    from presliding.cli.fit import FIT_DESCRIPTION, FIT_EPILOG
+
+    fit = sub.add_parser(
+        "fit",
+        help="identify a model from measured data (CSV or MAT): model TOML, report, plots",
+        description=FIT_DESCRIPTION,
+        epilog=FIT_EPILOG,
+        formatter_class=fmt,
+        parents=parents,
+    )
+    fit.add_argument(
+        "data",
+        type=Path,
+        nargs="+",
+        help="measured data (delimited text, or .mat files); several files are pooled as "
+        "records (--kind response, quasi-static, virgin)",
+    )
+    fit.add_argument(
+        "--kind",
+        choices=("presliding", "motion", "response", "quasi-static", "virgin"),
+        required=True,
+        help="what to fit (see above)",
+    )
+    fit.add_argument(
+        "--columns",
+        nargs="+",
+        metavar="SIGNAL=COLUMN",
+        default=(),
+        help="columns by signal (time, position, velocity, acceleration, applied_force, "
+        "friction_force): a header name, a 0-based index, or a MAT variable",
+    )
+    fit.add_argument(
+        "--units",
+        nargs="+",
+        metavar="SIGNAL=UNIT",
+        default=(),
+        help="unit of a signal's values (e.g. position=mm), overriding its header",
+    )
+    fit.add_argument(
+        "--scale",
+        nargs="+",
+        metavar="SIGNAL=FACTOR",
+        default=(),
+        help="factors applied after the unit conversion, e.g. friction_force=-1 to flip a "
+        "sign; for MAT files also a scalar variable (applied_force=gtau)",
+    )
+    fit.add_argument(
+        "--window",
+        metavar="START:STOP",
+        default=None,
+        help="fit only the samples with START <= t <= STOP [s] (either side may be empty)",
+    )
+    fit.add_argument(
+        "--sample-rate",
+        type=float,
+        default=None,
+        metavar="HZ",
+        help="sample rate [Hz] when the file has no time column",
+    )
+    fit.add_argument(
+        "--elements",
+        type=int,
+        default=None,
+        metavar="N",
+        help="number of elasto-plastic elements (default: 3 presliding, 0 motion, 4 response)",
+    )
+    fit.add_argument("--viscous", action="store_true", help="motion: add a viscous term F_v·ẏ")
+    fit.add_argument("--offset", action="store_true", help="add a constant force offset")
+    fit.add_argument(
+        "--search",
+        choices=("grid", "global"),
+        default="grid",
+        help="presliding: start thresholds from the threshold grid (default), or also from a "
+        "global search (differential evolution), keeping the better fit",
+    )
+    fit.add_argument(
+        "--seed", type=int, default=None, help="seed of the global search (reproducible runs)"
+    )
+    fit.add_argument(
+        "--mass", type=float, default=None, help="response/motion: known mass m [kg] (held fixed)"
+    )
+    fit.add_argument(
+        "--cutoff",
+        type=float,
+        default=None,
+        metavar="HZ",
+        help="motion: low-pass cut-off for the velocity/acceleration estimate "
+        "(default: a tenth of the sampling rate)",
+    )
+    fit.add_argument("-o", "--output", type=Path, required=True, help="output folder")
+    _add_pooled_options(fit)
+    fit.set_defaults(handler=handler)
+    return fit
+
+
+def _add_pooled_options(fit: argparse.ArgumentParser) -> None:
+    """Options of the pooled fits (response, quasi-static, virgin)."""
+    fit.add_argument(
+        "--signal",
+        choices=("velocity", "position", "both"),
+        default=None,
+        help="response: what is compared (default: velocity when every file has it, else position)",
+    )
+    fit.add_argument(
+        "--density",
+        choices=("uniform", "exponential", "piecewise_constant"),
+        default=None,
+        help="response, quasi-static: a continuous density instead of elements (piecewise "
+        "constant: --elements cells)",
+    )
+    fit.add_argument(
+        "--initial-state",
+        choices=("saturated", "preload", "relaxed", "continuing"),
+        default=None,
+        help="each record's friction memory at its start (response: saturated; quasi-static: "
+        "preload, a fitted elastic force per record)",
+    )
+    fit.add_argument(
+        "--prune",
+        action="store_true",
+        help="response: drop elements that never slide in the data and refit",
+    )
+    fit.add_argument(
+        "--max-evaluations",
+        type=int,
+        default=None,
+        metavar="N",
+        help="most residual evaluations of each solver run",
+    )
+    fit.add_argument(
+        "--bootstrap",
+        type=int,
+        default=0,
+        metavar="N",
+        help="record-level bootstrap resamples (three or more files)",
+    )
+    fit.add_argument(
+        "--no-cross-validation",
+        action="store_true",
+        help="skip the leave-one-record-out table (computed with two or more files)",
+    )

@@ -1,0 +1,154 @@
+"""``presliding fit FILE [FILE ...] --kind response | quasi-static | virgin``: pooled fits.
+
+Every file is read as one record with the same column, unit and scale options
+(`presliding.cli.fit.read_measurement`). The records are fitted together:
+shared physics, each record's own start (`fit_response`, `fit_quasi_static`),
+or one virgin curve from all ramps or loops (`fit_virgin_curve`, loops when a
+record reverses, else loading ramps). With two or more records of a response
+or quasi-static fit, the report carries the leave-one-record-out table
+(`cross_validate`) unless ``--no-cross-validation``.
+
+Outputs and exit codes as for the other kinds (`presliding.cli.fit`).
+"""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from presliding._progress import progress
+from presliding.cli.common import UserError, check_folder, check_outputs, record_outputs
+
+__all__ = ["fit_records", "run_pooled"]
+
+
+def _read_all(args: argparse.Namespace) -> list[Any]:
+    from presliding.cli.fit import read_measurement
+
+    records = []
+    for path in args.data:
+        one = argparse.Namespace(**{**vars(args), "data": Path(path)})
+        records.append(read_measurement(one))
+    return records
+
+
+def _options(args: argparse.Namespace, records: list[Any]) -> dict[str, Any]:
+    """Keyword options of the library fit, from the command line."""
+    from presliding.cli.fit import DEFAULT_ELEMENTS
+
+    n = DEFAULT_ELEMENTS[args.kind] if args.elements is None else args.elements
+    if n < 0:
+        raise UserError(f"--elements must be 0 or more; got {n}.")
+    if args.max_evaluations is not None and args.max_evaluations < 1:
+        raise UserError(f"--max-evaluations must be 1 or more; got {args.max_evaluations}.")
+    if args.bootstrap < 0:
+        raise UserError(f"--bootstrap must be 0 or more; got {args.bootstrap}.")
+    out: dict[str, Any] = {"n_elements": n, "max_evaluations": args.max_evaluations}
+    if args.kind == "virgin":
+        return {"n_elements": n, "max_evaluations": args.max_evaluations}
+    out.update(density=args.density, offset=args.offset, bootstrap=args.bootstrap)
+    if args.kind == "response":
+        signal = args.signal or (
+            "velocity" if all(m.velocity is not None for m in records) else "position"
+        )
+        out.update(signal=signal, mass=args.mass, prune=args.prune, viscous=args.viscous)
+        out["initial_state"] = args.initial_state or "saturated"
+    else:
+        out["initial_state"] = args.initial_state or "preload"
+        if out["initial_state"] == "saturated":
+            raise UserError("--initial-state saturated is for --kind response; quasi-static "
+                            "takes preload, continuing or relaxed.")  # fmt: skip
+    return out
+
+
+def fit_records(args: argparse.Namespace, records: list[Any]) -> tuple[Any, Any]:
+    """The pooled fit of `args.kind`, and its cross-validation (or None)."""
+    from presliding.identification import (
+        cross_validate,
+        fit_quasi_static,
+        fit_response,
+        fit_virgin_curve,
+    )
+    from presliding.identification._pi_regression import reversal_indices
+    from presliding.identification.prediction import reversal_tolerance
+
+    options = _options(args, records)
+    if args.kind == "virgin":
+        ys = [np.asarray(m.position) for m in records]
+        fs = [np.asarray(m.friction_force if m.friction_force is not None else m.applied_force)
+              for m in records]  # fmt: skip
+        loops = any(reversal_indices(np.ascontiguousarray(y), reversal_tolerance(y)).size
+                    for y in ys)  # fmt: skip
+        n = options.pop("n_elements")
+        fit = fit_virgin_curve(ys, fs, n, loops=loops, reversal_tolerance=None, **options)
+        return fit, None
+    fit = fit_response if args.kind == "response" else fit_quasi_static
+    pooled: Any = records if len(records) > 1 else records[0]
+    if len(records) < 2 or args.no_cross_validation:
+        return fit(pooled, **options), None
+    labels = [Path(p).name for p in args.data]
+    cv = cross_validate(records, fit, labels=labels, **options)
+    return cv.result, cv
+
+
+def run_pooled(args: argparse.Namespace) -> int:
+    """Read every file, fit them together, write model.toml, fit.png and the report."""
+    from presliding.cli.fit import _header, _motion_settings, model_problem
+    from presliding.cli.fit_figure import save_fit_figure
+    from presliding.cli.report import Section, write_report
+    from presliding.model_io import MeasurementTerms, save_model
+
+    folder = check_folder(args.output)
+    paths = {"model": folder / "model.toml", "figure": folder / "fit.png",
+             "md": folder / "report.md", "html": folder / "report.html"}  # fmt: skip
+    check_outputs(paths.values(), tuple(args.data), overwrite=args.overwrite)
+    names = ", ".join(Path(p).name for p in args.data)
+    with progress(3, f"fit ({args.kind})", quiet=args.quiet, unit="stage") as bar:
+        records = _read_all(args)
+        bar.update()
+        try:
+            result, cv = fit_records(args, records)
+        except (TypeError, ValueError) as exc:
+            raise UserError(f"{names}: cannot fit: {exc}") from None
+        bar.update()
+        record_outputs(paths.values())
+        first = argparse.Namespace(**{**vars(args), "data": Path(args.data[0])})
+        save_fit_figure(first, records[0], result, paths["figure"])
+        written = [paths["figure"]]
+        problem = model_problem(result, records[0])
+        if not problem:
+            offset = result.parameters.get("offset")
+            terms = None if offset is None else MeasurementTerms(float(offset))
+            kind = "response" if args.kind == "response" else "other"
+            motion = _motion_settings(argparse.Namespace(kind=kind), records[0], result)
+            save_model(paths["model"], result.model, motion, measurement=terms,
+                       header=_header(first, records[0], result), overwrite=True)  # fmt: skip
+            written.insert(0, paths["model"])
+        else:  # an earlier run's model.toml would be taken for this fit's
+            paths["model"].unlink(missing_ok=True)
+        note = f"No model.toml written: {problem}." if problem else ""
+        text = (f"Pooled fit of {len(records)} record(s) ({names}; --kind {args.kind}): "
+                f"{result.status}. NRMSE {100 * result.nrmse:.3g} %. {note}")  # fmt: skip
+        data = "\n".join(f"Data: {m.source.describe()}" for m in records)
+        sections = [
+            Section("Result", text, (paths["figure"],), code=f"{data}\n\n{result.report()}")
+        ]
+        if cv is not None:
+            sections.append(Section(
+                "Cross-validation",
+                "Each record predicted by the fit of the others (its own start estimated with "
+                "the shared parameters held): NRMSE, reversal counts and rest positions.",
+                table=cv.table(), code=cv.report(),
+            ))  # fmt: skip
+        written += write_report(folder, f"presliding fit: {names}", sections)
+        bar.update()
+    if not args.quiet:
+        print(result.report())
+        if note:
+            print(note)
+        for p in written:
+            print(f"wrote {p}")
+    return 0 if result.success else 1

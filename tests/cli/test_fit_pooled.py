@@ -1,0 +1,75 @@
+"""presliding fit FILE [FILE ...] for pooled response, quasi-static and virgin fits."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import presliding as ps
+from presliding.cli import main
+from presliding.model_io import load_model
+from tests.helpers import stop_records
+
+MODEL = ps.PIFriction(0.3, [4000.0, 1000.0], breakaway=[0.35, 0.35])
+
+
+def _stop_files(tmp_path, n=3):
+    records, _ = stop_records(7, n, MODEL)
+    paths = []
+    for i, r in enumerate(records):
+        path = tmp_path / f"stop{i + 1}.csv"
+        np.savetxt(path, np.column_stack([r.time, r.position * 1e3, r.velocity, r.applied_force]),
+                   delimiter=",", header="time [s],position [mm],velocity [m/s],applied_force [N]",
+                   comments="")  # fmt: skip
+        paths.append(str(path))
+    return paths
+
+
+def test_pooled_response_files_with_a_cross_validation_table(tmp_path, capsys):
+    paths = _stop_files(tmp_path)
+    out = tmp_path / "fit"
+    code = main(["fit", *paths, "--kind", "response", "--elements", "2", "--signal", "both",
+                 "--initial-state", "preload", "-o", str(out)])  # fmt: skip
+    assert code == 0, capsys.readouterr().out
+    spec = load_model(out / "model.toml")
+    assert spec.model.coulomb == pytest.approx(0.3, rel=1e-4)
+    assert spec.motion.mass == pytest.approx(2.0, rel=1e-4)
+    report = (out / "report.md").read_text()
+    assert "## Cross-validation" in report and "| stop2.csv |" in report
+    assert "in 3 records" in report
+
+
+def test_quasi_static_and_virgin_kinds(tmp_path):
+    model = ps.PIFriction(0.05, [2e4, 6e3], breakaway=[0.2, 0.2])
+    t = np.linspace(0.0, 4.0, 500)
+    paths = []
+    for i, (amp, f0) in enumerate([(0.35, 0.02), (0.3, -0.03)]):
+        u = f0 + amp * np.sin(np.pi * t)
+        state = ps.preloaded_state(model, f0, direction=-1.0)
+        y = ps.quasi_static_response(model, u, state).position
+        path = tmp_path / f"loop{i}.csv"
+        np.savetxt(path, np.column_stack([t, y, u]), delimiter=",",
+                   header="time,position,applied_force", comments="")  # fmt: skip
+        paths.append(str(path))
+    out = tmp_path / "qs"
+    assert main(["fit", *paths, "--kind", "quasi-static", "--elements", "2", "--quiet",
+                 "-o", str(out)]) == 0  # fmt: skip
+    assert load_model(out / "model.toml").model.coulomb == pytest.approx(0.05, rel=1e-4)
+    out = tmp_path / "virgin"
+    assert main(["fit", *paths, "--kind", "virgin", "--elements", "2", "--quiet",
+                 "-o", str(out)]) in (0, 1)  # fmt: skip
+    assert "virgin curve fit" in (out / "report.md").read_text()
+
+
+@pytest.mark.parametrize(
+    ("extra", "needle"),
+    [
+        (["--kind", "presliding"], "takes one data file"),
+        (["--kind", "response", "--max-evaluations", "0"], "--max-evaluations must be 1"),
+        (["--kind", "response", "--bootstrap", "-1"], "--bootstrap must be 0"),
+    ],
+)
+def test_user_errors(tmp_path, capsys, extra, needle):
+    paths = _stop_files(tmp_path, 2)
+    assert main(["fit", *paths, *extra, "-o", str(tmp_path / "o")]) == 2
+    assert needle in capsys.readouterr().err
