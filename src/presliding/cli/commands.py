@@ -270,6 +270,10 @@ def _cmd_analyze(args: argparse.Namespace) -> int:
 
 
 def _cmd_fit(args: argparse.Namespace) -> int:
+    if args.kind in ("response", "quasi-static", "virgin"):
+        from presliding.cli.fit_pooled import run_pooled
+
+        return run_pooled(args)
     from presliding.cli.fit import run
 
     return run(args)

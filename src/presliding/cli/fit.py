@@ -311,13 +311,9 @@ def run(args: argparse.Namespace) -> int:
     from presliding.cli.report import Section, write_report
     from presliding.model_io import MeasurementTerms, save_model
 
-    if args.kind in ("response", "quasi-static", "virgin"):
-        from presliding.cli.fit_pooled import run_pooled
-
-        return run_pooled(args)
-    if len(args.data) != 1:
+    if isinstance(args.data, list) and len(args.data) != 1:
         raise UserError(f"--kind {args.kind} takes one data file; got {len(args.data)}.")
-    args.data = args.data[0]
+    args.data = args.data[0] if isinstance(args.data, list) else args.data
     folder = check_folder(args.output)
     paths = {
         "model": folder / "model.toml",
