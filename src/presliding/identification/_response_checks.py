@@ -61,6 +61,23 @@ def split_coalesced(sol: Solution, solve, k_names: list[str], ratio: float = 1.1
     return sol
 
 
+def escape_corner(sol: Solution, solve, k_names: list[str], ratio: float = 20.0) -> Solution:
+    """Refit from the spread start when the stiffest element went (almost) rigid.
+
+    The rigid corner (k_1 → ∞, its break-away force joining c1) is a local
+    minimum that a start can fall into although the data hold a better fit with
+    c1 and k_1 separate; a start moved off the corner (`spread_start` of the
+    solution) finds that one when it exists. Kept only if it fits better.
+    """
+    if sol.status == "failed" or len(k_names) < 2 or "coulomb_level" not in sol.values:
+        return sol
+    k = sorted((sol.values[x] for x in k_names), reverse=True)
+    if not k[1] > 0 or k[0] / k[1] < ratio:
+        return sol
+    alt = solve(spread_start(sol.values, k_names))
+    return alt if cost(alt) < cost(sol) else sol
+
+
 def spread_start(start: dict[str, float], k_names: list[str]) -> dict[str, float]:
     """The regression start moved off the rigid corner: c1/F_c in [1/4, 3/5], k_1 ≤ 2·k_2."""
     s = dict(start)

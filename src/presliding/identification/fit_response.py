@@ -48,6 +48,7 @@ from presliding.identification._pooled_start import pooled_start
 from presliding.identification._response_checks import (
     bound_check,
     cost,
+    escape_corner,
     polish_initial_velocity,
     rigid_check,
     smallest_threshold_first,
@@ -307,6 +308,7 @@ def fit_response(
     else:
         sol = min((solve(s) for s in starts), key=cost)
     if search and discrete_equal:
+        sol = escape_corner(sol, solve, spec.k_names)
         sol = split_coalesced(sol, solve, spec.k_names)
     if single:
         sol = polish_initial_velocity(sol, solve, fixed, tied, recs[0].velocity)
