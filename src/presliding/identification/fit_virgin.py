@@ -60,6 +60,8 @@ def virgin_samples(
     Every branch that starts at the second or a later turning point measures
     F_v(s) = ±(F − F_r)/2 at s = |y − y_r|/2 until it has travelled as far as the
     branch before it (where it closes the loop and may join an older branch).
+    F_r is the force where the contact stopped (the first sample of a plateau at
+    the turning point, for a driven force that goes on changing there).
 
     Parameters
     ----------
@@ -84,15 +86,32 @@ def virgin_samples(
     s_parts, f_parts = [], []
     for k in range(1, idx.shape[0]):
         i0, i1 = marks[k], marks[k + 1]
-        yr, fr = displacement[i0], force[i0]
+        # the force where the contact stopped: the first sample of a plateau at the
+        # turning point (a driven force keeps changing there, by up to 2·c1)
+        first = i0
+        while first > marks[k - 1] + 1 and abs(displacement[first - 1] - displacement[i0]) <= (
+            reversal_tolerance
+        ):
+            first -= 1
+        yr, fr = displacement[i0], force[first]
         direction = np.sign(displacement[i1] - yr)
         span = abs(yr - displacement[marks[k - 1]])
         seg_y, seg_f = displacement[i0 + 1 : i1 + 1], force[i0 + 1 : i1 + 1]
         travel = direction * (seg_y - yr)
-        ok = (travel > 0) & (travel <= span * (1 + 1e-12))
+        ok = (travel > 0) & (travel <= span * (1 + 1e-12)) & _before_rest(seg_y, reversal_tolerance)
         s_parts.append(0.5 * travel[ok])
         f_parts.append(0.5 * direction * (seg_f[ok] - fr))
     return np.concatenate(s_parts), np.concatenate(f_parts)
+
+
+def _before_rest(seg: FloatArray, tol: float) -> NDArray[np.bool_]:
+    """The samples of a branch up to the first that reaches its end position: after it,
+    a driven force changes at the next turning point while the contact rests there."""
+    at_end = np.flatnonzero(np.abs(seg - seg[-1]) <= tol)
+    keep = np.ones(seg.shape[0], dtype=bool)
+    if at_end.size:
+        keep[at_end[0] + 1 :] = False
+    return keep
 
 
 def _ramp_samples(y: FloatArray, f: FloatArray, tol: float, which: str) -> tuple:

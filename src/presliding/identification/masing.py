@@ -7,8 +7,11 @@ follows
     F = F_r − d·2·V(|y − y_r|/2),     d = the sign of the reversed motion,
 
 until the branch returns to the turning point before (Masing's rule, section
-1). Creep (a force relaxing at rest or a slow drift of the contact), a preload
-that changes between cycles, or a rate-dependent contact break this; a model
+1); F_r is the force where the contact stopped at the turning point (the
+first sample of a plateau there: a driven force goes on changing by up to
+2·c1 before the contact moves back), and a branch is compared only until the
+contact reaches its next turning point. Creep (a force relaxing at rest or a
+slow drift of the contact), a preload that changes between cycles, or a rate-dependent contact break this; a model
 fitted anyway predicts loops that are silently wrong. `masing_check` measures
 the discrepancy between each measured branch and its Masing prediction, as an
 RMS relative to the force range of the loops, and says whether it stays within
@@ -154,6 +157,16 @@ def _loop_records(loops: Any) -> list[tuple[FloatArray, FloatArray]]:
     return out
 
 
+def _before_rest(seg: FloatArray, tol: float) -> NDArray[np.bool_]:
+    """The samples of a branch up to the first that reaches its end position: after it,
+    a driven force changes at the next turning point while the contact rests there."""
+    at_end = np.flatnonzero(np.abs(seg - seg[-1]) <= tol)
+    keep = np.ones(seg.shape[0], dtype=bool)
+    if at_end.size:
+        keep[at_end[0] + 1 :] = False
+    return keep
+
+
 def masing_check(
     virgin_model: PIFriction | FitResult,
     loops: Measurement | tuple | Sequence[Any],
@@ -194,12 +207,17 @@ def masing_check(
         marks = np.concatenate([idx, [y.shape[0] - 1]])
         for k in range(1, idx.shape[0]):
             i0, i1 = marks[k], marks[k + 1]
-            yr, fr = y[i0], f[i0]
+            # the force where the contact stopped: the first sample of the plateau at the
+            # turning point (under a driven force it keeps changing there, by up to 2·c1)
+            first = i0
+            while first > marks[k - 1] + 1 and abs(y[first - 1] - y[i0]) <= rt:
+                first -= 1
+            yr, fr = y[i0], f[first]
             d = np.sign(y[i1] - yr)
             span = abs(yr - y[marks[k - 1]])
             seg_y, seg_f = y[i0 + 1 : i1 + 1], f[i0 + 1 : i1 + 1]
             travel = d * (seg_y - yr)
-            ok = (travel > rt) & (travel <= span * (1 + 1e-12))
+            ok = (travel > rt) & (travel <= span * (1 + 1e-12)) & _before_rest(seg_y, rt)
             if not ok.any():
                 continue
             pred = fr + d * 2.0 * model.virgin_curve(0.5 * travel[ok])
