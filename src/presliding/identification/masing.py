@@ -11,8 +11,8 @@ until the branch returns to the turning point before (Masing's rule, section
 first sample of a plateau there: a driven force goes on changing by up to
 2·c1 before the contact moves back), and a branch is compared only until the
 contact reaches its next turning point. Creep (a force relaxing at rest or a
-slow drift of the contact), a preload that changes between cycles, or a rate-dependent contact break this; a model
-fitted anyway predicts loops that are silently wrong. `masing_check` measures
+slow drift of the contact), a preload that changes between cycles, or a
+rate-dependent contact break this; a model fitted anyway predicts loops that are silently wrong. `masing_check` measures
 the discrepancy between each measured branch and its Masing prediction, as an
 RMS relative to the force range of the loops, and says whether it stays within
 `tolerance` (default 3 %). Samples where the contact has not yet left the
