@@ -4,20 +4,21 @@ The PI model (any model of the Madelung/Masing class) predicts every branch of
 a loop from the virgin curve V alone: after a reversal at (y_r, F_r) the force
 follows
 
-    F = F_r − d·2·V(|y − y_r|/2),     d = the sign of the reversed motion,
+    F = F_r + d·2·V(|y − y_r|/2),     d = the sign of the new motion,
 
 until the branch returns to the turning point before (Masing's rule, section
-1); F_r is the force where the contact stopped at the turning point (the
-first sample of a plateau there: a driven force goes on changing by up to
-2·c1 before the contact moves back), and a branch is compared only until the
+1). F_r is the force where the contact stopped at the turning point (the first
+sample of a plateau there: a driven force goes on changing by up to 2·c1
+before the contact moves back), and a branch is compared only until the
 contact reaches its next turning point. Creep (a force relaxing at rest or a
 slow drift of the contact), a preload that changes between cycles, or a
-rate-dependent contact break this; a model fitted anyway predicts loops that are silently wrong. `masing_check` measures
-the discrepancy between each measured branch and its Masing prediction, as an
-RMS relative to the force range of the loops, and says whether it stays within
-`tolerance` (default 3 %). Samples where the contact has not yet left the
-turning point by more than the reversal tolerance are left out (there the
-Coulomb element's force is set-valued).
+rate-dependent contact break this; a model fitted anyway predicts loops that
+are silently wrong. `masing_check` measures the discrepancy between each
+measured branch and its Masing prediction, as an RMS relative to the force
+range of the loops, and says whether it stays within `tolerance` (default
+3 %). Samples where the contact has not yet left the turning point by more
+than the reversal tolerance are left out (there the Coulomb element's force
+is set-valued).
 """
 
 from __future__ import annotations
