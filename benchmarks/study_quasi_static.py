@@ -81,9 +81,8 @@ def main(seeds: int = 10) -> None:
                 flagged[label] += not check.passed
         records_seen += len(recs)
     arr = np.array(nrmse)
-    print(
-        f"quasi-static cross-validation, {seeds} seeds × 6 loops ({time.perf_counter() - t0:.0f} s):"
-    )
+    elapsed = time.perf_counter() - t0
+    print(f"quasi-static cross-validation, {seeds} seeds × 6 loops ({elapsed:.0f} s):")
     print(f"  held-out NRMSE: median {100 * np.median(arr):.3f} %, 90th percentile "
           f"{100 * np.quantile(arr, 0.9):.3f} %, largest {100 * arr.max():.3f} %; within 2 %: "
           f"{100 * np.mean(arr <= 0.02):.1f} %")  # fmt: skip

@@ -135,7 +135,9 @@ class ModelSpec:
             c = np.full(self.n, max((q["coulomb_level"] - c1) / max(self.n, 1), TINY))
         else:
             c = np.maximum([q[x] for x in self.c_names], TINY)
-        return c1, k, c / k
+        with np.errstate(over="ignore"):  # an element of zero stiffness never slides
+            r = np.minimum(c / k, 1e300)
+        return c1, k, r
 
     def coulomb_level(self, q: Mapping[str, float]) -> float:
         """F_c = c1 + F_m (eq. 9)."""
