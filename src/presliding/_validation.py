@@ -69,15 +69,48 @@ def _first_bad(arr: np.ndarray, bad: np.ndarray) -> str:
     return f"got {fmt(arr[tuple(idx)])}{where}"
 
 
+#: elements per piece when a non-finite value is searched for (bounds the temporaries)
+_FINITE_PIECE = 1 << 16
+
+
 def _check_finite(name: str, arr: np.ndarray) -> None:
-    bad = ~np.isfinite(arr)
-    if bad.any():
-        raise ValueError(f"`{name}` must be finite; {_first_bad(arr, bad)}.")
+    # Fast path without an O(size) temporary: a sum is finite only if every
+    # term is (NaN and ±inf propagate); a finite sum of finite terms needs no
+    # further look. Otherwise (a non-finite value, or an overflowing sum) the
+    # array is searched piece by piece for the first non-finite entry.
+    with np.errstate(over="ignore", invalid="ignore"):
+        if math.isfinite(np.add.reduce(arr, axis=None)):
+            return
+    flat = arr.reshape(-1)
+    for start in range(0, flat.shape[0], _FINITE_PIECE):
+        piece = flat[start : start + _FINITE_PIECE]
+        bad = ~np.isfinite(piece)
+        if bad.any():
+            idx = np.unravel_index(start + int(np.argmax(bad)), arr.shape)
+            where = ""
+            if arr.ndim == 1:
+                where = f" at index {idx[0]}"
+            elif arr.ndim > 1:
+                where = f" at index {tuple(int(k) for k in idx)}"
+            raise ValueError(f"`{name}` must be finite; got {fmt(arr[idx])}{where}.")
 
 
-def as_signal(name: str, value: Any, *, min_length: int = 1) -> np.ndarray:
-    """A sampled signal: 1-D, finite, float64, with at least `min_length` samples."""
-    arr = _real_array(name, value)
+def as_signal(name: str, value: Any, *, min_length: int = 1, copy: bool = True) -> np.ndarray:
+    """A sampled signal: 1-D, finite, float64, with at least `min_length` samples.
+
+    With ``copy=False`` a C-contiguous float64 array is returned as it is (for
+    inputs that are only read, such as the displacement handed to a kernel);
+    any other input is converted into a new array.
+    """
+    if copy or not (
+        isinstance(value, np.ndarray)
+        and value.dtype == np.float64
+        and value.flags.c_contiguous
+        and type(value) is np.ndarray
+    ):
+        arr = _real_array(name, value)
+    else:
+        arr = value
     if arr.ndim != 1:
         raise ValueError(f"`{name}` must be one-dimensional (shape (T,)); got shape {arr.shape}.")
     if arr.shape[0] < min_length:

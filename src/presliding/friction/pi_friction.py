@@ -246,7 +246,7 @@ class PIFriction:
         force : ndarray, shape (T,)
         final_state : PIState
         """
-        y = as_signal("displacement", displacement)
+        y = as_signal("displacement", displacement, copy=False)  # only read
         return self._run(y, state)[:2]
 
     def force(
@@ -273,24 +273,28 @@ class PIFriction:
             Passing it to the next call on the continuation of the path gives
             bit-identical results to a single call.
         """
-        y = as_signal("displacement", displacement)
+        y = as_signal("displacement", displacement, copy=False)  # only read
+        if self.is_discrete:
+            # one fused pass: the Coulomb term c1·sign(ẏ) is added in the time loop
+            return self._run(y, state, self.coulomb)[:2]
         elastic, final, prev, d0 = self._run(y, state)
         direction = np.empty(y.shape[0])
         _kernels.motion_direction(y, prev, d0, direction)
-        return elastic + self.coulomb * direction, final
+        elastic += self.coulomb * direction
+        return elastic, final
 
     def _run(
-        self, y: FloatArray, state: PIState | MemoryState | None
+        self, y: FloatArray, state: PIState | MemoryState | None, coulomb: float = 0.0
     ) -> tuple[FloatArray, PIState | MemoryState, float, float]:
-        """Elastic force, final memory, and the input and direction before the first sample."""
+        """Elastic force (plus ``coulomb``·sign(ẏ) for finite elements), final memory, and
+        the input and direction before the first sample."""
         if not self.is_discrete:
             elastic, _, final = run_density(self.density, y, state)  # type: ignore[arg-type]
             prev, d0 = (float(y[0]), 0.0) if state is None else (state.last_input, state.direction)
             return elastic, final, prev, d0
         x, prev, d0 = start_memory(y, self.threshold, state)
         elastic = np.empty(y.shape[0])
-        _kernels.stop_sum(y, self.threshold, self.stiffness, x, elastic)
-        d = _kernels.last_direction(y, prev, d0)
+        d = _kernels.stop_sum(y, self.threshold, self.stiffness, x, elastic, 0.0, coulomb, prev, d0)
         return elastic, PIState(float(y[-1]), x, d), prev, d0
 
 

@@ -294,13 +294,12 @@ class PIOperator:
             Memory after the last sample; passing it to the next call on the
             continuation of the signal gives bit-identical output to one call.
         """
-        yv = as_signal("y", y)
+        yv = as_signal("y", y, copy=False)  # only read: no copy of a float64 array
         x, prev, direction = start_memory(yv, self.threshold, state)
         out = np.empty(yv.shape[0])
-        _kernels.stop_sum(yv, self.threshold, self.weight, x, out)
-        if self.linear != 0.0:
-            out += self.linear * yv
-        d = _kernels.last_direction(yv, prev, direction)
+        d = _kernels.stop_sum(
+            yv, self.threshold, self.weight, x, out, self.linear, 0.0, prev, direction
+        )
         return out, PIState(float(yv[-1]), x, d)
 
     def inverse(self) -> PIOperator:
