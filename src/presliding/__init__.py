@@ -30,6 +30,7 @@ from presliding.friction import (
     LuGreState,
     PIFriction,
     compare,
+    friction_batch,
 )
 from presliding.hysteresis import (
     Density,
@@ -37,6 +38,8 @@ from presliding.hysteresis import (
     Exponential,
     GeneralPIOperator,
     MemoryState,
+    PIBatch,
+    PIBatchState,
     PiecewiseConstant,
     PIOperator,
     PIState,
@@ -109,6 +112,8 @@ __all__ = [
     "MotionBatch",
     "MotionEnergy",
     "MotionResult",
+    "PIBatch",
+    "PIBatchState",
     "PIFriction",
     "PIOperator",
     "PIState",
@@ -126,6 +131,7 @@ __all__ = [
     "fit_response",
     "fit_virgin_curve",
     "free_response",
+    "friction_batch",
     "inverse_state",
     "iosys_state",
     "phi",
