@@ -10,6 +10,7 @@ analyze.py      ``presliding analyze``
 fit.py          ``presliding fit``
 sweep.py, sweep_spec.py     ``presliding sweep`` and its specification files
 report.py       Markdown and HTML reports
+_precompile.py  compiles a later part's kernels in a second process on a cold cache
 
 May import every layer below it.
 """
