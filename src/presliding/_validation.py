@@ -21,6 +21,7 @@ __all__ = [
     "as_choice",
     "as_count",
     "as_nonnegative_scalar",
+    "as_output",
     "as_parameter_matrix",
     "as_parameter_vector",
     "as_positive_scalar",
@@ -214,6 +215,32 @@ def as_state_vector(name: str, value: Any, size: int) -> np.ndarray:
         raise ValueError(f"`{name}` must have shape ({size},); got shape {arr.shape}.")
     _check_finite(name, arr)
     return np.ascontiguousarray(arr)
+
+
+def as_output(name: str, value: Any, shape: tuple[int, ...]) -> np.ndarray:
+    """An output array given by the user (numpy's ``out=``), or a new one when None.
+
+    It must be a writeable, C-contiguous float64 ndarray of exactly `shape`.
+    """
+    if value is None:
+        return np.empty(shape)
+    if not (
+        isinstance(value, np.ndarray)
+        and value.dtype == np.float64
+        and value.shape == shape
+        and value.flags.c_contiguous
+        and value.flags.writeable
+    ):
+        if isinstance(value, np.ndarray):
+            order = "C-contiguous" if value.flags.c_contiguous else "non-contiguous"
+            ro = "" if value.flags.writeable else "read-only "
+            got = f"a {ro}{order} {value.dtype} array of shape {value.shape}"
+        else:
+            got = fmt(value)
+        raise ValueError(
+            f"`{name}` must be a writeable C-contiguous float64 array of shape {shape}; got {got}."
+        )
+    return value
 
 
 def check_same_length(**arrays: np.ndarray) -> None:

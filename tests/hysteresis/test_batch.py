@@ -253,3 +253,20 @@ def test_docstring_examples_run():
 
     for module in (presliding.hysteresis.batch, presliding.friction.batch):
         assert doctest.testmod(module).failed == 0
+
+
+def test_out_arguments_of_apply_and_force():
+    y = walk(64, np.random.default_rng(8))
+    op = PIOperator([0.1, 0.2], [1.0, 2.0])
+    model = PIFriction(0.5, stiffness=[1.0, 2.0], threshold=[0.1, 0.2])
+    buf = np.empty(64)
+    force, _ = op.apply(y, out=buf)
+    assert force is buf and np.array_equal(buf, op.apply(y)[0])
+    force, _ = model.force(y, out=buf)
+    assert force is buf and np.array_equal(buf, model.force(y)[0])
+    with pytest.raises(ValueError, match=r"`out` must be .* of shape \(64,\); got a read-only"):
+        ro = np.empty(64)
+        ro.setflags(write=False)
+        op.apply(y, out=ro)
+    with pytest.raises(ValueError, match=r"`out` must be .*; got a non-contiguous float64"):
+        model.force(y, out=np.empty(128)[::2])

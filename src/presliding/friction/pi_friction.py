@@ -24,6 +24,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from presliding._validation import (
     as_nonnegative_scalar,
+    as_output,
     as_parameter_vector,
     as_signal,
     check_derived,
@@ -250,7 +251,11 @@ class PIFriction:
         return self._run(y, state)[:2]
 
     def force(
-        self, displacement: ArrayLike, state: PIState | MemoryState | None = None
+        self,
+        displacement: ArrayLike,
+        state: PIState | MemoryState | None = None,
+        *,
+        out: np.ndarray | None = None,
     ) -> tuple[FloatArray, PIState | MemoryState]:
         """Total friction force c1·sign(ẏ) + Σ k_j (y − x_j) along a displacement (eq. 8).
 
@@ -265,6 +270,10 @@ class PIFriction:
         state : PIState, optional
             Memory before the first sample; default relaxed at ``displacement[0]``
             with no motion yet.
+        out : ndarray, shape (T,), optional, keyword only
+            C-contiguous float64 array to write the force into (as numpy's
+            ``out=``); a new array by default. A C-contiguous float64
+            displacement is read in place (not copied).
 
         Returns
         -------
@@ -274,17 +283,22 @@ class PIFriction:
             bit-identical results to a single call.
         """
         y = as_signal("displacement", displacement, copy=False)  # only read
+        out = as_output("out", out, y.shape)
         if self.is_discrete:
             # one fused pass: the Coulomb term c1·sign(ẏ) is added in the time loop
-            return self._run(y, state, self.coulomb)[:2]
+            return self._run(y, state, self.coulomb, out)[:2]
         elastic, final, prev, d0 = self._run(y, state)
-        direction = np.empty(y.shape[0])
-        _kernels.motion_direction(y, prev, d0, direction)
-        elastic += self.coulomb * direction
-        return elastic, final
+        _kernels.motion_direction(y, prev, d0, out)
+        out *= self.coulomb
+        out += elastic
+        return out, final
 
     def _run(
-        self, y: FloatArray, state: PIState | MemoryState | None, coulomb: float = 0.0
+        self,
+        y: FloatArray,
+        state: PIState | MemoryState | None,
+        coulomb: float = 0.0,
+        out: FloatArray | None = None,
     ) -> tuple[FloatArray, PIState | MemoryState, float, float]:
         """Elastic force (plus ``coulomb``·sign(ẏ) for finite elements), final memory, and
         the input and direction before the first sample."""
@@ -293,7 +307,7 @@ class PIFriction:
             prev, d0 = (float(y[0]), 0.0) if state is None else (state.last_input, state.direction)
             return elastic, final, prev, d0
         x, prev, d0 = start_memory(y, self.threshold, state)
-        elastic = np.empty(y.shape[0])
+        elastic = np.empty(y.shape[0]) if out is None else out
         d = _kernels.stop_sum(y, self.threshold, self.stiffness, x, elastic, 0.0, coulomb, prev, d0)
         return elastic, PIState(float(y[-1]), x, d), prev, d0
 

@@ -19,6 +19,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from presliding._validation import (
+    as_output,
     as_parameter_matrix,
     as_real_array,
     as_real_scalar,
@@ -248,19 +249,7 @@ class PIBatch:
         """
         yv = as_signal("y", y, copy=False)  # only read
         shape = (yv.shape[0], self.n_members)
-        if out is None:
-            out = np.empty(shape)
-        elif not (
-            isinstance(out, np.ndarray)
-            and out.dtype == np.float64
-            and out.shape == shape
-            and out.flags.c_contiguous
-            and out.flags.writeable
-        ):
-            raise ValueError(
-                f"`out` must be a writeable C-contiguous float64 array of shape {shape}; "
-                f"got {_describe(out)}."
-            )
+        out = as_output("out", out, shape)
         x, prev, d0 = self._start(yv, state)
         r, w, lin, c = self._kernel_bank
         d = _batch_kernels.batch_apply(yv, r, w, lin, c, x, prev, d0, out)
@@ -300,10 +289,3 @@ def _per_member(name: str, value: ArrayLike, n_batch: int) -> FloatArray:
             f"got shape {arr.shape}."
         )
     return np.ascontiguousarray(arr, dtype=np.float64)
-
-
-def _describe(value: object) -> str:
-    if isinstance(value, np.ndarray):
-        order = "C-contiguous" if value.flags.c_contiguous else "non-contiguous"
-        return f"{order} {value.dtype} array of shape {value.shape}"
-    return fmt(value)

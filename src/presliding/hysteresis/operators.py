@@ -33,6 +33,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from presliding._validation import (
     as_count,
+    as_output,
     as_parameter_vector,
     as_real_scalar,
     as_real_vector,
@@ -275,16 +276,22 @@ class PIOperator:
         """All elements relaxed at `position`."""
         return PIState.relaxed(position, self.n_elements)
 
-    def apply(self, y: ArrayLike, state: PIState | None = None) -> tuple[FloatArray, PIState]:
+    def apply(
+        self, y: ArrayLike, state: PIState | None = None, *, out: np.ndarray | None = None
+    ) -> tuple[FloatArray, PIState]:
         """Evaluate the operator along a sampled input.
 
         Parameters
         ----------
         y : array_like, shape (T,)
-            Input samples, monotone between consecutive samples.
+            Input samples, monotone between consecutive samples. A C-contiguous
+            float64 array is read in place (not copied).
         state : PIState, optional
             Memory before the first sample (as returned by a previous call).
             Default: relaxed at ``y[0]``.
+        out : ndarray, shape (T,), optional, keyword only
+            C-contiguous float64 array to write the output into (as numpy's
+            ``out=``); a new array by default.
 
         Returns
         -------
@@ -296,7 +303,7 @@ class PIOperator:
         """
         yv = as_signal("y", y, copy=False)  # only read: no copy of a float64 array
         x, prev, direction = start_memory(yv, self.threshold, state)
-        out = np.empty(yv.shape[0])
+        out = as_output("out", out, yv.shape)
         d = _kernels.stop_sum(
             yv, self.threshold, self.weight, x, out, self.linear, 0.0, prev, direction
         )
