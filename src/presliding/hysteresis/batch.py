@@ -27,7 +27,7 @@ from presliding._validation import (
     fmt,
 )
 from presliding.hysteresis import _batch_kernels
-from presliding.hysteresis.operators import _SLACK, PIOperator, PIState
+from presliding.hysteresis.operators import _SLACK, PIOperator, PIState, check_input_range
 
 __all__ = ["PIBatch", "PIBatchState"]
 
@@ -252,6 +252,8 @@ class PIBatch:
         out = as_output("out", out, shape)
         x, prev, d0 = self._start(yv, state)
         r, w, lin, c = self._kernel_bank
+        # y ± r and every output stay finite (a bound over all members at once)
+        check_input_range(yv, r.ravel(), w.ravel(), float(np.abs(lin).max(initial=0.0)))
         d = _batch_kernels.batch_apply(yv, r, w, lin, c, x, prev, d0, out)
         return out, PIBatchState(float(yv[-1]), np.ascontiguousarray(x.T), d)
 
