@@ -32,7 +32,6 @@ __all__ = [
     "as_choice",
     "as_count",
     "as_nonnegative_scalar",
-    "as_output",
     "as_parameter_matrix",
     "as_parameter_vector",
     "as_positive_scalar",
@@ -85,48 +84,25 @@ def _first_bad(arr: np.ndarray, bad: np.ndarray) -> str:
     return f"got {fmt(arr[tuple(idx)])}{where}"
 
 
-#: elements per piece when a non-finite value is searched for (bounds the temporaries)
-_FINITE_PIECE = 1 << 16
-
-
 def _check_finite(name: str, arr: np.ndarray) -> None:
-    # Fast path without an O(size) temporary: a sum is finite only if every
-    # term is (NaN and ±inf propagate); a finite sum of finite terms needs no
-    # further look. Otherwise (a non-finite value, or an overflowing sum) the
-    # array is searched piece by piece for the first non-finite entry.
+    # a sum is finite only if every term is (no O(size) temporary); else search in pieces
     with np.errstate(over="ignore", invalid="ignore"):
         if math.isfinite(np.add.reduce(arr, axis=None)):
             return
     flat = arr.reshape(-1)
-    for start in range(0, flat.shape[0], _FINITE_PIECE):
-        piece = flat[start : start + _FINITE_PIECE]
-        bad = ~np.isfinite(piece)
+    for start in range(0, flat.shape[0], 1 << 16):
+        bad = ~np.isfinite(flat[start : start + (1 << 16)])
         if bad.any():
-            idx = np.unravel_index(start + int(np.argmax(bad)), arr.shape)
-            where = ""
-            if arr.ndim == 1:
-                where = f" at index {idx[0]}"
-            elif arr.ndim > 1:
-                where = f" at index {tuple(int(k) for k in idx)}"
-            raise ValueError(f"`{name}` must be finite; got {fmt(arr[idx])}{where}.")
+            whole = np.zeros(arr.shape, dtype=bool)  # the error path only
+            whole.reshape(-1)[start + int(np.argmax(bad))] = True
+            raise ValueError(f"`{name}` must be finite; {_first_bad(arr, whole)}.")
 
 
 def as_signal(name: str, value: Any, *, min_length: int = 1, copy: bool = True) -> np.ndarray:
-    """A sampled signal: 1-D, finite, float64, with at least `min_length` samples.
-
-    With ``copy=False`` a C-contiguous float64 array is returned as it is (for
-    inputs that are only read, such as the displacement handed to a kernel);
-    any other input is converted into a new array.
-    """
-    if copy or not (
-        isinstance(value, np.ndarray)
-        and value.dtype == np.float64
-        and value.flags.c_contiguous
-        and type(value) is np.ndarray
-    ):
-        arr = _real_array(name, value)
-    else:
-        arr = value
+    """A sampled signal: 1-D, finite, float64, with at least `min_length` samples
+    (``copy=False``: a C-contiguous float64 ndarray itself, for inputs only read)."""
+    plain = type(value) is np.ndarray and value.dtype == np.float64
+    arr = value if not copy and plain and value.flags.c_contiguous else _real_array(name, value)
     if arr.ndim != 1:
         raise ValueError(f"`{name}` must be one-dimensional (shape (T,)); got shape {arr.shape}.")
     if arr.shape[0] < min_length:
@@ -230,32 +206,6 @@ def as_state_vector(name: str, value: Any, size: int) -> np.ndarray:
         raise ValueError(f"`{name}` must have shape ({size},); got shape {arr.shape}.")
     _check_finite(name, arr)
     return np.ascontiguousarray(arr)
-
-
-def as_output(name: str, value: Any, shape: tuple[int, ...]) -> np.ndarray:
-    """An output array given by the user (numpy's ``out=``), or a new one when None.
-
-    It must be a writeable, C-contiguous float64 ndarray of exactly `shape`.
-    """
-    if value is None:
-        return np.empty(shape)
-    if not (
-        isinstance(value, np.ndarray)
-        and value.dtype == np.float64
-        and value.shape == shape
-        and value.flags.c_contiguous
-        and value.flags.writeable
-    ):
-        if isinstance(value, np.ndarray):
-            order = "C-contiguous" if value.flags.c_contiguous else "non-contiguous"
-            ro = "" if value.flags.writeable else "read-only "
-            got = f"a {ro}{order} {value.dtype} array of shape {value.shape}"
-        else:
-            got = fmt(value)
-        raise ValueError(
-            f"`{name}` must be a writeable C-contiguous float64 array of shape {shape}; got {got}."
-        )
-    return value
 
 
 def check_same_length(**arrays: np.ndarray) -> None:

@@ -29,9 +29,9 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from presliding._out import as_output
 from presliding._validation import (
     as_nonnegative_scalar,
-    as_output,
     as_parameter_vector,
     as_real_array,
     as_signal,

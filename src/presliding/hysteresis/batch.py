@@ -18,8 +18,8 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from presliding._out import as_output
 from presliding._validation import (
-    as_output,
     as_parameter_matrix,
     as_real_array,
     as_real_scalar,

@@ -31,9 +31,9 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from presliding._out import as_output
 from presliding._validation import (
     as_count,
-    as_output,
     as_parameter_vector,
     as_real_scalar,
     as_real_vector,
