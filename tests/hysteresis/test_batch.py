@@ -220,7 +220,7 @@ def test_a_whole_array_call_allocates_only_its_output(call):
 def test_bad_arguments_are_reported():
     with pytest.raises(ValueError, match="`weight` must have the shape of `threshold`"):
         PIBatch([[0.1, 0.2]], [[1.0]])
-    with pytest.raises(ValueError, match="`threshold` must be positive"):
+    with pytest.raises(ValueError, match=r"must be nonnegative; got -0\.2 at index \(0, 1\)"):
         PIBatch([[0.1, -0.2]], [[1.0, 1.0]])
     with pytest.raises(ValueError, match=r"`linear` must be a scalar or have shape \(2,\)"):
         PIBatch([[0.1], [0.2]], [[1.0], [1.0]], linear=[1.0, 2.0, 3.0])
@@ -270,3 +270,13 @@ def test_out_arguments_of_apply_and_force():
         op.apply(y, out=ro)
     with pytest.raises(ValueError, match=r"`out` must be .*; got a non-contiguous float64"):
         model.force(y, out=np.empty(128)[::2])
+
+
+def test_a_zero_threshold_is_the_identity_as_for_pi_operator():
+    y = walk(200, np.random.default_rng(9))
+    ops = [PIOperator([0.0, 0.1], [2.0, 1.0]), PIOperator([0.2, 0.0], [1.0, 3.0])]
+    force, final = PIBatch.stack(ops).apply(y)
+    for b, op in enumerate(ops):
+        f, s = op.apply(y)
+        assert_bit_identical(final.member(b).play, s.play)
+        assert np.max(np.abs(force[:, b] - f)) <= 1e-12 * 4

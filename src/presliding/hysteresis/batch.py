@@ -20,7 +20,6 @@ from numpy.typing import ArrayLike, NDArray
 
 from presliding._out import as_output
 from presliding._validation import (
-    as_parameter_matrix,
     as_real_array,
     as_real_scalar,
     as_signal,
@@ -110,7 +109,8 @@ class PIBatch:
     Parameters
     ----------
     threshold : array_like, shape (B, N)
-        Thresholds r_bj > 0 of the play operators (eq. 3), one row per member.
+        Thresholds r_bj >= 0 of the play operators (eq. 3), one row per member
+        (r = 0 is the identity x = y, as in `PIOperator`).
     weight : array_like, shape (B, N)
         Weights w_bj (the stiffnesses k_j of a friction bank); any finite real.
     linear : float or array_like, shape (B,), keyword only, default 0.0
@@ -145,7 +145,15 @@ class PIBatch:
     _kernel_bank: tuple[FloatArray, ...] = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
-        r = as_parameter_matrix("threshold", self.threshold)
+        r = as_real_array("threshold", self.threshold)
+        r = r.reshape(1, -1) if r.ndim < 2 else r
+        if r.ndim != 2:
+            raise ValueError(f"`threshold` must have shape (B, N) or (N,); got shape {r.shape}.")
+        if (r < 0).any():  # r = 0 is allowed, as for `PIOperator`: the identity x = y
+            b, j = (int(k) for k in np.argwhere(r < 0)[0])
+            raise ValueError(
+                f"`threshold` must be nonnegative; got {fmt(r[b, j])} at index ({b}, {j})."
+            )
         w = as_real_array("weight", self.weight)
         if w.ndim < 2:
             w = w.reshape(1, -1)
