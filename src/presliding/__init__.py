@@ -20,7 +20,21 @@ from presliding.analysis import (
     turning_point,
     turning_points,
 )
-from presliding.control import iosys_state, to_iosys
+from presliding.control import (
+    PID,
+    DiscreteController,
+    LimitCycles,
+    LoopBatch,
+    LoopResult,
+    MeasuredCycle,
+    describing_function,
+    iosys_state,
+    measure_limit_cycle,
+    predict_limit_cycles,
+    simulate_loop,
+    simulate_loop_batch,
+    to_iosys,
+)
 from presliding.friction import (
     Comparison,
     CoulombFriction,
@@ -91,24 +105,42 @@ for _old, _new in _MOVED.items():
     globals().setdefault(_old, _module)
 del _old, _new, _module
 
+
+def __getattr__(name: str) -> object:
+    """Names loaded on first access (`presliding.control.LAZY`: they import python-control)."""
+    from presliding import control as _control
+
+    if name in _control.LAZY:
+        value = getattr(_control, name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module 'presliding' has no attribute {name!r}")
+
 __all__ = [
     "Comparison",
     "CoulombFriction",
     "DahlFriction",
     "DahlState",
+    "DiscreteController",
     "Density",
     "Discrete",
     "Exponential",
     "FitResult",
     "FreeResponse",
+    "FrictionNonlinearity",
     "GeneralPIOperator",
     "LuGreFriction",
+    "LimitCycles",
+    "LoopBatch",
+    "LoopResult",
     "LuGreState",
+    "MeasuredCycle",
     "Measurement",
     "MemoryState",
     "MotionBatch",
     "MotionEnergy",
     "MotionResult",
+    "PID",
     "PIFriction",
     "PIOperator",
     "PIState",
@@ -119,6 +151,7 @@ __all__ = [
     "Uniform",
     "__version__",
     "compare",
+    "describing_function",
     "dissipated_energy",
     "elastic_energy",
     "fit_motion",
@@ -128,13 +161,17 @@ __all__ = [
     "free_response",
     "inverse_state",
     "iosys_state",
+    "measure_limit_cycle",
     "phi",
     "pi_inverse",
     "play",
+    "predict_limit_cycles",
     "predict_motion_force",
     "signals",
     "simulate",
     "simulate_batch",
+    "simulate_loop",
+    "simulate_loop_batch",
     "stop",
     "stops_at_turning_point",
     "sweep",

@@ -4,7 +4,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
@@ -17,25 +17,45 @@ if TYPE_CHECKING:  # pragma: no cover
 
 FloatArray = NDArray[np.float64]
 
-__all__ = ["LoopBatch", "LoopResult", "measure_limit_cycle"]
+__all__ = ["LoopBatch", "LoopResult", "MeasuredCycle", "measure_limit_cycle"]
+
+
+class MeasuredCycle(NamedTuple):
+    """An oscillation measured from turning points (`measure_limit_cycle`)."""
+
+    amplitude: float  #: half the mean swing between consecutive turning points [m]
+    frequency: float  #: 2π over the mean time between every second turning point [rad/s]
+    cycles: int  #: full cycles measured
+    trend: float  #: last swing over first swing, minus 1 (0: steady; < 0: decaying)
+
+    @property
+    def steady(self) -> bool:
+        """At least two cycles whose swing changes by less than 2 % over the window."""
+        return self.cycles >= 2 and abs(self.trend) < 0.02
 
 
 def measure_limit_cycle(
     reversal_times: FloatArray, reversal_positions: FloatArray, after: float
-) -> tuple[float, float, int]:
-    """(amplitude, angular frequency, cycles) of the steady oscillation after time `after`.
+) -> MeasuredCycle:
+    """Amplitude, angular frequency, cycles and trend of the oscillation after time `after`.
 
     From the exact turning points: the amplitude is half the mean distance between
-    consecutive turning points, the period the mean time between every second one.
-    NaN when fewer than two full cycles follow `after`.
+    consecutive turning points, the period the mean time between every second one,
+    the trend the relative change of the swing from the first to the last pair of
+    turning points. NaN (0 cycles) when fewer than two full cycles follow `after`.
     """
-    keep = reversal_times >= after
-    t, y = reversal_times[keep], reversal_positions[keep]
+    t_all = np.asarray(reversal_times, dtype=np.float64)
+    y_all = np.asarray(reversal_positions, dtype=np.float64)
+    keep = t_all >= float(after)
+    t, y = t_all[keep], y_all[keep]
     if t.shape[0] < 5:
-        return float("nan"), float("nan"), 0
-    amplitude = 0.5 * float(np.mean(np.abs(np.diff(y))))
+        return MeasuredCycle(float("nan"), float("nan"), 0, float("nan"))
+    swing = np.abs(np.diff(y))
+    amplitude = 0.5 * float(np.mean(swing))
     period = float(np.mean(t[2:] - t[:-2]))
-    return amplitude, 2.0 * np.pi / period, (t.shape[0] - 1) // 2
+    first, last = swing[:2].mean(), swing[-2:].mean()
+    trend = float(last / first - 1.0) if first > 0 else float("nan")
+    return MeasuredCycle(amplitude, 2.0 * np.pi / period, (t.shape[0] - 1) // 2, trend)
 
 
 @dataclass(frozen=True, eq=False)
@@ -73,12 +93,9 @@ class LoopResult(MotionResult):
         """e_k = r_k − y_k at the sample instants [m]."""
         return self.reference - self.measured
 
-    def limit_cycle(self, after: float | None = None) -> tuple[float, float, int]:
-        """(amplitude [m], angular frequency [rad/s], cycles) of the oscillation after `after`.
-
-        Default `after`: half way through the run. NaN when fewer than two full
-        cycles (five turning points) follow; see `measure_limit_cycle`.
-        """
+    def limit_cycle(self, after: float | None = None) -> MeasuredCycle:
+        """The oscillation after `after` [s] (default: half way through the run): amplitude
+        [m], angular frequency [rad/s], cycles and trend (see `measure_limit_cycle`)."""
         t0, t1 = float(self.time[0]), float(self.time[-1])
         start = 0.5 * (t0 + t1) if after is None else as_real_scalar("after", after)
         return measure_limit_cycle(self.reversal_times, self.reversal_positions, start)
@@ -124,11 +141,12 @@ class LoopResult(MotionResult):
             f"  error: rms {np.sqrt(np.mean(e * e)):.6g}, max |e| {np.max(np.abs(e)):.6g}, "
             f"final {e[-1]:.6g}",
         ]
-        amp, omega, cycles = self.limit_cycle()
-        if cycles:
+        cyc = self.limit_cycle()
+        if cyc.cycles:
+            kind = "steady" if cyc.steady else f"swing changing by {cyc.trend:+.1%}"
             lines.append(
-                f"  limit cycle (second half): amplitude {amp:.6g}, frequency {omega:.6g} rad/s "
-                f"({cycles} cycles)"
+                f"  oscillation (second half): amplitude {cyc.amplitude:.6g}, frequency "
+                f"{cyc.frequency:.6g} rad/s ({cyc.cycles} cycles, {kind})"
             )
         return "\n".join(lines)
 
