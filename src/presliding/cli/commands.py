@@ -2,8 +2,9 @@
 
 Subcommands: ``demo`` (the built-in main job), ``simulate`` (a model file to a
 motion CSV and figure), ``analyze`` (stop analysis of a model file, eqs. 7, 9,
-14–16), ``fit`` (identification from a CSV file, section 4) and ``sweep`` (a
-quantity of the free motion over a parameter grid, locally or on Dask).
+14–16), ``fit`` (identification from a CSV file, section 4), ``sweep`` (a
+quantity of the free motion over a parameter grid, locally or on Dask) and
+``loop`` (a PID loop with PI friction: exact response, predicted limit cycles).
 
 User errors (a bad file, a missing column, a bad parameter) print one line on
 stderr naming the file or field and the fix, and exit with code 2; ``--debug``
@@ -35,6 +36,7 @@ examples:
   presliding fit run.csv --kind response --columns velocity='v [m/s]' -o fit/
   presliding sweep spec.toml -o map/       # e.g. reversal counts over c1/F_m and v0
   presliding sweep spec.toml --scheduler tcp://10.0.0.5:8786   # on a Dask cluster
+  presliding loop spec.toml -o loop/       # PID loop: exact response, predicted limit cycles
 
 model files (TOML, or JSON with the same tables; units in brackets):
   [friction]
@@ -292,6 +294,33 @@ def _build_parser() -> argparse.ArgumentParser:
         "20000 points; else the machine's cores)",
     )
     sweep.set_defaults(handler=_cmd_sweep)
+
+    from presliding.cli.loop import SCHEMA as LOOP_SCHEMA
+
+    loop = sub.add_parser(
+        "loop",
+        help="a PID position loop with PI friction: exact response, predicted limit cycles",
+        description="Simulate a sampled-data PID position loop around a mass with PI friction "
+        "exactly (zero-order hold; eq. 17 solved in closed form between events) and predict "
+        "its limit cycles (hunting) by harmonic balance with the exact describing function. "
+        "Writes loop.csv (the controller's samples, units in the header), loop.png, "
+        "nyquist.png (Nyquist curve of the loop with −1/N(A) and the predicted cycles) and "
+        "report.md/report.html.",
+        epilog="example:\n  presliding loop spec.toml -o loop/\n\n"
+        "specification file (TOML, or JSON with the same tables; units in brackets):\n"
+        + LOOP_SCHEMA,
+        formatter_class=fmt,
+        parents=[common, writes],
+    )
+    loop.add_argument("spec", type=Path, help="loop specification (.toml, or .json)")
+    loop.add_argument(
+        "-o",
+        "--output",
+        type=Path,
+        default=Path("presliding-loop"),
+        help="output folder (default: ./presliding-loop)",
+    )
+    loop.set_defaults(handler=_cmd_loop)
     return parser
 
 
@@ -332,6 +361,12 @@ def _cmd_fit(args: argparse.Namespace) -> int:
 
 def _cmd_sweep(args: argparse.Namespace) -> int:
     from presliding.cli.sweep import run
+
+    return run(args)
+
+
+def _cmd_loop(args: argparse.Namespace) -> int:
+    from presliding.cli.loop import run
 
     return run(args)
 

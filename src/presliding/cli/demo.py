@@ -1,6 +1,6 @@
 """The built-in main job behind ``presliding demo``.
 
-Five parts, each a figure and a report section:
+Six parts, each a figure and a report section:
 
 1. the paper's Figure 3 loops (finite elements, eq. 4);
 2. free motion to a stop with a reversal (the paper's Figures 4 and 5), simulated
@@ -9,7 +9,9 @@ Five parts, each a figure and a report section:
 4. a continuous density (section 3, eq. 10): uniform and exponential μ with the
    same F_m and eq. 7 stiffness, their loops (exact general PI operator) and free stops;
 5. an identification round trip: loops simulated, noise added, parameters fitted
-   (section 4) and compared with the truth.
+   (section 4) and compared with the truth;
+6. hunting: a PI loop's limit cycle predicted by the describing function against the
+   exact sampled-data loop (`presliding.cli.demo_hunting`).
 
 It takes a few seconds once the compiled kernels are cached (the first run
 compiles them).
@@ -314,8 +316,10 @@ def run_demo(out_dir: Path, *, quiet: bool = True) -> list[Path]:
         identification_section,
     )
 
+    from presliding.cli.demo_hunting import hunting_figure, hunting_part, hunting_section
+
     sections = []
-    with progress(5, "presliding demo", quiet=quiet, unit="part") as bar:
+    with progress(6, "presliding demo", quiet=quiet, unit="part") as bar:
         path = figure3_loops(out_dir)
         sections.append(_figure3_section(path))
         bar.update()
@@ -331,6 +335,9 @@ def run_demo(out_dir: Path, *, quiet: bool = True) -> list[Path]:
         ident = identification()
         sections.append(identification_section(ident, identification_figure(ident, out_dir)))
         bar.update()
+        hunt = hunting_part()
+        sections.append(hunting_section(hunt, hunting_figure(hunt, out_dir)))
+        bar.update()
     figures = [p for s in sections for p in s.figures]
     reports = write_report(out_dir, "presliding demo", [_intro(), *sections])
     return figures + reports
@@ -343,6 +350,7 @@ DEMO_OUTPUTS = (
     "reversals.png",
     "density.png",
     "identification.png",
+    "hunting.png",
     "report.md",
     "report.html",
 )

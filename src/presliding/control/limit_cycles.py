@@ -62,14 +62,16 @@ def _lti_response(system: Any, name: str) -> tuple[Callable[[Any], Any], Any]:
     if sys_.ninputs != 1 or sys_.noutputs != 1:
         raise ValueError(f"`{name}` must be single-input single-output; got "
                          f"{sys_.ninputs} inputs and {sys_.noutputs} outputs.")  # fmt: skip
+    tf = ct.tf(sys_)
+    num, den = np.asarray(tf.num[0][0], dtype=float), np.asarray(tf.den[0][0], dtype=float)
+
+    def rational(z):
+        return np.polyval(num, z) / np.polyval(den, z)
+
     if sys_.isdtime(strict=True):
         dt = float(sys_.dt)
-
-        def g(s):
-            return sys_(np.exp(np.asarray(s) * dt))
-
-        return g, sys_
-    return (lambda s: sys_(s)), sys_
+        return (lambda s: rational(np.exp(np.asarray(s) * dt))), sys_
+    return rational, sys_
 
 
 def _controller_response(controller: Any) -> Callable[[Any], Any]:
@@ -133,7 +135,8 @@ def _candidates(za: Any, zb: Any) -> list[tuple[int, int, float, float]]:
     nearest = dist.min(axis=0)
     at = dist.argmin(axis=0)
     for j in range(1, nearest.shape[0] - 1):
-        if nearest[j] < 0.1 and nearest[j] <= nearest[j - 1] and nearest[j] <= nearest[j + 1]:
+        left, right = nearest[j - 1], nearest[j + 1]
+        if nearest[j] < 0.1 and nearest[j] <= min(left, right) and nearest[j] < max(left, right):
             out.append((int(min(at[j], za.shape[0] - 2)), j, 0.0, 0.0))
     return out
 
@@ -229,6 +232,8 @@ def predict_limit_cycles(
     for i, j, t, u in _candidates(g_w, -1.0 / n_a):
         w0 = omegas[i] * (omegas[i + 1] / omegas[i]) ** t
         a0 = amps[j] * (amps[j + 1] / amps[j]) ** u
+        if any(abs(np.log(a0 / a)) < 0.02 and abs(np.log(w0 / w)) < 0.02 for a, w, _ in found):
+            continue  # a start next to a cycle already found
         sol = _refine(g, fr, a0, w0, (amps[0], amps[-1]), (omegas[0], omegas[-1]))
         if sol is not None and not any(
             abs(sol[0] - a) <= 1e-6 * a and abs(sol[1] - w) <= 1e-6 * w for a, w, _ in found
