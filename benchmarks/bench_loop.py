@@ -62,8 +62,10 @@ def speed() -> None:
     print(f"   input_output_response      {np.median(theirs) / n * 1e6:9.1f} µs/sample "
           f"(range {min(theirs) / n * 1e6:.1f}..{max(theirs) / n * 1e6:.1f})")  # fmt: skip
     print(f"   ratio (medians)            {ratio:9.0f}×   (target >= 1000×)")
-    print(f"   largest difference: position {np.max(np.abs(y - res.measured)):.1e} m, "
-          f"control {np.max(np.abs(u - res.control)):.1e} N  (target <= 1e-12; {diff:.1e})")
+    print(
+        f"   largest difference: position {np.max(np.abs(y - res.measured)):.1e} m, "
+        f"control {np.max(np.abs(u - res.control)):.1e} N  (target <= 1e-12; {diff:.1e})"
+    )
 
 
 def batch() -> None:
@@ -74,16 +76,22 @@ def batch() -> None:
     ps.simulate_loop_batch(model, 1.0, pid, 1e-3, **args)  # compile
     times = timed(lambda: ps.simulate_loop_batch(model, 1.0, pid, 1e-3, **args), 5)
     b = kp.size
-    print(f"2. tuning map: {b} gain sets × 2000 samples, all cores: {np.median(times):.3f} s "
-          f"({np.median(times) / b * 1e6:.0f} µs per loop, "
-          f"{np.median(times) / b / 2000 * 1e9:.0f} ns per sample)")
+    print(
+        f"2. tuning map: {b} gain sets × 2000 samples, all cores: {np.median(times):.3f} s "
+        f"({np.median(times) / b * 1e6:.0f} µs per loop, "
+        f"{np.median(times) / b / 2000 * 1e9:.0f} ns per sample)"
+    )
 
 
 def limit_cycles() -> None:
-    print("3. hunting cycles: describing function against the exact loop (dt = 1e-4 s, "
-          "cycle measured over 4..8 s)")
-    print("   c1 [N]  kp     ki       kd    predicted A [m]  ω [rad/s]   simulated A [m]  "
-          "ω [rad/s]   ΔA      Δω     rests")
+    print(
+        "3. hunting cycles: describing function against the exact loop (dt = 1e-4 s, "
+        "cycle measured over 4..8 s)"
+    )
+    print(
+        "   c1 [N]  kp     ki       kd    predicted A [m]  ω [rad/s]   simulated A [m]  "
+        "ω [rad/s]   ΔA      Δω     rests"
+    )
     bank = ([2e4, 5e3, 1.5e3, 500.0], [0.2, 0.2, 0.2, 0.2])
     sets = [(0.0, 400, 4e4, 0), (0.0, 400, 4e4, 0.5), (0.0, 1000, 2e5, 1), (0.0, 200, 2e4, 0),
             (0.0, 2000, 1e5, 0), (0.0, 100, 2e4, 0), (0.0, 800, 1.6e5, 2),
@@ -100,8 +108,10 @@ def limit_cycles() -> None:
         pa, pw = (pred.amplitude[st[0]], pred.frequency[st[0]]) if st.size else (np.nan, np.nan)
         sa, sw = (sim.amplitude, sim.frequency) if sim.steady else (np.nan, np.nan)
         da, dw = sa / pa - 1, sw / pw - 1
-        print(f"   {c1:<7g} {kp:<6g} {ki:<8g} {kd:<5g} {pa:<16.4g} {pw:<11.4g} {sa:<16.4g} "
-              f"{sw:<11.4g} {da:<+7.2%} {dw:<+7.2%} {rests:.0%}")
+        print(
+            f"   {c1:<7g} {kp:<6g} {ki:<8g} {kd:<5g} {pa:<16.4g} {pw:<11.4g} {sa:<16.4g} "
+            f"{sw:<11.4g} {da:<+7.2%} {dw:<+7.2%} {rests:.0%}"
+        )
     print("   (nan: no stable cycle predicted, or no steady cycle simulated)")
 
 

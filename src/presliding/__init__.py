@@ -116,23 +116,25 @@ def __getattr__(name: str) -> object:
         return value
     raise AttributeError(f"module 'presliding' has no attribute {name!r}")
 
+
 __all__ = [
+    "PID",
     "Comparison",
     "CoulombFriction",
     "DahlFriction",
     "DahlState",
-    "DiscreteController",
     "Density",
     "Discrete",
+    "DiscreteController",
     "Exponential",
     "FitResult",
     "FreeResponse",
     "FrictionNonlinearity",
     "GeneralPIOperator",
-    "LuGreFriction",
     "LimitCycles",
     "LoopBatch",
     "LoopResult",
+    "LuGreFriction",
     "LuGreState",
     "MeasuredCycle",
     "Measurement",
@@ -140,7 +142,6 @@ __all__ = [
     "MotionBatch",
     "MotionEnergy",
     "MotionResult",
-    "PID",
     "PIFriction",
     "PIOperator",
     "PIState",

@@ -5,8 +5,8 @@ import pytest
 
 pytest.importorskip("control")
 
-from presliding import PID, PIFriction, predict_limit_cycles, simulate_loop  # noqa: E402
-from presliding.cli import main  # noqa: E402
+from presliding import PID, PIFriction, predict_limit_cycles, simulate_loop
+from presliding.cli import main
 
 SPEC = """\
 [friction]
@@ -61,11 +61,11 @@ def test_help_prints_the_schema(capsys):
     ("edit", "needle"),
     [
         (("[plant]\nmass = 1.0", "[plant]\nmass = -1.0"), "`plant.mass` must be positive"),
-        (("kind = \"step\"", "kind = \"square\""), "`reference.kind` must be 'step'"),
+        (('kind = "step"', 'kind = "square"'), "`reference.kind` must be 'step'"),
         (("t_end = 1.0", "t_end = 1.00005"), "whole number of sample periods"),
         (("dt = 1e-4", "dt = 1e-4\ngain = 3"), "unknown key `controller.gain`"),
         (("[reference]", "[references]"), "unknown table `references`"),
-        (("kp = 400.0", "kp = \"big\""), "`controller.kp` must be a finite number"),
+        (("kp = 400.0", 'kp = "big"'), "`controller.kp` must be a finite number"),
     ],
 )
 def test_bad_specification_is_one_line_exit_2(tmp_path, capsys, edit, needle):

@@ -92,8 +92,8 @@ def test_calling_the_nonlinearity_walks_the_force():
 def test_small_and_large_amplitudes():
     a = np.array([1e-9, 1e-7])
     # below every threshold: a spring Σk, the Coulomb element in quadrature
-    np.testing.assert_allclose(describing_function(MODEL, a),
-                               MODEL.initial_stiffness + 4j * 0.2 / (np.pi * a), rtol=1e-15)  # fmt: skip
+    expected = MODEL.initial_stiffness + 4j * 0.2 / (np.pi * a)
+    np.testing.assert_allclose(describing_function(MODEL, a), expected, rtol=1e-15)
     # far beyond: the whole level F_c acts as Coulomb friction, 4F_c/(πA) in quadrature
     big = 1e6
     n = describing_function(MODEL, big)

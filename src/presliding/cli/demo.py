@@ -307,6 +307,7 @@ def run_demo(out_dir: Path, *, quiet: bool = True) -> list[Path]:
     """Write every demo output to `out_dir`; return the paths written."""
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
+    from presliding.cli.demo_hunting import hunting_figure, hunting_part, hunting_section
     from presliding.cli.demo_sections import (
         density_figure,
         density_part,
@@ -315,8 +316,6 @@ def run_demo(out_dir: Path, *, quiet: bool = True) -> list[Path]:
         identification_figure,
         identification_section,
     )
-
-    from presliding.cli.demo_hunting import hunting_figure, hunting_part, hunting_section
 
     sections = []
     with progress(6, "presliding demo", quiet=quiet, unit="part") as bar:

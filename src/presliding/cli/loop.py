@@ -201,8 +201,8 @@ def _report(out: Path, res: Any, cycles: Any, loop_png: Path, nyquist_png: Path,
 
     sim = res.limit_cycle()
     rows = [("", "amplitude [m]", "frequency [rad/s]", "stable")]
-    rows += [("predicted", f"{a:.6g}", f"{w:.6g}", str(bool(s)))
-             for a, w, s in zip(cycles.amplitude, cycles.frequency, cycles.stable, strict=True)]  # fmt: skip
+    found = zip(cycles.amplitude, cycles.frequency, cycles.stable, strict=True)
+    rows += [("predicted", f"{a:.6g}", f"{w:.6g}", str(bool(s))) for a, w, s in found]
     rows.append(("simulated (second half)", f"{sim.amplitude:.6g}", f"{sim.frequency:.6g}",
                  "steady" if sim.steady else "not steady"))  # fmt: skip
     sections = [

@@ -35,7 +35,7 @@ from presliding._validation import (
     fmt,
 )
 
-__all__ = ["DiscreteController", "PID"]
+__all__ = ["PID", "DiscreteController"]
 
 FloatArray = NDArray[np.float64]
 ANTI_WINDUP = ("clamping", "back-calculation", "none")

@@ -75,9 +75,10 @@ class LimitCycles:
         ax.plot(z.real, z.imag, color="C3", lw=1.3, label="−1/N(A)")
         for a, w, st in zip(self.amplitude, self.frequency, self.stable, strict=True):
             i = int(np.argmin(np.abs(self.amplitudes - a)))
+            kind = "stable" if st else "unstable"
             ax.plot(z[i].real, z[i].imag, "o", ms=8, mew=1.6, color="k",
                     mfc="k" if st else "none",
-                    label=f"A = {a:.3g} m, ω = {w:.3g} rad/s ({'stable' if st else 'unstable'})")  # fmt: skip
+                    label=f"A = {a:.3g} m, ω = {w:.3g} rad/s ({kind})")  # fmt: skip
         ax.axhline(0.0, color="0.75", lw=0.7)
         ax.axvline(0.0, color="0.75", lw=0.7)
         pts = [complex(z[np.argmin(np.abs(self.amplitudes - a))]) for a in self.amplitude]

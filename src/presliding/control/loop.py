@@ -335,8 +335,11 @@ def simulate_loop_batch(
                          np.zeros(4), ref, ff, t0, ctrl.dt, max_events, i_from, o_y, o_u,
                          status, n_rev, e_rms, e_max, half, y_end, v_end)  # fmt: skip
     failed = int(np.sum(status != 0))
-    message = ("all loops solved exactly" if not failed else
-               f"{failed} of {n_b} loops reached the event limit max_events = {max_events}")  # fmt: skip
+    message = (
+        "all loops solved exactly"
+        if not failed
+        else f"{failed} of {n_b} loops reached the event limit max_events = {max_events}"
+    )
     return LoopBatch(
         kp=g["kp"], ki=g["ki"], kd=g["kd"], time=times,
         position=o_y if rows else None, control=o_u if rows else None, error_rms=e_rms,
