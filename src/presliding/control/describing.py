@@ -28,6 +28,10 @@ Gauss–Legendre rules between the kinks of T (and on geometric pieces towards
 r = 0), to rounding for the densities provided. Im N·π·A² is the energy
 dissipated per cycle (Masing's rule), Re N the equivalent stiffness (Σk_j for
 small A without c1, eq. 7).
+
+A viscous term σ·ẏ is not a function of the amplitude alone (its describing
+function is j·σ·ω): it is left out of N(A) and belongs to the linear part of the
+loop, where `predict_limit_cycles` puts it (P/(1 + P·(C + σ·s))).
 """
 
 from __future__ import annotations
