@@ -141,3 +141,67 @@ def test_tabulated_density_cannot_be_saved(tmp_path):
     model = PIFriction(0.1, density=Density.from_function(lambda r: 1.0 + r, 1.0))
     with pytest.raises(ValueError, match="Tabulated"):
         model_to_toml(model)
+
+
+# ----------------------------------------------------------------------- the viscous term
+@pytest.mark.parametrize("sigma", [0.0, 204.1234567890123, 1e-300, 3.0])
+def test_viscous_round_trip_is_exact(tmp_path, sigma):
+    model = PIFriction(0.5, [500.0, 10.0, 4.0], [1.0, 0.75, 1.25], viscous=sigma)
+    path = tmp_path / "m.toml"
+    save_model(path, model, MotionSettings(mass=2.0))
+    loaded = load_model(path).model
+    assert loaded == model and loaded.viscous == sigma
+    text = path.read_text(encoding="utf-8")
+    assert ("viscous = " in text) == (sigma != 0.0)
+    if sigma:
+        assert "# σ [N s/m]" in text
+    dens = PIFriction(0.5, density=Uniform(2.0, 1.0), viscous=sigma)
+    save_model(tmp_path / "d.toml", dens)
+    assert load_model(tmp_path / "d.toml").model == dens
+
+
+def test_viscous_from_toml_and_json_is_simulated(tmp_path):
+    from presliding import simulate
+
+    text = (
+        "[friction]\ncoulomb = 0.3\nstiffness = [2e4, 5e3]\nbreakaway = [0.2, 0.2]\n"
+        "viscous = 12.5\n[motion]\nmass = 1.0\ninitial_velocity = 0.05\n"
+        'initial_state = "saturated"\nt_end = 0.2\n'
+    )
+    spec = load_model(_write(tmp_path, "m.toml", text))
+    assert spec.model.viscous == 12.5
+    data = {"friction": {"coulomb": 0.3, "stiffness": [2e4, 5e3], "breakaway": [0.2, 0.2],
+                         "viscous": 12.5}}  # fmt: skip
+    assert load_model(_write(tmp_path, "m.json", json.dumps(data))).model == spec.model
+    res = simulate(spec.model, 1.0, initial_velocity=0.05, initial_state="saturated", t_end=0.2)
+    plain = simulate(PIFriction(0.3, [2e4, 5e3], [0.2, 0.2]), 1.0, initial_velocity=0.05,
+                     initial_state="saturated", t_end=0.2)  # fmt: skip
+    assert res.energy.viscous[-1] > 0 and res.stop_time < plain.stop_time
+
+
+def test_simulate_command_honours_viscous(tmp_path):
+    from presliding.cli import main
+
+    text = (
+        "[friction]\ncoulomb = 1.0\nviscous = 2.0\n[motion]\nmass = 1.0\n"
+        "initial_velocity = 3.0\nt_end = 1.0\nsamples = 5\n"
+    )
+    path = _write(tmp_path, "m.toml", text)
+    assert main(["--quiet", "simulate", str(path), "-o", str(tmp_path / "run")]) == 0
+    rows = (tmp_path / "run" / "simulation.csv").read_text(encoding="utf-8").splitlines()
+    v = [float(line.split(",")[2]) for line in rows[1:]]
+    # m·v̇ = −1 − 2·v: stop at ln(1 + 2·3/1)/2 = 0.973 s, v(0.25) = 3.5·e^{−0.5} − 0.5
+    assert v[1] == pytest.approx(3.5 * np.exp(-0.5) - 0.5, rel=1e-12)
+    assert v[-1] == 0.0
+
+
+@pytest.mark.parametrize(
+    ("value", "needle"),
+    [("-1.0", "`viscous` must be nonnegative"), ("true", "`viscous` must be a real number"),
+     ('"fast"', "`viscous` must be a real number"), ("nan", "`viscous` must be finite")],
+)  # fmt: skip
+def test_bad_viscous_in_a_model_file_names_file_and_field(tmp_path, value, needle):
+    path = _write(tmp_path, "m.toml", f"[friction]\ncoulomb = 1.0\nviscous = {value}\n")
+    with pytest.raises(ValueError, match=needle) as info:
+        load_model(path)
+    assert str(path) in str(info.value) and "[friction]" in str(info.value)

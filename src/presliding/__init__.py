@@ -19,6 +19,7 @@ from presliding.analysis import (
     total_energy,
     turning_point,
     turning_points,
+    viscous_dissipation,
 )
 from presliding.control import (
     PID,
@@ -180,4 +181,5 @@ __all__ = [
     "total_energy",
     "turning_point",
     "turning_points",
+    "viscous_dissipation",
 ]

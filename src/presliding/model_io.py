@@ -6,6 +6,7 @@ Schema (units in brackets; any consistent unit set works, SI shown)::
     coulomb = 0.5                  # c1 [N], Coulomb element (eq. 8)
     stiffness = [500.0, 10.0, 4.0] # k_j [N/m]
     breakaway = [1.0, 1.0, 1.0]    # c_j [N]; or threshold = [...] r_j [m] (eq. 6)
+    viscous = 0.0                  # σ [N s/m], optional viscous term σ·ẏ (default 0)
 
     [friction.density]             # instead of stiffness/breakaway: a continuous μ (eq. 10)
     kind = "uniform"               # height a [N/m²], max_threshold R [m]
@@ -53,7 +54,7 @@ __all__ = [
     "save_model",
 ]
 
-_FRICTION_KEYS = {"coulomb", "stiffness", "breakaway", "threshold", "density"}
+_FRICTION_KEYS = {"coulomb", "stiffness", "breakaway", "threshold", "density", "viscous"}
 #: Density kinds of ``[friction.density]``: class and its keys (required, optional).
 _DENSITIES: dict[str, tuple[type[Density], tuple[str, ...], tuple[str, ...]]] = {
     "uniform": (Uniform, ("height", "max_threshold"), ()),
@@ -187,6 +188,7 @@ def model_from_tables(path: str | Path, data: dict[str, Any]) -> ModelFile:
                 fr.get("stiffness", []),
                 fr.get("breakaway"),
                 threshold=fr.get("threshold"),
+                viscous=fr.get("viscous", 0.0),
             )
     except (TypeError, ValueError) as exc:
         if isinstance(exc, ModelFileError):
@@ -255,7 +257,7 @@ def _density_model(path: Path, fr: dict[str, Any]) -> PIFriction:
         density = cls(**{k: table[k] for k in (*required, *optional) if k in table})
     except (TypeError, ValueError) as exc:
         raise ModelFileError(f"{path}: [friction.density] {exc}") from None
-    return PIFriction(fr["coulomb"], density=density)
+    return PIFriction(fr["coulomb"], density=density, viscous=fr.get("viscous", 0.0))
 
 
 def _density_lines(density: Density) -> list[str]:
@@ -293,7 +295,9 @@ def model_to_toml(model: PIFriction, motion: MotionSettings | None = None) -> st
             f"stiffness = {_toml_value(model.stiffness.tolist())}  # k_j [N/m]",
             f"breakaway = {_toml_value(model.breakaway.tolist())}  # c_j [N]",
         ]
-    else:
+    if model.viscous:
+        lines.append(f"viscous = {_toml_value(model.viscous)}  # σ [N s/m]")
+    if not model.is_discrete:
         lines += _density_lines(model.density)
     if motion is not None:
         lines += ["", "[motion]"]

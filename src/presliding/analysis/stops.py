@@ -57,6 +57,19 @@ def _model(model: PIFriction) -> PIFriction:
     return model
 
 
+def _undamped(model: PIFriction, what: str) -> PIFriction:
+    """The model, checked to have no viscous term (the work-energy balance of eqs. 13–16)."""
+    model = _model(model)
+    if model.viscous != 0.0:
+        raise ValueError(
+            f"{what} assumes no viscous friction (the paper's assumption (i)); got "
+            f"`model.viscous` = {fmt(model.viscous)}: the viscous loss depends on the time "
+            "course of the motion, so simulate it with `presliding.simulate` (exact event "
+            "method) instead."
+        )
+    return model
+
+
 def sticks(model: PIFriction, elastic_force: float) -> bool:
     """A mass at rest sticks when |F_el| <= c1 (equality sticks, within rounding)."""
     return abs(elastic_force) <= model.coulomb + _SLACK * model.coulomb_level
@@ -107,9 +120,10 @@ def turning_point(model: PIFriction) -> float:
     ------
     ValueError
         If c1 >= F_m: the mass sticks at the first turning point and eq. 15 has
-        no positive root.
+        no positive root; or if the model has a viscous term (σ > 0), which
+        eq. 15 does not include (use `presliding.simulate`).
     """
-    model = _model(model)
+    model = _undamped(model, "`turning_point` (eq. 15)")
     fm, c1 = model.max_elastic_force, model.coulomb
     if c1 >= fm:
         raise ValueError(
@@ -141,8 +155,14 @@ def stops_at_turning_point(model: PIFriction) -> bool:
     -------
     bool
         Whether c1 >= Φ(y_e) (eq. 16) or c1 >= F_m.
+
+    Raises
+    ------
+    ValueError
+        If the model has a viscous term (σ > 0): eq. 16 assumes σ = 0; use
+        `presliding.simulate`.
     """
-    model = _model(model)
+    model = _undamped(model, "`stops_at_turning_point` (eq. 16)")
     if model.coulomb >= model.max_elastic_force:
         return True
     return sticks(model, float(phi(model, turning_point(model))))
@@ -265,8 +285,15 @@ def turning_points(
     max_reversals : int
         Stop counting after this many reversals (status 'max_reversals' or
         'never_stops').
+
+    Raises
+    ------
+    ValueError
+        If the model has a viscous term (σ > 0): the half swings follow from
+        the work-energy balance only without it (the paper's assumption (i));
+        `presliding.simulate` solves the damped motion exactly.
     """
-    model = _model(model)
+    model = _undamped(model, "`turning_points`")
     m = as_positive_scalar("mass", mass)
     v0 = as_real_scalar("initial_velocity", initial_velocity)
     y0 = as_real_scalar("initial_position", initial_position)

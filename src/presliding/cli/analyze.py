@@ -15,6 +15,8 @@ def analyze(model: Any, mass: float, initial_velocity: float) -> dict[str, Any]:
     The reversal count is that of a free motion from a saturated start (a long
     slide before, the paper's assumption for eqs. 13–16); it depends neither on
     the mass nor on the speed, so a zero `initial_velocity` is replaced by 1.
+    Eqs. 14–16 assume no viscous friction (assumption (i)): for a model with
+    σ > 0 the stop analysis is left out (None) with a note to simulate it.
     """
     from presliding.analysis.stops import phi, stops_at_turning_point, turning_point, turning_points
 
@@ -26,10 +28,19 @@ def analyze(model: Any, mass: float, initial_velocity: float) -> dict[str, Any]:
         "initial_stiffness": model.initial_stiffness,
         "elements": model.n_elements if model.is_discrete else None,
         "density": None if model.is_discrete else repr(model.density),
+        "viscous": model.viscous,
         "turning_point": None,
         "phi_at_turning_point": None,
-        "stops_at_turning_point": bool(stops_at_turning_point(model)),
+        "stops_at_turning_point": None,
     }
+    if model.viscous:
+        out["free_motion"] = None
+        out["note"] = (
+            f"viscous term σ = {model.viscous:.6g} N s/m: eqs. 14-16 assume σ = 0 (the paper's "
+            "assumption (i)); simulate the motion with `presliding simulate`"
+        )
+        return out
+    out["stops_at_turning_point"] = bool(stops_at_turning_point(model))
     if c1 < fm:
         y_e = turning_point(model)
         out["turning_point"] = y_e
@@ -61,6 +72,10 @@ def _text(name: str, a: dict[str, Any]) -> str:
     lines.append(
         row("stiffness after a reversal", f"{a['initial_stiffness']:.6g} N/m", "Σ k_j, eq. 7")
     )
+    if a["viscous"]:
+        lines.append(row("viscous term σ", f"{a['viscous']:.6g} N s/m", "σ·ẏ"))
+        lines.append(f"  {a['note']}")
+        return "\n".join(lines)
     if a["turning_point"] is None:
         lines.append(row("second turning point y_e", "none", "c1 >= F_m: no reversal"))
         verdict = "stops at the first turning point (c1 >= F_m)"

@@ -43,6 +43,7 @@ model files (TOML, or JSON with the same tables; units in brackets):
   coulomb = 0.3                    # c1 [N], the Coulomb element (eq. 8)
   stiffness = [2e4, 5e3, 1.5e3]    # k_j [N/m]
   breakaway = [0.2, 0.2, 0.3]      # c_j [N]  (or threshold = [...] r_j [m], eq. 6)
+  viscous = 0.0                    # σ [N s/m], optional viscous term σ·ẏ (default 0)
   [motion]                         # optional
   mass = 1.0                       # m [kg]
   initial_velocity = 0.05          # [m/s]
