@@ -135,10 +135,10 @@ def test_density_is_the_limit_of_its_discretisations(density):
     amps = np.array([3e-5, 1.5e-4, 5e-4, 2e-2])
     exact = describing_function(model, amps)
     errors = []
-    for cells in (400, 800):
+    for cells in (2000, 4000):
         fine = PIFriction(0.1, density=density.discretize(cells, big_r))
         errors.append(np.max(np.abs(describing_function(fine, amps) - exact) / np.abs(exact)))
-    assert errors[1] < 3e-5 and errors[1] < errors[0] / 3.0
+    assert errors[1] < 5e-5 and errors[1] < errors[0] / 3.5  # second order
 
 
 def test_uniform_density_against_a_direct_integral():

@@ -8,6 +8,7 @@ _controller_iosys.py  controllers as python-control systems (the kernels' arithm
 controllers.py        `PID` and `DiscreteController`: discrete controllers with saturation
 loop.py               `simulate_loop`, `simulate_loop_batch`: exact compiled closed loops
 _loop.py              the compiled loop kernels (one exact event-driven period per sample)
+_optional.py          python-control, imported on use with a clear error when missing
 results.py            `LoopResult`, `LoopBatch`, `measure_limit_cycle`
 describing.py         `describing_function`: N(A) exact for elements and densities
 nonlinearity.py       `FrictionNonlinearity`: python-control's DescribingFunctionNonlinearity

@@ -77,12 +77,12 @@ def ss_output(a, b, c, d, x, low, high, ref, y, ff, w, tmp):  # pragma: no cover
 
 
 @nb.njit(**_JIT)
-def acceleration(m, c1, fel, v, u):  # pragma: no cover - compiled
-    """ÿ from eq. 17 with the set-valued sign (at rest: 0 while |u − F_el| <= c1)."""
+def acceleration(m, c1, sigma, fel, v, u):  # pragma: no cover - compiled
+    """ÿ from eq. 17 with the set-valued sign and σ·ẏ (at rest: 0 while |u − F_el| <= c1)."""
     if v > 0.0:
-        return (u - c1 - fel) / m
+        return (u - c1 - sigma * v - fel) / m
     if v < 0.0:
-        return (u + c1 - fel) / m
+        return (u + c1 - sigma * v - fel) / m
     g = u - fel
     if abs(g) <= c1:
         return 0.0
@@ -90,8 +90,8 @@ def acceleration(m, c1, fel, v, u):  # pragma: no cover - compiled
 
 
 @nb.njit(**_JIT)
-def plant_period(m, c1, k, r, f, y, v, last_dir, u, t0, t1, max_events):  # pragma: no cover
-    """The exact motion over [t0, t1] under a constant u; f updated in place.
+def plant_period(m, c1, sigma, k, r, f, y, v, last_dir, u, t0, t1, max_events):  # pragma: no cover
+    """The exact motion over [t0, t1] under a constant u (viscous σ); f updated in place.
 
     Returns (status, y, v, last_dir, n_events).
     """
@@ -100,14 +100,14 @@ def plant_period(m, c1, k, r, f, y, v, last_dir, u, t0, t1, max_events):  # prag
     none = np.empty(0)
     rev = np.empty(REVERSALS_PER_PERIOD)
     res = run_events(m, c1, k, r, f, y, v, last_dir, u_t, u_val, none, t1, max_events,
-                     none, none, none, none, none, none, none, none, rev, rev)  # fmt: skip
+                     none, none, none, none, none, none, none, none, rev, rev, sigma)  # fmt: skip
     return res[0], res[4], res[5], res[6], res[7]
 
 
 @nb.njit(**_JIT)
 def run_loop(  # pragma: no cover - compiled
-    m, c1, k, r, f, y, v, last_dir, kind, p, s, a, b, c, d, x, ref, ff, t0, dt, sub,
-    max_events, o_y, o_v, o_a, o_fel, o_u, o_eel, o_dis, o_work, o_ctrl, rev_t, rev_y,
+    m, c1, sigma, k, r, f, y, v, last_dir, kind, p, s, a, b, c, d, x, ref, ff, t0, dt, sub,
+    max_events, o_y, o_v, o_a, o_fel, o_u, o_eel, o_dis, o_work, o_vis, o_ctrl, rev_t, rev_y,
 ):  # fmt: skip
     """K = ref.shape[0] − 1 periods of the closed loop; samples at t0 + (k + j/sub)·dt.
 
@@ -129,6 +129,7 @@ def run_loop(  # pragma: no cover - compiled
     n_ev = 0
     dis = 0.0
     work = 0.0
+    vis = 0.0
     rest = np.nan
     status = 0
     done = 0
@@ -148,13 +149,16 @@ def run_loop(  # pragma: no cover - compiled
         u_val[0] = u
         res = run_events(m, c1, k, r, f, y, v, last_dir, u_t, u_val, te, tk + dt,
                          max_events - n_ev, o_y[i0:], o_v[i0:], o_a[i0:], o_fel[i0:],
-                         o_u[i0:], o_eel[i0:], o_dis[i0:], o_work[i0:], rt, ry)  # fmt: skip
-        st, n_s, nr, stop, y, v, last_dir, ne, dd, ww, _ = res
+                         o_u[i0:], o_eel[i0:], o_dis[i0:], o_work[i0:], rt, ry, sigma,
+                         o_vis[i0:])  # fmt: skip
+        st, n_s, nr, stop, y, v, last_dir, ne, dd, ww, _, vv = res
         for j in range(n_s):
             o_dis[i0 + j] += dis
             o_work[i0 + j] += work
+            o_vis[i0 + j] += vis
         dis += dd
         work += ww
+        vis += vv
         n_ev += ne
         for j in range(min(nr, REVERSALS_PER_PERIOD)):
             if n_rev + j < rev_t.shape[0]:
@@ -179,18 +183,19 @@ def run_loop(  # pragma: no cover - compiled
             eel += k[j] * f[j] * f[j]
         o_y[i] = y
         o_v[i] = v
-        o_a[i] = acceleration(m, c1, fel, v, o_ctrl[n_k])
+        o_a[i] = acceleration(m, c1, sigma, fel, v, o_ctrl[n_k])
         o_fel[i] = fel
         o_u[i] = o_ctrl[n_k]
         o_eel[i] = 0.5 * eel
         o_dis[i] = dis
         o_work[i] = work
+        o_vis[i] = vis
     return status, n_rev, rest, y, v, last_dir, n_ev, done
 
 
 @nb.njit(parallel=True, **_JIT)
 def run_loop_batch(  # pragma: no cover - compiled
-    m, c1, k, r, f0, y0, v0, d0, p_all, s0, ref, ff, t0, dt, max_events, i_from,
+    m, c1, sigma, k, r, f0, y0, v0, d0, p_all, s0, ref, ff, t0, dt, max_events, i_from,
     o_y, o_u, status, n_rev, e_rms, e_max, half_range, y_end, v_end,
 ):  # fmt: skip
     """Many PID loops (one row of ``p_all`` each), in parallel; positions and u at the
@@ -237,7 +242,7 @@ def run_loop_batch(  # pragma: no cover - compiled
             u_val[0] = u
             res = run_events(m, c1, k, r, f, y, v, last_dir, u_t, u_val, none, tk + dt,
                              max_events - ne_all, none, none, none, none, none, none, none,
-                             none, rt, rt)  # fmt: skip
+                             none, rt, rt, sigma)  # fmt: skip
             st = res[0]
             nr_all += res[2]
             y, v, last_dir = res[4], res[5], res[6]

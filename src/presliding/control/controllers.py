@@ -145,7 +145,7 @@ class PID:
 
     def continuous(self) -> Any:
         """C(s) = kp + ki/s + kd·s/(T_f·s + 1) as a python-control transfer function."""
-        from presliding.control.iosys import _control
+        from presliding.control._optional import python_control as _control
 
         ct = _control()
         s = ct.tf("s")
@@ -227,7 +227,7 @@ class DiscreteController:
     def from_lti(cls, system: Any, *, limit: Any = None) -> DiscreteController:
         """From a discrete python-control system (StateSpace or TransferFunction, SISO or
         with inputs (reference, position)); its ``dt`` must be a number of seconds."""
-        from presliding.control.iosys import _control
+        from presliding.control._optional import python_control as _control
 
         ct = _control()
         if not isinstance(system, ct.LTI):

@@ -66,7 +66,7 @@ def _amplitudes(amplitude: ArrayLike) -> FloatArray:
     a = as_real_array("amplitude", amplitude)
     bad = ~(a > 0)
     if bad.any():
-        first = a[bad].flat[0] if a.ndim else float(a)
+        first = float(a[bad].flat[0]) if a.ndim else float(a)
         raise ValueError(f"`amplitude` must be positive; got {first!r}.")
     return a
 

@@ -11,7 +11,8 @@ e.g. ``inputs="force"``), and ``friction`` [N] is the friction force.
     update is the exact operator (the play update of eq. 3, rate independent),
     so a path through it gives ``model.force`` bit for bit; ``dt=True`` (a
     discrete system with an unspecified period) is accepted, the law having no
-    time scale.
+    time scale. A model with a viscous term σ has a second input ``velocity``
+    and adds σ·ẏ_k.
 ``to_iosys(model, mass=m, dt=h)``
     The mass of eq. 17 with its friction: input ``u`` held constant over
     [t_k, t_k + h) (zero-order hold), outputs ``position`` and ``velocity``. Its
@@ -25,7 +26,7 @@ e.g. ``inputs="force"``), and ``friction`` [N] is the friction force.
     equals `simulate_loop` to rounding.
 
 Parameters (``params`` of python-control, e.g. of ``input_output_response``)
-are honoured: ``coulomb``, ``stiffness``, ``breakaway`` or ``threshold`` (the
+are honoured: ``coulomb``, ``viscous``, ``stiffness``, ``breakaway`` or ``threshold`` (the
 friction and the mass; as many elements as the model has; a new ``stiffness``
 keeps the break-away forces), ``mass`` (the mass), ``kp``, ``ki``, ``kd`` (a
 PID). A bad value is a ValueError naming the key, and a Dahl block refuses the
@@ -55,6 +56,7 @@ from numpy.typing import NDArray
 
 from presliding._validation import as_positive_scalar, as_real_scalar, fmt
 from presliding.control import _loop
+from presliding.control._optional import python_control as _control
 from presliding.control.controllers import PID, DiscreteController
 from presliding.friction.baselines import CoulombFriction, DahlFriction, DahlState
 from presliding.friction.pi_friction import PIFriction
@@ -66,20 +68,9 @@ __all__ = ["iosys_state", "to_iosys"]
 _DAHL_WITH_MASS = (
     "`model` must be a PIFriction or CoulombFriction when a `mass` is given; got DahlFriction."
 )
-MODEL_KEYS = ("coulomb", "stiffness", "breakaway", "threshold")
+MODEL_KEYS = ("coulomb", "stiffness", "breakaway", "threshold", "viscous")
 _COUNTER = itertools.count(1)
 FloatArray = NDArray[np.float64]
-
-
-def _control() -> Any:
-    try:
-        import control
-    except ImportError as exc:
-        raise ImportError(
-            "this needs the optional `control` package (python-control); "
-            "install it with `pip install presliding[control]`."
-        ) from exc
-    return control
 
 
 def _pi_model(model: Any) -> PIFriction | DahlFriction:
@@ -165,7 +156,8 @@ def _model_for(base: PIFriction, params: dict, cache: dict) -> PIFriction:
         k = given.get("stiffness", base.stiffness)
         kw = {"threshold": given["threshold"]} if "threshold" in given else {
             "breakaway": given.get("breakaway", base.breakaway)}  # fmt: skip
-        model = PIFriction(given.get("coulomb", base.coulomb), k, **kw)
+        model = PIFriction(given.get("coulomb", base.coulomb), k, **kw,
+                           viscous=given.get("viscous", base.viscous))  # fmt: skip
         if model.n_elements != base.n_elements:
             raise ValueError(
                 f"`params` must keep the number of elements ({base.n_elements}) of the system's "
@@ -267,7 +259,8 @@ def to_iosys(
                         f"continuous density {type(model.density).__name__}.")  # fmt: skip
     h = _period(1e-3 if dt is None else dt, allow_true=mass is None)
     if mass is None:
-        ins = _signals("inputs", inputs, ["position"])
+        viscous = isinstance(model, PIFriction) and model.viscous > 0
+        ins = _signals("inputs", inputs, ["position", "velocity"] if viscous else ["position"])
         outs = _signals("outputs", outputs, ["friction"])
         return _friction_system(control, model, h, _name(name, "friction"), ins, outs)
     if isinstance(model, DahlFriction):
@@ -302,7 +295,11 @@ def _friction_system(control, model, dt, name, ins, outs) -> Any:
 
         def pi(x: FloatArray, u: FloatArray, params: dict) -> tuple[FloatArray, PIState]:
             mod = _model_for(model, params, cache)
-            return mod.force(np.atleast_1d(u)[:1], PIState(x[0], x[1 : n + 1], x[n + 1]))
+            u = np.atleast_1d(u)
+            force, st = mod.force(u[:1], PIState(x[0], x[1 : n + 1], x[n + 1]))
+            if u.shape[0] > 1:  # the velocity input of a model with a viscous term
+                force = force + mod.viscous * u[1]
+            return force, st
 
         def update(t, x, u, params):
             st = pi(x, u, params)[1]
@@ -328,7 +325,8 @@ def _mass_system(control, model: PIFriction, mass: float, dt: float, name, ins, 
         k = np.ascontiguousarray(mod.stiffness, dtype=np.float64)
         r = np.ascontiguousarray(mod.threshold, dtype=np.float64)
         t0 = float(t)
-        st, y, v, d, _ = _loop.plant_period(m, float(mod.coulomb), k, r, f, float(x[0]),
+        st, y, v, d, _ = _loop.plant_period(m, float(mod.coulomb), float(mod.viscous), k, r, f,
+                                            float(x[0]),
                                             float(x[1]), float(x[n + 2]),
                                             float(np.atleast_1d(u)[0]), t0, t0 + dt,
                                             10_000_000)  # fmt: skip

@@ -46,7 +46,7 @@ FloatArray = NDArray[np.float64]
 
 def _lti_response(system: Any, name: str) -> tuple[Callable[[Any], Any], Any]:
     """G(s) as a function of complex s (continuous), and the python-control object."""
-    from presliding.control.iosys import _control
+    from presliding.control._optional import python_control as _control
 
     ct = _control()
     if isinstance(system, (int, float, np.floating)) and not isinstance(system, bool):
@@ -154,7 +154,7 @@ def _grid(name: str, value: Any, default: tuple[float, float], num: int) -> Floa
 
 
 def _default_frequencies(g: Callable[[Any], Any], plant_or_loop: Any, controller: Any):
-    from presliding.control.iosys import _control
+    from presliding.control._optional import python_control as _control
 
     ct = _control()
     scales = []

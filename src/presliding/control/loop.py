@@ -200,14 +200,15 @@ def simulate_loop(
     n = times.shape[0]
     n_out = (n - 1) * sub + 1
     kind, p, s, a, b, c, d, x = _controller_arrays(ctrl)
+    sigma = float(model.viscous)
     e0 = 0.5 * m * v0 * v0 + 0.5 * float(np.dot(k * f, f))
     cap = 1024
     while True:
         ff_ = f.copy()
-        out = [np.full(n_out, np.nan) for _ in range(8)]
+        out = [np.full(n_out, np.nan) for _ in range(9)]
         ctl = np.full(n, np.nan)
         rev = [np.empty(cap), np.empty(cap)]
-        res = _loop.run_loop(m, float(model.coulomb), k, r, ff_, y0, v0, last_dir, kind,
+        res = _loop.run_loop(m, float(model.coulomb), sigma, k, r, ff_, y0, v0, last_dir, kind,
                              p, s.copy(), a, b, c, d, x.copy(), ref, ff, t0, ctrl.dt, sub,
                              max_events, *out, ctl, *rev)  # fmt: skip
         status, n_rev, rest, y_end, v_end, d_end, n_ev, done = res
@@ -216,10 +217,10 @@ def simulate_loop(
         cap = n_rev
     n_keep = n_out if status == 0 else done * sub
     n_ctl = n if status == 0 else done
-    y_o, v_o, a_o, fel_o, u_o, eel_o, dis_o, work_o = (o[:n_keep] for o in out)
+    y_o, v_o, a_o, fel_o, u_o, eel_o, dis_o, work_o, vis_o = (o[:n_keep] for o in out)
     kinetic = 0.5 * m * v_o**2
-    energy = MotionEnergy(kinetic, eel_o, dis_o, work_o, kinetic + eel_o + dis_o - work_o - e0,
-                          e0)  # fmt: skip
+    residual = kinetic + eel_o + dis_o + vis_o - work_o - e0
+    energy = MotionEnergy(kinetic, eel_o, dis_o, work_o, residual, e0, viscous=vis_o)
     stop = None if (status != 0 or math.isnan(rest)) else float(rest)
     t_out = t0 + np.arange(n_keep) * (ctrl.dt / sub)
     t_out[::sub] = times[: (n_keep + sub - 1) // sub]
@@ -331,7 +332,8 @@ def simulate_loop_batch(
     status = np.zeros(n_b, dtype=np.int64)
     n_rev = np.zeros(n_b, dtype=np.int64)
     e_rms, e_max, half, y_end, v_end = (np.empty(n_b) for _ in range(5))
-    _loop.run_loop_batch(m, float(model.coulomb), k, r, f, y0, v0, last_dir, p_all,
+    _loop.run_loop_batch(m, float(model.coulomb), float(model.viscous), k, r, f, y0, v0,
+                         last_dir, p_all,
                          np.zeros(4), ref, ff, t0, ctrl.dt, max_events, i_from, o_y, o_u,
                          status, n_rev, e_rms, e_max, half, y_end, v_end)  # fmt: skip
     failed = int(np.sum(status != 0))
