@@ -255,3 +255,27 @@ def test_module_examples():
     import presliding.control
 
     assert doctest.testmod(presliding.control.iosys).failed == 0
+
+
+def test_viscous_model_in_python_control():
+    model = PIFriction(0.2, [400.0, 60.0], [0.3, 0.4], viscous=2.0)
+    pid = PID(400.0, 2000.0, 20.0, dt=1e-3)
+    loop = _pid_loop(pid, model, 1.0)
+    t = np.arange(400) * pid.dt
+    x0 = np.concatenate([iosys_state(pid), iosys_state(model, mass=1.0)])
+    resp = control.input_output_response(loop, t, np.full(t.size, 2e-3), x0)
+    res = simulate_loop(model, 1.0, pid, 2e-3, t_end=t[-1])
+    np.testing.assert_allclose(resp.outputs[0], res.measured, rtol=0, atol=1e-12)
+    # σ as a parameter of a model without it
+    resp = control.input_output_response(_pid_loop(pid, MODEL, 1.0), t, np.full(t.size, 2e-3),
+                                         x0, params={"viscous": 2.0})  # fmt: skip
+    res = simulate_loop(PIFriction(0.2, MODEL.stiffness, MODEL.breakaway, viscous=2.0), 1.0,
+                        pid, 2e-3, t_end=t[-1])  # fmt: skip
+    np.testing.assert_allclose(resp.outputs[0], res.measured, rtol=0, atol=1e-12)
+    # the friction law alone reads the velocity too
+    fr = to_iosys(model, dt=1e-3)
+    assert fr.input_labels == ["position", "velocity"]
+    y = np.array([0.0, 1e-3, 2e-3])
+    v = np.array([0.0, 0.5, 0.5])
+    out = control.input_output_response(fr, np.array([0.0, 1e-3, 2e-3]), np.vstack([y, v])).outputs
+    np.testing.assert_allclose(np.ravel(out), model.force(y)[0] + 2.0 * v, rtol=1e-15)

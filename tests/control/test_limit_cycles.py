@@ -88,3 +88,18 @@ def test_errors():
         predict_limit_cycles(1.0, BANK, PID(1.0), amplitudes=(1.0, 0.1))
     with pytest.raises(TypeError, match=r"^`model` must be a PIFriction"):
         predict_limit_cycles(1.0, "friction", PID(1.0))
+
+
+def test_viscous_term_goes_to_the_linear_part():
+    """N(A) leaves σ·ẏ out; the prediction folds it into G = P/(1 + P·(C + σs))."""
+    from presliding.control import describing_function
+
+    s = control.tf("s")
+    sigma, m = 0.5, 1.0
+    viscous = PIFriction(0.0, BANK.stiffness, BANK.breakaway, viscous=sigma)
+    assert describing_function(viscous, 3e-5) == describing_function(BANK, 3e-5)
+    pid = PID(400.0, 4e4, 0.0, dt=1e-4)
+    with_sigma = predict_limit_cycles(m, viscous, pid)
+    folded = predict_limit_cycles(1 / (m * s**2 + sigma * s), BANK, pid)
+    np.testing.assert_allclose(with_sigma.amplitude, folded.amplitude, rtol=1e-8)
+    np.testing.assert_allclose(with_sigma.frequency, folded.frequency, rtol=1e-8)

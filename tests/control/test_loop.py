@@ -151,3 +151,20 @@ def test_errors():
 
     with pytest.raises(TypeError, match="continuous density"):
         simulate_loop(PIFriction(0.1, density=Uniform(1e6, 1e-3)), 1.0, pid, 0.0, t_end=1.0)
+
+
+def test_viscous_term_in_the_loop():
+    """σ·ẏ enters the exact periods: a zero controller gives simulate's damped motion."""
+    model = PIFriction(0.2, [400.0, 60.0], [0.3, 0.4], viscous=3.0)
+    dt = 2e-3
+    t = np.arange(501) * dt
+    u = 0.9 * np.sin(7 * t)
+    zero = DiscreteController(np.zeros((0, 0)), np.zeros((0, 1)), np.zeros((1, 0)), [[0.0]], dt=dt)
+    res = simulate_loop(model, 1.3, zero, 0.0, feedforward=u, initial_velocity=0.1)
+    ref = simulate(model, 1.3, (t, u), initial_velocity=0.1, t_eval=t, method="event")
+    np.testing.assert_allclose(res.position, ref.position, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(res.velocity, ref.velocity, rtol=0, atol=1e-12)
+    assert res.energy.viscous[-1] > 0 and res.energy.max_relative_residual < 1e-9
+    # the friction force carries σ·ẏ while the mass slides
+    moving = res.velocity != 0
+    assert np.any(np.abs(res.friction_force[moving] - res.elastic_force[moving]) > 0.2 + 1e-9)
