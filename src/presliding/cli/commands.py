@@ -322,32 +322,9 @@ def _build_parser() -> argparse.ArgumentParser:
     )
     sweep.set_defaults(handler=_cmd_sweep)
 
-    from presliding.cli.loop import SCHEMA as LOOP_SCHEMA
+    from presliding.cli.loop import add_parser as add_loop_parser
 
-    loop = sub.add_parser(
-        "loop",
-        help="a PID position loop with PI friction: exact response, predicted limit cycles",
-        description="Simulate a sampled-data PID position loop around a mass with PI friction "
-        "exactly (zero-order hold; eq. 17 solved in closed form between events) and predict "
-        "its limit cycles (hunting) by harmonic balance with the exact describing function. "
-        "Writes loop.csv (the controller's samples, units in the header), loop.png, "
-        "nyquist.png (Nyquist curve of the loop with −1/N(A) and the predicted cycles) and "
-        "report.md/report.html.",
-        epilog="example:\n  presliding loop spec.toml -o loop/\n\n"
-        "specification file (TOML, or JSON with the same tables; units in brackets):\n"
-        + LOOP_SCHEMA,
-        formatter_class=fmt,
-        parents=[common, writes],
-    )
-    loop.add_argument("spec", type=Path, help="loop specification (.toml, or .json)")
-    loop.add_argument(
-        "-o",
-        "--output",
-        type=Path,
-        default=Path("presliding-loop"),
-        help="output folder (default: ./presliding-loop)",
-    )
-    loop.set_defaults(handler=_cmd_loop)
+    add_loop_parser(sub, [common, writes]).set_defaults(handler=_cmd_loop)
     return parser
 
 

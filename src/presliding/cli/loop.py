@@ -150,6 +150,33 @@ def load_spec(path: Path) -> LoopSpec:
                     _number(path, rf, "reference", "t_end"))  # fmt: skip
 
 
+def add_parser(sub: Any, parents: list) -> argparse.ArgumentParser:
+    """The ``loop`` sub-parser (its handler is set by `presliding.cli.commands`)."""
+    loop = sub.add_parser(
+        "loop",
+        help="a PID position loop with PI friction: exact response, predicted limit cycles",
+        description="Simulate a sampled-data PID position loop around a mass with PI friction "
+        "exactly (zero-order hold; eq. 17 solved in closed form between events) and predict "
+        "its limit cycles (hunting) by harmonic balance with the exact describing function. "
+        "Writes loop.csv (the controller's samples, units in the header), loop.png, "
+        "nyquist.png (Nyquist curve of the loop with −1/N(A) and the predicted cycles) and "
+        "report.md/report.html.",
+        epilog="example:\n  presliding loop spec.toml -o loop/\n\n"
+        "specification file (TOML, or JSON with the same tables; units in brackets):\n" + SCHEMA,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+        parents=parents,
+    )
+    loop.add_argument("spec", type=Path, help="loop specification (.toml, or .json)")
+    loop.add_argument(
+        "-o",
+        "--output",
+        type=Path,
+        default=Path("presliding-loop"),
+        help="output folder (default: ./presliding-loop)",
+    )
+    return loop
+
+
 def run(args: argparse.Namespace) -> int:
     """Load, simulate, predict, write CSV, figures and report."""
     from presliding.control.limit_cycles import predict_limit_cycles
@@ -218,4 +245,4 @@ def _report(out: Path, res: Any, cycles: Any, loop_png: Path, nyquist_png: Path,
     write_report(out, f"presliding loop: {spec.path.name}", sections)
 
 
-__all__ = ["OUTPUTS", "SCHEMA", "load_spec", "run"]
+__all__ = ["OUTPUTS", "SCHEMA", "add_parser", "load_spec", "run"]
