@@ -21,7 +21,21 @@ from presliding.analysis import (
     turning_points,
     viscous_dissipation,
 )
-from presliding.control import iosys_state, to_iosys
+from presliding.control import (
+    PID,
+    DiscreteController,
+    LimitCycles,
+    LoopBatch,
+    LoopResult,
+    MeasuredCycle,
+    describing_function,
+    iosys_state,
+    measure_limit_cycle,
+    predict_limit_cycles,
+    simulate_loop,
+    simulate_loop_batch,
+    to_iosys,
+)
 from presliding.friction import (
     Comparison,
     CoulombFriction,
@@ -95,19 +109,38 @@ for _old, _new in _MOVED.items():
     globals().setdefault(_old, _module)
 del _old, _new, _module
 
+
+def __getattr__(name: str) -> object:
+    """Names loaded on first access (`presliding.control.LAZY`: they import python-control)."""
+    from presliding import control as _control
+
+    if name in _control.LAZY:
+        value = getattr(_control, name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module 'presliding' has no attribute {name!r}")
+
+
 __all__ = [
+    "PID",
     "Comparison",
     "CoulombFriction",
     "DahlFriction",
     "DahlState",
     "Density",
     "Discrete",
+    "DiscreteController",
     "Exponential",
     "FitResult",
     "FreeResponse",
+    "FrictionNonlinearity",
     "GeneralPIOperator",
+    "LimitCycles",
+    "LoopBatch",
+    "LoopResult",
     "LuGreFriction",
     "LuGreState",
+    "MeasuredCycle",
     "Measurement",
     "MemoryState",
     "MotionBatch",
@@ -125,6 +158,7 @@ __all__ = [
     "Uniform",
     "__version__",
     "compare",
+    "describing_function",
     "dissipated_energy",
     "elastic_energy",
     "fit_motion",
@@ -135,13 +169,17 @@ __all__ = [
     "friction_batch",
     "inverse_state",
     "iosys_state",
+    "measure_limit_cycle",
     "phi",
     "pi_inverse",
     "play",
+    "predict_limit_cycles",
     "predict_motion_force",
     "signals",
     "simulate",
     "simulate_batch",
+    "simulate_loop",
+    "simulate_loop_batch",
     "stop",
     "stops_at_turning_point",
     "sweep",
