@@ -21,7 +21,21 @@ from presliding.analysis import (
     turning_points,
     viscous_dissipation,
 )
-from presliding.control import iosys_state, to_iosys
+from presliding.control import (
+    PID,
+    DiscreteController,
+    LimitCycles,
+    LoopBatch,
+    LoopResult,
+    MeasuredCycle,
+    describing_function,
+    iosys_state,
+    measure_limit_cycle,
+    predict_limit_cycles,
+    simulate_loop,
+    simulate_loop_batch,
+    to_iosys,
+)
 from presliding.friction import (
     Comparison,
     CoulombFriction,
@@ -31,6 +45,7 @@ from presliding.friction import (
     LuGreState,
     PIFriction,
     compare,
+    friction_batch,
     preloaded_state,
 )
 from presliding.hysteresis import (
@@ -39,6 +54,8 @@ from presliding.hysteresis import (
     Exponential,
     GeneralPIOperator,
     MemoryState,
+    PIBatch,
+    PIBatchState,
     PiecewiseConstant,
     PIInverse,
     PIOperator,
@@ -75,6 +92,7 @@ from presliding.motion import (
     MotionResult,
     QuasiStaticResponse,
     free_response,
+    friction_inverse,
     quasi_static_response,
     simulate,
     simulate_batch,
@@ -105,7 +123,20 @@ for _old, _new in _MOVED.items():
     globals().setdefault(_old, _module)
 del _old, _new, _module
 
+
+def __getattr__(name: str) -> object:
+    """Names loaded on first access (`presliding.control.LAZY`: they import python-control)."""
+    from presliding import control as _control
+
+    if name in _control.LAZY:
+        value = getattr(_control, name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module 'presliding' has no attribute {name!r}")
+
+
 __all__ = [
+    "PID",
     "Comparison",
     "CoulombFriction",
     "CrossValidation",
@@ -113,18 +144,26 @@ __all__ = [
     "DahlState",
     "Density",
     "Discrete",
+    "DiscreteController",
     "Exponential",
     "FitResult",
     "FreeResponse",
+    "FrictionNonlinearity",
     "GeneralPIOperator",
+    "LimitCycles",
+    "LoopBatch",
+    "LoopResult",
     "LuGreFriction",
     "LuGreState",
     "MasingCheck",
+    "MeasuredCycle",
     "Measurement",
     "MemoryState",
     "MotionBatch",
     "MotionEnergy",
     "MotionResult",
+    "PIBatch",
+    "PIBatchState",
     "PIFriction",
     "PIInverse",
     "PIOperator",
@@ -141,6 +180,7 @@ __all__ = [
     "correlation_matrix",
     "count_reversals",
     "cross_validate",
+    "describing_function",
     "dissipated_energy",
     "elastic_energy",
     "fit_motion",
@@ -149,19 +189,25 @@ __all__ = [
     "fit_response",
     "fit_virgin_curve",
     "free_response",
+    "friction_batch",
+    "friction_inverse",
     "hac_covariance",
     "inverse_state",
     "iosys_state",
     "masing_check",
+    "measure_limit_cycle",
     "phi",
     "pi_inverse",
     "play",
+    "predict_limit_cycles",
     "predict_motion_force",
     "preloaded_state",
     "quasi_static_response",
     "signals",
     "simulate",
     "simulate_batch",
+    "simulate_loop",
+    "simulate_loop_batch",
     "stop",
     "stops_at_turning_point",
     "sweep",

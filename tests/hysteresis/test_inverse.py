@@ -293,11 +293,12 @@ def test_range_inverse_errors_and_inverse_of_inverse():
 
 def test_friction_model_inverse():
     from presliding import PIFriction, Uniform
+    from presliding.motion.quasi_static import friction_inverse
 
     model = PIFriction(0.2, [100.0, 20.0], breakaway=[0.5, 0.5])
-    inv = model.inverse()
+    inv = friction_inverse(model)
     assert inv.coulomb == 0.2 and inv.force_limit == pytest.approx(model.coulomb_level)
     with pytest.raises(ValueError, match="must have elasto-plastic elements"):
-        PIFriction(0.5).inverse()
+        friction_inverse(PIFriction(0.5))
     with pytest.raises(ValueError, match="continuous density"):
-        PIFriction(0.1, density=Uniform(1.0, 1.0)).inverse()
+        friction_inverse(PIFriction(0.1, density=Uniform(1.0, 1.0)))

@@ -6,6 +6,7 @@ pi_friction.py        `PIFriction`: c1·sign(ẏ) + Σ k_j (y − x_j) (eq. 8), 
 baselines.py          `CoulombFriction`, `DahlFriction`, `LuGreFriction` and their states
 comparison.py         `compare`: several models on one displacement path, as a `Comparison`
 preload.py            `preloaded_state`: a memory with a given elastic force (a record's preload)
+batch.py              `friction_batch`: B finite-element models on one path as a `PIBatch`
 _baseline_kernels.py  compiled time loops of the Dahl and LuGre models
 
 May import: `presliding.hysteresis` and the package root's shared modules.
@@ -18,6 +19,7 @@ from presliding.friction.baselines import (
     LuGreFriction,
     LuGreState,
 )
+from presliding.friction.batch import friction_batch
 from presliding.friction.comparison import Comparison, compare
 from presliding.friction.pi_friction import PIFriction
 from presliding.friction.preload import preloaded_state
@@ -31,5 +33,6 @@ __all__ = [
     "LuGreState",
     "PIFriction",
     "compare",
+    "friction_batch",
     "preloaded_state",
 ]

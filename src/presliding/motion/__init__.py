@@ -4,7 +4,7 @@ Files
 -----
 simulation.py         `simulate`: one motion, by the exact event method or an implicit step
 batch.py              `simulate_batch` and `free_response`: many motions at once
-quasi_static.py       `quasi_static_response`: position under a slow force (exact, c1 included)
+quasi_static.py       `quasi_static_response`, `friction_inverse`: position under a slow force
 results.py            `MotionResult`, `MotionEnergy`, `MotionBatch`, `FreeResponse`
 _run.py               set-up and runners behind `simulate` (validation, grids, kernel calls)
 _event.py             the exact event kernel: closed-form pieces between events
@@ -19,7 +19,11 @@ It does not import `presliding.analysis` (a sibling layer).
 """
 
 from presliding.motion.batch import free_response, simulate_batch
-from presliding.motion.quasi_static import QuasiStaticResponse, quasi_static_response
+from presliding.motion.quasi_static import (
+    QuasiStaticResponse,
+    friction_inverse,
+    quasi_static_response,
+)
 from presliding.motion.results import FreeResponse, MotionBatch, MotionEnergy, MotionResult
 from presliding.motion.simulation import simulate
 
@@ -30,6 +34,7 @@ __all__ = [
     "MotionResult",
     "QuasiStaticResponse",
     "free_response",
+    "friction_inverse",
     "quasi_static_response",
     "simulate",
     "simulate_batch",

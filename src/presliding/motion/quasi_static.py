@@ -28,12 +28,13 @@ from numpy.typing import ArrayLike, NDArray
 
 from presliding._validation import as_signal, check_increasing, check_same_length
 from presliding.friction.pi_friction import PIFriction
+from presliding.hysteresis.inverse import PIInverse
 from presliding.hysteresis.operators import PIState
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
 
-__all__ = ["QuasiStaticResponse", "quasi_static_response"]
+__all__ = ["QuasiStaticResponse", "friction_inverse", "quasi_static_response"]
 
 FloatArray = NDArray[np.float64]
 
@@ -126,6 +127,26 @@ class QuasiStaticResponse:
         )
 
 
+def friction_inverse(model: PIFriction) -> PIInverse:
+    """The quasi-static inverse u → y of a friction model (`PIInverse` of its bank, with c1).
+
+    Raises
+    ------
+    ValueError
+        For a model without elements (its position is not determined by the
+        force) or with a continuous density.
+    """
+    if not isinstance(model, PIFriction):
+        raise TypeError(f"`model` must be a PIFriction; got {type(model).__name__}.")
+    if not model.is_discrete or model.n_elements == 0:
+        what = "a continuous density" if not model.is_discrete else "no elements"
+        raise ValueError(
+            "`model` must have elasto-plastic elements for a quasi-static inverse (the "
+            f"displacement is determined by the elastic force only); got {what}."
+        )
+    return PIInverse(model.operator, coulomb=model.coulomb)
+
+
 def quasi_static_response(
     model: PIFriction,
     applied_force: ArrayLike,
@@ -179,7 +200,7 @@ def quasi_static_response(
         t = as_signal("time", time)
         check_same_length(applied_force=u, time=t)
         check_increasing("time", t)
-    inverse = model.inverse()  # raises for no elements or a density
+    inverse = friction_inverse(model)
     if isinstance(initial_state, str):
         if initial_state != "relaxed":
             raise ValueError(
