@@ -160,6 +160,7 @@ def solve_least_squares(
     gradient_tolerance: float | None = None,
     free_jacobian: Callable[..., FloatArray] | None = None,
     blocks: Any = None,
+    clusters: Any = None,
     residual_size: int = 0,
     step_limit: Callable[[FloatArray], FloatArray] | None = None,
     method: str = "auto",
@@ -203,7 +204,8 @@ def solve_least_squares(
     blocks : sequence of index arrays or slices, optional
         Rows of independent blocks of serially correlated residuals: the
         covariance is then the HAC sandwich of `presliding.identification.uncertainty`
-        instead of s²·(JᵀJ)⁻¹.
+        instead of s²·(JᵀJ)⁻¹; `clusters` (the record of each block) adds the
+        record-level sandwich (`hac_covariance`).
 
     Returns
     -------
@@ -311,7 +313,7 @@ def solve_least_squares(
     widths: tuple[int, ...] = ()
     with threadpool_limits(limits=1, user_api="blas"):  # tall, thin factorisations
         if blocks is not None and pm.free:
-            cov, undetermined, found = hac_covariance(jac_free, r, blocks)
+            cov, undetermined, found = hac_covariance(jac_free, r, blocks, clusters=clusters)
             widths = tuple(found)
         else:
             cov, undetermined = ols_covariance(jac_free, r)

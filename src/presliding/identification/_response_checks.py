@@ -90,8 +90,16 @@ def spread_start(start: dict[str, float], k_names: list[str]) -> dict[str, float
     return s
 
 
-def rigid_check(sol, solve, problem, names, fixed, tied, level) -> Solution:
-    """Refit with the smallest-threshold element rigid; flag it if that fits as well."""
+def rigid_check(
+    sol, solve, problem, names, fixed, tied, level, refine=None, retried=False
+) -> Solution:
+    """Refit with the smallest-threshold element rigid; flag it if that fits as well.
+
+    `refine` (a solver without an evaluation cap), when given, carries a
+    rigid refit that already fits as well on to convergence, so that the
+    intervals span both fits in full. When the rigid refit fits clearly
+    better, the fit was a local minimum: it is refitted from there (once).
+    """
     from scipy import stats
 
     values = dict(sol.values)
@@ -112,6 +120,16 @@ def rigid_check(sol, solve, problem, names, fixed, tied, level) -> Solution:
     s2 = cost_free / dof
     q2 = float(stats.t.ppf(0.5 + level / 2, dof)) ** 2
     excess = (cost_rigid - cost_free) / s2 if s2 > 0 else np.inf
+    if excess <= q2 and refine is not None:
+        alt = refine(alt.values, rigid=True, extra=extra)
+        cost_rigid = cost(alt)
+        excess = (cost_rigid - cost_free) / s2 if s2 > 0 else np.inf
+    if excess < -q2 and not retried:  # the rigid limit fits better: a local minimum
+        stiff = 100.0 * max(alt.values[x] for x in problem.k_names[1:]) if len(
+            problem.k_names) > 1 else 100.0 * alt.values["stiffness_1"]  # fmt: skip
+        free = (refine or solve)({**alt.values, "stiffness_1": stiff})  # near the rigid fit
+        if cost(free) < cost_free:
+            return rigid_check(free, solve, problem, names, fixed, tied, level, refine, True)
     if excess > q2:
         return sol
     ci = dict(sol.confidence_interval)

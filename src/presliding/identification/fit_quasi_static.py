@@ -205,6 +205,7 @@ def fit_quasi_static(
         out = solve_least_squares(
             problem.residual(), begin, fixed=fixed, free_jacobian=problem.free_jacobian(),
             blocks=[rows for _, rows in problem.rows], residual_size=problem.n_res,
+            clusters=[i for i, _ in problem.rows],
             step_limit=problem.step_limit, method="lm", **opts,
         )  # fmt: skip
         evaluations[0] += out.n_evaluations

@@ -288,6 +288,7 @@ def fit_response(
         out = solve_least_squares(
             fun, begin, fixed={**fixed, **(extra or {})}, free_jacobian=jac,
             blocks=[rows for _, rows in problem.rows], residual_size=problem.n_res,
+            clusters=[i for i, _ in problem.rows],
             step_limit=problem.step_limit, method="lm" if problem.n_rec > 1 else "auto",
             **{**options, **kw},
         )  # fmt: skip
@@ -320,7 +321,8 @@ def fit_response(
     if search and sol.status == "converged":
         capped = (lambda *a, **k: solve(*a, max_evaluations=RIGID_EVALUATIONS, **k)) if large \
             else solve  # fmt: skip
-        sol = rigid_check(sol, capped, problem, names, fixed, tied, level)
+        sol = rigid_check(sol, capped, problem, names, fixed, tied, level,
+                          refine=solve if large else None)  # fmt: skip
     sol = bound_check(sol, start, names, fixed, tied, equal_breakaway and density is None)
     sol = nuisance_only(sol, problem, fixed)
     notes = [PER_UNIT_MASS] if per_unit_mass else []

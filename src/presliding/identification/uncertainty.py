@@ -12,9 +12,12 @@ sandwich of Newey & West (1987),
     Ω = Σ_blocks Σ_{|l| <= L} (1 − |l|/(L + 1)) Σ_t g_t g_{t−l}ᵀ,    g_t = J_t·r_t,
 
 with the Bartlett kernel and, per block, the bandwidth L of Andrews (1991)
-for an AR(1) fitted to the residuals: α = 4ρ²/((1 − ρ)²(1 + ρ)²),
+from AR(1) fits of the score columns g_t (`andrews_bandwidth`),
 L = 1.1447·(α·n)^(1/3). Blocks are independent records (no lags across
-them). The Bartlett sum is computed exactly through moving sums of g over
+them). With three or more records, each parameter's variance is the larger of
+this and the record-level (cluster-robust) sandwich, whose meat is the outer
+products of each record's summed scores (`hac_covariance`'s `clusters`).
+The Bartlett sum is computed exactly through moving sums of g over
 windows of L + 1 samples: Σ_t W_t W_tᵀ/(L + 1) (O(n·p²) per block, whatever L).
 Within a block only the columns that touch it enter (a record's own nuisance
 parameters and the shared ones), so a pooled fit of many records stays cheap.
@@ -39,25 +42,35 @@ FloatArray = NDArray[np.float64]
 _RANK_TOL = 1e-7
 
 
-def andrews_bandwidth(residual: FloatArray) -> int:
-    """Bartlett bandwidth L of Andrews (1991) from the residuals' lag-1 autocorrelation.
+def andrews_bandwidth(scores: FloatArray) -> int:
+    """Bartlett bandwidth L of Andrews (1991) from AR(1) fits of the scores.
+
+    For score columns a with lag-1 autocorrelation ρ_a and innovation variance
+    σ_a² (equal weights), α = Σ 4ρ_a²σ_a⁴/((1 − ρ_a)⁶(1 + ρ_a)²) / Σ σ_a⁴/(1 − ρ_a)⁴
+    and L = 1.1447·(α·n)^(1/3). A 1-D array is one column (the residuals).
 
     Parameters
     ----------
-    residual : ndarray, shape (n,)
+    scores : ndarray, shape (n,) or (n, p)
+        g_t = J_t·r_t, or the residuals.
 
     Returns
     -------
     int
-        L >= 0, at most n − 1 (ρ is capped at 0.99).
+        L >= 0, at most n − 1 (each ρ capped at ±0.99).
     """
-    r = np.asarray(residual, dtype=float)
-    n = r.shape[0]
-    if n < 3 or not np.any(r):
+    g = np.asarray(scores, dtype=float)
+    g = g[:, None] if g.ndim == 1 else g
+    n = g.shape[0]
+    power = np.sum(g * g, axis=0)
+    g = g[:, power > 0]
+    if n < 3 or g.shape[1] == 0:
         return 0
-    rho = float(r[1:] @ r[:-1]) / float(r @ r)
-    rho = min(max(rho, -0.99), 0.99)
-    alpha = 4 * rho**2 / ((1 - rho) ** 2 * (1 + rho) ** 2)
+    rho = np.clip(np.sum(g[1:] * g[:-1], axis=0) / np.sum(g * g, axis=0), -0.99, 0.99)
+    var = np.sum((g[1:] - rho * g[:-1]) ** 2, axis=0) / (n - 1)
+    num = np.sum(4 * rho**2 * var**2 / ((1 - rho) ** 6 * (1 + rho) ** 2))
+    den = np.sum(var**2 / (1 - rho) ** 4)
+    alpha = num / den if den > 0 else 0.0
     return int(min(np.floor(1.1447 * (alpha * n) ** (1 / 3)), n - 1))
 
 
@@ -95,6 +108,7 @@ def hac_covariance(
     blocks: Sequence[NDArray[np.intp] | slice] | None = None,
     *,
     bandwidth: int | None = None,
+    clusters: Sequence[int] | None = None,
 ) -> tuple[FloatArray, list[int], list[int]]:
     """HAC (Newey–West) covariance of least-squares estimates from serially correlated blocks.
 
@@ -108,6 +122,12 @@ def hac_covariance(
         default one block of all rows.
     bandwidth : int, optional
         Bartlett bandwidth L for every block (default: Andrews' per block).
+    clusters : sequence of int, optional
+        The independent record each block belongs to. With three or more, the
+        record-level (cluster-robust) sandwich Ω_c = G/(G − 1)·Σ_i s_i s_iᵀ,
+        s_i the summed scores of record i, is computed too, and each
+        parameter gets the larger of its two variances (correlations from the
+        HAC sandwich): no bandwidth can then make the intervals optimistic.
 
     Returns
     -------
@@ -136,10 +156,23 @@ def hac_covariance(
     for rows in blocks if blocks is not None else [slice(None)]:
         jb, rb = jac[rows], r[rows]
         cols = np.flatnonzero(np.any(jb != 0, axis=0))
-        lag = andrews_bandwidth(rb) if bandwidth is None else int(bandwidth)
+        g = jb[:, cols] * rb[:, None]
+        lag = andrews_bandwidth(g) if bandwidth is None else int(bandwidth)
         widths.append(lag)
-        meat[np.ix_(cols, cols)] += _bartlett_meat(jb[:, cols] * rb[:, None], lag)
+        meat[np.ix_(cols, cols)] += _bartlett_meat(g, lag)
     cov = bread @ meat @ bread * (n / (n - p))
+    if clusters is not None and blocks is not None and len(set(clusters)) >= 3:
+        sums: dict[int, FloatArray] = {}
+        for rows, c in zip(blocks, clusters, strict=True):
+            sums[c] = sums.get(c, np.zeros(p)) + jac[rows].T @ r[rows]
+        g = len(sums)
+        omega = sum(np.outer(v, v) for v in sums.values()) * g / (g - 1)
+        robust = bread @ omega @ bread * (n / (n - p))
+        sd_h, sd_c = np.sqrt(np.maximum(np.diag(cov), 0)), np.sqrt(np.maximum(np.diag(robust), 0))
+        with np.errstate(invalid="ignore", divide="ignore"):
+            corr = np.where(np.outer(sd_h, sd_h) > 0, cov / np.outer(sd_h, sd_h), 0.0)
+        sd = np.maximum(sd_h, sd_c)
+        cov = corr * np.outer(sd, sd)
     undetermined = set(np.flatnonzero(dead).tolist())
     for row in vt[~keep]:
         undetermined |= set(np.flatnonzero(np.abs(row) > 1e-3).tolist())
