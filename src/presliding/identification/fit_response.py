@@ -18,9 +18,11 @@ reported per unit mass (said in the message and the report; not a failure).
 
 Uncertainty. Output-error residuals are serially correlated, so the covariance
 is the HAC sandwich of `presliding.identification.uncertainty` (one block per
-record and signal); with three or more records and ``bootstrap`` resamples, the
-records are also resampled with replacement and refitted, and the reported
-interval is the union of the HAC and the bootstrap percentile intervals.
+record and signal); with three or more records each variance is the larger
+of that and the record-level (cluster-robust) sandwich. With ``bootstrap``
+resamples the records are also resampled with replacement and refitted, and
+the reported interval is the union of the analytic and the bootstrap
+percentile intervals.
 
 Robustness (as before for one record): with equal break-away forces the
 stiffest element can trade places with the Coulomb element (k_1 → ∞). The fit
