@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import math
 import numbers
+import os
 from typing import Any
 
 import numpy as np
@@ -33,6 +34,7 @@ __all__ = [
     "check_has_friction",
     "check_increasing",
     "check_same_length",
+    "check_size",
     "fmt",
 ]
 
@@ -277,3 +279,46 @@ def check_has_friction(c1: np.ndarray, n_elements: int) -> None:
             "`coulomb` must be positive when `stiffness` is empty (a model without elements); "
             f"got 0.0{where}."
         )
+
+
+# ---------------------------------------------------------------------- sizes
+#: Largest allocation, in bytes, that `check_size` lets through; None: half of
+#: the machine's physical memory (`size_limit`).
+MAX_ALLOCATION_BYTES: int | None = None
+
+
+def size_limit() -> int:
+    """Bytes `check_size` accepts: `MAX_ALLOCATION_BYTES`, else half the physical memory."""
+    if MAX_ALLOCATION_BYTES is not None:
+        return int(MAX_ALLOCATION_BYTES)
+    try:
+        total = os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
+    except (AttributeError, OSError, ValueError):
+        total = 0
+    return int(total) // 2 if total > 0 else 16 * 2**30
+
+
+def _bytes(n: float) -> str:
+    k = min(int(math.log(max(n, 1.0), 1024)), 6)
+    return f"{int(n)} B" if k == 0 else f"{n / 1024**k:.3g} {'KMGTPE'[k - 1]}iB"
+
+
+def check_size(
+    name: str, value: Any, count: float, *, what: str = "values", item_bytes: int = 8
+) -> int:
+    """Before allocating: `count` items of `item_bytes` fit `size_limit()`; returns int(count).
+
+    `name` and `value` are the argument the user passed that sets the size; a
+    float `count` may be inf (an overflow, reported as such).
+    """
+    limit = size_limit()
+    most = limit // max(int(item_bytes), 1)
+    if not (count <= most):  # also catches nan and inf
+        need = float(count) * item_bytes
+        amount = f"{int(count)}" if math.isfinite(count) and count < 1e15 else f"{count:.3g}"
+        raise ValueError(
+            f"`{name}` must ask for at most {most} {what} ({_bytes(limit)}); got {fmt(value)}, "
+            f"which asks for {amount} {what} "
+            f"({_bytes(need) if math.isfinite(need) else 'beyond any memory'})."
+        )
+    return int(count)

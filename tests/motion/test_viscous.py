@@ -288,7 +288,7 @@ def test_density_stepper_with_viscous_equals_the_finite_element_stepper():
     state = ps.MemoryState.saturated(0.0, 1.0, float(R.max()))
     forcing = as_forcing(0.0, "zoh", 0.0)
     out = dens_step.run(ps.Discrete(K, R), 0.3, 1.5, state, 0.8, 1.0, forcing, times, 0.0,
-                        3.0, 1e-3, 2.5)  # fmt: skip
+                        3.0, 3000, 2.5)  # fmt: skip
     np.testing.assert_allclose(out["position"], ref.position, rtol=0, atol=1e-12)
     np.testing.assert_allclose(out["viscous"], ref.energy.viscous, rtol=1e-10, atol=1e-15)
     # and a continuous density: the viscous loss is counted, the energy never grows

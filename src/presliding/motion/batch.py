@@ -20,6 +20,7 @@ from presliding._validation import (
 )
 from presliding.friction.pi_friction import PIFriction
 from presliding.motion import _batch_events as _batch
+from presliding.motion import _batch_setup as _setup
 from presliding.motion import _run
 from presliding.motion._forcing import as_forcing
 from presliding.motion.results import FreeResponse, MotionBatch
@@ -111,10 +112,10 @@ def simulate_batch(
                 "`models` or parameter arrays (`coulomb`, `stiffness`, ...) must be given, not "
                 f"both; got `models` and `{given[0]}`."
             )
-        c1, sigma, k, r = _run.stack_models(models)
+        c1, sigma, k, r = _setup.stack_models(models)
         sizes = {"models": c1.shape[0]}
     else:
-        params = _run.stack_parameters(
+        params = _setup.stack_parameters(
             coulomb, stiffness, breakaway, threshold, 0.0 if viscous is None else viscous
         )
         sizes = dict(params[-1])
@@ -131,20 +132,20 @@ def simulate_batch(
     arrays = {}
     for name, val in (("mass", mass), ("initial_velocity", initial_velocity),
                       ("initial_position", initial_position)):  # fmt: skip
-        arrays[name] = _run.as_batch_vector(name, val, positive=name == "mass")
+        arrays[name] = _setup.as_batch_vector(name, val, positive=name == "mass")
         sizes[name] = arrays[name].shape[0]
-    n_b = _run.batch_size(sizes)
+    n_b = _setup.batch_size(sizes)
     if models is not None:
         c1, sigma, k, r = (
             np.array(np.broadcast_to(a, (n_b, *a.shape[1:]))) for a in (c1, sigma, k, r)
         )
     else:
-        c1, sigma, k, r = _run.broadcast_parameters(*params[:5], n_b)
+        c1, sigma, k, r = _setup.broadcast_parameters(*params[:5], n_b)
     m, v0, y0 = (np.array(np.broadcast_to(arrays[n], (n_b,))) for n in
                  ("mass", "initial_velocity", "initial_position"))  # fmt: skip
-    f0, last_dir = _run.batch_deformation(initial_state, r, v0, u0)
+    f0, last_dir = _setup.batch_deformation(initial_state, r, v0, u0)
     u_t, u_val = forcing.pieces(t0, t_end)
-    return _run.run_batch(m, c1, sigma, k, r, f0, y0, v0, last_dir, u_t, u_val, times, t_end,
+    return _setup.run_batch(m, c1, sigma, k, r, f0, y0, v0, last_dir, u_t, u_val, times, t_end,
                           max_events)  # fmt: skip
 
 
@@ -215,7 +216,7 @@ def free_response(
     (True, 0.647492598692, 1)
     """
     m = as_positive_scalar("mass", mass)
-    c1, k, r = _run.single_bank(coulomb, stiffness, threshold)
+    c1, k, r = _setup.single_bank(coulomb, stiffness, threshold)
     v0 = as_real_scalar("initial_velocity", initial_velocity)
     y0 = as_real_scalar("initial_position", initial_position)
     dt = as_positive_scalar("time_step", time_step)
@@ -223,7 +224,7 @@ def free_response(
     u = as_real_scalar("applied_force", applied_force)
     sigma = as_nonnegative_scalar("viscous", viscous)
     limit = as_count("max_events", max_events, minimum=1)
-    f0, last_dir = _run.batch_deformation(initial_state, r[None, :], np.array([v0]), u)
+    f0, last_dir = _setup.batch_deformation(initial_state, r[None, :], np.array([v0]), u)
     y, v, status, stop, n_rev, n, t_last = _batch.free_kernel(
         m, c1, sigma, k, r, f0[0], y0, v0, float(last_dir[0]), u, dt, n_t, limit
     )

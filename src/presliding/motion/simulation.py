@@ -153,6 +153,7 @@ def simulate(
     method = as_choice("method", method, METHODS)
     t_end, times = _run.time_grid(t0, t_end, t_eval)
     max_events = as_count("max_events", max_events, minimum=1)
+    step = None if step is None else as_positive_scalar("step", step)
     if method == "event" and not model.is_discrete:
         raise ValueError(
             "`method` 'event' needs a finite-element model (the closed-form pieces need "
@@ -164,45 +165,71 @@ def simulate(
     if method == "event" and not forcing.piecewise_constant:
         raise ValueError(
             "`method` 'event' needs a piecewise-constant `applied_force` (a constant, or "
-            f"samples with hold='zoh'); got a {forcing.kind} force with hold={forcing.hold!r}."
+            f"samples with hold={'zoh'!r}); got a {forcing.kind} force with hold={forcing.hold!r}."
         )
-    h = (t_end - t0) / 1e4 if step is None else as_positive_scalar("step", step)
+    n_steps = _run.step_count(t0, t_end, step) if method == "implicit" else 0
     u0 = float(forcing(np.array([t0]))[0])
     sigma = float(model.viscous)
+    traj_dir = float(np.sign(v0))  # a start from rest is never a reversal
+    resume = None
     if not model.is_discrete:
-        state, last_dir = _density.initial_memory(model, initial_state, y0, v0, u0)
-        out = _density.run(model.density, float(model.coulomb), m, state, v0, last_dir,
-                           forcing, times, t0, t_end, h, sigma)  # fmt: skip
+        state, mem_dir = _density.initial_memory(model, initial_state, y0, v0, u0)
+        _run.check_energy(m, v0, 0.5 * m * v0 * v0)
+        out = _density.run(model.density, float(model.coulomb), m, state, v0, traj_dir,
+                           forcing, times, t0, t_end, n_steps, sigma)  # fmt: skip
         e0, final_state = out["e0"], out["final_state"]
     else:
-        f, last_dir = _run.initial_deformation(model, initial_state, y0, v0, u0)
+        f0, mem_dir = _run.initial_deformation(model, initial_state, y0, v0, u0)
+        if method == "event":
+            resume = _run.continuation_of(initial_state, model, m, y0, v0, t0)
+        if resume is not None:
+            f0, traj_dir = resume.f.copy(), resume.direction
         k = np.ascontiguousarray(model.stiffness, dtype=np.float64)
         r = np.ascontiguousarray(model.threshold, dtype=np.float64)
         c1 = float(model.coulomb)
+        e0 = 0.5 * m * v0 * v0 + 0.5 * float(np.dot(k * f0, f0))
+        _run.check_energy(m, v0, e0)
         if method == "event":
-            out = _run.run_event(m, c1, k, r, f, y0, v0, last_dir, forcing, times, t0, t_end,
-                                 max_events, sigma)  # fmt: skip
+            out = _run.run_event(m, c1, k, r, f0, y0, v0, traj_dir, forcing, times, t0, t_end,
+                                 max_events, sigma, resume)  # fmt: skip
         else:
-            out = _run.run_implicit(m, c1, k, r, f, y0, v0, last_dir, forcing, times, t0,
-                                    t_end, h, sigma)  # fmt: skip
-        e0 = 0.5 * m * v0 * v0 + 0.5 * float(np.dot(k * f, f))
+            out = _run.run_implicit(m, c1, k, r, f0, y0, v0, traj_dir, forcing, times, t0,
+                                    t_end, n_steps, sigma)  # fmt: skip
+        _run.check_finite_motion(out, t0, t_end)
         y_end = float(out["y"])
-        final_state = PIState(y_end, y_end - out["f"], out["dir"])
+        direction = out["dir"] if out["dir"] != 0.0 else mem_dir
+        final_state = _run.final_state(y_end, out["f"], direction, initial_state, y0, f0)
+        if method == "event":
+            stop_at = out["stop"] if out["v"] == 0.0 else np.nan
+            if resume is not None and stop_at == t0 and not np.isnan(resume.rest_start):
+                out["stop"] = stop_at = resume.rest_start  # the rest began before t_start
+            object.__setattr__(final_state, "_continuation", _run.Continuation(
+                t_end, y_end, float(out["v"]), out["f"].copy(), float(out["dir"]), stop_at,
+                out["piece"], _run.model_key(model, m)))  # fmt: skip
+    return _result(out, m, e0, final_state, method, model)
+
+
+def _result(out: dict, m: float, e0: float, final_state: Any, method: str, model: PIFriction):
+    """The MotionResult of a run's outputs (energies assembled here, O(samples))."""
     kinetic = 0.5 * m * out["velocity"] ** 2
+    residual = kinetic + out["e_el"]
+    residual += out["dissipated"]
+    residual += out["viscous"]
+    residual -= out["work"]
+    residual -= e0
     energy = MotionEnergy(
         kinetic=kinetic,
         elastic=out["e_el"],
         dissipated=out["dissipated"],
         work=out["work"],
-        residual=kinetic + out["e_el"] + out["dissipated"] + out["viscous"] - out["work"] - e0,
+        residual=residual,
         initial=e0,
         viscous=out["viscous"],
     )
     stop = None if np.isnan(out["stop"]) else float(out["stop"])
     y_end = float(out["y"])
-    n = out["n"]
     return MotionResult(
-        time=times[:n],
+        time=out["time"],
         position=out["position"],
         velocity=out["velocity"],
         acceleration=out["acceleration"],

@@ -1,0 +1,293 @@
+"""The fused implicit time loop of a mass with a density μ: Newton and commit in one pass.
+
+Each step solves, for the distance x > 0 travelled in direction s (see
+`presliding.motion._implicit_density` for the inclusion),
+
+    φ(x) = (m/h² + σ/h)·x + s·(F_el(y + s·x) − F_el(y)) − b = 0,
+
+with the memory of the general PI operator (`presliding.hysteresis._general_pi`)
+held in local variables across the whole loop: the last input, direction,
+base and level count, and the stack of turning inputs. The level a reversal
+opens is computed once per step; every Newton trial then costs one evaluation
+of the primitives M1, T (`_trial`: the level reached by the trial input, in
+closed form), and the commit (`_commit`) walks the levels the step wipes out
+and sums the stops' dissipation, exactly as `_general_pi.advance_dissipating`
+does for the same input (the same formulas in the same order, so the memory
+and forces are those of the operator itself, bit for bit). No compiled call
+with array arguments is made per step.
+
+Steps are uniform and samples between grid points are read off the step that
+contains them, as in `presliding.motion._implicit_loop`: the position moves
+linearly along the step; the memory there is the operator's exact update of
+the partial step (a copy is advanced, only at such samples).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numba as nb
+import numpy as np
+
+from presliding.hysteresis import _general_pi as gk
+from presliding.hysteresis._density_primitives import _prim, _unpack
+from presliding.motion._implicit_loop import applied_at
+
+_JIT = {"cache": True, "nogil": True}
+_INLINE = {"cache": True, "nogil": True, "inline": "always"}
+_EPS = 2.220446049250313e-16
+_MAX_ITER = 200
+
+
+@nb.njit(**_INLINE)
+def _trial(yv, s, last, base_t, n_t, pend, p_out, p_m1, p_p, stack, kind, big_r, p1, p2, tab):
+    """(F_el, dF/dy) at the trial input yv reached from `last` in direction s; pure.
+
+    ``base_t``, ``n_t`` and the pending level (``pend``: e = last, outer p_out,
+    M1(outer) p_m1, P p_p) are the memory after the reversal the step opens.
+    """
+    top = n_t + 1 if pend else n_t
+    e = base_t
+    while top > 0:
+        if top > n_t:
+            e, outer = last, p_out
+        else:
+            e, outer = stack[top - 1, 0], stack[top - 1, 1]
+        if 0.5 * abs(yv - e) < outer:
+            break
+        top = 0 if top == 1 else top - 2
+    if top == 0:
+        e = base_t
+        rho = abs(yv - base_t)
+        m1, _, slope = _prim(kind, big_r, p1, p2, tab, rho, False)
+        force = s * m1
+    else:
+        if top > n_t:
+            m1o, p = p_m1, p_p
+        else:
+            m1o, p = stack[top - 1, 2], stack[top - 1, 3]
+        rho = 0.5 * abs(yv - e)
+        m1, _, slope = _prim(kind, big_r, p1, p2, tab, rho, False)
+        force = s * (2.0 * m1 - m1o) + p
+    if rho < big_r:
+        force += (yv - e) * slope
+    else:
+        slope = 0.0
+    return force, slope
+
+
+@nb.njit(**_INLINE)
+def _commit(yv, s, last, base, n, base_t, n_t, pend, p_out, p_m1, p_p, stack, kind, big_r,
+            p1, p2, tab, m1r, m2r):  # fmt: skip  # pragma: no cover - compiled
+    """Commit yv: returns (force, slope, dissipation, n, stack) (`_walk` in its one-sample mode)."""
+    top = n_t + 1 if pend else n_t
+    rho0 = 0.0
+    if not pend:
+        rho0 = abs(last - base) if n == 0 else 0.5 * abs(last - stack[n - 1, 0])
+    diss = 0.0
+    while top > 0:
+        if top > n_t:
+            e, outer = last, p_out
+        else:
+            e, outer = stack[top - 1, 0], stack[top - 1, 1]
+        if 0.5 * abs(yv - e) < outer:
+            break
+        q_out = gk._q(outer, m1r, m2r, kind, big_r, p1, p2, tab)
+        diss += 2.0 * (q_out - gk._q(rho0, m1r, m2r, kind, big_r, p1, p2, tab))
+        rho0 = outer if top == 1 else stack[top - 2, 1]
+        top = 0 if top == 1 else top - 2
+    if top == 0:
+        e = base_t
+        rho = abs(yv - base_t)
+        m1, _, slope = _prim(kind, big_r, p1, p2, tab, rho, False)
+        force = s * m1
+        if rho0 == math.inf:
+            diss += m1r * abs(yv - last)
+        else:
+            diss += gk._q(rho, m1r, m2r, kind, big_r, p1, p2, tab) - gk._q(
+                rho0, m1r, m2r, kind, big_r, p1, p2, tab
+            )
+    else:
+        if top > n_t:
+            e, m1o, p = last, p_m1, p_p
+            if n_t >= stack.shape[0]:
+                stack = gk._grow(stack)
+            stack[n_t, 0] = last
+            stack[n_t, 1] = p_out
+            stack[n_t, 2] = p_m1
+            stack[n_t, 3] = p_p
+        else:
+            e, m1o, p = stack[top - 1, 0], stack[top - 1, 2], stack[top - 1, 3]
+        rho = 0.5 * abs(yv - e)
+        m1, _, slope = _prim(kind, big_r, p1, p2, tab, rho, False)
+        force = s * (2.0 * m1 - m1o) + p
+        diss += 2.0 * (
+            gk._q(rho, m1r, m2r, kind, big_r, p1, p2, tab)
+            - gk._q(rho0, m1r, m2r, kind, big_r, p1, p2, tab)
+        )
+    if rho < big_r:
+        force += (yv - e) * slope
+    else:
+        slope = 0.0
+    return force, slope, diss, top, stack
+
+
+@nb.njit(**_JIT)
+def _grow_rev(rev):  # pragma: no cover - compiled
+    new = np.empty((2 * rev.shape[0], 2))
+    new[: rev.shape[0]] = rev
+    return new
+
+
+@nb.njit(**_JIT)
+def run_fused(  # pragma: no cover - compiled
+    m, c1, sigma, head, stack, kind, par, tab, v, last_dir, t0, t_end, n_steps,
+    u_kind, u_t, u_val, u_mid, t_eval,
+    o_y, o_v, o_a, o_fric, o_fel, o_eel, o_dis, o_vis, o_work,
+):  # fmt: skip
+    """n_steps equal implicit steps from t0 to t_end; samples at t_eval (sorted, in range).
+
+    ``head``/``stack`` are the working memory (updated in place; the final stack
+    is returned, it may have grown). ``last_dir`` is the trajectory's last
+    direction (0: none), for counting reversals. Samples at t0 get the initial
+    state; their o_a/o_fric are left to the caller. Returns (stack, reversals
+    (n, 2) as rows (time, position), rest_start (nan if moving at the end), v,
+    last_dir, dissipated, work, viscous dissipation).
+    """
+    big_r, p1, p2 = _unpack(par)
+    m1r, m2r, _ = _prim(kind, big_r, p1, p2, tab, big_r, True)
+    t_total = _prim(kind, big_r, p1, p2, tab, 0.0, False)[2]  # μ([0, R]): slope after a reversal
+    last, d, base, n = head[0], head[1], head[2], int(head[3])
+    fel, slope = gk.force_at(last, head, stack, kind, par, tab)
+    n_eval = t_eval.shape[0]
+    h = (t_end - t0) / n_steps
+    inv_h = 1.0 / h
+    m_h = m * inv_h
+    mh2 = m_h * inv_h + sigma * inv_h  # m/h² + σ/h
+    dis = vis = work = 0.0
+    rev = np.empty((64, 2))
+    n_rev = 0
+    rest_start = np.nan
+    ptr = 0
+    ie = 0
+    if n_eval and t_eval[0] <= t0:
+        eel = gk.elastic_energy(head, stack, kind, par, tab)
+        while ie < n_eval and t_eval[ie] <= t0:
+            ie = _sample(ie, last, v, fel, eel, dis, vis, work, o_y, o_v, o_fel, o_eel, o_dis,
+                         o_vis, o_work)  # fmt: skip
+    t_i = t0
+    for i in range(n_steps):
+        t_next = t0 + (i + 1) * h if i + 1 < n_steps else t_end
+        u, ptr = applied_at(u_kind, u_t, u_val, u_mid, i, t0 + (i + 0.5) * h, ptr)
+        g = m_h * v + u - fel
+        x = 0.0
+        s = 0.0
+        if abs(g) <= c1:  # sticks: the position and the memory stay exactly as they are
+            v_new = 0.0
+            if rest_start != rest_start:
+                rest_start = t_i
+        else:
+            s = 1.0 if g > 0.0 else -1.0
+            b = abs(g) - c1
+            pend = s != d and d != 0.0
+            base_t, n_t, p_out, p_m1, p_p = base, n, 0.0, 0.0, 0.0
+            if pend:
+                base_t, n_t, p_out, p_m1, p_p = gk._reversal_level(
+                    last, d, base, n, stack, kind, big_r, p1, p2, tab
+                )
+            # Newton from the tangent at the start (left of the root: φ is concave and
+            # increasing), safeguarded by the bracket [0, b·h²/m]
+            lo = 0.0
+            hi = b / mh2
+            x = b / (mh2 + (t_total if pend else slope))
+            for _ in range(_MAX_ITER):
+                f_tr, sl = _trial(last + s * x, s, last, base_t, n_t, pend, p_out, p_m1, p_p,
+                                  stack, kind, big_r, p1, p2, tab)  # fmt: skip
+                phi = mh2 * x + s * (f_tr - fel) - b
+                if phi < 0.0:
+                    lo = x
+                elif phi > 0.0:
+                    hi = x
+                else:
+                    break
+                xn = x - phi / (mh2 + sl)
+                if not (xn > lo and xn < hi):  # also catches a NaN
+                    xn = 0.5 * (lo + hi)
+                if xn == x or hi - lo <= 2.0 * _EPS * hi:
+                    break
+                x = xn
+            v_new = s * x * inv_h
+        acc = (v_new - v) * inv_h
+        while ie < n_eval and t_eval[ie] < t_next:  # samples inside the step
+            th = (t_eval[ie] - t_i) * inv_h
+            if x == 0.0:
+                fel_p, eel_p, dpl_p = fel, gk.elastic_energy(_head(last, d, base, n), stack,
+                                                            kind, par, tab), 0.0  # fmt: skip
+            else:
+                hd = _head(last, d, base, n)
+                st = stack[: n + 2].copy() if stack.shape[0] >= n + 2 else stack.copy()
+                fel_p, _, dpl_p, st = gk.advance_dissipating(last + th * s * x, hd, st, kind,
+                                                              par, tab)  # fmt: skip
+                eel_p = gk.elastic_energy(hd, st, kind, par, tab)
+            o_y[ie] = last + th * s * x
+            o_v[ie] = v + th * (v_new - v)
+            o_a[ie] = acc
+            o_fric[ie] = u - m * acc
+            o_fel[ie] = fel_p
+            o_eel[ie] = eel_p
+            o_dis[ie] = dis + th * c1 * x + dpl_p
+            o_vis[ie] = vis + th * sigma * x * x * inv_h
+            o_work[ie] = work + th * u * s * x
+            ie += 1
+        if x != 0.0:
+            y_new = last + s * x
+            fel, slope, dplastic, n, stack = _commit(
+                y_new, s, last, base, n, base_t, n_t, pend, p_out, p_m1, p_p, stack, kind, big_r,
+                p1, p2, tab, m1r, m2r,
+            )  # fmt: skip
+            base = base_t
+            if s != last_dir:
+                if last_dir != 0.0:
+                    if n_rev == rev.shape[0]:
+                        rev = _grow_rev(rev)
+                    rev[n_rev, 0] = t_i
+                    rev[n_rev, 1] = last
+                    n_rev += 1
+                last_dir = s
+            last = y_new
+            d = s
+            dis += c1 * x + dplastic
+            vis += sigma * x * x * inv_h
+            work += u * s * x
+            rest_start = np.nan
+        v = v_new
+        if ie < n_eval and t_eval[ie] <= t_next:  # samples on the grid point
+            eel = gk.elastic_energy(_head(last, d, base, n), stack, kind, par, tab)
+            while ie < n_eval and t_eval[ie] <= t_next:
+                o_a[ie] = acc
+                o_fric[ie] = u - m * acc
+                ie = _sample(ie, last, v, fel, eel, dis, vis, work, o_y, o_v, o_fel, o_eel,
+                             o_dis, o_vis, o_work)  # fmt: skip
+        t_i = t_next
+    head[0], head[1], head[2], head[3] = last, d, base, n
+    return stack, rev[:n_rev].copy(), rest_start, v, last_dir, dis, work, vis
+
+
+@nb.njit(**_JIT)
+def _head(last, d, base, n):  # pragma: no cover - compiled
+    hd = np.empty(4)
+    hd[0], hd[1], hd[2], hd[3] = last, d, base, n
+    return hd
+
+
+@nb.njit(**_JIT)
+def _sample(ie, y, v, fel, eel, dis, vis, work, o_y, o_v, o_fel, o_eel, o_dis, o_vis,
+            o_work):  # fmt: skip  # pragma: no cover - compiled
+    o_y[ie] = y
+    o_v[ie] = v
+    o_fel[ie] = fel
+    o_eel[ie] = eel
+    o_dis[ie] = dis
+    o_vis[ie] = vis
+    o_work[ie] = work
+    return ie + 1
