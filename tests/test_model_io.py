@@ -7,7 +7,13 @@ import pytest
 
 from presliding import PIFriction
 from presliding.hysteresis.densities import Exponential, PiecewiseConstant, Uniform
-from presliding.model_io import MotionSettings, load_model, model_to_toml, save_model
+from presliding.model_io import (
+    MeasurementTerms,
+    MotionSettings,
+    load_model,
+    model_to_toml,
+    save_model,
+)
 
 
 def _write(tmp_path, name, text):
@@ -47,6 +53,15 @@ def test_threshold_form_and_json(tmp_path):
         ("[friction]\ncoulomb = 1.0\n[motion]\ninitial_state = 'tired'\n", "initial_state"),
         ("[friction]\ncoulomb = 1.0\n[extra]\n", "unknown table `extra`"),
         ("[friction\ncoulomb = 1.0\n", "not valid TOML"),
+        ("[friction]\ncoulomb = 1.0\n[motion]\nt_end = inf\n", "`motion.t_end` must be finite"),
+        (
+            "[friction]\ncoulomb = 1.0\n[motion]\ninitial_velocity = nan\n",
+            "must be finite; got nan",
+        ),
+        ("[friction]\ncoulomb = 1.0\n[motion]\nmass = inf\n", "`motion.mass` must be finite"),
+        ("[friction]\ncoulomb = 1.0\n[motion]\nsamples = 1e12\n", "at most 10,000,000"),
+        ("[friction]\ncoulomb = 1.0\n[measurement]\nforce_offset = nan\n", "force_offset"),
+        ("[friction]\ncoulomb = 1.0\n[measurement]\noffset = 1.0\n", "measurement.offset"),
     ],
 )
 def test_schema_errors_name_file_and_field(tmp_path, text, needle):
@@ -141,6 +156,36 @@ def test_tabulated_density_cannot_be_saved(tmp_path):
     model = PIFriction(0.1, density=Density.from_function(lambda r: 1.0 + r, 1.0))
     with pytest.raises(ValueError, match="Tabulated"):
         model_to_toml(model)
+
+
+def test_measurement_terms_and_header_round_trip(tmp_path):
+    model = PIFriction(0.5, [500.0, 10.0], [1.0, 0.75])
+    terms = MeasurementTerms(force_offset=-3.16)
+    path = tmp_path / "m.toml"
+    save_model(path, model, MotionSettings(mass=95.11), measurement=terms,
+               header="identified from DATA.mat\nunits: qm [m]")  # fmt: skip
+    text = path.read_text()
+    assert text.startswith("# identified from DATA.mat\n# units: qm [m]\n")
+    assert "force_offset = -3.16  # F_0 [N]" in text
+    loaded = load_model(path)
+    assert loaded.model == model and loaded.measurement == terms
+    assert load_model(_write(tmp_path, "n.toml", "[friction]\ncoulomb = 1.0\n")).measurement == (
+        MeasurementTerms(0.0)
+    )
+
+
+def test_a_byte_order_mark_is_skipped(tmp_path):
+    for name, text in (("m.toml", "[friction]\ncoulomb = 2.0\n"),
+                       ("m.json", '{"friction": {"coulomb": 2.0}}')):  # fmt: skip
+        path = tmp_path / name
+        path.write_bytes(b"\xef\xbb\xbf" + text.encode())
+        assert load_model(path).model.coulomb == 2.0
+
+
+def test_save_model_needs_a_model(tmp_path):
+    with pytest.raises(TypeError, match="`model` must be a PIFriction; got str"):
+        save_model(tmp_path / "m.toml", "notamodel")
+    assert not (tmp_path / "m.toml").exists()
 
 
 # ----------------------------------------------------------------------- the viscous term

@@ -30,6 +30,7 @@ from presliding._validation import (
     as_nonnegative_scalar,
     as_real_scalar,
     as_signal,
+    check_finite_derived,
     check_increasing,
     check_same_length,
 )
@@ -103,7 +104,9 @@ def total_energy(
     """
     m = as_nonnegative_scalar("mass", mass)
     v = as_real_scalar("velocity", velocity)
-    return 0.5 * m * v * v + elastic_energy(model, state)
+    total = 0.5 * m * v * v + elastic_energy(model, state)  # Python floats: overflow gives inf
+    check_finite_derived("energy ½·m·v² + ½∫ f² dμ", total, ("mass", "velocity"))
+    return total
 
 
 def dissipated_energy(

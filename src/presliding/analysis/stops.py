@@ -36,7 +36,13 @@ from presliding._validation import (
     as_real_scalar,
     fmt,
 )
-from presliding.analysis._walks import DensitySwing, DensityWalk, ElementWalk, element_swing
+from presliding.analysis._walks import (
+    DensitySwing,
+    DensityWalk,
+    ElementWalk,
+    check_reach,
+    element_swing,
+)
 from presliding.friction.pi_friction import PIFriction
 from presliding.hysteresis import _general_pi as gk
 from presliding.hysteresis.general_pi import MemoryState
@@ -49,6 +55,9 @@ __all__ = ["TurningPoints", "phi", "stops_at_turning_point", "turning_point", "t
 
 FloatArray = NDArray[np.float64]
 _SLACK = 8 * np.finfo(np.float64).eps
+#: The largest `max_reversals` of `turning_points` (each reversal of a density
+#: model costs a root search, about 0.1 ms).
+MAX_REVERSALS = 100_000
 
 
 def _model(model: PIFriction) -> PIFriction:
@@ -284,7 +293,8 @@ def turning_points(
         y0 for the string states.
     max_reversals : int
         Stop counting after this many reversals (status 'max_reversals' or
-        'never_stops').
+        'never_stops'); at most `MAX_REVERSALS` (100000, about 10 s for a
+        density model).
 
     Raises
     ------
@@ -297,8 +307,9 @@ def turning_points(
     m = as_positive_scalar("mass", mass)
     v0 = as_real_scalar("initial_velocity", initial_velocity)
     y0 = as_real_scalar("initial_position", initial_position)
-    max_reversals = as_count("max_reversals", max_reversals)
+    max_reversals = as_count("max_reversals", max_reversals, maximum=MAX_REVERSALS)
     state = _initial_state(model, initial_state, y0, v0)
+    check_reach(model, state, m, v0)
     walk = ElementWalk(model, state) if isinstance(state, PIState) else DensityWalk(model, state)
     y0 = walk.position
     kinetic, s = 0.5 * m * v0 * v0, float(np.sign(v0))

@@ -47,6 +47,12 @@ def analyze(model: Any, mass: float, initial_velocity: float) -> dict[str, Any]:
         out["phi_at_turning_point"] = float(phi(model, y_e))
     v0 = initial_velocity if initial_velocity != 0.0 else 1.0
     tp = turning_points(model, mass, v0, "saturated")
+    note = (
+        "motion.initial_velocity is 0, so the free motion starts at 1 m/s instead (the number "
+        "of reversals from a saturated start depends neither on the speed nor on the mass)"
+        if initial_velocity == 0.0
+        else ""
+    )
     out["free_motion"] = {
         "mass": mass,
         "initial_velocity": v0,
@@ -55,6 +61,7 @@ def analyze(model: Any, mass: float, initial_velocity: float) -> dict[str, Any]:
         "turning_points": [float(y) for y in tp.positions[:50]],
         "rest_position": None if tp.rest_position is None else float(tp.rest_position),
         "message": tp.message,
+        "note": note,
     }
     return out
 
@@ -97,6 +104,8 @@ def _text(name: str, a: dict[str, Any]) -> str:
     if fm["rest_position"] is not None:
         lines.append(f"    rest position {fm['rest_position']:.6g} m")
     lines.append(f"    {fm['message']}")
+    if fm["note"]:
+        lines.append(f"    note: {fm['note']}")
     return "\n".join(lines)
 
 

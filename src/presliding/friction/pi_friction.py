@@ -35,6 +35,7 @@ from presliding._validation import (
     as_real_array,
     as_signal,
     check_derived,
+    check_finite_derived,
     check_has_friction,
     fmt,
 )
@@ -111,6 +112,11 @@ class PIFriction:
         c1 = as_nonnegative_scalar("coulomb", self.coulomb)
         object.__setattr__(self, "viscous", as_nonnegative_scalar("viscous", self.viscous))
         if self.density is not None and _take_density(self, c1):
+            check_finite_derived(
+                "Coulomb level F_c = c1 + F_m (eq. 9)",
+                c1 + self.density.max_elastic_force,  # type: ignore[union-attr]
+                ("coulomb", "density"),
+            )
             return
         k = as_parameter_vector("stiffness", self.stiffness, allow_empty=True)
         if (self.breakaway is None) == (self.threshold is None):
@@ -131,7 +137,8 @@ class PIFriction:
             _same_length(k, r, "threshold")
             with np.errstate(over="ignore", under="ignore"):  # reported below
                 c = k * r
-        check_derived(k, c, r)
+        given = "threshold" if self.threshold is not None else "breakaway"
+        check_derived(k, c, r, coulomb=c1, given=given)
         check_has_friction(np.array([c1]), k.shape[0])
         for arr in (c, r):
             arr = np.asarray(arr)

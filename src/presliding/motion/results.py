@@ -136,21 +136,21 @@ class MotionResult:
     def report(self) -> str:
         """A readable summary of the motion."""
         lines = [
-            f"Motion of a mass m = {self.mass:g} with {self.model!r}",
+            f"Motion of a mass m = {self.mass:g} kg with {self.model!r}",
             f"  method {self.method}: {self.n_events} "
             + ("events" if self.method == "event" else "steps")
             + f"; status {self.status} ({self.message})",
-            f"  time {self.time[0]:g} .. {self.time[-1]:g} ({self.time.shape[0]} samples)",
+            f"  time {self.time[0]:g} .. {self.time[-1]:g} s ({self.time.shape[0]} samples)",
         ]
         if self.stop_time is None:
-            lines.append(f"  moving at the end: velocity {self.final_velocity:.6g}")
+            lines.append(f"  moving at the end: velocity {self.final_velocity:.6g} m/s")
         else:
             lines.append(
-                f"  stops at t = {self.stop_time:.12g} at position {self.rest_position:.12g}"
+                f"  stops at t = {self.stop_time:.12g} s at position {self.rest_position:.12g} m"
             )
         lines.append(f"  reversals: {self.n_reversals}")
         for t, y in zip(self.reversal_times[:10], self.reversal_positions[:10], strict=True):
-            lines.append(f"    t = {t:.12g}  y = {y:.12g}")
+            lines.append(f"    t = {t:.12g} s  y = {y:.12g} m")
         if self.n_reversals > 10:
             lines.append(f"    ... {self.n_reversals - 10} more")
         e = self.energy
@@ -261,7 +261,7 @@ class FreeResponse:
     def report(self) -> str:
         """A readable summary."""
         n = self.time.shape[0]
-        span = f", t = {self.time[0]:g} .. {self.time[-1]:g}" if n else ""
+        span = f", t = {self.time[0]:g} .. {self.time[-1]:g} s" if n else ""
         lines = [
             f"Free response: {n} samples{span}; status {self.status} ({self.message})",
             f"  reversals: {self.n_reversals}",
@@ -271,9 +271,9 @@ class FreeResponse:
                 "  not solved to the end: the samples end where the event limit stopped it"
             )
         elif self.stop_time is None:
-            lines.append(f"  moving at the end: velocity {self.velocity[-1]:.6g}")
+            lines.append(f"  moving at the end: velocity {self.velocity[-1]:.6g} m/s")
         else:
             lines.append(
-                f"  stops at t = {self.stop_time:.12g} at position {self.position[-1]:.12g}"
+                f"  stops at t = {self.stop_time:.12g} s at position {self.position[-1]:.12g} m"
             )
         return "\n".join(lines)
