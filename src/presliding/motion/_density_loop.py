@@ -31,7 +31,7 @@ import numpy as np
 
 from presliding.hysteresis import _general_pi as gk
 from presliding.hysteresis._density_primitives import _prim, _unpack
-from presliding.motion._implicit_loop import applied_at
+from presliding.motion._implicit_loop import BLOCK, fill_applied
 
 _JIT = {"cache": True, "nogil": True}
 _INLINE = {"cache": True, "nogil": True, "inline": "always"}
@@ -169,6 +169,7 @@ def run_fused(  # pragma: no cover - compiled
     n_rev = 0
     rest_start = np.nan
     ptr = 0
+    u_blk = np.empty(BLOCK)
     ie = 0
     if n_eval and t_eval[0] <= t0:
         eel = gk.elastic_energy(head, stack, kind, par, tab)
@@ -178,7 +179,11 @@ def run_fused(  # pragma: no cover - compiled
     t_i = t0
     for i in range(n_steps):
         t_next = t0 + (i + 1) * h if i + 1 < n_steps else t_end
-        u, ptr = applied_at(u_kind, u_t, u_val, u_mid, i, t0 + (i + 0.5) * h, ptr)
+        j_blk = i % BLOCK
+        if j_blk == 0:
+            ptr = fill_applied(u_blk, i, min(BLOCK, n_steps - i), u_kind, u_t, u_val, u_mid, t0,
+                               h, ptr)  # fmt: skip
+        u = u_blk[j_blk]
         g = m_h * v + u - fel
         x = 0.0
         s = 0.0

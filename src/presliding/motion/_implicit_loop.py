@@ -27,23 +27,39 @@ import numpy as np
 from presliding.motion._implicit import _JIT, _newton_walk
 
 U_CONSTANT, U_ZOH, U_LINEAR, U_ARRAY = 0, 1, 2, 3
+BLOCK = 256  # steps per block of applied-force values
 
 
 @nb.njit(**_JIT)
-def applied_at(u_kind, u_t, u_val, u_mid, i, t, ptr):  # pragma: no cover - compiled
-    """u at time t (the midpoint of step i) and the advanced sample pointer (t increasing)."""
+def fill_applied(buf, i0, count, u_kind, u_t, u_val, u_mid, t0, h, ptr):  # pragma: no cover
+    """buf[j] = u at the midpoint t0 + (i0 + j + 0.5)·h of step i0 + j, j < count.
+
+    Samples are held (zoh) or interpolated linearly (as `numpy.interp`; the last
+    value held after the last sample); ``ptr`` is the index of the sample at or
+    before the last midpoint (times only increase). Returns the new ``ptr``.
+    The loops read u from a block filled here every BLOCK steps, which keeps the
+    dispatch on the kind of u out of the step itself.
+    """
     if u_kind == U_CONSTANT:
-        return u_val[0], ptr
+        for j in range(count):
+            buf[j] = u_val[0]
+        return ptr
     if u_kind == U_ARRAY:
-        return u_mid[i], ptr
+        for j in range(count):
+            buf[j] = u_mid[i0 + j]
+        return ptr
     n = u_t.shape[0]
-    while ptr + 1 < n and u_t[ptr + 1] <= t:
-        ptr += 1
-    if u_kind == U_ZOH or ptr + 1 >= n:
-        return u_val[ptr], ptr
-    t_a = u_t[ptr]
-    slope = (u_val[ptr + 1] - u_val[ptr]) / (u_t[ptr + 1] - t_a)
-    return slope * (t - t_a) + u_val[ptr], ptr
+    for j in range(count):
+        t = t0 + (i0 + j + 0.5) * h
+        while ptr + 1 < n and u_t[ptr + 1] <= t:
+            ptr += 1
+        if u_kind == U_ZOH or ptr + 1 >= n:
+            buf[j] = u_val[ptr]
+        else:
+            t_a = u_t[ptr]
+            slope = (u_val[ptr + 1] - u_val[ptr]) / (u_t[ptr + 1] - t_a)
+            buf[j] = slope * (t - t_a) + u_val[ptr]
+    return ptr
 
 
 @nb.njit(**_JIT)
@@ -122,100 +138,105 @@ def run_uniform(  # pragma: no cover - compiled
     cap = rev_t.shape[0]
     rest_start = np.nan
     ptr = 0
+    u_blk = np.empty(BLOCK)
     ie = 0
     while ie < n_eval and t_eval[ie] <= t0:
         ie = _grid_sample(k, f, y, v, dis, vis, work, ie, t0, t_eval, o_y, o_v, o_fel, o_eel,
                           o_dis, o_vis, o_work)  # fmt: skip
     t_i = t0
-    for i in range(n_steps):
-        t_next = t0 + (i + 1) * h if i + 1 < n_steps else t_end
-        u, ptr = applied_at(u_kind, u_t, u_val, u_mid, i, t0 + (i + 0.5) * h, ptr)
-        g = m_h * v + u - fel
-        s = 0.0
-        d = 0.0
-        if abs(g) <= c1:  # sticks: y and the memory stay exactly as they are
-            v_new = 0.0
-            if rest_start != rest_start:
-                rest_start = t_i
-        else:
-            if g > 0.0:
-                s = 1.0
-                b = g - c1
-                slope = mh2 + ktot - kpos
-                dist = dpos
+    for i_blk in range(0, n_steps, BLOCK):
+        n_blk = min(BLOCK, n_steps - i_blk)
+        ptr = fill_applied(u_blk, i_blk, n_blk, u_kind, u_t, u_val, u_mid, t0, h, ptr)
+        for j_blk in range(n_blk):
+            i = i_blk + j_blk
+            t_next = t0 + (i + 1) * h if i + 1 < n_steps else t_end
+            u = u_blk[j_blk]
+            g = m_h * v + u - fel
+            s = 0.0
+            d = 0.0
+            if abs(g) <= c1:  # sticks: y and the memory stay exactly as they are
+                v_new = 0.0
+                if rest_start != rest_start:
+                    rest_start = t_i
             else:
-                s = -1.0
-                b = -g - c1
-                slope = mh2 + ktot - kneg
-                dist = dneg
-            d = b / slope  # exact unless an element reaches its threshold on the way
-            if d >= dist:
-                d = _newton_walk(mh2, k, r, f, s, b, slope, d)
-            v_new = s * d * inv_h
-        acc = (v_new - v) * inv_h
-        delta = s * d
-        # samples strictly inside the step, from the memory before it
-        while ie < n_eval and t_eval[ie] < t_next:
-            th = (t_eval[ie] - t_i) * inv_h
-            if d == 0.0:
-                fel_p, eel_p, dpl_p = fel, _energy(k, f), 0.0
-            else:
-                fel_p, eel_p, dpl_p = _partial(k, r, f, th * delta)
-            o_y[ie] = y + th * delta
-            o_v[ie] = v + th * (v_new - v)
-            o_a[ie] = acc
-            o_fric[ie] = u - m * acc
-            o_fel[ie] = fel_p
-            o_eel[ie] = eel_p
-            o_dis[ie] = dis + th * c1 * d + dpl_p
-            o_vis[ie] = vis + th * sigma * d * d * inv_h
-            o_work[ie] = work + th * u * delta
-            ie += 1
-        if d != 0.0:
-            if (npos if s > 0.0 else nneg) == n_el:
-                # every element slides on and stays at s·r_j: the memory, F_el and the
-                # stiffness sums are unchanged; each element dissipates c_j·d
-                dplastic = csum * d
-            else:
-                fel = kpos = kneg = dplastic = 0.0
-                dpos = dneg = np.inf
-                npos = nneg = 0
-                for j in range(n_el):
-                    fj = f[j] + delta
-                    rj = r[j]
-                    if fj >= rj:
-                        dplastic += k[j] * rj * (fj - max(f[j], rj))
-                        fj = rj
-                        kpos += k[j]
-                        npos += 1
-                    elif fj <= -rj:
-                        dplastic += k[j] * rj * (min(f[j], -rj) - fj)
-                        fj = -rj
-                        kneg += k[j]
-                        nneg += 1
-                    f[j] = fj
-                    fel += k[j] * fj
-                    dpos = min(dpos, rj - fj if fj < rj else np.inf)
-                    dneg = min(dneg, rj + fj if fj > -rj else np.inf)
-            y += delta
-            dis += c1 * d + dplastic
-            vis += sigma * d * d * inv_h
-            work += u * delta
-            if s != last_dir:
-                if last_dir != 0.0:
-                    if n_rev < cap:
-                        rev_t[n_rev] = t_i
-                        rev_y[n_rev] = y - delta
-                    n_rev += 1
-                last_dir = s
-            rest_start = np.nan
-        v = v_new
-        while ie < n_eval and t_eval[ie] <= t_next:  # samples on the grid point
-            o_a[ie] = acc
-            o_fric[ie] = u - m * acc
-            ie = _grid_sample(k, f, y, v, dis, vis, work, ie, t_next, t_eval, o_y, o_v, o_fel,
-                              o_eel, o_dis, o_vis, o_work)  # fmt: skip
-        t_i = t_next
+                if g > 0.0:
+                    s = 1.0
+                    b = g - c1
+                    slope = mh2 + ktot - kpos
+                    dist = dpos
+                else:
+                    s = -1.0
+                    b = -g - c1
+                    slope = mh2 + ktot - kneg
+                    dist = dneg
+                d = b / slope  # exact unless an element reaches its threshold on the way
+                if d >= dist:
+                    d = _newton_walk(mh2, k, r, f, s, b, slope, d)
+                v_new = s * d * inv_h
+            acc = (v_new - v) * inv_h
+            delta = s * d
+            # samples strictly inside the step, from the memory before it
+            while ie < n_eval and t_eval[ie] < t_next:
+                th = (t_eval[ie] - t_i) * inv_h
+                if d == 0.0:
+                    fel_p, eel_p, dpl_p = fel, _energy(k, f), 0.0
+                else:
+                    fel_p, eel_p, dpl_p = _partial(k, r, f, th * delta)
+                o_y[ie] = y + th * delta
+                o_v[ie] = v + th * (v_new - v)
+                o_a[ie] = acc
+                o_fric[ie] = u - m * acc
+                o_fel[ie] = fel_p
+                o_eel[ie] = eel_p
+                o_dis[ie] = dis + th * c1 * d + dpl_p
+                o_vis[ie] = vis + th * sigma * d * d * inv_h
+                o_work[ie] = work + th * u * delta
+                ie += 1
+            if d != 0.0:
+                if (npos if s > 0.0 else nneg) == n_el:
+                    # every element slides on and stays at s·r_j: the memory, F_el and the
+                    # stiffness sums are unchanged; each element dissipates c_j·d
+                    dplastic = csum * d
+                else:
+                    fel = kpos = kneg = dplastic = 0.0
+                    dpos = dneg = np.inf
+                    npos = nneg = 0
+                    for j in range(n_el):
+                        fj = f[j] + delta
+                        rj = r[j]
+                        if fj >= rj:
+                            dplastic += k[j] * rj * (fj - max(f[j], rj))
+                            fj = rj
+                            kpos += k[j]
+                            npos += 1
+                        elif fj <= -rj:
+                            dplastic += k[j] * rj * (min(f[j], -rj) - fj)
+                            fj = -rj
+                            kneg += k[j]
+                            nneg += 1
+                        f[j] = fj
+                        fel += k[j] * fj
+                        dpos = min(dpos, rj - fj if fj < rj else np.inf)
+                        dneg = min(dneg, rj + fj if fj > -rj else np.inf)
+                y += delta
+                dis += c1 * d + dplastic
+                vis += sigma * d * d * inv_h
+                work += u * delta
+                if s != last_dir:
+                    if last_dir != 0.0:
+                        if n_rev < cap:
+                            rev_t[n_rev] = t_i
+                            rev_y[n_rev] = y - delta
+                        n_rev += 1
+                    last_dir = s
+                rest_start = np.nan
+            v = v_new
+            while ie < n_eval and t_eval[ie] <= t_next:  # samples on the grid point
+                o_a[ie] = acc
+                o_fric[ie] = u - m * acc
+                ie = _grid_sample(k, f, y, v, dis, vis, work, ie, t_next, t_eval, o_y, o_v, o_fel,
+                                  o_eel, o_dis, o_vis, o_work)  # fmt: skip
+            t_i = t_next
     return n_rev, rest_start, y, v, last_dir, dis, work, vis
 
 
