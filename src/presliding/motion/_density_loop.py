@@ -41,13 +41,16 @@ _MAX_ITER = 200
 
 @nb.njit(**_INLINE)
 def _trial(yv, s, last, base_t, n_t, pend, p_out, p_m1, p_p, stack, kind, big_r, p1, p2, tab):
-    """(F_el, dF/dy) at the trial input yv reached from `last` in direction s; pure.
+    """(F_el, dF/dy, outer) at the trial input yv reached from `last` in direction s; pure.
 
     ``base_t``, ``n_t`` and the pending level (``pend``: e = last, outer p_out,
     M1(outer) p_m1, P p_p) are the memory after the reversal the step opens.
+    ``outer`` is the radius where the level reached is wiped out (inf on the
+    virgin branch): F_el is smooth in yv as long as 0.5·|yv − e| stays below it.
     """
     top = n_t + 1 if pend else n_t
     e = base_t
+    outer = math.inf
     while top > 0:
         if top > n_t:
             e, outer = last, p_out
@@ -58,6 +61,7 @@ def _trial(yv, s, last, base_t, n_t, pend, p_out, p_m1, p_p, stack, kind, big_r,
         top = 0 if top == 1 else top - 2
     if top == 0:
         e = base_t
+        outer = math.inf
         rho = abs(yv - base_t)
         m1, _, slope = _prim(kind, big_r, p1, p2, tab, rho, False)
         force = s * m1
@@ -73,17 +77,32 @@ def _trial(yv, s, last, base_t, n_t, pend, p_out, p_m1, p_p, stack, kind, big_r,
         force += (yv - e) * slope
     else:
         slope = 0.0
-    return force, slope
+    return force, slope, e, outer
 
 
 @nb.njit(**_INLINE)
-def _commit(yv, s, last, base, n, base_t, n_t, pend, p_out, p_m1, p_p, stack, kind, big_r,
-            p1, p2, tab, m1r, m2r):  # fmt: skip  # pragma: no cover - compiled
-    """Commit yv: returns (force, slope, dissipation, n, stack) (`_walk` in its one-sample mode)."""
+def _q_of(rho, m1, m2, m1r, m2r, big_r):  # pragma: no cover - compiled
+    """Q(ρ) = ρ·M1(ρ) − M2(ρ) from the primitives at ρ (as `_general_pi._q`)."""
+    if rho >= big_r:
+        return (rho - big_r) * m1r + big_r * m1r - m2r
+    return rho * m1 - m2
+
+
+@nb.njit(**_INLINE)
+def _commit(yv, s, last, base, n, base_t, n_t, pend, p_out, p_m1, p_p, q_front, stack, kind,
+            big_r, p1, p2, tab, m1r, m2r):  # fmt: skip  # pragma: no cover - compiled
+    """Commit yv: returns (force, slope, dissipation, n, Q at the new front).
+
+    `_walk` in its one-sample mode, with one evaluation of the primitives at the
+    new front: Q(ρ) = ∫_0^ρ M1 at the old front is carried from the last commit
+    (``q_front``). The stack must have room for the pending level (row n_t).
+    """
     top = n_t + 1 if pend else n_t
     rho0 = 0.0
+    q0 = 0.0  # Q(0)
     if not pend:
         rho0 = abs(last - base) if n == 0 else 0.5 * abs(last - stack[n - 1, 0])
+        q0 = q_front
     diss = 0.0
     while top > 0:
         if top > n_t:
@@ -92,197 +111,216 @@ def _commit(yv, s, last, base, n, base_t, n_t, pend, p_out, p_m1, p_p, stack, ki
             e, outer = stack[top - 1, 0], stack[top - 1, 1]
         if 0.5 * abs(yv - e) < outer:
             break
-        q_out = gk._q(outer, m1r, m2r, kind, big_r, p1, p2, tab)
-        diss += 2.0 * (q_out - gk._q(rho0, m1r, m2r, kind, big_r, p1, p2, tab))
+        diss += 2.0 * (gk._q(outer, m1r, m2r, kind, big_r, p1, p2, tab) - q0)
         rho0 = outer if top == 1 else stack[top - 2, 1]
+        q0 = gk._q(rho0, m1r, m2r, kind, big_r, p1, p2, tab)
         top = 0 if top == 1 else top - 2
     if top == 0:
         e = base_t
         rho = abs(yv - base_t)
-        m1, _, slope = _prim(kind, big_r, p1, p2, tab, rho, False)
+        m1, m2, slope = _prim(kind, big_r, p1, p2, tab, rho, True)
         force = s * m1
+        q_rho = _q_of(rho, m1, m2, m1r, m2r, big_r)
         if rho0 == math.inf:
             diss += m1r * abs(yv - last)
         else:
-            diss += gk._q(rho, m1r, m2r, kind, big_r, p1, p2, tab) - gk._q(
-                rho0, m1r, m2r, kind, big_r, p1, p2, tab
-            )
+            diss += q_rho - q0
     else:
         if top > n_t:
             e, m1o, p = last, p_m1, p_p
-            if n_t >= stack.shape[0]:
-                stack = gk._grow(stack)
-            stack[n_t, 0] = last
+            stack[n_t, 0] = last  # room made by the caller
             stack[n_t, 1] = p_out
             stack[n_t, 2] = p_m1
             stack[n_t, 3] = p_p
         else:
             e, m1o, p = stack[top - 1, 0], stack[top - 1, 2], stack[top - 1, 3]
         rho = 0.5 * abs(yv - e)
-        m1, _, slope = _prim(kind, big_r, p1, p2, tab, rho, False)
+        m1, m2, slope = _prim(kind, big_r, p1, p2, tab, rho, True)
         force = s * (2.0 * m1 - m1o) + p
-        diss += 2.0 * (
-            gk._q(rho, m1r, m2r, kind, big_r, p1, p2, tab)
-            - gk._q(rho0, m1r, m2r, kind, big_r, p1, p2, tab)
-        )
+        q_rho = _q_of(rho, m1, m2, m1r, m2r, big_r)
+        diss += 2.0 * (q_rho - q0)
     if rho < big_r:
         force += (yv - e) * slope
     else:
         slope = 0.0
-    return force, slope, diss, top, stack
-
-
-@nb.njit(**_JIT)
-def _grow_rev(rev):  # pragma: no cover - compiled
-    new = np.empty((2 * rev.shape[0], 2))
-    new[: rev.shape[0]] = rev
-    return new
+    return force, slope, diss, top, q_rho
 
 
 @nb.njit(**_JIT)
 def run_fused(  # pragma: no cover - compiled
-    m, c1, sigma, head, stack, kind, par, tab, v, last_dir, t0, t_end, n_steps,
+    m, c1, sigma, head, stack, kind, par, tab, mu_max, v, last_dir, t0, t_end, n_steps,
     u_kind, u_t, u_val, u_mid, t_eval,
-    o_y, o_v, o_a, o_fric, o_fel, o_eel, o_dis, o_vis, o_work,
+    o_y, o_v, o_a, o_fric, o_fel, o_eel, o_dis, o_vis, o_work, rev_t, rev_y,
 ):  # fmt: skip
     """n_steps equal implicit steps from t0 to t_end; samples at t_eval (sorted, in range).
 
     ``head``/``stack`` are the working memory (updated in place; the final stack
-    is returned, it may have grown). ``last_dir`` is the trajectory's last
-    direction (0: none), for counting reversals. Samples at t0 get the initial
-    state; their o_a/o_fric are left to the caller. Returns (stack, reversals
-    (n, 2) as rows (time, position), rest_start (nan if moving at the end), v,
-    last_dir, dissipated, work, viscous dissipation).
+    is returned, it may have grown). ``mu_max`` bounds the density dμ/dr (inf
+    for point masses: Newton then runs until it stagnates). ``last_dir`` is the trajectory's last
+    direction (0: none), for counting reversals: their times and positions go
+    to rev_t/rev_y (counted, not recorded, beyond their capacity). Samples at
+    t0 get the initial state; their o_a/o_fric are left to the caller. Returns
+    (stack, n_rev, rest_start (nan if moving at the end), v, last_dir,
+    dissipated, work, viscous dissipation).
+
+    No array is created or reassigned inside the step loop (that would cost
+    reference counting every step): the stack grows between runs of steps.
     """
     big_r, p1, p2 = _unpack(par)
     m1r, m2r, _ = _prim(kind, big_r, p1, p2, tab, big_r, True)
     t_total = _prim(kind, big_r, p1, p2, tab, 0.0, False)[2]  # μ([0, R]): slope after a reversal
     last, d, base, n = head[0], head[1], head[2], int(head[3])
     fel, slope = gk.force_at(last, head, stack, kind, par, tab)
+    q_front = 0.0  # Q(ρ) at the front of the top level (carried from commit to commit)
+    front = abs(last - base) if n == 0 else 0.5 * abs(last - stack[n - 1, 0])
+    if front < math.inf:
+        q_front = gk._q(front, m1r, m2r, kind, big_r, p1, p2, tab)
     n_eval = t_eval.shape[0]
     h = (t_end - t0) / n_steps
     inv_h = 1.0 / h
     m_h = m * inv_h
     mh2 = m_h * inv_h + sigma * inv_h  # m/h² + σ/h
+    # Newton ends after a step Δ whose error bound μ_max/(2·φ')·(1 + μ([0, R])/φ')²·Δ²
+    # (φ' >= m/h² + σ/h) is below rounding: a bounded density, and the same level (φ is
+    # smooth there; a wipe-out is a kink)
+    curv = 0.5 * mu_max / mh2 * (1.0 + t_total / mh2) ** 2
     dis = vis = work = 0.0
-    rev = np.empty((64, 2))
+    cap = rev_t.shape[0]
     n_rev = 0
     rest_start = np.nan
     ptr = 0
     u_blk = np.empty(BLOCK)
     ie = 0
-    if n_eval and t_eval[0] <= t0:
-        eel = gk.elastic_energy(head, stack, kind, par, tab)
-        while ie < n_eval and t_eval[ie] <= t0:
-            ie = _sample(ie, last, v, fel, eel, dis, vis, work, o_y, o_v, o_fel, o_eel, o_dis,
-                         o_vis, o_work)  # fmt: skip
+    while ie < n_eval and t_eval[ie] <= t0:
+        ie = _sample(ie, last, v, fel, _energy(last, d, base, n, stack, kind, par, tab), dis,
+                     vis, work, o_y, o_v, o_fel, o_eel, o_dis, o_vis, o_work)  # fmt: skip
+    i = 0
     t_i = t0
-    for i in range(n_steps):
-        t_next = t0 + (i + 1) * h if i + 1 < n_steps else t_end
-        j_blk = i % BLOCK
-        if j_blk == 0:
-            ptr = fill_applied(u_blk, i, min(BLOCK, n_steps - i), u_kind, u_t, u_val, u_mid, t0,
-                               h, ptr)  # fmt: skip
-        u = u_blk[j_blk]
-        g = m_h * v + u - fel
-        x = 0.0
-        s = 0.0
-        if abs(g) <= c1:  # sticks: the position and the memory stay exactly as they are
-            v_new = 0.0
-            if rest_start != rest_start:
-                rest_start = t_i
-        else:
-            s = 1.0 if g > 0.0 else -1.0
-            b = abs(g) - c1
-            pend = s != d and d != 0.0
+    while i < n_steps:
+        if n >= stack.shape[0]:  # room for the level a reversal opens
+            stack = gk._grow(stack)
+        while i < n_steps:
+            t_next = t0 + (i + 1) * h if i + 1 < n_steps else t_end
+            j_blk = i % BLOCK
+            if j_blk == 0:
+                ptr = fill_applied(u_blk, i, min(BLOCK, n_steps - i), u_kind, u_t, u_val,
+                                   u_mid, t0, h, ptr)  # fmt: skip
+            u = u_blk[j_blk]
+            g = m_h * v + u - fel
+            x = 0.0
+            s = 0.0
+            pend = False
             base_t, n_t, p_out, p_m1, p_p = base, n, 0.0, 0.0, 0.0
-            if pend:
-                base_t, n_t, p_out, p_m1, p_p = gk._reversal_level(
-                    last, d, base, n, stack, kind, big_r, p1, p2, tab
-                )
-            # Newton from the tangent at the start (left of the root: φ is concave and
-            # increasing), safeguarded by the bracket [0, b·h²/m]
-            lo = 0.0
-            hi = b / mh2
-            x = b / (mh2 + (t_total if pend else slope))
-            for _ in range(_MAX_ITER):
-                f_tr, sl = _trial(last + s * x, s, last, base_t, n_t, pend, p_out, p_m1, p_p,
-                                  stack, kind, big_r, p1, p2, tab)  # fmt: skip
-                phi = mh2 * x + s * (f_tr - fel) - b
-                if phi < 0.0:
-                    lo = x
-                elif phi > 0.0:
-                    hi = x
-                else:
-                    break
-                xn = x - phi / (mh2 + sl)
-                if not (xn > lo and xn < hi):  # also catches a NaN
-                    xn = 0.5 * (lo + hi)
-                if xn == x or hi - lo <= 2.0 * _EPS * hi:
-                    break
-                x = xn
-            v_new = s * x * inv_h
-        acc = (v_new - v) * inv_h
-        while ie < n_eval and t_eval[ie] < t_next:  # samples inside the step
-            th = (t_eval[ie] - t_i) * inv_h
-            if x == 0.0:
-                fel_p, eel_p, dpl_p = fel, gk.elastic_energy(_head(last, d, base, n), stack,
-                                                            kind, par, tab), 0.0  # fmt: skip
+            if abs(g) <= c1:  # sticks: the position and the memory stay exactly as they are
+                v_new = 0.0
+                if rest_start != rest_start:
+                    rest_start = t_i
             else:
-                hd = _head(last, d, base, n)
-                st = stack[: n + 2].copy() if stack.shape[0] >= n + 2 else stack.copy()
-                fel_p, _, dpl_p, st = gk.advance_dissipating(last + th * s * x, hd, st, kind,
-                                                              par, tab)  # fmt: skip
-                eel_p = gk.elastic_energy(hd, st, kind, par, tab)
-            o_y[ie] = last + th * s * x
-            o_v[ie] = v + th * (v_new - v)
-            o_a[ie] = acc
-            o_fric[ie] = u - m * acc
-            o_fel[ie] = fel_p
-            o_eel[ie] = eel_p
-            o_dis[ie] = dis + th * c1 * x + dpl_p
-            o_vis[ie] = vis + th * sigma * x * x * inv_h
-            o_work[ie] = work + th * u * s * x
-            ie += 1
-        if x != 0.0:
-            y_new = last + s * x
-            fel, slope, dplastic, n, stack = _commit(
-                y_new, s, last, base, n, base_t, n_t, pend, p_out, p_m1, p_p, stack, kind, big_r,
-                p1, p2, tab, m1r, m2r,
-            )  # fmt: skip
-            base = base_t
-            if s != last_dir:
-                if last_dir != 0.0:
-                    if n_rev == rev.shape[0]:
-                        rev = _grow_rev(rev)
-                    rev[n_rev, 0] = t_i
-                    rev[n_rev, 1] = last
-                    n_rev += 1
-                last_dir = s
-            last = y_new
-            d = s
-            dis += c1 * x + dplastic
-            vis += sigma * x * x * inv_h
-            work += u * s * x
-            rest_start = np.nan
-        v = v_new
-        if ie < n_eval and t_eval[ie] <= t_next:  # samples on the grid point
-            eel = gk.elastic_energy(_head(last, d, base, n), stack, kind, par, tab)
-            while ie < n_eval and t_eval[ie] <= t_next:
+                s = 1.0 if g > 0.0 else -1.0
+                b = abs(g) - c1
+                pend = s != d and d != 0.0
+                if pend:
+                    base_t, n_t, p_out, p_m1, p_p = gk._reversal_level(
+                        last, d, base, n, stack, kind, big_r, p1, p2, tab
+                    )
+                # Newton from the tangent at the start (left of the root: φ is concave and
+                # increasing), safeguarded by the bracket [0, b·h²/m]
+                lo = 0.0
+                hi = b / mh2
+                x = b / (mh2 + (t_total if pend else slope))
+                for _ in range(_MAX_ITER):
+                    f_tr, sl, e_l, out_l = _trial(last + s * x, s, last, base_t, n_t, pend,
+                                                  p_out, p_m1, p_p, stack, kind, big_r, p1, p2,
+                                                  tab)  # fmt: skip
+                    phi = mh2 * x + s * (f_tr - fel) - b
+                    if phi < 0.0:
+                        lo = x
+                    elif phi > 0.0:
+                        hi = x
+                    else:
+                        break
+                    xn = x - phi / (mh2 + sl)
+                    if not (xn > lo and xn < hi):  # also catches a NaN
+                        xn = 0.5 * (lo + hi)
+                    if xn == x or hi - lo <= 2.0 * _EPS * hi:
+                        break
+                    dx = xn - x
+                    x = xn
+                    if (
+                        curv * dx * dx <= 0.25 * _EPS * xn
+                        and 0.5 * abs(last + s * xn - e_l) < out_l
+                    ):
+                        break
+                v_new = s * x * inv_h
+            acc = (v_new - v) * inv_h
+            while ie < n_eval and t_eval[ie] < t_next:  # samples inside the step
+                th = (t_eval[ie] - t_i) * inv_h
+                fel_p, eel_p, dpl_p = _partial(last, d, base, n, stack, kind, par, tab, fel, s,
+                                               th * x)  # fmt: skip
+                o_y[ie] = last + th * s * x
+                o_v[ie] = v + th * (v_new - v)
                 o_a[ie] = acc
                 o_fric[ie] = u - m * acc
-                ie = _sample(ie, last, v, fel, eel, dis, vis, work, o_y, o_v, o_fel, o_eel,
-                             o_dis, o_vis, o_work)  # fmt: skip
-        t_i = t_next
+                o_fel[ie] = fel_p
+                o_eel[ie] = eel_p
+                o_dis[ie] = dis + th * c1 * x + dpl_p
+                o_vis[ie] = vis + th * sigma * x * x * inv_h
+                o_work[ie] = work + th * u * s * x
+                ie += 1
+            if x != 0.0:
+                y_new = last + s * x
+                fel, slope, dplastic, n, q_front = _commit(
+                    y_new, s, last, base, n, base_t, n_t, pend, p_out, p_m1, p_p, q_front, stack,
+                    kind, big_r, p1, p2, tab, m1r, m2r,
+                )  # fmt: skip
+                base = base_t
+                if s != last_dir:
+                    if last_dir != 0.0:
+                        if n_rev < cap:
+                            rev_t[n_rev] = t_i
+                            rev_y[n_rev] = last
+                        n_rev += 1
+                    last_dir = s
+                last = y_new
+                d = s
+                dis += c1 * x + dplastic
+                vis += sigma * x * x * inv_h
+                work += u * s * x
+                rest_start = np.nan
+            v = v_new
+            if ie < n_eval and t_eval[ie] <= t_next:  # samples on the grid point
+                eel = _energy(last, d, base, n, stack, kind, par, tab)
+                while ie < n_eval and t_eval[ie] <= t_next:
+                    o_a[ie] = acc
+                    o_fric[ie] = u - m * acc
+                    ie = _sample(ie, last, v, fel, eel, dis, vis, work, o_y, o_v, o_fel, o_eel,
+                                 o_dis, o_vis, o_work)  # fmt: skip
+            t_i = t_next
+            i += 1
+            if n >= stack.shape[0]:
+                break
     head[0], head[1], head[2], head[3] = last, d, base, n
-    return stack, rev[:n_rev].copy(), rest_start, v, last_dir, dis, work, vis
+    return stack, n_rev, rest_start, v, last_dir, dis, work, vis
 
 
 @nb.njit(**_JIT)
-def _head(last, d, base, n):  # pragma: no cover - compiled
+def _energy(last, d, base, n, stack, kind, par, tab):  # pragma: no cover - compiled
+    """½∫ f² dμ of the memory held in the loop's local variables."""
     hd = np.empty(4)
     hd[0], hd[1], hd[2], hd[3] = last, d, base, n
-    return hd
+    return gk.elastic_energy(hd, stack, kind, par, tab)
+
+
+@nb.njit(**_JIT)
+def _partial(last, d, base, n, stack, kind, par, tab, fel, s, x):  # pragma: no cover
+    """F_el, ½∫ f² dμ and the stops' dissipation after moving x in direction s (a copy)."""
+    if x == 0.0:
+        return fel, _energy(last, d, base, n, stack, kind, par, tab), 0.0
+    hd = np.empty(4)
+    hd[0], hd[1], hd[2], hd[3] = last, d, base, n
+    st = stack.copy()
+    force, _, diss, st = gk.advance_dissipating(last + s * x, hd, st, kind, par, tab)
+    return force, gk.elastic_energy(hd, st, kind, par, tab), diss
 
 
 @nb.njit(**_JIT)

@@ -43,6 +43,7 @@ from numpy.typing import NDArray
 
 from presliding._validation import fmt
 from presliding.hysteresis import _general_pi as gk
+from presliding.hysteresis._density_primitives import EXPONENTIAL, PIECEWISE, TABULATED, UNIFORM
 from presliding.hysteresis.general_pi import MemoryState
 from presliding.hysteresis.operators import PIState
 from presliding.motion._density_loop import run_fused
@@ -87,6 +88,18 @@ def initial_memory(
     )
 
 
+def density_bound(density: Any) -> float:
+    """An upper bound of dμ/dr (inf for point masses), for the end of the Newton steps."""
+    kind, par, tab = density._kind, density._par, density._tab
+    if kind in (UNIFORM, EXPONENTIAL):
+        return float(par[1])
+    if kind == PIECEWISE:
+        return float(np.max(tab[1, : tab.shape[1] - 1]))
+    if kind == TABULATED:
+        return 2.0 * float(np.max(np.abs(tab[1])))  # with room for the cubic interpolation
+    return np.inf
+
+
 def run(
     density: Any,
     c1: float,
@@ -108,18 +121,27 @@ def run(
     `Density`, a `Discrete` one included (it then reproduces the finite-element
     stepper of `_implicit_loop` to rounding).
     """
-    from presliding.motion._run import start_implicit_samples
+    from presliding.motion._run import REVERSAL_CAPACITY, start_implicit_samples
 
     u_kind, u_t, u_val, u_mid = forcing.loop_form(t0, t_end, n_steps)
     kind, par, tab = density._kind, density._par, density._tab
     head, stack = state.working_memory(density)
     e0 = 0.5 * m * v0 * v0 + float(gk.elastic_energy(head, stack, kind, par, tab))
     fel0 = float(gk.force_at(head[0], head, stack, kind, par, tab)[0])
-    o = [np.empty(times.shape[0]) for _ in range(9)]
-    stack, rev, stop, v, d, _, _, _ = run_fused(
-        m, c1, sigma, head, stack, kind, par, tab, v0, last_dir, t0, t_end, n_steps,
-        u_kind, u_t, u_val, u_mid, times, *o,
-    )  # fmt: skip
+    cap = REVERSAL_CAPACITY
+    head0, stack0 = head, stack
+    while True:  # again with room for every reversal if there were more (rare)
+        head, stack = head0.copy(), stack0.copy()
+        o = [np.empty(times.shape[0]) for _ in range(9)]
+        rev = np.empty((2, cap))
+        stack, n_rev, stop, v, d, _, _, _ = run_fused(
+            m, c1, sigma, head, stack, kind, par, tab, density_bound(density), v0, last_dir, t0,
+            t_end, n_steps,
+            u_kind, u_t, u_val, u_mid, times, *o, rev[0], rev[1],
+        )  # fmt: skip
+        if n_rev <= cap:
+            break
+        cap = n_rev
     y_o, v_o, a_o, fric_o, fel_o, eel_o, dis_o, vis_o, work_o = o
     applied = forcing(times)
     start_implicit_samples(times, t0, a_o, fric_o, applied, m, c1, fel0, v0, sigma)
@@ -129,8 +151,8 @@ def run(
         "n": times.shape[0], "time": times, "position": y_o, "velocity": v_o,
         "acceleration": a_o, "elastic": fel_o, "applied": applied, "friction": fric_o,
         "e_el": eel_o, "dissipated": dis_o, "viscous": vis_o, "work": work_o,
-        "rev_t": rev[:, 0].copy(), "rev_y": rev[:, 1].copy(), "stop": stop, "y": y, "v": v,
-        "dir": d, "count": n_steps, "status": 0, "e0": e0,
+        "rev_t": rev[0, :n_rev].copy(), "rev_y": rev[1, :n_rev].copy(), "stop": stop, "y": y,
+        "v": v, "dir": d, "count": n_steps, "status": 0, "e0": e0,
         "final_state": MemoryState.from_working_memory(head, stack),
         "message": f"{n_steps} implicit steps of {h:.3g} (exact continuous operator)",
     }  # fmt: skip
