@@ -53,11 +53,15 @@ class Forcing:
         if self.kind == "constant":
             return np.array([t_start]), self.values.copy()
         i0 = int(np.searchsorted(self.times, t_start, side="right")) - 1
-        inside = (self.times > t_start) & (self.times < t_end)
-        t = np.concatenate(([t_start], self.times[inside]))
-        val = np.concatenate((self.values[i0 : i0 + 1], self.values[inside]))
-        keep = np.concatenate(([True], val[1:] != val[:-1]))
-        return np.ascontiguousarray(t[keep]), np.ascontiguousarray(val[keep])
+        i1 = int(np.searchsorted(self.times, t_end, side="left"))
+        t = self.times[i0:i1].copy()
+        t[0] = t_start
+        val = self.values[i0:i1]
+        same = val[1:] == val[:-1]
+        if same.any():
+            keep = np.concatenate(([True], ~same))
+            return np.ascontiguousarray(t[keep]), np.ascontiguousarray(val[keep])
+        return t, np.ascontiguousarray(val)
 
     def loop_form(
         self, t0: float, t_end: float, n_steps: int

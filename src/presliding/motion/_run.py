@@ -235,7 +235,9 @@ def run_event(
     else:
         piece = None
     n_out = t_eval.shape[0]
-    cap = REVERSAL_CAPACITY
+    # room for a reversal per piece of u (pages are touched only when written); more
+    # reversals than that run the kernel again with room for all of them (rare)
+    cap = max(REVERSAL_CAPACITY, 2 * u_t.shape[0])
     while True:
         f = f_start.copy()
         o = _buffers(n_out, 9)
