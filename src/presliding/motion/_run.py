@@ -181,6 +181,55 @@ def step_count(t0: float, t_end: float, step: Any) -> int:
     return max(int(n), 1)
 
 
+def accuracy_target(rtol: Any, atol: Any) -> tuple[float, float] | None:
+    """(rtol, atol) of an accuracy target of the implicit method, or None without one."""
+    from presliding._validation import as_nonnegative_scalar
+
+    a = as_nonnegative_scalar("atol", atol)
+    if rtol is None and a == 0.0:
+        return None
+    r = 0.0 if rtol is None else as_nonnegative_scalar("rtol", rtol)
+    if r == 0.0 and a == 0.0:
+        raise ValueError("`rtol` or `atol` must be positive for an accuracy target; got 0.0.")
+    return r, a
+
+
+def refine(run: Any, t0: float, t_end: float, n_steps: int, rtol: float, atol: float) -> Any:
+    """Halve the implicit step until the step-doubling error estimate meets the target.
+
+    ``run(h)`` simulates with the step h. With the first-order scheme the error of
+    the finer of two runs is about their difference; the finer run is returned,
+    with the estimate (positions at the samples) and how the step was chosen.
+    """
+    from dataclasses import replace
+
+    coarse = run((t_end - t0) / n_steps)
+    while True:
+        if 2 * n_steps > MAX_STEPS:
+            fine = coarse
+            err = np.inf
+            met = False
+            break
+        n_steps *= 2
+        fine = run((t_end - t0) / n_steps)
+        err = float(np.max(np.abs(fine.position - coarse.position), initial=0.0))
+        err = max(err, abs(fine.final_state.last_input - coarse.final_state.last_input))
+        scale = float(np.max(np.abs(fine.position - fine.position[0]), initial=0.0))
+        goal = atol + rtol * scale
+        met = err <= goal
+        if met:
+            break
+        coarse = fine
+    h = (t_end - t0) / n_steps
+    if met:
+        message = (f"{n_steps} implicit steps of {h:.3g}, chosen by step doubling for an "
+                   f"estimated position error {err:.3g} <= {goal:.3g}")  # fmt: skip
+        return replace(fine, message=message, error_estimate=err)
+    message = (f"the accuracy target was not met within {MAX_STEPS:.0e} steps: {n_steps} "
+               f"steps of {h:.3g}")  # fmt: skip
+    return replace(fine, status=-2, message=message, error_estimate=err)
+
+
 def check_energy(m: float, v0: float, e0: float) -> None:
     """The initial energy is finite (½·m·v0² and the elastic energy)."""
     if not np.isfinite(0.5 * m * v0 * v0):

@@ -94,6 +94,10 @@ class MotionResult:
         "event" or "implicit".
     n_events : int
         Events (event method) or steps (implicit method).
+    error_estimate : float or None
+        Implicit method with an accuracy target (`rtol`/`atol` of `simulate`):
+        the step-doubling estimate of the largest position error at the samples
+        [m]; None otherwise.
     """
 
     time: FloatArray
@@ -116,6 +120,7 @@ class MotionResult:
     n_events: int
     mass: float
     model: Any
+    error_estimate: float | None = None
 
     @property
     def success(self) -> bool:
@@ -148,6 +153,8 @@ class MotionResult:
             lines.append(
                 f"  stops at t = {self.stop_time:.12g} s at position {self.rest_position:.12g} m"
             )
+        if self.error_estimate is not None:
+            lines.append(f"  position error estimate (step doubling): {self.error_estimate:.3g} m")
         lines.append(f"  reversals: {self.n_reversals}")
         for t, y in zip(self.reversal_times[:10], self.reversal_positions[:10], strict=True):
             lines.append(f"    t = {t:.12g} s  y = {y:.12g} m")

@@ -81,6 +81,8 @@ def simulate(
     *,
     t_start: float = 0.0,
     max_events: int = 10_000_000,
+    rtol: float | None = None,
+    atol: float = 0.0,
 ) -> MotionResult:
     """Simulate m·ÿ + c1·Sign(ẏ) + σ·ẏ + F_el(y) ∋ u(t) (eq. 17) with exact stiction.
 
@@ -122,6 +124,14 @@ def simulate(
         start at or before it.
     max_events : int, keyword only
         Event limit of the event method (status -1 when reached).
+    rtol, atol : float, keyword only
+        Accuracy target of the implicit method: when `rtol` is given (or `atol`
+        > 0) the step is halved, from `step` (default (t_end − t_start)/10⁴),
+        until the step-doubling estimate max|y_h − y_h/2| of the position
+        error at the samples is at most atol + rtol·max|y − y0| [m]; the result
+        carries the estimate as ``error_estimate`` (and says so in its
+        message). The scheme is first order, so each halving about halves the
+        error; the step count is limited as for `step`.
 
     Returns
     -------
@@ -154,6 +164,7 @@ def simulate(
     t_end, times = _run.time_grid(t0, t_end, t_eval)
     max_events = as_count("max_events", max_events, minimum=1)
     step = None if step is None else as_positive_scalar("step", step)
+    target = _run.accuracy_target(rtol, atol)
     if method == "event" and not model.is_discrete:
         raise ValueError(
             "`method` 'event' needs a finite-element model (the closed-form pieces need "
@@ -168,6 +179,12 @@ def simulate(
             f"samples with hold={'zoh'!r}); got a {forcing.kind} force with hold={forcing.hold!r}."
         )
     n_steps = _run.step_count(t0, t_end, step) if method == "implicit" else 0
+    if target is not None and method == "implicit":
+        kw = dict(applied_force=applied_force, initial_position=initial_position,
+                  initial_velocity=initial_velocity, initial_state=initial_state, t_end=t_end,
+                  t_eval=times, method="implicit", hold=hold, t_start=t_start)  # fmt: skip
+        return _run.refine(lambda h: simulate(model, mass, step=h, **kw), t0, t_end, n_steps,
+                           *target)  # fmt: skip
     u0 = float(forcing(np.array([t0]))[0])
     sigma = float(model.viscous)
     traj_dir = float(np.sign(v0))  # a start from rest is never a reversal
