@@ -54,6 +54,11 @@ def time_grid(t0: float, t_end: Any, t_eval: Any) -> tuple[float, FloatArray]:
     t_end = as_real_scalar("t_end", t_end)
     if not t_end > t0:
         raise ValueError(f"`t_end` must be greater than `t_start` = {fmt(t0)}; got {fmt(t_end)}.")
+    if not np.isfinite(t_end - t0):
+        raise ValueError(
+            f"`t_end` − `t_start` must be finite; got {fmt(t_end)} − {fmt(t0)} (beyond the "
+            "floating-point range)."
+        )
     if times is None:
         return t_end, np.linspace(t0, t_end, 1001)
     if times[0] < t0 or times[-1] > t_end:
@@ -162,12 +167,7 @@ def initial_acceleration(
 
 def step_count(t0: float, t_end: float, step: Any) -> int:
     """Number of equal implicit steps of at most `step` over [t0, t_end], within limits."""
-    span = t_end - t0
-    if not np.isfinite(span):
-        raise ValueError(
-            f"`t_end` − `t_start` must be finite; got {fmt(t_end)} − {fmt(t0)} (beyond the "
-            "floating-point range)."
-        )
+    span = t_end - t0  # finite (`time_grid`)
     if step is None:
         return DEFAULT_STEPS
     h = as_positive_scalar("step", step)

@@ -17,6 +17,7 @@ from presliding._validation import (
     as_nonnegative_scalar,
     as_positive_scalar,
     as_real_scalar,
+    check_size,
 )
 from presliding.friction.pi_friction import PIFriction
 from presliding.motion import _batch_events as _batch
@@ -221,6 +222,8 @@ def free_response(
     y0 = as_real_scalar("initial_position", initial_position)
     dt = as_positive_scalar("time_step", time_step)
     n_t = as_count("n_samples", n_samples, minimum=1)
+    # position, velocity, sample times and the kernel's six scratch rows
+    check_size("n_samples", n_samples, n_t, what="samples", item_bytes=9 * 8)
     u = as_real_scalar("applied_force", applied_force)
     sigma = as_nonnegative_scalar("viscous", viscous)
     limit = as_count("max_events", max_events, minimum=1)
