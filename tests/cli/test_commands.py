@@ -147,7 +147,9 @@ def test_simulate_hold_linear_meets_its_accuracy_target(tmp_path, model_file, ca
     t = np.array([0.0, 0.03, 0.06, 0.09, 0.12])
     u = np.array([1.2, -0.5, 0.8, 0.0, 0.3])
     force = tmp_path / "u.csv"
-    force.write_text("time [s],value [N]\n" + "".join(f"{a},{b}\n" for a, b in zip(t, u)))
+    force.write_text(
+        "time [s],value [N]\n" + "".join(f"{a},{b}\n" for a, b in zip(t, u, strict=True))
+    )
     out = tmp_path / "out.csv"
     assert main(["simulate", str(model_file), "--applied-force", str(force), "--hold", "linear",
                  "-o", str(out)]) == 0  # fmt: skip
