@@ -266,3 +266,15 @@ def _grid_sample(k, f, y, v, dis, vis, work, ie, t, t_eval, o_y, o_v, o_fel, o_e
         o_work[ie] = work
         ie += 1
     return ie
+
+
+@nb.njit(cache=True)
+def energy_terms(m, e0, v, e_el, dis, vis, work):  # pragma: no cover - compiled
+    """Kinetic energy ½·m·v² and the balance residual kinetic + elastic + dissipated +
+    viscous − work − e0 of the samples, in one pass."""
+    kinetic = np.empty(v.shape[0])
+    residual = np.empty(v.shape[0])
+    for i in range(v.shape[0]):
+        kinetic[i] = 0.5 * m * (v[i] * v[i])
+        residual[i] = kinetic[i] + e_el[i] + dis[i] + vis[i] - work[i] - e0
+    return kinetic, residual

@@ -92,8 +92,9 @@ def simulate_batch(
     Returns
     -------
     MotionBatch
-        Positions and velocities (B, T), stop times, reversal counts and a
-        status per member.
+        Positions and velocities (B, T), stop times, reversal counts (sign
+        changes of the velocity; a start from rest is not one) and a status
+        per member.
 
     Examples
     --------
@@ -206,7 +207,8 @@ def free_response(
     -------
     FreeResponse
         ``time``, ``position``, ``velocity`` (n_samples,), ``stop_time``,
-        ``n_reversals``, ``status``, ``message`` and ``success``; check
+        ``n_reversals`` (sign changes of the velocity, as in `simulate`),
+        ``status``, ``message`` and ``success``; check
         ``success`` (or ``status``) before using the samples.
 
     Examples

@@ -74,8 +74,9 @@ class MotionResult:
     applied_force : ndarray, shape (T,)
         u at the sample times [N].
     reversal_times, reversal_positions : ndarray
-        Where a new motion phase starts opposite to the previous one (the turning
-        points; for the implicit method, to the step).
+        Where the velocity changes sign: a new motion phase opposite to the
+        previous one (the turning points; for the implicit method, to the step).
+        A start from rest is not a reversal.
     stop_time : float or None
         Start of the rest lasting until the end (see the module notes); None if the
         mass moves at the end.

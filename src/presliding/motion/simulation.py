@@ -24,6 +24,24 @@ paper's assumption (i)). Two methods:
 
 ``"auto"`` picks "event" whenever it applies.
 
+Reversals. A reversal is a change of sign of the trajectory's velocity: the
+mass moved one way, and now moves the other way (through a stop or not). A
+start from rest is never a reversal, whatever direction the friction memory
+remembers; ``reversal_times`` are the turning points, as in
+`presliding.analysis.turning_points`, `simulate_batch` and `free_response`.
+
+Implicit steps. The step sequence depends only on t_start, t_end and `step`
+(equal steps), never on `t_eval`: samples between two steps are read off the
+step that contains them (see `presliding.motion._implicit_loop`).
+
+Continuation. The `final_state` of an event run remembers (privately) the
+exact deformations and the closed-form piece in progress: a run started from
+it at ``t_start`` = the first run's ``t_end``, with ``initial_position`` =
+``final_state.last_input``, ``initial_velocity`` = ``final_velocity`` and the
+same model, mass and applied force, reproduces the whole run bit for bit.
+A given memory is used as it is (nothing is snapped to the thresholds), so a
+mass that never moves returns its initial memory unchanged.
+
 Stop. The mass *stops* when its velocity vanishes while |u − F_el| <= c1. For
 free motion (u constant) it then stays exactly at rest forever after:
 nothing changes any more, so the simulation ends there and the remaining
@@ -47,6 +65,7 @@ from presliding.friction.pi_friction import PIFriction
 from presliding.hysteresis.general_pi import MemoryState
 from presliding.hysteresis.operators import PIState
 from presliding.motion import _implicit_density as _density
+from presliding.motion import _implicit_loop as _loop
 from presliding.motion import _run
 from presliding.motion._forcing import as_forcing
 from presliding.motion.batch import free_response, simulate_batch
@@ -116,8 +135,8 @@ def simulate(
     hold : "zoh" or "linear"
         How samples of u are held between sample times.
     step : float, optional
-        Largest step of the implicit method; default (t_end − t_start)/10⁴.
-        The grid contains every sample time.
+        Largest step of the implicit method; the span is divided into equal
+        steps no longer than it (default 10⁴ steps), independent of `t_eval`.
     t_start : float, keyword only
         Start time [s] (default 0): the initial conditions hold at t_start, the
         motion is solved on [t_start, t_end] and a sampled `applied_force` must
@@ -228,12 +247,9 @@ def simulate(
 
 def _result(out: dict, m: float, e0: float, final_state: Any, method: str, model: PIFriction):
     """The MotionResult of a run's outputs (energies assembled here, O(samples))."""
-    kinetic = 0.5 * m * out["velocity"] ** 2
-    residual = kinetic + out["e_el"]
-    residual += out["dissipated"]
-    residual += out["viscous"]
-    residual -= out["work"]
-    residual -= e0
+    kinetic, residual = _loop.energy_terms(
+        m, e0, out["velocity"], out["e_el"], out["dissipated"], out["viscous"], out["work"]
+    )
     energy = MotionEnergy(
         kinetic=kinetic,
         elastic=out["e_el"],
