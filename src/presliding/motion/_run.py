@@ -103,7 +103,9 @@ def continuation_of(state: Any, model: PIFriction, m: float, y0: float, v0: floa
 def initial_deformation(
     model: PIFriction, initial_state: Any, y0: float, v0: float, u0: float
 ) -> tuple[FloatArray, float]:
-    """Element deformations f_j = y − x_j at the start and the memory's direction.
+    """Element deformations f_j = y − x_j at the start, and the direction of the last
+    motion (of the velocity, else the memory's): the memory's direction at the end
+    when the mass never moves.
 
     Nothing is snapped to the thresholds: a memory within rounding of
     saturation stays as given (the kernels treat |f_j| >= r_j as saturated), so a
@@ -133,7 +135,7 @@ def initial_deformation(
             f"{fmt(initial_state.last_input)} and {fmt(y0)}."
         )
     f = np.ascontiguousarray(initial_state.last_input - initial_state.play)
-    return f, initial_state.direction
+    return f, vdir if vdir != 0 else initial_state.direction
 
 
 def final_state(y: float, f: FloatArray, direction: float, initial_state: Any, y0: float,
