@@ -20,6 +20,7 @@ SIZES = {
     "reversals.png": (792, 528),
     "density.png": (1650, 506),
     "identification.png": (1452, 528),
+    "hunting.png": (1210, 484),
 }
 
 
