@@ -86,7 +86,9 @@ def paired(fa, fb, repeats: int) -> tuple[list[float], list[float]]:
 
 
 # ---------------------------------------------------------------------- 2. simulate overhead
-def implicit_overhead(repeats: int) -> None:
+def implicit_overhead(repeats: int) -> list[tuple]:
+    """(samples, simulate runs, loop runs, loop-with-fresh-buffers runs) for 1001 and every step."""
+    out = []
     model = ps.PIFriction(coulomb=C1, stiffness=K, threshold=R)
     n, t_end = 1_000_000, 10.0
     ts = np.linspace(0.0, t_end, 2001)
@@ -111,13 +113,17 @@ def implicit_overhead(repeats: int) -> None:
 
         s, k = paired(whole, kernel, repeats)
         _, f = paired(whole, fresh, repeats)
+        out.append((n_out, s, k, f))
         target = 1.3 if n_out == 1001 else 2.0
         print(f"2. implicit, 1e6 steps, {n_out} samples: simulate {span(s, 1e9 / n)} ns/step, "
               f"loop {span(k, 1e9 / n)}; simulate/loop {ratio(s, k)}, /loop with fresh buffers "
               f"{ratio(s, f)}  (target <= {target}x)")  # fmt: skip
+    return out
 
 
-def event_overhead(repeats: int) -> None:
+def event_overhead(repeats: int) -> list[tuple]:
+    """(samples, simulate runs, loop runs, fresh-buffer loop runs): 1001 and every piece."""
+    out = []
     model = ps.PIFriction(coulomb=C1, stiffness=K, threshold=R)
     n = 1_000_000
     t_u = np.arange(n) * 1e-5
@@ -143,10 +149,12 @@ def event_overhead(repeats: int) -> None:
 
         s, k = paired(whole, kernel, repeats)
         _, f = paired(whole, fresh, repeats)
+        out.append((n_out, s, k, f))
         target = 1.3 if n_out == 1001 else 2.0
         print(f"2. event, 1e6 pieces of u ({res.n_events} events), {n_out} samples: simulate "
               f"{span(s, 1e3)} ms, loop {span(k, 1e3)}; simulate/loop {ratio(s, k)}, /loop with "
               f"fresh buffers {ratio(s, f)}  (target <= {target}x)")  # fmt: skip
+    return out
 
 
 # ---------------------------------------------------------------------- 5. density stepper
@@ -187,7 +195,9 @@ def straightforward_density(m, c1, head, stack, kind, par, tab, u, h):  # pragma
     return head[0]
 
 
-def density(repeats: int) -> None:
+def density(repeats: int) -> list[tuple]:
+    """(name, simulate runs, straightforward runs, steps) for a uniform and an exponential μ."""
+    out = []
     n, t_end = 200_000, 20.0
     h = t_end / n
     densities = (("uniform", ps.Uniform(2.0, 1.0)), ("exponential", ps.Exponential(3.0, 0.4)))
@@ -208,10 +218,12 @@ def density(repeats: int) -> None:
                                     dens._tab, u_mid, h)  # fmt: skip
 
         s, b = paired(whole, straight, repeats)
+        out.append((name, s, b, n))
         res = ps.simulate(model, 1.0, (ts, us), hold="linear", t_eval=t_eval, step=h)
         print(f"5. density stepper, {name}: simulate {span(s, 1e9 / n)} ns/step; the "
               f"straightforward stepper {span(b, 1e9 / n)} ns/step; speed-up {ratio(b, s)} "
               f"({res.n_reversals} reversals; target <= 150 ns/step)")  # fmt: skip
+    return out
 
 
 # ---------------------------------------------------------------------- viscous energy record
