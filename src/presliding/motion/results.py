@@ -3,7 +3,7 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -121,7 +121,7 @@ class MotionResult:
     n_events: int
     mass: float
     model: Any
-    error_estimate: float | None = None
+    error_estimate: float | None = field(default=None, kw_only=True)
 
     @property
     def success(self) -> bool:
