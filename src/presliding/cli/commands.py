@@ -164,8 +164,7 @@ def _build_parser() -> argparse.ArgumentParser:
         type=float,
         default=None,
         metavar="SECONDS",
-        help="largest step of the implicit method (default: chosen by step doubling for "
-        "--rtol)",
+        help="largest step of the implicit method (default: chosen by step doubling for --rtol)",
     )
     simulate.add_argument(
         "--rtol",

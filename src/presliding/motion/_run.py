@@ -307,7 +307,8 @@ def run_event(
             arr -= arr[0]
         if t_eval is not times:
             y_o, v_o, a_o, fel_o, u_o, eel_o, dis_o, vis_o, work_o = (
-                b[1:] for b in (y_o, v_o, a_o, fel_o, u_o, eel_o, dis_o, vis_o, work_o))
+                b[1:] for b in (y_o, v_o, a_o, fel_o, u_o, eel_o, dis_o, vis_o, work_o)
+            )
             n -= 1
     message = (
         "the motion was solved exactly"
