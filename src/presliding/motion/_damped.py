@@ -306,6 +306,49 @@ def square_integral(v0, a0, gam, w0sq, h):  # pragma: no cover - compiled
 
 
 @nb.njit(**_JIT)
+def state_square(v0, a0, gam, w0sq, t):  # pragma: no cover - compiled
+    """`state` and `square_integral` at once: (d, v, a, ∫_0^t v²).
+
+    Where both are in closed form and under-damped, the square integral reuses
+    the exponential and the sine and cosine of the state (e^{−2γt} = e², the
+    double angle), so a sample with the viscous loss costs little more than
+    one without; elsewhere the two functions are called.
+    """
+    eta = gam * gam - w0sq
+    if t > 0.0 and eta < 0.0:
+        wd = math.sqrt(-eta)
+        if 2.0 * wd * t > 1.0 and 2.0 * wd > 0.5 * gam:
+            # basis() in its under-damped closed form (the series cannot apply: w0·t > 1/2)
+            em1 = math.expm1(-gam * t)
+            e = 1.0 + em1
+            th = wd * t
+            s1 = math.sin(th)
+            cs = math.cos(th)
+            sn = s1 / wd
+            half = s1 * s1 / (1.0 + cs) if cs > 0.0 else 1.0 - cs
+            g = e * sn
+            c = e * (cs + gam * sn)
+            q = (half - em1 * cs - gam * e * sn) / w0sq
+            d = v0 * (g + 2.0 * gam * q) + a0 * q
+            v = v0 * c + a0 * g
+            a = a0 * (c - 2.0 * gam * g) - v0 * w0sq * g
+            # square_integral() in its under-damped closed form, from the same values
+            beta = 2.0 * gam
+            b = (gam * v0 + a0) / wd
+            ee = -(em1 * (em1 + 2.0)) / beta  # −expm1(−2γt)/(2γ)
+            ex = e * e
+            re = ex * (cs * cs - s1 * s1) - 1.0
+            im = ex * (2.0 * s1 * cs)
+            den = beta * beta + 4.0 * wd * wd
+            rc = (-beta * re + 2.0 * wd * im) / den
+            rs = (-beta * im - 2.0 * wd * re) / den
+            sq = 0.5 * (v0 * v0 + b * b) * ee + 0.5 * (v0 - b) * (v0 + b) * rc + v0 * b * rs
+            return d, v, a, sq
+    d, v, a = state(v0, a0, gam, w0sq, t)
+    return d, v, a, square_integral(v0, a0, gam, w0sq, t)
+
+
+@nb.njit(**_JIT)
 def velocity_square_integral(v0, a0, gam, w0sq, ta, tb):  # pragma: no cover - compiled
     """∫_ta^tb v(s)² ds of one damped piece (times since its start), in closed form.
 

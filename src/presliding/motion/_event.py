@@ -226,10 +226,13 @@ def run_events(  # pragma: no cover - compiled
         dfric = c1 + csl
         while ie < n_eval and (t_eval[ie] < t1 or (kind == 3 and t_eval[ie] <= t1)):
             tau = t_eval[ie] - t
+            sq = 0.0
             if sigma == 0.0:
                 d, vv, aa = closed_form(v, a0, w, tau)
-            else:
+            elif o_vis is None:
                 d, vv, aa = _damped.state(v, a0, gam, w, tau)
+            else:  # with σ·∫v² since the start of the piece, in closed form
+                d, vv, aa, sq = _damped.state_square(v, a0, gam, w, tau)
             o_y[ie] = y + d
             o_v[ie] = vv
             o_a[ie] = aa
@@ -238,10 +241,7 @@ def run_events(  # pragma: no cover - compiled
             o_eel[ie] = 0.5 * (eel + 2.0 * d * pel + kk * d * d)
             o_dis[ie] = dis + dfric * s * d
             if o_vis is not None:
-                # σ·∫v² since the start of the piece, in closed form
-                o_vis[ie] = vis
-                if sigma > 0.0:
-                    o_vis[ie] += sigma * _damped.square_integral(v, a0, gam, w, tau)
+                o_vis[ie] = vis + sigma * sq
             o_work[ie] = work + u * d
             ie += 1
         if o_vis is not None and sigma > 0.0:
