@@ -121,7 +121,12 @@ def run(
     `Density`, a `Discrete` one included (it then reproduces the finite-element
     stepper of `_implicit_loop` to rounding).
     """
-    from presliding.motion._run import REVERSAL_CAPACITY, start_implicit_samples
+    from presliding.motion._run import (
+        REVERSAL_CAPACITY,
+        applied_force_at,
+        motion_overflow,
+        start_implicit_samples,
+    )
 
     u_kind, u_t, u_val, u_mid = forcing.loop_form(t0, t_end, n_steps)
     kind, par, tab = density._kind, density._par, density._tab
@@ -143,16 +148,18 @@ def run(
             break
         cap = n_rev
     y_o, v_o, a_o, fric_o, fel_o, eel_o, dis_o, vis_o, work_o = o
-    applied = forcing(times)
+    applied = applied_force_at(forcing, u_kind, u_t, u_val, times)
     start_implicit_samples(times, t0, a_o, fric_o, applied, m, c1, fel0, v0, sigma)
     y = float(head[0])
+    if not (np.isfinite(y) and np.isfinite(v)):
+        motion_overflow(t_end)
     h = (t_end - t0) / n_steps
     return {
         "n": times.shape[0], "time": times, "position": y_o, "velocity": v_o,
         "acceleration": a_o, "elastic": fel_o, "applied": applied, "friction": fric_o,
         "e_el": eel_o, "dissipated": dis_o, "viscous": vis_o, "work": work_o,
         "rev_t": rev[0, :n_rev].copy(), "rev_y": rev[1, :n_rev].copy(), "stop": stop, "y": y,
-        "v": v, "dir": d, "count": n_steps, "status": 0, "e0": e0,
+        "v": v, "dir": d, "count": n_steps, "status": 0, "e0": e0, "t_end": t_end,
         "final_state": MemoryState.from_working_memory(head, stack),
         "message": f"{n_steps} implicit steps of {h:.3g} (exact continuous operator)",
     }  # fmt: skip

@@ -269,12 +269,34 @@ def _grid_sample(k, f, y, v, dis, vis, work, ie, t, t_eval, o_y, o_v, o_fel, o_e
 
 
 @nb.njit(cache=True)
-def energy_terms(m, e0, v, e_el, dis, vis, work):  # pragma: no cover - compiled
+def energy_terms(m, e0, y, v, e_el, dis, vis, work):  # pragma: no cover - compiled
     """Kinetic energy ½·m·v² and the balance residual kinetic + elastic + dissipated +
-    viscous − work − e0 of the samples, in one pass."""
+    viscous − work − e0 of the samples, in one pass; and whether the positions,
+    velocities and residuals are all finite."""
     kinetic = np.empty(v.shape[0])
     residual = np.empty(v.shape[0])
+    finite = True
     for i in range(v.shape[0]):
         kinetic[i] = 0.5 * m * (v[i] * v[i])
         residual[i] = kinetic[i] + e_el[i] + dis[i] + vis[i] - work[i] - e0
-    return kinetic, residual
+        finite &= np.isfinite(y[i] + residual[i])
+    return kinetic, residual, finite
+
+
+@nb.njit(cache=True)
+def applied_at_times(u_kind, u_t, u_val, t, out):  # pragma: no cover - compiled
+    """out[i] = u(t[i]) for a constant or sampled u (t increasing), as `Forcing.__call__`."""
+    ptr = 0
+    n = u_t.shape[0]
+    for i in range(t.shape[0]):
+        if u_kind == U_CONSTANT:
+            out[i] = u_val[0]
+            continue
+        ti = t[i]
+        while ptr + 1 < n and u_t[ptr + 1] <= ti:
+            ptr += 1
+        if u_kind == U_ZOH or ptr + 1 >= n or ti < u_t[ptr]:
+            out[i] = u_val[ptr]
+        else:
+            t_a = u_t[ptr]
+            out[i] = (u_val[ptr + 1] - u_val[ptr]) / (u_t[ptr + 1] - t_a) * (ti - t_a) + u_val[ptr]

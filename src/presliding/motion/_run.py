@@ -243,15 +243,11 @@ def check_energy(m: float, v0: float, e0: float) -> None:
         raise ValueError(f"`initial_state` must store a finite elastic energy; got {fmt(e0)}.")
 
 
-def check_finite_motion(out: dict, t0: float, t_end: float) -> None:
-    """The motion stayed in the floating-point range; else name the arguments that set it."""
-    last = (out["y"], out["v"])
-    if np.isfinite(last).all() and np.isfinite(out["position"]).all() and np.isfinite(
-            out["velocity"]).all():  # fmt: skip
-        return
+def motion_overflow(t_end: float) -> None:
+    """Raise: the motion left the floating-point range; name the arguments that set it."""
     raise ValueError(
-        f"`t_end` must keep the motion in the floating-point range; got {fmt(t_end)} (from "
-        f"`t_start` = {fmt(t0)}): the position or velocity overflows before it (a shorter "
+        f"`t_end` must keep the motion in the floating-point range; got {fmt(t_end)}: the "
+        "position, velocity or energy overflows before it (a shorter "
         "`t_end`, a smaller `applied_force` or `initial_velocity`, or units that keep the "
         "values moderate)."
     )
@@ -362,7 +358,7 @@ def run_implicit(
             break
         cap = n_rev
     y_o, v_o, a_o, fric_o, fel_o, eel_o, dis_o, vis_o, work_o = o
-    applied = forcing(times)
+    applied = applied_force_at(forcing, u_kind, u_t, u_val, times)
     start_implicit_samples(times, t0, a_o, fric_o, applied, m, c1, float(np.dot(k, f0)), v0,
                            sigma)  # fmt: skip
     h = (t_end - t0) / n_steps
@@ -372,9 +368,18 @@ def run_implicit(
         "friction": fric_o, "e_el": eel_o, "dissipated": dis_o, "viscous": vis_o,
         "work": work_o,
         "rev_t": rev[0][:n_rev], "rev_y": rev[1][:n_rev], "stop": stop, "y": y, "v": v,
-        "dir": d, "f": f, "count": n_steps, "status": 0,
+        "dir": d, "f": f, "count": n_steps, "status": 0, "t_end": t_end,
         "message": f"{n_steps} implicit steps of {h:.3g}",
     }  # fmt: skip
+
+
+def applied_force_at(forcing: Forcing, u_kind: int, u_t, u_val, times: FloatArray) -> FloatArray:
+    """u at the sample times: compiled for a constant or sampled u, the callable otherwise."""
+    if u_kind == _loop.U_ARRAY:
+        return forcing(times)
+    out = np.empty(times.shape[0])
+    _loop.applied_at_times(u_kind, u_t, u_val, times, out)
+    return out
 
 
 def start_implicit_samples(times, t0, a_o, fric_o, applied, m, c1, fel0, v0, sigma) -> None:

@@ -89,7 +89,8 @@ class MotionResult:
     final_velocity : float
     status : int
         0 on success, negative on failure (-1: event limit reached; the samples
-        stop where the simulation stopped).
+        stop where the simulation stopped; -2: the accuracy target `rtol`/`atol`
+        was not met within the step limit).
     message : str
     method : str
         "event" or "implicit".

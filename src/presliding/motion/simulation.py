@@ -231,7 +231,8 @@ def simulate(
         else:
             out = _run.run_implicit(m, c1, k, r, f0, y0, v0, traj_dir, forcing, times, t0,
                                     t_end, n_steps, sigma)  # fmt: skip
-        _run.check_finite_motion(out, t0, t_end)
+        if not (np.isfinite(out["y"]) and np.isfinite(out["v"])):
+            _run.motion_overflow(t_end)
         y_end = float(out["y"])
         direction = out["dir"] if out["dir"] != 0.0 else mem_dir
         final_state = _run.final_state(y_end, out["f"], direction, initial_state, y0, f0)
@@ -247,9 +248,12 @@ def simulate(
 
 def _result(out: dict, m: float, e0: float, final_state: Any, method: str, model: PIFriction):
     """The MotionResult of a run's outputs (energies assembled here, O(samples))."""
-    kinetic, residual = _loop.energy_terms(
-        m, e0, out["velocity"], out["e_el"], out["dissipated"], out["viscous"], out["work"]
-    )
+    kinetic, residual, finite = _loop.energy_terms(
+        m, e0, out["position"], out["velocity"], out["e_el"], out["dissipated"], out["viscous"],
+        out["work"],
+    )  # fmt: skip
+    if not (finite and np.isfinite(out["y"]) and np.isfinite(out["v"])):
+        _run.motion_overflow(out["t_end"])
     energy = MotionEnergy(
         kinetic=kinetic,
         elastic=out["e_el"],
