@@ -252,3 +252,20 @@ def test_overflowing_motions_name_the_argument_passed():
         free_response(1.0, 0.2, [100.0], [0.01], 1.0, 1e-3, 10**12)
     # a free motion with a huge t_end is fine: it stops
     assert simulate(MODEL, 1.0, initial_velocity=1.0, t_end=1e308).stop_time is not None
+
+
+@pytest.mark.parametrize("dens", [ps.Uniform(2.0, 1.0), ps.Exponential(3.0, 0.4)],
+                         ids=["uniform", "exponential"])  # fmt: skip
+def test_the_density_loop_dissipates_what_the_operator_dissipates(dens):
+    model = ps.PIFriction(0.1 * dens.max_elastic_force, density=dens)
+    amp = 1.5 * model.coulomb_level
+    n = 4000
+    t = np.linspace(0.0, 8.0, n + 1)
+    res = simulate(model, 1.0, applied_force=lambda s: amp * np.sin(2.0 * s), t_eval=t,
+                   step=8.0 / n)  # fmt: skip
+    head, stack = model.relaxed_state(0.0).working_memory(dens)
+    forces, stops = np.empty(n + 1), np.empty(n + 1)
+    gk.run(res.position, head, stack, dens._kind, dens._par, dens._tab, forces, stops)
+    coulomb = model.coulomb * np.concatenate([[0.0], np.cumsum(np.abs(np.diff(res.position)))])
+    scale = res.energy.dissipated[-1]
+    np.testing.assert_allclose(res.energy.dissipated, coulomb + stops, rtol=0, atol=1e-12 * scale)

@@ -171,10 +171,11 @@ def run_fused(  # pragma: no cover - compiled
     t_total = _prim(kind, big_r, p1, p2, tab, 0.0, False)[2]  # μ([0, R]): slope after a reversal
     last, d, base, n = head[0], head[1], head[2], int(head[3])
     fel, slope = gk.force_at(last, head, stack, kind, par, tab)
-    q_front = 0.0  # Q(ρ) at the front of the top level (carried from commit to commit)
-    front = abs(last - base) if n == 0 else 0.5 * abs(last - stack[n - 1, 0])
-    if front < math.inf:
-        q_front = gk._q(front, m1r, m2r, kind, big_r, p1, p2, tab)
+    # The stops' dissipation telescopes along a level: from an anchor on the top level
+    # it is anc_f·(Q(ρ) − Q(ρ_anchor)) (or M1(R)·|y − y_anchor| on a saturated branch of
+    # an unbounded density), so it is evaluated only at samples and when the level changes
+    dis_s, anc_f, q_anc, anc_y = _anchor(last, base, n, stack, 0.0, kind, big_r, p1, p2, tab,
+                                         m1r, m2r)  # fmt: skip
     n_eval = t_eval.shape[0]
     h = (t_end - t0) / n_steps
     inv_h = 1.0 / h
@@ -184,7 +185,7 @@ def run_fused(  # pragma: no cover - compiled
     # (φ' >= m/h² + σ/h) is below rounding: a bounded density, and the same level (φ is
     # smooth there; a wipe-out is a kink)
     curv = 0.5 * mu_max / mh2 * (1.0 + t_total / mh2) ** 2
-    dis = vis = work = 0.0
+    dis_c = vis = work = 0.0  # dis_c: the Coulomb element's dissipation
     cap = rev_t.shape[0]
     n_rev = 0
     rest_start = np.nan
@@ -192,7 +193,7 @@ def run_fused(  # pragma: no cover - compiled
     u_blk = np.empty(BLOCK)
     ie = 0
     while ie < n_eval and t_eval[ie] <= t0:
-        ie = _sample(ie, last, v, fel, _energy(last, d, base, n, stack, kind, par, tab), dis,
+        ie = _sample(ie, last, v, fel, _energy(last, d, base, n, stack, kind, par, tab), dis_s,
                      vis, work, o_y, o_v, o_fel, o_eel, o_dis, o_vis, o_work)  # fmt: skip
     i = 0
     t_i = t0
@@ -253,6 +254,9 @@ def run_fused(  # pragma: no cover - compiled
                         break
                 v_new = s * x * inv_h
             acc = (v_new - v) * inv_h
+            if ie < n_eval and t_eval[ie] <= t_next:  # the dissipation before the step
+                dis = dis_c + _stops(last, base, n, stack, dis_s, anc_f, q_anc, anc_y, kind, big_r,
+                                     p1, p2, tab, m1r, m2r)  # fmt: skip
             while ie < n_eval and t_eval[ie] < t_next:  # samples inside the step
                 th = (t_eval[ie] - t_i) * inv_h
                 fel_p, eel_p, dpl_p = _partial(last, d, base, n, stack, kind, par, tab, fel, s,
@@ -269,10 +273,37 @@ def run_fused(  # pragma: no cover - compiled
                 ie += 1
             if x != 0.0:
                 y_new = last + s * x
-                fel, slope, dplastic, n, q_front = _commit(
-                    y_new, s, last, base, n, base_t, n_t, pend, p_out, p_m1, p_p, q_front, stack,
-                    kind, big_r, p1, p2, tab, m1r, m2r,
-                )  # fmt: skip
+                if not pend and (n == 0 or 0.5 * abs(y_new - stack[n - 1, 0]) < stack[n - 1, 1]):
+                    # on the same level: the force in closed form, the dissipation left to
+                    # the anchor
+                    e = base if n == 0 else stack[n - 1, 0]
+                    if n == 0:
+                        rho = abs(y_new - base)
+                        m1, _, slope = _prim(kind, big_r, p1, p2, tab, rho, False)
+                        fel = s * m1
+                    else:
+                        rho = 0.5 * abs(y_new - e)
+                        m1, _, slope = _prim(kind, big_r, p1, p2, tab, rho, False)
+                        fel = s * (2.0 * m1 - stack[n - 1, 2]) + stack[n - 1, 3]
+                    if rho < big_r:
+                        fel += (y_new - e) * slope
+                    else:
+                        slope = 0.0
+                else:  # a new level or a wipe-out: close the anchor, commit, anchor again
+                    dis_s = _stops(last, base, n, stack, dis_s, anc_f, q_anc, anc_y, kind, big_r,
+                                   p1, p2, tab, m1r, m2r)  # fmt: skip
+                    front = abs(last - base) if n == 0 else 0.5 * abs(last - stack[n - 1, 0])
+                    q_front = 0.0
+                    if not pend and front < math.inf:
+                        q_front = gk._q(front, m1r, m2r, kind, big_r, p1, p2, tab)
+                    fel, slope, dplastic, n, _ = _commit(
+                        y_new, s, last, base, n, base_t, n_t, pend, p_out, p_m1, p_p, q_front,
+                        stack, kind, big_r, p1, p2, tab, m1r, m2r,
+                    )  # fmt: skip
+                    dis_s, anc_f, q_anc, anc_y = _anchor(
+                        y_new, base_t, n, stack, dis_s + dplastic, kind, big_r, p1, p2, tab, m1r,
+                        m2r,
+                    )  # fmt: skip
                 base = base_t
                 if s != last_dir:
                     if last_dir != 0.0:
@@ -283,13 +314,15 @@ def run_fused(  # pragma: no cover - compiled
                     last_dir = s
                 last = y_new
                 d = s
-                dis += c1 * x + dplastic
+                dis_c += c1 * x
                 vis += sigma * x * x * inv_h
                 work += u * s * x
                 rest_start = np.nan
             v = v_new
             if ie < n_eval and t_eval[ie] <= t_next:  # samples on the grid point
                 eel = _energy(last, d, base, n, stack, kind, par, tab)
+                dis = dis_c + _stops(last, base, n, stack, dis_s, anc_f, q_anc, anc_y, kind, big_r,
+                                     p1, p2, tab, m1r, m2r)  # fmt: skip
                 while ie < n_eval and t_eval[ie] <= t_next:
                     o_a[ie] = acc
                     o_fric[ie] = u - m * acc
@@ -300,7 +333,32 @@ def run_fused(  # pragma: no cover - compiled
             if n >= stack.shape[0]:
                 break
     head[0], head[1], head[2], head[3] = last, d, base, n
+    dis = dis_c + _stops(last, base, n, stack, dis_s, anc_f, q_anc, anc_y, kind, big_r, p1, p2, tab,
+                         m1r, m2r)  # fmt: skip
     return stack, n_rev, rest_start, v, last_dir, dis, work, vis
+
+
+@nb.njit(**_JIT)
+def _anchor(last, base, n, stack, dis_s, kind, big_r, p1, p2, tab, m1r, m2r):  # pragma: no cover
+    """(dissipation, factor, Q, y) of an anchor at the front of the top level: factor 2 on a
+    level, 1 on the virgin branch, 0 on a saturated branch of an unbounded density (linear)."""
+    if n > 0:
+        front = 0.5 * abs(last - stack[n - 1, 0])
+        return dis_s, 2.0, gk._q(front, m1r, m2r, kind, big_r, p1, p2, tab), last
+    front = abs(last - base)
+    if front == math.inf:
+        return dis_s, 0.0, 0.0, last
+    return dis_s, 1.0, gk._q(front, m1r, m2r, kind, big_r, p1, p2, tab), last
+
+
+@nb.njit(**_JIT)
+def _stops(last, base, n, stack, dis_s, anc_f, q_anc, anc_y, kind, big_r, p1, p2, tab, m1r,
+           m2r):  # fmt: skip  # pragma: no cover - compiled
+    """The stops' dissipation up to `last`, from the anchor on the top level."""
+    if anc_f == 0.0:
+        return dis_s + m1r * abs(last - anc_y)
+    front = abs(last - base) if n == 0 else 0.5 * abs(last - stack[n - 1, 0])
+    return dis_s + anc_f * (gk._q(front, m1r, m2r, kind, big_r, p1, p2, tab) - q_anc)
 
 
 @nb.njit(**_JIT)
