@@ -193,38 +193,13 @@ def time_to_distance(vp, ap, gam, w0sq, dist, hi):  # pragma: no cover - compile
 
 
 @nb.njit(**_JIT)
-def _moments(x, n_max, out):  # pragma: no cover - compiled
-    """out[n] = ∫_0^1 u^n·e^{−x·u} du / n!, n <= n_max, for x >= 0 (all positive sums).
-
-    μ_N = e^{−x}·Σ_j x^j/(N+1+j)! at the top, then the stable downward recurrence
-    μ_{n−1} = x·μ_n + e^{−x}/n!; for x >= 2N + 50 the tail e^{−x}·Σ_{j<=n} x^j/j!
-    is below 1e-18 of 1 and μ_n = x^{−(n+1)}.
-    """
-    if x >= 2.0 * n_max + 50.0:
-        p = 1.0 / x
-        for n in range(n_max + 1):
-            out[n] = p
-            p /= x
-        return
-    e = math.exp(-x)
-    term = _INV_FACT[n_max + 1]
-    acc = term
-    j = 0
-    while term > 1e-18 * acc:
-        term *= x / (n_max + 2 + j)
-        acc += term
-        j += 1
-    out[n_max] = e * acc
-    for n in range(n_max, 0, -1):
-        out[n - 1] = x * out[n] + e * _INV_FACT[n]
-
-
-@nb.njit(**_JIT)
 def _square_series(v0, b, gam, eta, h):  # pragma: no cover - compiled
     """∫_0^h v² with v = e^{−γs}·(v0·C(s) + b·S(s)), C, S entire in η = γ² − ω0² (real).
 
     C = cosh(√η s), S = sinh(√η s)/√η (cos and sin/ω when η < 0). With
-    q = 4ηh² and μ_n the moments of `_moments` (x = 2γh):
+    q = 4ηh² and the moments μ_n = ∫_0^1 u^n·e^{−x·u} du / n! (x = 2γh; all positive
+    sums: μ_N = e^{−x}·Σ_j x^j/(N+1+j)!, then μ_{n−1} = x·μ_n + e^{−x}/n! downward, or
+    x^{−(n+1)} once the tail e^{−x}·Σ_{j<=n} x^j/j! is below 1e-18, x >= 2N + 50):
 
         ∫ = v0²·h·(μ0 + ½Σ_{k>=1} q^k μ_2k) + 2·v0·b·h²·Σ_{k>=0} q^k μ_2k+1
             + b²·h³·2·Σ_{k>=1} q^{k−1} μ_2k
@@ -233,22 +208,52 @@ def _square_series(v0, b, gam, eta, h):  # pragma: no cover - compiled
     at least as fast as |q|^k/(2k+1)! and as (|η|/γ²)^k: used where either is small.
     """
     q = 4.0 * eta * h * h
-    mu = np.empty(2 * _SERIES_TERMS + 2)
-    _moments(2.0 * gam * h, 2 * _SERIES_TERMS + 1, mu)
-    cc = mu[0]
-    cs = mu[1]
-    ss = 0.0
-    qk = 1.0  # q^(k−1)
+    # terms needed: the k-th is below min(|q|^k/(2k+1)!, (|η|/γ²)^k) of the first
+    ratio = abs(eta) / (gam * gam)
+    b1 = 1.0
+    b2 = 1.0
+    n_terms = _SERIES_TERMS
     for k in range(1, _SERIES_TERMS + 1):
-        t_ss = qk * mu[2 * k]
-        qk *= q
-        t_cc = 0.5 * qk * mu[2 * k]
-        t_cs = qk * mu[2 * k + 1]
-        cc += t_cc
-        cs += t_cs
-        ss += t_ss
-        if abs(t_ss) <= 1e-17 * abs(ss) and abs(t_cs) <= 1e-17 * abs(cs):
+        b1 *= abs(q) / ((2 * k) * (2 * k + 1))
+        b2 *= ratio
+        if min(b1, b2) < 1e-18:
+            n_terms = k
             break
+    n_max = 2 * n_terms + 1
+    x = 2.0 * gam * h
+    if x >= 2.0 * n_max + 50.0:  # μ_n = x^{−(n+1)}: sums of powers of r = q/x²
+        r = q / (x * x)
+        rk = 1.0
+        s_all = 1.0  # Σ_{k<=K} r^k
+        for _ in range(n_terms):
+            rk *= r
+            s_all += rk
+        cc = (1.0 + 0.5 * (s_all - 1.0)) / x
+        cs = s_all / (x * x)
+        ss = (s_all - rk) / (x * x * x)
+    else:
+        # μ_N by its series, then downward μ_{n−1} = x·μ_n + e^{−x}/n!, each moment
+        # taken into the Horner sums as it comes: no array
+        e = math.exp(-x)
+        term = _INV_FACT[n_max + 1]
+        acc = term
+        j = 0
+        while term > 1e-18 * acc:
+            term *= x / (n_max + 2 + j)
+            acc += term
+            j += 1
+        mu = e * acc
+        acc_o = 0.0  # Σ_{k>=0} q^k μ_{2k+1}
+        acc_s = 0.0  # Σ_{k>=1} q^{k−1} μ_{2k}
+        for n in range(n_max, 0, -1):
+            if n % 2 == 1:
+                acc_o = mu + q * acc_o
+            else:
+                acc_s = mu + q * acc_s
+            mu = x * mu + e * _INV_FACT[n]
+        cc = mu + 0.5 * q * acc_s  # μ0 + ½Σ_{k>=1} q^k μ_{2k}
+        cs = acc_o
+        ss = acc_s
     return h * (v0 * v0 * cc + h * (2.0 * v0 * b * cs + 2.0 * b * b * h * ss))
 
 
