@@ -8,7 +8,9 @@ presliding" (Ruderman, Rachinskii et al.).
 import importlib as _importlib
 import sys as _sys
 
-from presliding import signals
+# `_numba_cache` comes first: importing it finds a folder numba can cache the
+# compiled kernels in, before any kernel module is imported.
+from presliding import _numba_cache, signals  # noqa: F401  (_numba_cache: for its effect)
 from presliding._version import __version__
 from presliding.analysis import (
     TurningPoints,
