@@ -291,6 +291,14 @@ def _build_parser() -> argparse.ArgumentParser:
         "simulate, whose batch kernel uses every core anyway, and for analysis grids under "
         "20000 points; else the machine's cores)",
     )
+    sweep.add_argument(
+        "--retries",
+        type=int,
+        default=2,
+        metavar="N",
+        help="with --scheduler: re-run a chunk that raised up to N times before the sweep "
+        "reports it failed (a chunk whose worker died is re-run in any case; default: 2)",
+    )
     sweep.set_defaults(handler=_cmd_sweep)
     return parser
 

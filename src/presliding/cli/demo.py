@@ -12,7 +12,8 @@ Five parts, each a figure and a report section:
    (section 4) and compared with the truth.
 
 It takes a few seconds once the compiled kernels are cached (the first run
-compiles them).
+compiles them, and says so). Progress goes to stderr: a bar on a terminal, one
+line per part elsewhere, nothing with ``--quiet``.
 """
 
 from __future__ import annotations
@@ -23,7 +24,7 @@ from typing import Any
 
 import numpy as np
 
-from presliding._progress import progress
+from presliding._progress import Progress
 from presliding.cli._demo_common import (
     FIGURE3_FIRST_STIFFNESS,
     STOP_COULOMB,
@@ -315,19 +316,31 @@ def run_demo(out_dir: Path, *, quiet: bool = True) -> list[Path]:
     )
 
     sections = []
-    with progress(5, "presliding demo", quiet=quiet, unit="part") as bar:
+    parts = [
+        "the paper's Figure 3 loops",
+        "free motion to a stop (Figures 4 and 5)",
+        "reversal counts over c1/F_m",
+        "continuous densities (section 3)",
+        "identification round trip (section 4)",
+    ]
+    with Progress("presliding demo", total=len(parts), unit="part", quiet=quiet) as bar:
+        bar.part(parts[0])
         path = figure3_loops(out_dir)
         sections.append(_figure3_section(path))
         bar.update()
+        bar.part(parts[1])
         stop = free_stop()
         sections.append(_free_stop_section(stop, free_stop_figure(stop, out_dir)))
         bar.update()
+        bar.part(parts[2])
         sweep = reversal_sweep()
         sections.append(_reversal_section(sweep, reversal_figure(sweep, out_dir)))
         bar.update()
+        bar.part(parts[3])
         dens = density_part()
         sections.append(density_section(dens, density_figure(dens, out_dir)))
         bar.update()
+        bar.part(parts[4])
         ident = identification()
         sections.append(identification_section(ident, identification_figure(ident, out_dir)))
         bar.update()
