@@ -93,7 +93,7 @@ def _set_cache_dir(folder: Path) -> None:
     os.environ["NUMBA_CACHE_DIR"] = str(folder)
     numba_config = sys.modules.get("numba.core.config")
     if numba_config is not None:  # numba already imported: its config was read
-        numba_config.CACHE_DIR = str(folder)
+        setattr(numba_config, "CACHE_DIR", str(folder))  # noqa: B010 - a module of numba
 
 
 def configure() -> str:
@@ -172,7 +172,7 @@ def compiling(callback: Callable[[str], None]) -> Iterator[None]:
         yield
         return
 
-    class _Listener(event.Listener):  # type: ignore[misc]
+    class _Listener(event.Listener):
         def on_start(self, ev: event.Event) -> None:
             dispatcher = (ev.data or {}).get("dispatcher")
             func = getattr(dispatcher, "py_func", None)

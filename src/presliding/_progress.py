@@ -34,6 +34,7 @@ file).
 
 from __future__ import annotations
 
+import contextlib
 import sys
 import time
 from types import TracebackType
@@ -226,10 +227,9 @@ class Progress:
     def _line(self, text: str) -> None:
         if self.delay and self.elapsed < self.delay:
             return
-        try:
+        # a closed stream: progress is never worth an error
+        with contextlib.suppress(OSError, ValueError):
             print(f"{self.desc}: {text}", file=self.stream, flush=True)
-        except (OSError, ValueError):  # a closed stream: progress is never worth an error
-            pass
 
 
 __all__ = ["COMPILING", "Progress", "progress", "progress_enabled"]

@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import contextlib
+import io
+
 import numpy as np
 import pytest
 from matplotlib.image import imread
@@ -25,8 +28,12 @@ SIZES = {
 
 @pytest.fixture(scope="module")
 def demo_dir(tmp_path_factory):
+    """The demo run once with --quiet: it prints nothing at all."""
     out = tmp_path_factory.mktemp("demo") / "out"
-    assert main(["demo", "-o", str(out)]) == 0
+    stdout, stderr = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(stdout), contextlib.redirect_stderr(stderr):
+        assert main(["demo", "-o", str(out), "--quiet"]) == 0
+    assert stdout.getvalue() == "" and stderr.getvalue() == ""
     return out
 
 
@@ -77,10 +84,17 @@ def test_report_embeds_and_links_every_figure(demo_dir):
     assert "| reversals before the stop | 1 | 1 |" in md
 
 
-def test_demo_prints_where(tmp_path, capsys):
+def test_demo_prints_where_and_shows_progress(tmp_path, capsys):
     assert main(["demo", "-o", str(tmp_path / "d")]) == 0
-    out = capsys.readouterr().out
-    assert str((tmp_path / "d").resolve()) in out and "report.html" in out
+    captured = capsys.readouterr()
+    assert str((tmp_path / "d").resolve()) in captured.out and "report.html" in captured.out
+    # stderr is not a terminal here: one plain line per part, in order
+    parts = [ln for ln in captured.err.splitlines() if ln.startswith("presliding demo: [")]
+    assert [ln.split("]")[0] for ln in parts] == [f"presliding demo: [{i}/5" for i in range(1, 6)]
+    assert parts[0] == "presliding demo: [1/5] the paper's Figure 3 loops"
+    assert parts[-1] == "presliding demo: [5/5] identification round trip (section 4)"
+    others = [ln for ln in captured.err.splitlines() if ln not in parts]
+    assert set(others) <= {"presliding demo: compiling (first run only)"}
 
 
 def test_free_stop_prediction_equals_simulation():

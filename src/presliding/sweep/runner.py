@@ -118,7 +118,8 @@ def sweep(
     points = as_points(grid)
     retries = as_count("retries", retries)
     n = points.n_points
-    client = owned = None
+    client: Any = None
+    owned = False
     threads = None
     if isinstance(scheduler, Executor):
         client = scheduler
