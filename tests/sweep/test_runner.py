@@ -1,5 +1,6 @@
 """Chunked parameter sweeps: serial, local processes and a Dask LocalCluster agree."""
 
+import os
 import sys
 
 import matplotlib
@@ -279,6 +280,35 @@ def flaky_once(marker_dir, ratio, velocity):
     return surface(ratio, velocity)
 
 
+def slow_surface(ratio, velocity):
+    import time
+
+    time.sleep(0.25)
+    return surface(ratio, velocity)
+
+
+def _kill_a_worker_mid_sweep(client, run):
+    """Run `run()` in a thread and kill a worker process while it runs a chunk."""
+    import contextlib
+    import threading
+    import time
+
+    out = {}
+    thread = threading.Thread(target=lambda: out.update(result=run()))
+    thread.start()
+    deadline = time.monotonic() + 60
+    victim = None
+    while victim is None and time.monotonic() < deadline:
+        victim = next((w for w, keys in client.processing().items() if keys), None)
+        time.sleep(0.02)
+    assert victim is not None, "no chunk started"
+    with contextlib.suppress(Exception):  # the connection drops as the worker exits
+        client.run(os._exit, 1, workers=[victim])
+    thread.join(timeout=120)
+    assert not thread.is_alive()
+    return out["result"]
+
+
 def test_dask_local_cluster_equals_local_run(tmp_path, monkeypatch):
     distributed = pytest.importorskip("distributed")
     import functools
@@ -286,6 +316,7 @@ def test_dask_local_cluster_equals_local_run(tmp_path, monkeypatch):
     import cloudpickle
 
     serial = sweep(surface, GRID, n_workers=1, chunk_size=10)
+    r, v = np.meshgrid(GRID["ratio"], GRID["velocity"], indexing="ij")
     sent = []
     original_map = distributed.Client.map
 
@@ -319,6 +350,21 @@ def test_dask_local_cluster_equals_local_run(tmp_path, monkeypatch):
         (tmp_path / "second").mkdir()
         not_retried = sweep(functools.partial(flaky_once, str(tmp_path / "second")), GRID,
                             client, chunk_size=20)  # fmt: skip
+        # a table: each chunk's rows are scattered once; rows lost with a killed worker are
+        # scattered again (LocalCluster's nanny starts a new worker process)
+        scattered = []
+        original_scatter = distributed.Client.scatter
+
+        def spy_scatter(self, data, *args, **kwargs):
+            scattered.append(len(data) if isinstance(data, list) else 0)
+            return original_scatter(self, data, *args, **kwargs)
+
+        monkeypatch.setattr(distributed.Client, "scatter", spy_scatter)
+        table = np.zeros(77, dtype=[("ratio", float), ("velocity", float)])
+        table["ratio"], table["velocity"] = r.ravel(), v.ravel()
+        killed = _kill_a_worker_mid_sweep(
+            client, lambda: sweep(slow_surface, table, client, chunk_size=7)
+        )
         assert client.status == "running"  # a given Client is left open
     for res in (on_client, on_address):
         assert res.backend == "dask" and res.n_workers == 2 and res.status == "ok"
@@ -326,7 +372,6 @@ def test_dask_local_cluster_equals_local_run(tmp_path, monkeypatch):
     assert "on 2 Dask workers" in on_client.report()
     assert failing.status == "failed" and failing.failed[:, 0].tolist() == [False, True]
     assert "ValueError: velocity too large" in failing.message
-    r, v = np.meshgrid(GRID["ratio"], GRID["velocity"], indexing="ij")
     np.testing.assert_array_equal(with_lambda.values, r * v)
     # a million points: each task carries two futures and an index range, a few hundred bytes
     assert million.n_chunks == 8 and million.success and len(million_sent) == 8
@@ -337,3 +382,7 @@ def test_dask_local_cluster_equals_local_run(tmp_path, monkeypatch):
     np.testing.assert_array_equal(retried.values, serial.values)
     assert not_retried.status == "failed" and not_retried.failed.all()
     assert "OSError: a transient failure" in not_retried.message
+    assert killed.kind == "table" and killed.success and killed.n_chunks == 11, killed.message
+    np.testing.assert_array_equal(killed.values, serial.values.ravel())
+    lists = [n for n in scattered if n]
+    assert lists[0] == 11 and len(lists) >= 2 and sum(lists[1:]) < 11, scattered

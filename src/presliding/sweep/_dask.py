@@ -1,20 +1,24 @@
 """Sweeps on a Dask cluster: a small graph, data sent once, chunks built on the workers.
 
-`run_on_dask` scatters the function (with the base model it carries) and the
-description of the points (`_grid.Points`: product axes or table columns) to
-every worker once, then submits one task per chunk whose arguments are those two
-futures and an index range ``(i, n_chunks)``. Each task is a few hundred bytes
-whatever the size of the grid; a worker builds its chunk's columns itself.
+`run_on_dask` scatters the function (with the base model it carries) to every
+worker once. A product grid's description (its axes, `_grid.Points`) is
+broadcast the same way, and each task carries those two futures and an index
+range ``(i, n_chunks)``: a few hundred bytes whatever the size of the grid, and
+a worker builds its chunk's columns itself. A table's rows cannot be described
+more briefly than they are: each chunk's rows are scattered once, to one
+worker, and its task runs there, so every row crosses the network once.
 
-Both are broadcast to every worker, so a worker that dies takes no data with it:
-the scheduler re-runs its chunks elsewhere (a killed worker is not a failed
-task), and ``retries`` re-runs chunks whose function raised.
+A worker that dies takes no broadcast data with it: the scheduler re-runs its
+chunks elsewhere (a killed worker is not a failed task). Table rows that were
+only on that worker are scattered again and their chunks re-run.
+``retries`` re-runs chunks whose function raised.
 """
 
 from __future__ import annotations
 
 import time
 from collections.abc import Callable
+from concurrent.futures import CancelledError
 from typing import Any
 
 from presliding._validation import fmt
@@ -23,6 +27,8 @@ from presliding.sweep._grid import Points, describe_error, run_chunk
 DASK_HINT = "install it with `pip install presliding[dask]`"
 #: How long a sweep waits for a first worker to join a scheduler that has none [s].
 WORKER_WAIT = 60.0
+#: How many times a table's chunks are scattered again after their worker died.
+LOST_DATA_ROUNDS = 3
 
 
 def import_distributed() -> Any:
@@ -107,31 +113,58 @@ def run_on_dask(
     retries: int,
     bar: Any,
 ) -> list[tuple[bool, Any]]:
-    """Every chunk on the cluster; (ok, values or error text) per chunk, in chunk order."""
+    """Every chunk on the cluster; (ok, values or error text) per chunk, in chunk order.
+
+    A product grid's axes are broadcast to every worker, and each task is an index
+    range. A table's rows are scattered chunk by chunk (each row sent once, to
+    one worker, where its task then runs); when a worker dies with rows that
+    were only there, those chunks are scattered and run again, up to
+    `LOST_DATA_ROUNDS` times.
+    """
     distributed = import_distributed()
     fn_future = client.scatter(fn, broadcast=True, hash=False)
-    points_future = client.scatter(points, broadcast=True, hash=False)
-    futures = client.map(
-        run_chunk,
-        [fn_future] * n_chunks,
-        [points_future] * n_chunks,
-        range(n_chunks),
-        [n_chunks] * n_chunks,
-        key=[f"presliding-sweep-{time.time_ns()}-{i}" for i in range(n_chunks)],
-        retries=retries,
-        pure=False,
-    )
-    index = {f.key: i for i, f in enumerate(futures)}
+    shared = None
+    if points.kind == "product":
+        shared = client.scatter(points, broadcast=True, hash=False)
     outcomes: list[tuple[bool, Any]] = [(False, "not run")] * n_chunks
+    pending = list(range(n_chunks))
+    held: list[Any] = [fn_future, shared]
     try:
-        for future in distributed.as_completed(futures, loop=client.loop):
-            try:
-                outcomes[index[future.key]] = future.result()
-            except Exception as exc:  # fn raised (after the retries), or the cluster gave up
-                outcomes[index[future.key]] = (False, describe_error(exc))
-            bar.update()
+        for _ in range(LOST_DATA_ROUNDS):
+            if shared is not None:
+                args = [(shared, i, n_chunks) for i in pending]
+            else:
+                rows = client.scatter([points.rows(i, n_chunks) for i in pending], hash=False)
+                held += rows
+                args = [(r, 0, 1) for r in rows]
+            tag = time.time_ns()
+            futures = client.map(
+                run_chunk,
+                [fn_future] * len(pending),
+                *(list(column) for column in zip(*args, strict=True)),
+                key=[f"presliding-sweep-{tag}-{i}" for i in pending],
+                retries=retries,
+                pure=False,
+            )
+            held += futures
+            index = {f.key: i for f, i in zip(futures, pending, strict=True)}
+            lost = []
+            for future in distributed.as_completed(futures, loop=client.loop):
+                i = index[future.key]
+                try:
+                    outcomes[i] = future.result()
+                except CancelledError as exc:  # a chunk's rows died with their worker
+                    outcomes[i] = (False, describe_error(exc))
+                    lost.append(i)
+                    continue
+                except Exception as exc:  # fn raised (after the retries), or the cluster gave up
+                    outcomes[i] = (False, describe_error(exc))
+                bar.update()
+            if not lost or shared is not None:
+                break
+            pending = sorted(lost)
     finally:
-        client.cancel([*futures, fn_future, points_future])
+        client.cancel([f for f in held if f is not None])
     return outcomes
 
 
