@@ -30,7 +30,7 @@ import presliding  # noqa: E402
 
 project = "presliding"
 author = "presliding developers"
-copyright = "presliding developers"  # noqa: A001 - Sphinx's name
+copyright = "presliding developers"
 release = presliding.__version__
 version = ".".join(release.split(".")[:2])
 
