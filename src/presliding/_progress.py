@@ -177,7 +177,8 @@ class Progress:
             tenths = min(10, int(10 * self.n / self.total))
             if tenths > self._tenths_said:
                 self._tenths_said = tenths
-                self._line(f"{self.n}/{self.total} {self.unit}s ({10 * tenths} %)")
+                percent = 100 * self.n / self.total
+                self._line(f"{self.n}/{self.total} {self.unit}s ({percent:.0f} %)")
 
     def note(self, text: str) -> None:
         """A remark on the current part (on the bar; a plain line the first time it is said)."""
