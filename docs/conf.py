@@ -174,5 +174,11 @@ html_theme_options = {
     "footer_start": ["copyright"],
     "footer_end": [],
 }
-html_sidebars = {"index": [], "user_guide/*": [], "**": ["sidebar-nav-bs"]}
+# No navigation sidebar on the front page and the user guide (they have no sub-pages). Sphinx
+# warns when a page matches two wildcard patterns, so these are named one by one.
+html_sidebars = {
+    "**": ["sidebar-nav-bs"],
+    "index": [],
+    **{f"user_guide/{page.stem}": [] for page in (DOCS / "user_guide").glob("*.rst")},
+}
 html_show_sourcelink = False
