@@ -7,7 +7,13 @@ import pytest
 
 from presliding import PIFriction
 from presliding.hysteresis.densities import Exponential, PiecewiseConstant, Uniform
-from presliding.model_io import MotionSettings, load_model, model_to_toml, save_model
+from presliding.model_io import (
+    MeasurementTerms,
+    MotionSettings,
+    load_model,
+    model_to_toml,
+    save_model,
+)
 
 
 def _write(tmp_path, name, text):
@@ -47,6 +53,15 @@ def test_threshold_form_and_json(tmp_path):
         ("[friction]\ncoulomb = 1.0\n[motion]\ninitial_state = 'tired'\n", "initial_state"),
         ("[friction]\ncoulomb = 1.0\n[extra]\n", "unknown table `extra`"),
         ("[friction\ncoulomb = 1.0\n", "not valid TOML"),
+        ("[friction]\ncoulomb = 1.0\n[motion]\nt_end = inf\n", "`motion.t_end` must be finite"),
+        (
+            "[friction]\ncoulomb = 1.0\n[motion]\ninitial_velocity = nan\n",
+            "must be finite; got nan",
+        ),
+        ("[friction]\ncoulomb = 1.0\n[motion]\nmass = inf\n", "`motion.mass` must be finite"),
+        ("[friction]\ncoulomb = 1.0\n[motion]\nsamples = 1e12\n", "at most 10,000,000"),
+        ("[friction]\ncoulomb = 1.0\n[measurement]\nforce_offset = nan\n", "force_offset"),
+        ("[friction]\ncoulomb = 1.0\n[measurement]\noffset = 1.0\n", "measurement.offset"),
     ],
 )
 def test_schema_errors_name_file_and_field(tmp_path, text, needle):
@@ -141,3 +156,97 @@ def test_tabulated_density_cannot_be_saved(tmp_path):
     model = PIFriction(0.1, density=Density.from_function(lambda r: 1.0 + r, 1.0))
     with pytest.raises(ValueError, match="Tabulated"):
         model_to_toml(model)
+
+
+def test_measurement_terms_and_header_round_trip(tmp_path):
+    model = PIFriction(0.5, [500.0, 10.0], [1.0, 0.75])
+    terms = MeasurementTerms(force_offset=-3.16)
+    path = tmp_path / "m.toml"
+    save_model(path, model, MotionSettings(mass=95.11), measurement=terms,
+               header="identified from DATA.mat\nunits: qm [m]")  # fmt: skip
+    text = path.read_text()
+    assert text.startswith("# identified from DATA.mat\n# units: qm [m]\n")
+    assert "force_offset = -3.16  # F_0 [N]" in text
+    loaded = load_model(path)
+    assert loaded.model == model and loaded.measurement == terms
+    assert load_model(_write(tmp_path, "n.toml", "[friction]\ncoulomb = 1.0\n")).measurement == (
+        MeasurementTerms(0.0)
+    )
+
+
+def test_a_byte_order_mark_is_skipped(tmp_path):
+    for name, text in (("m.toml", "[friction]\ncoulomb = 2.0\n"),
+                       ("m.json", '{"friction": {"coulomb": 2.0}}')):  # fmt: skip
+        path = tmp_path / name
+        path.write_bytes(b"\xef\xbb\xbf" + text.encode())
+        assert load_model(path).model.coulomb == 2.0
+
+
+def test_save_model_needs_a_model(tmp_path):
+    with pytest.raises(TypeError, match="`model` must be a PIFriction; got str"):
+        save_model(tmp_path / "m.toml", "notamodel")
+    assert not (tmp_path / "m.toml").exists()
+
+
+# ----------------------------------------------------------------------- the viscous term
+@pytest.mark.parametrize("sigma", [0.0, 204.1234567890123, 1e-300, 3.0])
+def test_viscous_round_trip_is_exact(tmp_path, sigma):
+    model = PIFriction(0.5, [500.0, 10.0, 4.0], [1.0, 0.75, 1.25], viscous=sigma)
+    path = tmp_path / "m.toml"
+    save_model(path, model, MotionSettings(mass=2.0))
+    loaded = load_model(path).model
+    assert loaded == model and loaded.viscous == sigma
+    text = path.read_text(encoding="utf-8")
+    assert ("viscous = " in text) == (sigma != 0.0)
+    if sigma:
+        assert "# σ [N s/m]" in text
+    dens = PIFriction(0.5, density=Uniform(2.0, 1.0), viscous=sigma)
+    save_model(tmp_path / "d.toml", dens)
+    assert load_model(tmp_path / "d.toml").model == dens
+
+
+def test_viscous_from_toml_and_json_is_simulated(tmp_path):
+    from presliding import simulate
+
+    text = (
+        "[friction]\ncoulomb = 0.3\nstiffness = [2e4, 5e3]\nbreakaway = [0.2, 0.2]\n"
+        "viscous = 12.5\n[motion]\nmass = 1.0\ninitial_velocity = 0.05\n"
+        'initial_state = "saturated"\nt_end = 0.2\n'
+    )
+    spec = load_model(_write(tmp_path, "m.toml", text))
+    assert spec.model.viscous == 12.5
+    data = {"friction": {"coulomb": 0.3, "stiffness": [2e4, 5e3], "breakaway": [0.2, 0.2],
+                         "viscous": 12.5}}  # fmt: skip
+    assert load_model(_write(tmp_path, "m.json", json.dumps(data))).model == spec.model
+    res = simulate(spec.model, 1.0, initial_velocity=0.05, initial_state="saturated", t_end=0.2)
+    plain = simulate(PIFriction(0.3, [2e4, 5e3], [0.2, 0.2]), 1.0, initial_velocity=0.05,
+                     initial_state="saturated", t_end=0.2)  # fmt: skip
+    assert res.energy.viscous[-1] > 0 and res.stop_time < plain.stop_time
+
+
+def test_simulate_command_honours_viscous(tmp_path):
+    from presliding.cli import main
+
+    text = (
+        "[friction]\ncoulomb = 1.0\nviscous = 2.0\n[motion]\nmass = 1.0\n"
+        "initial_velocity = 3.0\nt_end = 1.0\nsamples = 5\n"
+    )
+    path = _write(tmp_path, "m.toml", text)
+    assert main(["--quiet", "simulate", str(path), "-o", str(tmp_path / "run")]) == 0
+    rows = (tmp_path / "run" / "simulation.csv").read_text(encoding="utf-8").splitlines()
+    v = [float(line.split(",")[2]) for line in rows[1:]]
+    # m·v̇ = −1 − 2·v: stop at ln(1 + 2·3/1)/2 = 0.973 s, v(0.25) = 3.5·e^{−0.5} − 0.5
+    assert v[1] == pytest.approx(3.5 * np.exp(-0.5) - 0.5, rel=1e-12)
+    assert v[-1] == 0.0
+
+
+@pytest.mark.parametrize(
+    ("value", "needle"),
+    [("-1.0", "`viscous` must be nonnegative"), ("true", "`viscous` must be a real number"),
+     ('"fast"', "`viscous` must be a real number"), ("nan", "`viscous` must be finite")],
+)  # fmt: skip
+def test_bad_viscous_in_a_model_file_names_file_and_field(tmp_path, value, needle):
+    path = _write(tmp_path, "m.toml", f"[friction]\ncoulomb = 1.0\nviscous = {value}\n")
+    with pytest.raises(ValueError, match=needle) as info:
+        load_model(path)
+    assert str(path) in str(info.value) and "[friction]" in str(info.value)

@@ -155,3 +155,17 @@ def test_plot_turning_points_without_a_stop_and_bad_samples(ax):
         res.plot(samples_per_swing=0)
     with pytest.raises(TypeError, match="samples_per_swing"):
         res.plot(samples_per_swing=2.5)
+
+
+def test_loops_far_from_the_origin_keep_their_own_scale(ax):
+    """A loop at −110 mm (a tribometer stage) is drawn over its own span, not from 0."""
+    t = np.linspace(0.0, 4 * np.pi, 400)
+    y = -0.110 + 1.2e-4 * np.sin(t)
+    force = 2.0 + 0.5 * np.tanh(np.gradient(y) * 1e6)
+    plotting.plot_loop_fit(y, force, force + 0.01, ax=ax)
+    lo, hi = ax.get_xlim()
+    assert hi < -0.1 and hi - lo < 1e-3
+    lo, hi = ax.get_ylim()
+    assert lo > 1.0  # the forces stay positive: no axis line pulls 0 into view
+    centred = plotting.plot_hysteresis(y + 0.110, force - 2.0)  # crosses both axes: lines drawn
+    assert len(centred.lines) == 3

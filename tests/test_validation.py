@@ -56,6 +56,12 @@ BAD_PARAMETER_VALUES = [
     pytest.param([[1.0, 2.0]], ValueError, "one-dimensional", id="2d"),
 ]
 
+# thresholds of play, stop and PIOperator may be 0 (the identity play)
+BAD_THRESHOLD_VALUES = [
+    pytest.param(-3.0, ValueError, "must be nonnegative; got -3.0", id="negative"),
+    *(p for p in BAD_PARAMETER_VALUES if p.id not in ("negative", "zero")),
+]
+
 BAD_SIGNALS = [
     pytest.param([0.0, np.nan, 1.0], ValueError, "must be finite; got nan at index 1.", id="nan"),
     pytest.param([0.0, 1.0, -np.inf], ValueError, "must be finite; got -inf at index 2.", id="inf"),
@@ -95,7 +101,7 @@ def _at_index_1(value, message: str, text: str) -> None:
 # ----------------------------------------------------------------------------- operators
 
 
-@pytest.mark.parametrize(("value", "exc", "text"), BAD_PARAMETER_VALUES)
+@pytest.mark.parametrize(("value", "exc", "text"), BAD_THRESHOLD_VALUES)
 def test_play_and_stop_reject_bad_thresholds(value, exc, text):
     for fn in (play, stop):
         message = assert_rejects(lambda fn=fn: fn([0.0, 1.0], _vector(value)), exc, "threshold")
@@ -122,7 +128,7 @@ def test_play_rejects_bad_initial_state():
     play([1e3], 1e-3, 1e3 - 1e-3)
 
 
-@pytest.mark.parametrize(("value", "exc", "text"), BAD_PARAMETER_VALUES)
+@pytest.mark.parametrize(("value", "exc", "text"), BAD_THRESHOLD_VALUES)
 def test_pi_operator_rejects_bad_thresholds(value, exc, text):
     message = assert_rejects(
         lambda: PIOperator(_vector(value), [1.0, 1.0][: len(np.atleast_1d(_vector(value)))]),

@@ -21,6 +21,7 @@ from presliding.analysis import (
     total_energy,
     turning_point,
     turning_points,
+    viscous_dissipation,
 )
 from presliding.control import iosys_state, to_iosys
 from presliding.friction import (
@@ -144,4 +145,5 @@ __all__ = [
     "total_energy",
     "turning_point",
     "turning_points",
+    "viscous_dissipation",
 ]

@@ -7,12 +7,23 @@ parameter, the rule and the value received, for example::
     ValueError: `stiffness` must be positive; got -3.0 at index 1.
 
 Nothing is clipped silently, and no NaN is ever returned in place of an error.
+
+Three families beyond the plain argument checks:
+
+* **Overflow.** Quantities derived from the arguments (F_c, F_m, Σ k_j, r_j = c_j/k_j,
+  energies, output bounds) are checked for finiteness with `check_finite_derived`,
+  naming the arguments they come from; `check_derived` does so for a bank of elements.
+* **Sizes.** `check_size` compares a requested allocation with `size_limit()` (half
+  the machine's memory unless `MAX_ALLOCATION_BYTES` is set) before anything is
+  allocated, and reports both.
+* **Types.** `check_type` names the argument and the type expected.
 """
 
 from __future__ import annotations
 
 import math
 import numbers
+import os
 from typing import Any
 
 import numpy as np
@@ -30,10 +41,14 @@ __all__ = [
     "as_signal",
     "as_state_vector",
     "check_derived",
+    "check_finite_derived",
     "check_has_friction",
     "check_increasing",
     "check_same_length",
+    "check_size",
+    "check_type",
     "fmt",
+    "size_limit",
 ]
 
 
@@ -216,14 +231,99 @@ def check_increasing(name: str, arr: np.ndarray, after: float | None = None) -> 
         )
 
 
-def as_count(name: str, value: Any, *, minimum: int = 0) -> int:
-    """An integer >= `minimum` (a count of elements or samples); bools are rejected."""
+def as_count(name: str, value: Any, *, minimum: int = 0, maximum: int | None = None) -> int:
+    """An integer in [`minimum`, `maximum`] (a count); bools are rejected. `maximum` bounds
+    counts that set the length of a loop, so that an absurd value is an error, not a hang."""
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Integral):
         raise TypeError(f"`{name}` must be an integer; got {fmt(value)}.")
     if value < minimum:
         rule = {0: "nonnegative", 1: "a positive integer"}.get(minimum, f"at least {minimum}")
         raise ValueError(f"`{name}` must be {rule}; got {fmt(value)}.")
+    if maximum is not None and value > maximum:
+        raise ValueError(f"`{name}` must be at most {maximum}; got {fmt(value)}.")
     return int(value)
+
+
+def check_type(name: str, value: Any, expected: type | tuple[type, ...], *, where: str = "") -> Any:
+    """`value` is an instance of `expected` (class or tuple); `where` locates it (" at index 2")."""
+    if not isinstance(value, expected):
+        classes = expected if isinstance(expected, tuple) else (expected,)
+        names = [c.__name__ for c in classes]
+        listing = names[0] if len(names) == 1 else ", ".join(names[:-1]) + " or " + names[-1]
+        article = "an" if listing[0] in "AEIOUaeiou" else "a"
+        raise TypeError(f"`{name}` must be {article} {listing}; got {type(value).__name__}{where}.")
+    return value
+
+
+# ---------------------------------------------------------------------- overflow
+def _sources(names: str | tuple[str, ...]) -> str:
+    names = (names,) if isinstance(names, str) else names
+    quoted = [f"`{n}`" for n in names]
+    return quoted[0] if len(quoted) == 1 else ", ".join(quoted[:-1]) + " and " + quoted[-1]
+
+
+def check_finite_derived(what: str, value: Any, names: str | tuple[str, ...]) -> None:
+    """The quantity `what` (with its formula), computed from the arguments `names` the user
+    passed, came out finite: "`coulomb` and `breakaway` must give a finite Coulomb level
+    F_c = c1 + Σ c_j (eq. 9); got inf (...)." An array is checked element by element."""
+    arr = np.asarray(value, dtype=np.float64)
+    bad = ~np.isfinite(arr)
+    if bad.any():
+        raise ValueError(
+            f"{_sources(names)} must give a finite {what}; {_first_bad(arr, bad)} (beyond the "
+            "floating-point range: express the values in units that keep them moderate)."
+        )
+
+
+# ---------------------------------------------------------------------- sizes
+#: Largest allocation, in bytes, that `check_size` lets through; None: half of
+#: the machine's physical memory (`size_limit`).
+MAX_ALLOCATION_BYTES: int | None = None
+
+
+def size_limit() -> int:
+    """Bytes `check_size` accepts: `MAX_ALLOCATION_BYTES`, else half the physical memory."""
+    if MAX_ALLOCATION_BYTES is not None:
+        return int(MAX_ALLOCATION_BYTES)
+    try:
+        total = os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
+    except (AttributeError, OSError, ValueError):
+        total = 0
+    return int(total) // 2 if total > 0 else 32 * 2**30 // 2
+
+
+def _bytes(n: float) -> str:
+    k = min(int(math.log(max(n, 1.0), 1024)), 6)
+    return f"{int(n)} B" if k == 0 else f"{n / 1024**k:.3g} {'KMGTPE'[k - 1]}iB"
+
+
+def _amount(count: float) -> str:
+    if math.isfinite(count) and count < 1e15 and count == int(count):
+        return str(int(count))
+    return f"{count:.3g}" if math.isfinite(count) else "more than 1.8e308"
+
+
+def check_size(
+    name: str, value: Any, count: float, *, what: str = "values", item_bytes: int = 8
+) -> int:
+    """Before allocating: `count` items of `item_bytes` (over all arrays per item) fit
+    `size_limit()`; returns ``int(count)``. `name` and `value` are the argument the user
+    passed that sets the size; a float `count` may be inf (an overflow, reported as such).
+    "`n` must ask for at most 805306368 values (6 GiB, half of this machine's memory); got
+    1000000000000, which asks for 1000000000000 values (7.28 TiB)."
+    """
+    limit = size_limit()
+    most = limit // max(int(item_bytes), 1)
+    count = float(count) if not isinstance(count, numbers.Integral) else count
+    if not (count <= most):  # also catches nan and inf
+        origin = "" if MAX_ALLOCATION_BYTES is not None else ", half of this machine's memory"
+        need = count * item_bytes if math.isfinite(count) else math.inf
+        raise ValueError(
+            f"`{name}` must ask for at most {most} {what} ({_bytes(limit)}{origin}); got "
+            f"{fmt(value)}, which asks for {_amount(count)} {what} "
+            f"({_bytes(need) if math.isfinite(need) else 'beyond any memory'})."
+        )
+    return int(count)
 
 
 def as_parameter_matrix(name: str, value: Any) -> np.ndarray:
@@ -255,8 +355,21 @@ def as_real_array(name: str, value: Any) -> np.ndarray:
     return arr if arr.ndim == 0 else np.ascontiguousarray(arr)
 
 
-def check_derived(k: np.ndarray, c: np.ndarray, r: np.ndarray) -> None:
-    """Breakaway forces c and thresholds r = c/k (eq. 6) came out finite and positive."""
+def check_derived(
+    k: np.ndarray,
+    c: np.ndarray,
+    r: np.ndarray,
+    *,
+    coulomb: Any = 0.0,
+    given: str = "breakaway",
+) -> None:
+    """A bank's derived quantities came out finite: c and r = c/k (eq. 6) also positive.
+
+    Beyond the elements, the totals over the last axis (one bank per row for a
+    batch) must be finite: Σ k_j (eq. 7), F_c = c1 + Σ c_j (eq. 9) and Σ c_j r_j
+    (twice the largest stored energy ½ Σ k_j r_j²). `given` names the argument
+    the user passed besides `stiffness` ("breakaway" or "threshold").
+    """
     for name, arr in (("breakaway", c), ("threshold", r)):
         bad = ~(np.isfinite(arr) & (arr > 0))
         if bad.any():
@@ -266,6 +379,24 @@ def check_derived(k: np.ndarray, c: np.ndarray, r: np.ndarray) -> None:
                 f"`{name}` must come out finite and positive; got {fmt(arr[idx])} at index "
                 f"{where} (from stiffness {fmt(k[idx])})."
             )
+    if k.shape[-1] == 0:
+        return
+    with np.errstate(over="ignore", invalid="ignore"):
+        totals = (
+            ("initial stiffness Σ k_j (eq. 7)", np.sum(k, axis=-1), ("stiffness",)),
+            (
+                "Coulomb level F_c = c1 + Σ c_j (eq. 9)",
+                np.sum(c, axis=-1) + coulomb,
+                ("coulomb", given) if given == "breakaway" else ("coulomb", "stiffness", given),
+            ),
+            (
+                "largest stored energy ½ Σ k_j r_j²",
+                0.5 * np.sum(c * r, axis=-1),
+                ("stiffness", given),
+            ),
+        )
+    for what, value, names in totals:
+        check_finite_derived(what, value, names)
 
 
 def check_has_friction(c1: np.ndarray, n_elements: int) -> None:

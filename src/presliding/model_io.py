@@ -6,6 +6,7 @@ Schema (units in brackets; any consistent unit set works, SI shown)::
     coulomb = 0.5                  # c1 [N], Coulomb element (eq. 8)
     stiffness = [500.0, 10.0, 4.0] # k_j [N/m]
     breakaway = [1.0, 1.0, 1.0]    # c_j [N]; or threshold = [...] r_j [m] (eq. 6)
+    viscous = 0.0                  # σ [N s/m], optional viscous term σ·ẏ (default 0)
 
     [friction.density]             # instead of stiffness/breakaway: a continuous μ (eq. 10)
     kind = "uniform"               # height a [N/m²], max_threshold R [m]
@@ -20,21 +21,33 @@ Schema (units in brackets; any consistent unit set works, SI shown)::
     initial_state = "relaxed"      # "relaxed" or "saturated"
     applied_force = 0.0            # u [N], constant (a CSV can be given on the command line)
     t_end = 2.0                    # [s]
-    samples = 2001                 # output samples on [0, t_end]
+    samples = 2001                 # output samples on [0, t_end] (at most 10,000,000)
+
+    [measurement]                  # optional: terms a fit identified besides friction
+    force_offset = -3.16           # F_0 [N]: measured force = model force + F_0
 
 A JSON file with the same structure is accepted too. Unknown keys are errors,
-so a misspelt parameter is never ignored.
+so a misspelt parameter is never ignored; every number must be finite. Comment
+lines at the head of a file written by `presliding fit` state the data, units
+and conversions the model was identified from.
+
+Sign of the offset: a fit of eq. 17 with an offset explains the measured force
+as u = m·ÿ + F + F_0, so only u − F_0 acts on the mass; `presliding simulate`
+therefore applies u − F_0 (the constant `motion.applied_force`, or the samples
+of ``--applied-force``, minus `force_offset`).
 """
 
 from __future__ import annotations
 
 import json
+import math
 import sys
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 from presliding._io import write_text
+from presliding._validation import check_type
 from presliding.friction.pi_friction import PIFriction
 from presliding.hysteresis.densities import Density, Exponential, PiecewiseConstant, Uniform
 
@@ -44,6 +57,8 @@ else:  # pragma: no cover
     import tomli as tomllib
 
 __all__ = [
+    "MAX_SAMPLES",
+    "MeasurementTerms",
     "ModelFile",
     "MotionSettings",
     "load_model",
@@ -53,13 +68,16 @@ __all__ = [
     "save_model",
 ]
 
-_FRICTION_KEYS = {"coulomb", "stiffness", "breakaway", "threshold", "density"}
+_FRICTION_KEYS = {"coulomb", "stiffness", "breakaway", "threshold", "density", "viscous"}
 #: Density kinds of ``[friction.density]``: class and its keys (required, optional).
 _DENSITIES: dict[str, tuple[type[Density], tuple[str, ...], tuple[str, ...]]] = {
     "uniform": (Uniform, ("height", "max_threshold"), ()),
     "exponential": (Exponential, ("height", "length"), ("max_threshold",)),
     "piecewise_constant": (PiecewiseConstant, ("breaks", "heights"), ()),
 }
+#: Most output samples a model file may ask for (each is 6 floats in memory and a CSV row).
+MAX_SAMPLES = 10_000_000
+_MEASUREMENT_KEYS = {"force_offset"}
 _MOTION_DEFAULTS: dict[str, Any] = {
     "mass": 1.0,
     "initial_velocity": 0.0,
@@ -89,11 +107,26 @@ class MotionSettings:
 
 
 @dataclass(frozen=True)
+class MeasurementTerms:
+    """The `[measurement]` table: terms of the measured force besides friction.
+
+    Attributes
+    ----------
+    force_offset : float
+        F_0 [N]: the measured force is the model's force plus F_0 (eq. 17 with
+        an offset: u = m·ÿ + F + F_0), so a simulation applies u − F_0.
+    """
+
+    force_offset: float = 0.0
+
+
+@dataclass(frozen=True)
 class ModelFile:
-    """A friction model and its motion settings as read from a file."""
+    """A friction model, its motion settings and measurement terms as read from a file."""
 
     model: PIFriction
     motion: MotionSettings
+    measurement: MeasurementTerms = MeasurementTerms()
 
 
 def _read_mapping(path: Path) -> dict[str, Any]:
@@ -104,10 +137,8 @@ def _read_mapping(path: Path) -> dict[str, Any]:
     except OSError as exc:
         raise ModelFileError(f"{path}: cannot be read ({exc.strerror}).") from None
     try:
-        if path.suffix.lower() == ".json":
-            data = json.loads(raw.decode("utf-8"))
-        else:
-            data = tomllib.loads(raw.decode("utf-8"))
+        text = raw.decode("utf-8-sig")  # a byte-order mark is not part of the text
+        data = json.loads(text) if path.suffix.lower() == ".json" else tomllib.loads(text)
     except (json.JSONDecodeError, tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
         kind = "JSON" if path.suffix.lower() == ".json" else "TOML"
         raise ModelFileError(f"{path}: not valid {kind} ({exc}).") from None
@@ -139,10 +170,11 @@ def load_model(path: str | Path) -> ModelFile:
     """
     path = Path(path)
     data = _read_mapping(path)
-    unknown = sorted(set(data) - {"friction", "motion"})
+    unknown = sorted(set(data) - {"friction", "motion", "measurement"})
     if unknown:
         raise ModelFileError(
-            f"{path}: unknown table `{unknown[0]}`; allowed tables are friction, motion."
+            f"{path}: unknown table `{unknown[0]}`; allowed tables are friction, motion, "
+            "measurement."
         )
     return model_from_tables(path, data)
 
@@ -187,6 +219,7 @@ def model_from_tables(path: str | Path, data: dict[str, Any]) -> ModelFile:
                 fr.get("stiffness", []),
                 fr.get("breakaway"),
                 threshold=fr.get("threshold"),
+                viscous=fr.get("viscous", 0.0),
             )
     except (TypeError, ValueError) as exc:
         if isinstance(exc, ModelFileError):
@@ -203,6 +236,8 @@ def model_from_tables(path: str | Path, data: dict[str, Any]) -> ModelFile:
         if not ok:
             want = "a string" if isinstance(default, str) else "a number"
             raise ModelFileError(f"{path}: `motion.{key}` must be {want}; got {value!r}.")
+        if not isinstance(value, str) and not math.isfinite(value):
+            raise ModelFileError(f"{path}: `motion.{key}` must be finite; got {value!r}.")
     if not float(mo["mass"]) > 0:
         raise ModelFileError(f"{path}: `motion.mass` must be positive; got {mo['mass']!r}.")
     if not float(mo["t_end"]) > 0:
@@ -211,13 +246,28 @@ def model_from_tables(path: str | Path, data: dict[str, Any]) -> ModelFile:
         raise ModelFileError(
             f"{path}: `motion.samples` must be a whole number >= 2; got {mo['samples']!r}."
         )
+    if mo["samples"] > MAX_SAMPLES:
+        raise ModelFileError(
+            f"{path}: `motion.samples` must be at most {MAX_SAMPLES:,} (the output would need "
+            f"{48 * mo['samples'] / 1e9:.3g} GB); got {mo['samples']!r}."
+        )
     if mo["initial_state"] not in ("relaxed", "saturated"):
         raise ModelFileError(
             f"{path}: `motion.initial_state` must be 'relaxed' or 'saturated'; "
             f"got {mo['initial_state']!r}."
         )
     settings = MotionSettings(**{k: (int(v) if k == "samples" else v) for k, v in mo.items()})
-    return ModelFile(model, settings)
+    me = _table(path, data, "measurement", _MEASUREMENT_KEYS)
+    offset = me.get("force_offset", 0.0)
+    if (
+        isinstance(offset, bool)
+        or not isinstance(offset, (int, float))
+        or not math.isfinite(offset)
+    ):
+        raise ModelFileError(
+            f"{path}: `measurement.force_offset` must be a finite number; got {offset!r}."
+        )
+    return ModelFile(model, settings, MeasurementTerms(float(offset)))
 
 
 def _density_model(path: Path, fr: dict[str, Any]) -> PIFriction:
@@ -255,7 +305,7 @@ def _density_model(path: Path, fr: dict[str, Any]) -> PIFriction:
         density = cls(**{k: table[k] for k in (*required, *optional) if k in table})
     except (TypeError, ValueError) as exc:
         raise ModelFileError(f"{path}: [friction.density] {exc}") from None
-    return PIFriction(fr["coulomb"], density=density)
+    return PIFriction(fr["coulomb"], density=density, viscous=fr.get("viscous", 0.0))
 
 
 def _density_lines(density: Density) -> list[str]:
@@ -285,19 +335,38 @@ def _toml_value(value: Any) -> str:
     return repr(float(value)) if not isinstance(value, int) else str(value)
 
 
-def model_to_toml(model: PIFriction, motion: MotionSettings | None = None) -> str:
-    """The TOML text of a model (and optional motion settings), with units in comments."""
-    lines = ["[friction]", f"coulomb = {_toml_value(model.coulomb)}  # c1 [N]"]
+def model_to_toml(
+    model: PIFriction,
+    motion: MotionSettings | None = None,
+    measurement: MeasurementTerms | None = None,
+    header: str = "",
+) -> str:
+    """The TOML text of a model (and optional motion settings and measurement terms).
+
+    Units are stated in comments; `header` (lines of text) is written first as
+    comments, e.g. the data and units a model was identified from.
+    """
+    if not isinstance(model, PIFriction):
+        raise TypeError(f"`model` must be a PIFriction; got {type(model).__name__}.")
+    lines = [f"# {ln}".rstrip() for ln in header.splitlines()]
+    lines += [""] if lines else []
+    lines += ["[friction]", f"coulomb = {_toml_value(model.coulomb)}  # c1 [N]"]
     if model.is_discrete:
         lines += [
             f"stiffness = {_toml_value(model.stiffness.tolist())}  # k_j [N/m]",
             f"breakaway = {_toml_value(model.breakaway.tolist())}  # c_j [N]",
         ]
-    else:
+    if model.viscous:
+        lines.append(f"viscous = {_toml_value(model.viscous)}  # σ [N s/m]")
+    if not model.is_discrete:
         lines += _density_lines(model.density)
     if motion is not None:
         lines += ["", "[motion]"]
         lines += [f"{k} = {_toml_value(getattr(motion, k))}" for k in _MOTION_DEFAULTS]
+    if measurement is not None:
+        offset = _toml_value(measurement.force_offset)
+        note = "F_0 [N]: measured force = model force + F_0; simulate applies u - F_0"
+        lines += ["", "[measurement]", f"force_offset = {offset}  # {note}"]
     return "\n".join(lines) + "\n"
 
 
@@ -306,15 +375,22 @@ def save_model(
     model: PIFriction,
     motion: MotionSettings | None = None,
     *,
+    measurement: MeasurementTerms | None = None,
+    header: str = "",
     overwrite: bool = False,
 ) -> None:
     """Write a model file atomically (temporary file, then rename).
 
-    An existing file is replaced only with ``overwrite=True``.
+    `measurement` adds the `[measurement]` table, `header` comment lines at the
+    top. An existing file is replaced only with ``overwrite=True``.
     """
+    check_type("model", model, PIFriction)
+    if motion is not None:
+        check_type("motion", motion, MotionSettings)
     path = Path(path)
+    text = model_to_toml(model, motion, measurement, header)
     if path.exists() and not overwrite:
         raise FileExistsError(
             f"{path}: already exists; choose another path or pass overwrite=True."
         )
-    write_text(path, model_to_toml(model, motion))
+    write_text(path, text)

@@ -14,6 +14,7 @@ if TYPE_CHECKING:  # pragma: no cover
 
 __all__ = [
     "new_axes",
+    "place_legend",
     "plot_batch",
     "plot_density",
     "plot_fit",
@@ -64,14 +65,38 @@ def plot_hysteresis(
     for i, f in enumerate(forces):
         label = None if labels is None else labels[i]
         ax.plot(y, np.asarray(f, dtype=float), lw=1.6, label=label)
-    ax.axhline(0.0, color="0.8", lw=0.8, zorder=0)
-    ax.axvline(0.0, color="0.8", lw=0.8, zorder=0)
+    # axes through the origin only where the data reach them: a loop far from
+    # y = 0 (a stage at -110 mm) must not be squeezed into a vertical line
+    if y.size and y.min() <= 0.0 <= y.max():
+        ax.axvline(0.0, color="0.8", lw=0.8, zorder=0)
+    values = np.concatenate([np.ravel(np.asarray(f, dtype=float)) for f in forces])
+    if values.size and values.min() <= 0.0 <= values.max():
+        ax.axhline(0.0, color="0.8", lw=0.8, zorder=0)
     ax.set_xlabel(f"displacement y [{displacement_unit}]")
     ax.set_ylabel(f"friction force F [{force_unit}]")
     ax.grid(True, alpha=0.3)
     if labels is not None:
-        ax.legend(frameon=False)
+        place_legend(ax)
     return ax
+
+
+def place_legend(ax: Axes, **kwargs: Any) -> Any:
+    """A legend off the data: ``loc="best"``, or right of the axes if that still covers a point."""
+    leg = ax.legend(frameon=False, loc="best", **kwargs)
+    fig = ax.get_figure()
+    if not hasattr(fig.canvas, "get_renderer"):
+        fig.draw_without_rendering()
+    box = leg.get_window_extent().padded(2.0)
+    for line in ax.get_lines():
+        xy = line.get_transform().transform(np.asarray(line.get_xydata(), dtype=float))
+        if np.any(
+            (xy[:, 0] >= box.x0)
+            & (xy[:, 0] <= box.x1)
+            & (xy[:, 1] >= box.y0)
+            & (xy[:, 1] <= box.y1)
+        ):
+            return ax.legend(frameon=False, loc="upper left", bbox_to_anchor=(1.01, 1.0), **kwargs)
+    return leg
 
 
 def save_figure(fig: Any, path: Any, dpi: int = 120, *, tight: bool = True) -> None:
@@ -93,12 +118,15 @@ def plot_loop_fit(
     *,
     ax: Axes | None = None,
     measured_label: str = "measured",
+    displacement_unit: str = "m",
+    force_unit: str = "N",
 ) -> Axes:
     """Measured force as dots and the fitted model as a line, against displacement."""
-    ax = plot_hysteresis(displacement, measured, ax=ax)
+    ax = plot_hysteresis(displacement, measured, ax=ax, displacement_unit=displacement_unit,
+                         force_unit=force_unit)  # fmt: skip
     ax.lines[0].set(ls="none", marker=".", ms=2.0, color="0.55", label=measured_label)
     ax.plot(np.asarray(displacement), np.asarray(fitted), color="C1", lw=1.4, label="fitted model")
-    ax.legend(frameon=False, loc="upper left")
+    place_legend(ax)
     return ax
 
 
@@ -127,7 +155,7 @@ def plot_fit(
     ax.plot(x, f, lw=1.3, color="C1", label="fitted")
     ax.set_ylabel(ylabel)
     ax.grid(True, alpha=0.3)
-    ax.legend(frameon=False)
+    place_legend(ax)
     if title:
         ax.set_title(title)
     res_ax = make_axes_locatable(ax).append_axes("bottom", size="30%", pad=0.08, sharex=ax)
@@ -212,7 +240,7 @@ def plot_motion(result: Any, *, kind: str = "time", ax: Axes | None = None) -> A
     ax.axhline(0.0, color="0.8", lw=0.8, zorder=0)
     ax.grid(True, alpha=0.3)
     if kind != "loop" and ax.get_legend_handles_labels()[0]:
-        ax.legend(frameon=False)
+        place_legend(ax)
     return ax
 
 
@@ -254,7 +282,7 @@ def plot_turning_points(
     ax.set_ylabel("elastic force F_el [N]")
     ax.set_title(f"{result.n_reversals} reversal(s); {result.status}")
     ax.grid(True, alpha=0.3)
-    ax.legend(frameon=False)
+    place_legend(ax)
     return ax
 
 
@@ -270,7 +298,7 @@ def plot_forces(result: Any, *, ax: Axes | None = None) -> Axes:
     ax.set_xlabel("time t [s]")
     ax.set_ylabel("force [N]")
     ax.grid(True, alpha=0.3)
-    ax.legend(frameon=False)
+    place_legend(ax)
     return ax
 
 
@@ -304,7 +332,7 @@ def plot_reversal_counts(
     ax.set_ylabel("reversals before the stop")
     ax.yaxis.get_major_locator().set_params(integer=True)
     ax.grid(True, alpha=0.3)
-    ax.legend(frameon=False)
+    place_legend(ax)
     return ax
 
 
@@ -342,7 +370,7 @@ def plot_density(
     ax.set_xlim(0.0, big_r)
     ax.grid(True, alpha=0.3)
     if label is not None:
-        ax.legend(frameon=False)
+        place_legend(ax)
     return ax
 
 
@@ -366,7 +394,7 @@ def plot_batch(batch: Any, *, kind: str = "velocity", ax: Axes | None = None) ->
     if stopped.any():
         rest = np.zeros(int(stopped.sum())) if kind == "velocity" else batch.final_position[stopped]
         ax.plot(batch.stop_time[stopped], rest, "s", ms=4, color="k", label="stop")
-        ax.legend(frameon=False)
+        place_legend(ax)
     unit = "m/s" if kind == "velocity" else "m"
     ax.set_xlabel("time t [s]")
     ax.set_ylabel(f"{kind} [{unit}]")
@@ -388,5 +416,5 @@ def plot_free_response(result: Any, *, ax: Axes | None = None) -> Axes:
         ax.set_title(result.message)
     ax.axhline(0.0, color="0.8", lw=0.8, zorder=0)
     ax.grid(True, alpha=0.3)
-    ax.legend(frameon=False)
+    place_legend(ax)
     return ax

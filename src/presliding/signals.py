@@ -2,12 +2,15 @@
 
 from __future__ import annotations
 
-import itertools
-
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from presliding._validation import as_positive_scalar, as_signal
+from presliding._validation import (
+    as_positive_scalar,
+    as_signal,
+    check_finite_derived,
+    check_size,
+)
 
 __all__ = ["FIGURE3_TURNING_POINTS", "piecewise_linear"]
 
@@ -37,8 +40,13 @@ def piecewise_linear(turning_points: ArrayLike, step: float) -> NDArray[np.float
     """
     tp = as_signal("turning_points", turning_points, min_length=2)
     h = as_positive_scalar("step", step)
+    with np.errstate(over="ignore"):  # a count beyond the float range is reported as such
+        span = np.abs(np.diff(tp))
+        check_finite_derived("distance between consecutive turning points", span, "turning_points")
+        counts = np.maximum(np.ceil(span / h), 1.0)
+        total = 1.0 + float(np.sum(counts))
+    check_size("step", h, total, what="samples", item_bytes=2 * 8)  # the pieces and the result
     pieces = [tp[:1]]
-    for a, b in itertools.pairwise(tp):
-        n = max(1, int(np.ceil(abs(b - a) / h)))
+    for a, b, n in zip(tp[:-1], tp[1:], counts.astype(np.int64), strict=True):
         pieces.append(np.linspace(a, b, n + 1)[1:])
     return np.concatenate(pieces)

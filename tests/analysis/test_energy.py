@@ -130,3 +130,23 @@ def test_dissipated_energy_rejects_a_state_of_the_wrong_type():
         dissipated_energy(density, y, state="x")
     with pytest.raises(TypeError, match=r"^`state` must be a MemoryState .*; got PIState\.$"):
         dissipated_energy(density, y, state=PIState.relaxed(0.0, 1))
+
+
+def test_viscous_dissipation_along_a_sampled_motion():
+    from presliding import PIFriction, simulate, viscous_dissipation
+
+    model = PIFriction(0.2, [300.0, 40.0], [0.3, 0.2], viscous=0.8)
+    res = simulate(model, 1.0, initial_velocity=1.0, initial_state="saturated", t_end=3.0,
+                   t_eval=np.linspace(0.0, 3.0, 30001))  # fmt: skip
+    trap = viscous_dissipation(model, res.time, res.velocity)
+    assert trap[0] == 0.0 and np.all(np.diff(trap) >= 0)
+    # the trapezoidal rule on fine samples meets the exact record of the motion
+    np.testing.assert_allclose(trap, res.energy.viscous, rtol=1e-6, atol=1e-12)
+    assert np.all(viscous_dissipation(PIFriction(0.2), res.time, res.velocity) == 0.0)
+    # the path function leaves σ out: it is the rate-independent part
+    path_loss = dissipated_energy(model, res.position, model.saturated_state(0.0, 1.0))
+    np.testing.assert_allclose(path_loss[-1], res.energy.dissipated[-1], rtol=1e-9)
+    with pytest.raises(ValueError, match="`time` must be strictly increasing"):
+        viscous_dissipation(model, [0.0, 0.0], [1.0, 1.0])
+    with pytest.raises(ValueError, match="`time` and `velocity` must have the same length"):
+        viscous_dissipation(model, [0.0, 1.0], [1.0])

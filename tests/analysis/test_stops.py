@@ -199,3 +199,23 @@ def test_statuses_and_limits():
         turning_points(sat, 0.0, 1.0)
     with pytest.raises(ValueError, match="initial_state"):
         turning_points(sat, 1.0, 1.0, "virgin")
+
+
+# ----------------------------------------------------------------------- the viscous term
+@pytest.mark.parametrize("name", ["turning_points", "turning_point", "stops_at_turning_point"])
+@pytest.mark.parametrize("discrete", [True, False])
+def test_stop_analysis_with_a_viscous_term_points_to_simulate(name, discrete):
+    from presliding import PIFriction, Uniform, analysis
+
+    if discrete:
+        model = PIFriction(0.2, [100.0, 10.0], [1.0, 1.0], viscous=0.5)
+    else:
+        model = PIFriction(0.2, density=Uniform(2.0, 1.0), viscous=0.5)
+    func = getattr(analysis, name)
+    args = (model, 1.0, 0.5, "saturated") if name == "turning_points" else (model,)
+    with pytest.raises(ValueError, match=r"`model.viscous` = 0.5.*presliding.simulate"):
+        func(*args)
+    # Φ (eq. 14) is the elastic force alone: it does not depend on σ
+    plain = PIFriction(0.2, [100.0, 10.0], [1.0, 1.0])
+    if discrete:
+        assert analysis.phi(model, 0.01) == analysis.phi(plain, 0.01)

@@ -12,7 +12,7 @@ import pytest
 import presliding as ps
 from presliding import analysis
 from presliding.cli import main
-from presliding.cli.common import MANIFEST
+from presliding.cli.common import LOCK, MANIFEST
 from presliding.model_io import load_model
 from presliding.signals import piecewise_linear
 from tests.helpers import one_error_line
@@ -47,7 +47,8 @@ def _is_png(path):
 
 
 def _no_temporaries(folder):
-    assert not [p for p in folder.iterdir() if p.name.startswith(".") and p.name != MANIFEST]
+    hidden = [p.name for p in folder.iterdir() if p.name.startswith(".")]
+    assert not [n for n in hidden if n not in (MANIFEST, LOCK)]
 
 
 # ---------------------------------------------------------------------- basics
@@ -87,7 +88,7 @@ def test_simulate_writes_csv_equal_to_the_library(tmp_path, model_file, capsys):
     header = csv.read_text().splitlines()[0]
     assert header == (
         "time [s],position [m],velocity [m/s],acceleration [m/s^2],friction_force [N],"
-        "applied_force [N]"
+        "elastic_force [N],applied_force [N]"
     )
     data = np.loadtxt(csv, delimiter=",", skiprows=1)
     spec = load_model(model_file)
@@ -98,10 +99,9 @@ def test_simulate_writes_csv_equal_to_the_library(tmp_path, model_file, capsys):
         initial_state="saturated",
         t_eval=np.linspace(0.0, 0.12, 601),
     )
-    assert data.shape == (601, 6)
-    for j, name in enumerate(
-        ("time", "position", "velocity", "acceleration", "friction_force", "applied_force")
-    ):
+    assert data.shape == (601, 7)
+    names = ("time", "position", "velocity", "acceleration", "friction_force", "elastic_force")
+    for j, name in enumerate((*names, "applied_force")):
         np.testing.assert_allclose(data[:, j], getattr(ref, name), rtol=1e-13, atol=1e-15)
     assert _is_png(png)
     _no_temporaries(out)
@@ -126,7 +126,8 @@ def test_simulate_with_applied_force_csv(tmp_path, model_file, hold):
     )
     out = tmp_path / "out.csv"
     args = ["simulate", str(model_file), "--applied-force", str(force), "--hold", hold]
-    assert main([*args, "-o", str(out)]) == 0
+    assert main([*args, "-o", str(out)]) == 2  # the samples end at 0.09 s, t_end is 0.12 s
+    assert main([*args, "--hold-last", "-o", str(out)]) == 0
     data = np.loadtxt(out, delimiter=",", skiprows=1)
     ref = ps.simulate(
         load_model(model_file).model,
@@ -138,7 +139,7 @@ def test_simulate_with_applied_force_csv(tmp_path, model_file, hold):
         hold=hold,
     )
     np.testing.assert_allclose(data[:, 1], ref.position, rtol=1e-13, atol=1e-15)
-    np.testing.assert_allclose(data[:, 5], ref.applied_force, rtol=1e-13, atol=1e-15)
+    np.testing.assert_allclose(data[:, 6], ref.applied_force, rtol=1e-13, atol=1e-15)
 
 
 # ---------------------------------------------------------------------- analyze
@@ -309,7 +310,7 @@ def test_missing_column(tmp_path, capsys):
     [
         ("displacement,friction\n0,1\n1,abc\n", "'abc'"),
         ("displacement,friction\n0,1\n1,nan\n", "finite"),
-        ("displacement,friction\n0,1\n1\n", "row 2"),
+        ("displacement,friction\n0,1\n1\n", "line 3 has 1 cells"),
         ("0,1\n1,2\n", "header"),
         ("", "empty"),
     ],

@@ -13,7 +13,7 @@ from presliding import analysis
 from presliding.cli import demo as _demo
 from presliding.cli import demo_sections as _demo_sections
 from presliding.cli import main
-from presliding.cli.common import MANIFEST
+from presliding.cli.common import LOCK, MANIFEST
 
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
 #: Figure sizes in pixels (width, height): figsize × DPI of `_demo`. Matplotlib rounds
@@ -42,7 +42,7 @@ def demo_dir(tmp_path_factory):
 
 def test_demo_writes_every_file(demo_dir, capsys):
     names = sorted(p.name for p in demo_dir.iterdir())
-    assert names == sorted([*SIZES, "report.md", "report.html", MANIFEST])
+    assert names == sorted([*SIZES, "report.md", "report.html", MANIFEST, LOCK])
     # the list the command checks before writing is the list it writes
     assert sorted(_demo.DEMO_OUTPUTS) == sorted([*SIZES, "report.md", "report.html"])
     listed = (demo_dir / MANIFEST).read_text(encoding="utf-8").splitlines()[1:]

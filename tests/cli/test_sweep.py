@@ -359,3 +359,25 @@ def test_a_failed_chunk_exits_1_and_writes_nothing(tmp_path, capsys, monkeypatch
     assert main(["sweep", str(spec), "-o", str(tmp_path / "o"), "--workers", "1"]) == 1
     one_error_line(capsys, "presliding sweep: failed:", "RuntimeError: no motion here")
     assert not (tmp_path / "o" / "sweep.csv").exists()
+
+
+def test_viscous_term_of_the_base_model_is_swept_and_analysis_refuses_it(tmp_path, capsys):
+    # the Coulomb-viscous stop: t = (m/σ)·ln(1 + σ·v0/c1) for every mass of the axis
+    spec = _write(
+        tmp_path,
+        "[friction]\ncoulomb = 1.0\nviscous = 2.0\n[motion]\ninitial_velocity = 3.0\n"
+        't_end = 5.0\n[sweep]\nquantity = "stop_time"\n[sweep.axes]\n'
+        "mass = {values = [0.5, 1.0, 2.0]}\n",
+    )
+    assert main(["sweep", str(spec), "-o", str(tmp_path / "o"), "--quiet"]) == 0
+    _, data = _read_csv(tmp_path / "o" / "sweep.csv")
+    np.testing.assert_allclose(data[:, 1], data[:, 0] / 2.0 * np.log1p(2.0 * 3.0), rtol=1e-13)
+    bad = _write(
+        tmp_path,
+        TWO_AXES.replace(
+            "breakaway = [0.3, 0.3, 0.4]", "breakaway = [0.3, 0.3, 0.4]\nviscous = 1.0"
+        ).replace('quantity = "reversals"', 'quantity = "reversals"\nmethod = "analysis"'),
+        "bad.toml",
+    )
+    assert main(["sweep", str(bad), "-o", str(tmp_path / "o2")]) == 2
+    one_error_line(capsys, "`friction.viscous` must be 0 with method 'analysis'")

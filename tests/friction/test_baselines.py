@@ -247,7 +247,7 @@ def test_compare_runs_every_model_on_one_path():
     plt.close(ax.figure)
     with pytest.raises(ValueError, match=r"^`time` must be given for the LuGre model 'LuGreFric"):
         compare([LUGRE], y)
-    with pytest.raises(TypeError, match="`models` must hold friction models"):
+    with pytest.raises(TypeError, match=r"^`models` must be a PIFriction, .* got float at index 0"):
         compare([1.0], y)
     with pytest.raises(ValueError, match="`models` must have distinct labels"):
         compare([CoulombFriction(1.0), CoulombFriction(2.0)], y)

@@ -68,16 +68,15 @@ def test_window_bounds_are_validated(bounds, error, message):
     np.testing.assert_array_equal(m.window(None, 0.25).position, [0.0, 1.0, 2.0])
 
 
-def test_from_csv_by_name_and_index_with_scale(tmp_path):
+def test_from_csv_by_name_and_index_with_units_and_scale(tmp_path):
     path = tmp_path / "data.txt"
     path.write_text("Time [s]\tPos [mm]\tF [uN]\n0\t1.0\t10\n0.5\t2.0\t20\n1.0\t3.0\t30\n")
     m = Measurement.from_csv(
-        path, "Time [s]", position="Pos [mm]", friction_force=2,
-        scale={"position": 1e-3, "friction_force": -1e-6},
-    )  # fmt: skip
-    np.testing.assert_allclose(m.position, [1e-3, 2e-3, 3e-3])
-    np.testing.assert_allclose(m.friction_force, [-1e-5, -2e-5, -3e-5])
-    with pytest.raises(ValueError, match="column of `position`"):
+        path, "Time [s]", position="Pos [mm]", friction_force=2, scale={"friction_force": -2.0}
+    )
+    np.testing.assert_allclose(m.position, [1e-3, 2e-3, 3e-3])  # mm from the header
+    np.testing.assert_allclose(m.friction_force, [-2e-5, -4e-5, -6e-5])  # uN, then × -2
+    with pytest.raises(ValueError, match="no column 'nope' for `position`"):
         Measurement.from_csv(path, "Time [s]", position="nope")
     with pytest.raises(ValueError, match="signal names"):
         Measurement.from_csv(path, "Time [s]", speed="Pos [mm]")

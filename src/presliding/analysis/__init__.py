@@ -3,14 +3,19 @@
 Files
 -----
 stops.py      Φ (eq. 14), y_e (eq. 15), the stop test (eq. 16) and `turning_points`
-energy.py     stored, kinetic and dissipated energy (the energy after eq. 12)
+energy.py     stored, kinetic and dissipated energy (the energy after eq. 12), viscous loss
 _walks.py     exact half swings by the work-energy balance (finite elements, densities)
 
 May import: `presliding.friction`, `presliding.hysteresis` and the root's shared modules.
 It does not import `presliding.motion` (a sibling layer).
 """
 
-from presliding.analysis.energy import dissipated_energy, elastic_energy, total_energy
+from presliding.analysis.energy import (
+    dissipated_energy,
+    elastic_energy,
+    total_energy,
+    viscous_dissipation,
+)
 from presliding.analysis.stops import (
     TurningPoints,
     phi,
@@ -28,4 +33,5 @@ __all__ = [
     "total_energy",
     "turning_point",
     "turning_points",
+    "viscous_dissipation",
 ]

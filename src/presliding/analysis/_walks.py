@@ -95,6 +95,42 @@ def element_swing(
     raise RuntimeError("no turning point found")  # pragma: no cover - W grows without bound
 
 
+def check_reach(model: Any, state: PIState | MemoryState, mass: float, velocity: float) -> None:
+    """The free motion from `state` with speed `velocity` stays in the floating-point range.
+
+    Its energy E = ½·m·v0² + ½∫ f² dμ must be finite, and so must the reach
+    |y0| + 2·u_max, where u_max bounds every half swing: moving a distance u
+    from any memory (|f(r)| <= r), a stop r slides after at most 2r and then
+    dissipates r per unit length and stiffness, so for any ρ and u >= 2ρ the
+    dissipation is at least (c1 + M1(ρ))·u − 2·M2(ρ), and it cannot exceed E:
+
+        u_max = 2ρ + (E + 2·M2(ρ)) / (c1 + M1(ρ)),   ρ = R (or 4·F_m/μ([0, R]) if R = inf).
+    """
+    from presliding._validation import check_finite_derived
+
+    dens = model.density
+    if isinstance(state, PIState):
+        f = state.deformation
+        stored = 0.5 * float(np.sum(model.stiffness * f * f)) if f.shape[0] else 0.0
+    else:
+        head, stack = state.working_memory(dens)
+        stored = float(gk.elastic_energy(head, stack, dens._kind, dens._par, dens._tab))
+    energy = 0.5 * mass * velocity * velocity + stored  # Python floats: overflow gives inf
+    check_finite_derived("energy ½·m·v0² + ½∫ f² dμ", energy, ("mass", "initial_velocity"))
+    big_r = dens._big_r
+    rho = big_r if math.isfinite(big_r) else 4.0 * dens.max_elastic_force / dens.total_stiffness
+    rate = model.coulomb + (float(dens.M1(rho)) if rho > 0 else 0.0)
+    if not rate > 0:  # pragma: no cover - every model has c1 > 0 or stops that slide
+        return
+    u_max = 2.0 * rho + (energy + 2.0 * (float(dens.M2(rho)) if rho > 0 else 0.0)) / rate
+    reach = abs(state.last_input) + 2.0 * u_max
+    check_finite_derived(
+        "reach |y0| + 2·u_max of the free motion (u_max bounds each swing by its energy)",
+        reach,
+        ("initial_velocity", "initial_position"),
+    )
+
+
 class DensitySwing:
     """Half swings of a mass with a density model (the level walk of the module notes)."""
 

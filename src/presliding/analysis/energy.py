@@ -13,6 +13,12 @@ the Coulomb element losing c1 per unit length and every stop r losing r per
 unit slip and unit stiffness (its break-away force c = k·r, eq. 6). For a
 continuous density the stops with r <= ρ slide (ρ the front, see
 `MemoryState`), so the stop part is ∫ M1(ρ) |dy| and is integrated exactly.
+
+A viscous term σ·ẏ (``PIFriction.viscous``) dissipates σ·∫ẏ² dt on top of D.
+It depends on the time course of the motion, not on the path alone, so the
+path functions here leave it out; `viscous_dissipation` integrates it along a
+sampled motion, and `presliding.simulate` records it exactly as
+``MotionResult.energy.viscous``.
 """
 
 from __future__ import annotations
@@ -20,12 +26,19 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from presliding._validation import as_nonnegative_scalar, as_real_scalar, as_signal
+from presliding._validation import (
+    as_nonnegative_scalar,
+    as_real_scalar,
+    as_signal,
+    check_finite_derived,
+    check_increasing,
+    check_same_length,
+)
 from presliding.friction.pi_friction import PIFriction
 from presliding.hysteresis.general_pi import GeneralPIOperator, MemoryState, run_density
 from presliding.hysteresis.operators import PIState, play, start_memory
 
-__all__ = ["dissipated_energy", "elastic_energy", "total_energy"]
+__all__ = ["dissipated_energy", "elastic_energy", "total_energy", "viscous_dissipation"]
 
 FloatArray = NDArray[np.float64]
 
@@ -91,7 +104,9 @@ def total_energy(
     """
     m = as_nonnegative_scalar("mass", mass)
     v = as_real_scalar("velocity", velocity)
-    return 0.5 * m * v * v + elastic_energy(model, state)
+    total = 0.5 * m * v * v + elastic_energy(model, state)  # Python floats: overflow gives inf
+    check_finite_derived("energy ½·m·v² + ½∫ f² dμ", total, ("mass", "velocity"))
+    return total
 
 
 def dissipated_energy(
@@ -116,7 +131,8 @@ def dissipated_energy(
     Returns
     -------
     ndarray, shape (T,)
-        Nondecreasing, >= 0 [J].
+        Nondecreasing, >= 0 [J]. The rate-independent part: the viscous term
+        of a model with σ > 0 is not included (see `viscous_dissipation`).
     """
     model = _model(model)
     y = as_signal("displacement", displacement)
@@ -140,3 +156,35 @@ def dissipated_energy(
         return coulomb + np.cumsum(slip)
     _, stops, _ = run_density(model.density, y, state, dissipation=True)
     return coulomb + stops
+
+
+def viscous_dissipation(model: PIFriction, time: ArrayLike, velocity: ArrayLike) -> FloatArray:
+    """Cumulative energy σ·∫ẏ² dt dissipated by the viscous term along a sampled motion.
+
+    The trapezoidal rule on the samples (second order in the sample spacing;
+    exact for a velocity linear between samples). For an exact record of a
+    simulated motion use ``MotionResult.energy.viscous``.
+
+    Parameters
+    ----------
+    model : PIFriction
+        Its ``viscous`` coefficient σ [N·s/m] is used (0 gives zeros).
+    time : array_like, shape (T,)
+        Strictly increasing sample times [s].
+    velocity : array_like, shape (T,)
+        ẏ at those times [m/s].
+
+    Returns
+    -------
+    ndarray, shape (T,)
+        Nondecreasing, >= 0, starting at 0 [J].
+    """
+    model = _model(model)
+    t = as_signal("time", time)
+    v = as_signal("velocity", velocity)
+    check_same_length(time=t, velocity=v)
+    check_increasing("time", t)
+    power = model.viscous * v * v
+    out = np.zeros(t.shape[0])
+    np.cumsum(0.5 * (power[1:] + power[:-1]) * np.diff(t), out=out[1:])
+    return out

@@ -36,7 +36,13 @@ from presliding._validation import (
     as_real_scalar,
     fmt,
 )
-from presliding.analysis._walks import DensitySwing, DensityWalk, ElementWalk, element_swing
+from presliding.analysis._walks import (
+    DensitySwing,
+    DensityWalk,
+    ElementWalk,
+    check_reach,
+    element_swing,
+)
 from presliding.friction.pi_friction import PIFriction
 from presliding.hysteresis import _general_pi as gk
 from presliding.hysteresis.general_pi import MemoryState
@@ -49,11 +55,27 @@ __all__ = ["TurningPoints", "phi", "stops_at_turning_point", "turning_point", "t
 
 FloatArray = NDArray[np.float64]
 _SLACK = 8 * np.finfo(np.float64).eps
+#: The largest `max_reversals` of `turning_points` (each reversal of a density
+#: model costs a root search, about 0.1 ms).
+MAX_REVERSALS = 100_000
 
 
 def _model(model: PIFriction) -> PIFriction:
     if not isinstance(model, PIFriction):
         raise TypeError(f"`model` must be a PIFriction; got {type(model).__name__}.")
+    return model
+
+
+def _undamped(model: PIFriction, what: str) -> PIFriction:
+    """The model, checked to have no viscous term (the work-energy balance of eqs. 13–16)."""
+    model = _model(model)
+    if model.viscous != 0.0:
+        raise ValueError(
+            f"{what} assumes no viscous friction (the paper's assumption (i)); got "
+            f"`model.viscous` = {fmt(model.viscous)}: the viscous loss depends on the time "
+            "course of the motion, so simulate it with `presliding.simulate` (exact event "
+            "method) instead."
+        )
     return model
 
 
@@ -107,9 +129,10 @@ def turning_point(model: PIFriction) -> float:
     ------
     ValueError
         If c1 >= F_m: the mass sticks at the first turning point and eq. 15 has
-        no positive root.
+        no positive root; or if the model has a viscous term (σ > 0), which
+        eq. 15 does not include (use `presliding.simulate`).
     """
-    model = _model(model)
+    model = _undamped(model, "`turning_point` (eq. 15)")
     fm, c1 = model.max_elastic_force, model.coulomb
     if c1 >= fm:
         raise ValueError(
@@ -141,8 +164,14 @@ def stops_at_turning_point(model: PIFriction) -> bool:
     -------
     bool
         Whether c1 >= Φ(y_e) (eq. 16) or c1 >= F_m.
+
+    Raises
+    ------
+    ValueError
+        If the model has a viscous term (σ > 0): eq. 16 assumes σ = 0; use
+        `presliding.simulate`.
     """
-    model = _model(model)
+    model = _undamped(model, "`stops_at_turning_point` (eq. 16)")
     if model.coulomb >= model.max_elastic_force:
         return True
     return sticks(model, float(phi(model, turning_point(model))))
@@ -264,14 +293,23 @@ def turning_points(
         y0 for the string states.
     max_reversals : int
         Stop counting after this many reversals (status 'max_reversals' or
-        'never_stops').
+        'never_stops'); at most `MAX_REVERSALS` (100000, about 10 s for a
+        density model).
+
+    Raises
+    ------
+    ValueError
+        If the model has a viscous term (σ > 0): the half swings follow from
+        the work-energy balance only without it (the paper's assumption (i));
+        `presliding.simulate` solves the damped motion exactly.
     """
-    model = _model(model)
+    model = _undamped(model, "`turning_points`")
     m = as_positive_scalar("mass", mass)
     v0 = as_real_scalar("initial_velocity", initial_velocity)
     y0 = as_real_scalar("initial_position", initial_position)
-    max_reversals = as_count("max_reversals", max_reversals)
+    max_reversals = as_count("max_reversals", max_reversals, maximum=MAX_REVERSALS)
     state = _initial_state(model, initial_state, y0, v0)
+    check_reach(model, state, m, v0)
     walk = ElementWalk(model, state) if isinstance(state, PIState) else DensityWalk(model, state)
     y0 = walk.position
     kinetic, s = 0.5 * m * v0 * v0, float(np.sign(v0))

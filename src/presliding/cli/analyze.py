@@ -15,6 +15,8 @@ def analyze(model: Any, mass: float, initial_velocity: float) -> dict[str, Any]:
     The reversal count is that of a free motion from a saturated start (a long
     slide before, the paper's assumption for eqs. 13–16); it depends neither on
     the mass nor on the speed, so a zero `initial_velocity` is replaced by 1.
+    Eqs. 14–16 assume no viscous friction (assumption (i)): for a model with
+    σ > 0 the stop analysis is left out (None) with a note to simulate it.
     """
     from presliding.analysis.stops import phi, stops_at_turning_point, turning_point, turning_points
 
@@ -26,16 +28,31 @@ def analyze(model: Any, mass: float, initial_velocity: float) -> dict[str, Any]:
         "initial_stiffness": model.initial_stiffness,
         "elements": model.n_elements if model.is_discrete else None,
         "density": None if model.is_discrete else repr(model.density),
+        "viscous": model.viscous,
         "turning_point": None,
         "phi_at_turning_point": None,
-        "stops_at_turning_point": bool(stops_at_turning_point(model)),
+        "stops_at_turning_point": None,
     }
+    if model.viscous:
+        out["free_motion"] = None
+        out["note"] = (
+            f"viscous term σ = {model.viscous:.6g} N s/m: eqs. 14-16 assume σ = 0 (the paper's "
+            "assumption (i)); simulate the motion with `presliding simulate`"
+        )
+        return out
+    out["stops_at_turning_point"] = bool(stops_at_turning_point(model))
     if c1 < fm:
         y_e = turning_point(model)
         out["turning_point"] = y_e
         out["phi_at_turning_point"] = float(phi(model, y_e))
     v0 = initial_velocity if initial_velocity != 0.0 else 1.0
     tp = turning_points(model, mass, v0, "saturated")
+    note = (
+        "motion.initial_velocity is 0, so the free motion starts at 1 m/s instead (the number "
+        "of reversals from a saturated start depends neither on the speed nor on the mass)"
+        if initial_velocity == 0.0
+        else ""
+    )
     out["free_motion"] = {
         "mass": mass,
         "initial_velocity": v0,
@@ -44,6 +61,7 @@ def analyze(model: Any, mass: float, initial_velocity: float) -> dict[str, Any]:
         "turning_points": [float(y) for y in tp.positions[:50]],
         "rest_position": None if tp.rest_position is None else float(tp.rest_position),
         "message": tp.message,
+        "note": note,
     }
     return out
 
@@ -61,6 +79,10 @@ def _text(name: str, a: dict[str, Any]) -> str:
     lines.append(
         row("stiffness after a reversal", f"{a['initial_stiffness']:.6g} N/m", "Σ k_j, eq. 7")
     )
+    if a["viscous"]:
+        lines.append(row("viscous term σ", f"{a['viscous']:.6g} N s/m", "σ·ẏ"))
+        lines.append(f"  {a['note']}")
+        return "\n".join(lines)
     if a["turning_point"] is None:
         lines.append(row("second turning point y_e", "none", "c1 >= F_m: no reversal"))
         verdict = "stops at the first turning point (c1 >= F_m)"
@@ -82,6 +104,8 @@ def _text(name: str, a: dict[str, Any]) -> str:
     if fm["rest_position"] is not None:
         lines.append(f"    rest position {fm['rest_position']:.6g} m")
     lines.append(f"    {fm['message']}")
+    if fm["note"]:
+        lines.append(f"    note: {fm['note']}")
     return "\n".join(lines)
 
 

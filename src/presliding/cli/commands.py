@@ -33,6 +33,8 @@ examples:
   presliding analyze model.toml --json
   presliding fit loops.csv --kind presliding --elements 4 -o fit/
   presliding fit run.csv --kind response --columns velocity='v [m/s]' -o fit/
+  presliding fit DATA.mat --kind motion --columns time=t position=qm applied_force=vir \\
+      --scale applied_force=gtau --viscous --offset --window 0:20 -o fit/
   presliding sweep spec.toml -o map/       # e.g. reversal counts over c1/F_m and v0
   presliding sweep spec.toml --scheduler tcp://10.0.0.5:8786   # on a Dask cluster
 
@@ -41,20 +43,24 @@ model files (TOML, or JSON with the same tables; units in brackets):
   coulomb = 0.3                    # c1 [N], the Coulomb element (eq. 8)
   stiffness = [2e4, 5e3, 1.5e3]    # k_j [N/m]
   breakaway = [0.2, 0.2, 0.3]      # c_j [N]  (or threshold = [...] r_j [m], eq. 6)
+  viscous = 0.0                    # σ [N s/m], optional viscous term σ·ẏ (default 0)
   [motion]                         # optional
   mass = 1.0                       # m [kg]
   initial_velocity = 0.05          # [m/s]
   initial_state = "saturated"      # or "relaxed"
   t_end = 0.2                      # [s]
-  samples = 2001
+  samples = 2001                   # at most 10,000,000
+  [measurement]                    # optional: measured force = model force + F_0
+  force_offset = -3.16             # F_0 [N]; simulate applies u - F_0
   A continuous density instead of elements (section 3, eq. 10):
   [friction.density]
   kind = "uniform"                 # height [N/m^2], max_threshold [m]
   (or kind = "exponential": height, length, max_threshold; or "piecewise_constant":
   breaks [m], heights [N/m^2])
 
-exit status: 0 success, 1 a computation that did not succeed (see its message),
-2 a user error (bad file, column or parameter), 130 interrupted.
+exit status: 0 success, 1 a computation that did not succeed (a fit that did not
+converge or is poor, a motion still moving; see its message), 2 a user error (bad file,
+column, unit or parameter), 130 interrupted.
 """
 
 
@@ -116,9 +122,10 @@ def _build_parser() -> argparse.ArgumentParser:
         "simulate",
         help="simulate the motion of a model file (CSV and PNG)",
         description="Simulate m·ÿ + c1·Sign(ẏ) + F_el(y) = u (eq. 17) for the [friction] and "
-        "[motion] tables of a model file, with exact stiction. Writes the samples as CSV "
-        "(time, position, velocity, acceleration, friction_force, applied_force; units in "
-        "the header) and a figure.",
+        "[motion] tables of a model file, with exact stiction; a [measurement] force_offset "
+        "F_0 is subtracted from the applied force (measured u = m·ÿ + F + F_0). Writes the "
+        "samples as CSV (time, position, velocity, acceleration, friction_force, "
+        "elastic_force, applied_force; units in the header) and a figure.",
         epilog="examples:\n  presliding simulate model.toml -o run/\n"
         "  presliding simulate model.toml --applied-force u.csv -o run.csv",
         formatter_class=fmt,
@@ -131,6 +138,11 @@ def _build_parser() -> argparse.ArgumentParser:
         metavar="CSV",
         help="applied force u(t): a CSV file with columns time,value [s, N] (replaces "
         "motion.applied_force)",
+    )
+    simulate.add_argument(
+        "--hold-last",
+        action="store_true",
+        help="hold the last applied-force sample when the CSV ends before t_end (else an error)",
     )
     simulate.add_argument(
         "--hold",
@@ -178,23 +190,17 @@ def _build_parser() -> argparse.ArgumentParser:
     analyze.add_argument("--json", action="store_true", help="print JSON for machines")
     analyze.set_defaults(handler=_cmd_analyze)
 
+    from presliding.cli.fit import FIT_DESCRIPTION, FIT_EPILOG
+
     fit = sub.add_parser(
         "fit",
-        help="identify a model from measured data (CSV): model TOML, report, plots",
-        description="Identify friction parameters (section 4) from a CSV file with a header "
-        "line. --kind presliding: friction force against displacement (columns position, "
-        "friction_force); motion: eq. 17 as a regression (time, position, applied_force; "
-        "velocity and acceleration are estimated when absent); response: simulated against "
-        "measured free response (time, velocity and/or position, optional applied_force). "
-        "Columns are found by name (units in brackets ignored: 'position [m]' is position); "
-        "--columns names them otherwise.",
-        epilog="examples:\n  presliding fit loops.csv --kind presliding --elements 4 -o fit/\n"
-        "  presliding fit data.csv --kind motion --viscous --offset --columns "
-        "applied_force=u -o fit/",
+        help="identify a model from measured data (CSV or MAT): model TOML, report, plots",
+        description=FIT_DESCRIPTION,
+        epilog=FIT_EPILOG,
         formatter_class=fmt,
         parents=[common, writes],
     )
-    fit.add_argument("data", type=Path, help="measured data (CSV with a header line)")
+    fit.add_argument("data", type=Path, help="measured data (delimited text, or a .mat file)")
     fit.add_argument(
         "--kind",
         choices=("presliding", "motion", "response"),
@@ -206,15 +212,36 @@ def _build_parser() -> argparse.ArgumentParser:
         nargs="+",
         metavar="SIGNAL=COLUMN",
         default=(),
-        help="column names by signal: time, position, velocity, acceleration, "
-        "applied_force, friction_force",
+        help="columns by signal (time, position, velocity, acceleration, applied_force, "
+        "friction_force): a header name, a 0-based index, or a MAT variable",
+    )
+    fit.add_argument(
+        "--units",
+        nargs="+",
+        metavar="SIGNAL=UNIT",
+        default=(),
+        help="unit of a signal's values (e.g. position=mm), overriding its header",
     )
     fit.add_argument(
         "--scale",
         nargs="+",
         metavar="SIGNAL=FACTOR",
         default=(),
-        help="unit factors applied on reading, e.g. position=1e-3 for mm",
+        help="factors applied after the unit conversion, e.g. friction_force=-1 to flip a "
+        "sign; for MAT files also a scalar variable (applied_force=gtau)",
+    )
+    fit.add_argument(
+        "--window",
+        metavar="START:STOP",
+        default=None,
+        help="fit only the samples with START <= t <= STOP [s] (either side may be empty)",
+    )
+    fit.add_argument(
+        "--sample-rate",
+        type=float,
+        default=None,
+        metavar="HZ",
+        help="sample rate [Hz] when the file has no time column",
     )
     fit.add_argument(
         "--elements",
@@ -354,6 +381,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     if args.command is None:
         parser.print_help()
         return 0
+    from presliding.cli.common import release_folders
+
     try:
         return int(args.handler(args))
     except KeyboardInterrupt:
@@ -365,6 +394,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         text = " ".join(str(exc).split()) or type(exc).__name__
         print(f"presliding {args.command}: error: {text}", file=sys.stderr)
         return 2
+    finally:
+        release_folders()
 
 
 if __name__ == "__main__":  # pragma: no cover

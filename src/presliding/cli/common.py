@@ -12,7 +12,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from presliding._io import atomic_path, write_text
+from presliding import _io
+from presliding._io import atomic_path, remove_stale_temporaries, write_text
 from presliding._progress import progress
 
 FloatArray = NDArray[np.float64]
@@ -37,15 +38,83 @@ def _same_file(a: Path, b: Path) -> bool:
 
 #: Names of the files presliding wrote into a folder, one per line: a later run
 #: may replace these, and no other existing file (unless --overwrite is given).
+#: A name is added once its file is in place; names of files that are gone are
+#: dropped when the list is read.
 MANIFEST = ".presliding-outputs"
+#: Lock file of an output folder: one run at a time writes into a folder.
+LOCK = ".presliding.lock"
+
+
+def _listed(folder: Path) -> set[str]:
+    """The names in the folder's `MANIFEST` as written (possibly of files now gone)."""
+    try:
+        lines = (folder / MANIFEST).read_text(encoding="utf-8").splitlines()
+    except (FileNotFoundError, NotADirectoryError, UnicodeDecodeError, PermissionError):
+        return set()
+    return {ln.strip() for ln in lines if ln.strip() and not ln.startswith("#")}
 
 
 def _written_before(folder: Path) -> set[str]:
+    """The files an earlier run wrote into `folder` that are still there."""
+    return {n for n in _listed(folder) if (folder / n).exists() or (folder / n).is_symlink()}
+
+
+def _write_manifest(folder: Path, names: set[str]) -> None:
+    header = "# written by presliding: a later run may replace these\n"
+    write_text(folder / MANIFEST, header + "".join(f"{n}\n" for n in sorted(names)))
+
+
+# ---------------------------------------------------------------------- folder locks
+#: Folders this process holds (resolved path -> lock) and the outputs it will write
+#: into them (resolved path -> folder as given).
+_held: dict[Path, Any] = {}
+_pending: dict[Path, Path] = {}
+
+
+def claim_folder(folder: Path) -> None:
+    """Lock an existing output folder for this run (until `release_folders`).
+
+    A second run into the same folder fails at once with a one-line UserError
+    naming it, so the outputs of two runs never mix. Under the lock, the
+    temporaries of killed earlier writes are removed.
+    """
+    from filelock import FileLock, Timeout
+
+    key = folder.resolve()
+    if key in _held:
+        return
+    lock = FileLock(str(folder / LOCK), blocking=False)
     try:
-        lines = (folder / MANIFEST).read_text(encoding="utf-8").splitlines()
-    except (FileNotFoundError, NotADirectoryError, UnicodeDecodeError):
-        return set()
-    return {ln.strip() for ln in lines if ln.strip() and not ln.startswith("#")}
+        lock.acquire()
+    except Timeout:
+        raise UserError(
+            f"{folder}: another presliding run is writing into this folder; wait until it "
+            "has finished or choose another folder with -o."
+        ) from None
+    except OSError as exc:
+        raise UserError(f"{folder}: cannot lock the output folder ({exc.strerror}).") from None
+    _held[key] = lock
+    remove_stale_temporaries(folder)
+
+
+def release_folders() -> None:
+    """Release every folder this process claimed and forget its pending outputs."""
+    for lock in _held.values():
+        lock.release()
+    _held.clear()
+    _pending.clear()
+    if _note_written in _io._written_listeners:
+        _io._written_listeners.remove(_note_written)
+
+
+def _note_written(path: Path) -> None:
+    """Add an output to its folder's manifest once it is in place."""
+    folder = _pending.get(Path(path).resolve())
+    if folder is None:
+        return
+    names = _written_before(folder) | {Path(path).name}
+    if names != _listed(folder):  # new, or listing files that are gone
+        _write_manifest(folder, names)
 
 
 def check_outputs(
@@ -68,6 +137,11 @@ def check_outputs(
                 )
     known: dict[Path, set[str]] = {}
     for out in outs:
+        if out.is_dir():
+            raise UserError(
+                f"{out}: is a folder; name an output file with -o, or give the folder itself "
+                "to write the outputs into it."
+            )
         exists = out.exists() or out.is_symlink()
         if exists and not overwrite:
             if out.parent not in known:
@@ -78,20 +152,21 @@ def check_outputs(
                 f"{out}: exists and was not written by presliding; choose another output "
                 "with -o, or pass --overwrite to replace it."
             )
+    for folder in dict.fromkeys(out.parent for out in outs):
+        if folder.is_dir():  # a new folder is claimed when it is created (record_outputs)
+            claim_folder(folder)
 
 
 def record_outputs(outputs: Iterable[Path]) -> None:
-    """Create the output folders and list the outputs in their `MANIFEST` (before writing)."""
-    folders: dict[Path, set[str]] = {}
+    """Create and claim the output folders; each output enters its folder's `MANIFEST`
+    as soon as it has been written (see `claim_folder`, `release_folders`)."""
     for out in outputs:
-        folders.setdefault(Path(out).parent, set()).add(Path(out).name)
-    for folder, names in folders.items():
+        folder = Path(out).parent
         make_folder(folder)
-        known = _written_before(folder)
-        if not names <= known:
-            lines = "".join(f"{n}\n" for n in sorted(known | names))
-            header = "# written by presliding: a later run may replace these\n"
-            write_text(folder / MANIFEST, header + lines)
+        claim_folder(folder)
+        _pending[Path(out).resolve()] = folder
+    if _note_written not in _io._written_listeners:
+        _io._written_listeners.append(_note_written)
 
 
 def check_folder(folder: Path) -> Path:
@@ -170,72 +245,27 @@ class Table:
 def read_table(path: Path, what: str, example: str = "time,value") -> Table:
     """Read a delimited text file: one header line (after '#' comments), then numbers.
 
-    The delimiter is a comma, a tab or a semicolon when the header has one,
-    whitespace otherwise. Every value must be a finite number.
+    The delimiter is a tab, a semicolon, a comma or whitespace; a byte-order
+    mark is skipped; every row must be as long as the header and every value a
+    finite number (see `presliding.identification._readers`).
     """
+    from presliding.identification._readers import read_text
+
     check_readable(path, what)
     try:
-        text = path.read_text(encoding="utf-8")
-    except UnicodeDecodeError:
-        raise UserError(f"{path}: not a text file; the {what} must be a CSV file.") from None
-    except OSError as exc:
-        raise UserError(f"{path}: cannot be read ({exc.strerror}).") from None
-    lines = text.splitlines()
-    start = 0
-    while start < len(lines) and (not lines[start].strip() or lines[start].startswith("#")):
-        start += 1
-    if start == len(lines):
-        raise UserError(f"{path}: is empty; the {what} needs a header line and data rows.")
-    header = lines[start]
-    delim = next((d for d in (",", "\t", ";") if d in header), None)
-    names = [h.strip().strip('"') for h in (header.split(delim) if delim else header.split())]
-    if all(_is_number(n) for n in names):
-        raise UserError(
-            f"{path}: the first line holds numbers, not column names; add a header line "
-            f"(e.g. {example})."
-        )
-    rows = [ln for ln in lines[start + 1 :] if ln.strip() and not ln.startswith("#")]
-    if not rows:
-        raise UserError(f"{path}: has a header but no data rows.")
-    try:
-        data = np.loadtxt(rows, delimiter=delim, ndmin=2, dtype=np.float64)
-        if data.shape[1] != len(names):
-            raise ValueError("row length")
-    except ValueError:
-        _diagnose(path, rows, delim, len(names))
-        raise UserError(f"{path}: cannot be read as numbers after the header.") from None
-    if not np.all(np.isfinite(data)):
-        r, c = np.argwhere(~np.isfinite(data))[0]
-        raise UserError(
-            f"{path}: column {names[c]!r} holds {data[r, c]} at row {r + 1}; every value "
-            "must be finite (remove or fill the gap)."
-        )
-    return Table(path, names, [np.ascontiguousarray(data[:, j]) for j in range(len(names))])
-
-
-def _diagnose(path: Path, rows: list[str], delim: str | None, n_columns: int) -> None:
-    """Raise a UserError naming the first row that is not `n_columns` numbers."""
-    for r, line in enumerate(rows):
-        cells = line.split(delim) if delim else line.split()
-        if len(cells) != n_columns:
+        text = read_text(path)
+        if text.names is None:
             raise UserError(
-                f"{path}: row {r + 1} has {len(cells)} values but the header names "
-                f"{n_columns} columns; make every row as long as the header."
+                f"{path}: the first line holds numbers, not column names; add a header line "
+                f"(e.g. {example})."
             )
-        bad = next((c for c in cells if not _is_number(c)), None)
-        if bad is not None:
-            raise UserError(
-                f"{path}: row {r + 1} holds {bad.strip()!r}, not a number; every value after "
-                "the header must be a number."
-            )
-
-
-def _is_number(text: str) -> bool:
-    try:
-        float(text)
-    except ValueError:
-        return False
-    return True
+        values = text.values(list(range(text.n_columns)))
+    except UserError:
+        raise
+    except (ValueError, OSError) as exc:
+        raise UserError(str(exc)) from None
+    names = list(text.names)
+    return Table(path, names, [values[j] for j in range(len(names))])
 
 
 def write_csv(
@@ -292,17 +322,21 @@ def check_options(pairs: Sequence[str] | None, option: str, allowed: Sequence[st
 
 
 __all__ = [
+    "LOCK",
+    "MANIFEST",
     "Table",
     "UserError",
     "check_folder",
     "check_options",
     "check_outputs",
     "check_readable",
+    "claim_folder",
     "column_key",
     "make_folder",
     "new_figure",
     "read_table",
     "record_outputs",
+    "release_folders",
     "tidy_fit_axes",
     "write_csv",
 ]

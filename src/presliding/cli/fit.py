@@ -1,8 +1,24 @@
-"""``presliding fit``: identification from a CSV file (section 4) to a model file and report."""
+"""``presliding fit``: identification from a data file (section 4) to a model file and report.
+
+The data file is delimited text (a header line or none; comma, tab, semicolon
+or whitespace) or a MATLAB file (by its ``.mat`` suffix). Units at the end of
+column headers are converted to SI; ``--units`` gives or overrides them and
+``--scale`` applies a factor on top (for a MATLAB file, a number or the name of
+a scalar variable). ``--window START:STOP`` keeps the samples in that time span.
+
+Exit codes: 0 when the fit converged; 1 when it did not (status
+``not_identifiable``, ``at_bound``, ``poor_fit``, ``max_evaluations`` or
+``failed``: see the report); 2 for a user error. ``model.toml`` is written for
+a converged fit, and marked as not converged in its header for
+``not_identifiable``, ``at_bound`` and ``max_evaluations``; a ``poor_fit`` or
+``failed`` fit, or one with non-finite or absurd parameters, writes none.
+"""
 
 from __future__ import annotations
 
 import argparse
+import textwrap
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -10,13 +26,13 @@ import numpy as np
 
 from presliding._progress import progress
 from presliding.cli.common import (
-    Table,
     UserError,
     check_folder,
     check_options,
     check_outputs,
+    check_readable,
+    column_key,
     new_figure,
-    read_table,
     record_outputs,
     tidy_fit_axes,
 )
@@ -38,65 +54,156 @@ NEEDS = {
     "response": (("time",), ("velocity", "position")),
 }
 OPTIONAL = {
-    "presliding": (),
+    "presliding": ("time",),
     "motion": ("velocity", "acceleration"),
     "response": ("applied_force",),
 }
 DEFAULT_ELEMENTS = {"presliding": 3, "motion": 0, "response": 4}
+#: The help text of `presliding fit` (description and examples).
+FIT_DESCRIPTION = (
+    "Identify friction parameters (section 4) from a data file: delimited "
+    "text (comma, tab, semicolon or whitespace; with a header line, or without one and "
+    "columns chosen by 0-based index) or a MATLAB .mat file (columns are variables). "
+    "--kind presliding: friction force against displacement (columns position, "
+    "friction_force; time for --window); motion: eq. 17 as a regression (time, position, "
+    "applied_force; velocity and acceleration are estimated when absent); response: "
+    "simulated against measured free response (time, velocity and/or position, optional "
+    "applied_force). Columns are found by name ('Position [mm]' is position) unless "
+    "--columns names them. A unit at the end of a header ('Position [mm]', 'x (um)', "
+    "'Friction [uN]', 'torque [mN m]', 't [ms]', 'angle [deg]') is converted to SI (m, N, "
+    "s; rad and N m for rotary axes); --units gives or overrides units, --scale applies "
+    "a factor on top (a number, or for MAT files the name of a scalar variable). "
+    "Exit status 0: converged; 1: the fit did not converge or is poor (see the report; "
+    "model.toml is then marked as such, or not written for a poor or failed fit); "
+    "2: a user error."
+)
+FIT_DESCRIPTION = "\n".join(textwrap.wrap(FIT_DESCRIPTION, 88))
+FIT_EPILOG = (
+    "examples:\n  presliding fit loops.csv --kind presliding --elements 4 -o fit/\n"
+    "  presliding fit tribometer.txt --kind presliding --scale friction_force=-1 "
+    "--window 8:210 -o fit/\n"
+    "  presliding fit DATA_EMPS.mat --kind motion --columns time=t position=qm "
+    "applied_force=vir --scale applied_force=gtau --viscous --offset -o fit/\n"
+    "  presliding fit xf.txt --kind presliding --columns position=0 friction_force=1 -o fit/"
+)
+#: A threshold beyond this many times the measured travel is not a model value.
+ABSURD_TRAVEL = 100.0
 
 
-def read_signals(args: argparse.Namespace) -> dict[str, np.ndarray]:
-    """The signals the fit kind needs, by name, scaled; clear errors for what is missing."""
-    columns = check_options(args.columns, "--columns", SIGNALS)
-    scales = check_options(args.scale, "--scale", SIGNALS)
-    factors = {}
-    for key, text in scales.items():
-        try:
-            factors[key] = float(text)
-        except ValueError:
-            raise UserError(f"--scale {key}={text}: the factor must be a number.") from None
-        if not np.isfinite(factors[key]) or factors[key] == 0.0:
-            raise UserError(f"--scale {key}={text}: the factor must be finite and nonzero.")
-    table = read_table(args.data, "data file", example=",".join(_example(args.kind)))
-    out: dict[str, np.ndarray] = {}
-    for group in NEEDS[args.kind]:
-        for signal in group:
-            arr = _find(table, signal, columns)
-            if arr is not None:
-                out[signal] = arr
-        if not any(s in out for s in group):
-            names = " or ".join(f"`{s}`" for s in group)
-            raise UserError(
-                f"{args.data}: no column for {names} (needed by --kind {args.kind}); the "
-                f"columns are {', '.join(repr(n) for n in table.names)}; name it with "
-                f"--columns {group[0]}=COLUMN."
-            )
-    for signal in OPTIONAL[args.kind]:
-        arr = _find(table, signal, columns)
-        if arr is not None:
-            out[signal] = arr
-    return {k: v * factors.get(k, 1.0) for k, v in out.items()}
+def parse_window(text: str | None) -> tuple[float | None, float | None] | None:
+    """``"8:210"`` → (8.0, 210.0); either side may be empty (``"8:"``, ``":210"``)."""
+    if text is None:
+        return None
+    start, sep, stop = text.partition(":")
+    try:
+        if not sep:
+            raise ValueError
+        bounds = tuple(float(x) if x.strip() else None for x in (start, stop))
+    except ValueError:
+        raise UserError(
+            f"--window {text}: expected START:STOP in seconds, e.g. --window 8:210 (either "
+            "side may be left empty)."
+        ) from None
+    if any(b is not None and not np.isfinite(b) for b in bounds):
+        raise UserError(f"--window {text}: the bounds must be finite numbers of seconds.")
+    return bounds  # type: ignore[return-value]
 
 
-def _example(kind: str) -> list[str]:
-    return [group[0] for group in NEEDS[kind]]
+def _is_mat(path: Path) -> bool:
+    with open(path, "rb") as fh:
+        return path.suffix.lower() == ".mat" or fh.read(19) == b"MATLAB 5.0 MAT-file"
 
 
-def _find(table: Table, signal: str, columns: dict[str, str]) -> np.ndarray | None:
+def _locate(signal: str, columns: dict[str, str], names: list[str] | None) -> str | int | None:
+    """The column (name or index) of `signal`: from --columns, else by alias; None if absent."""
     if signal in columns:
-        i = table.find((columns[signal],))
-        if i is None:
-            raise UserError(
-                f"{table.path}: no column {columns[signal]!r} (given by --columns "
-                f"{signal}=...); the columns are {', '.join(repr(n) for n in table.names)}."
-            )
-        return table.columns[i]
-    i = table.find(ALIASES[signal])
-    return None if i is None else table.columns[i]
+        spec = columns[signal]
+        if names is not None and spec in names:
+            return spec
+        return int(spec) if spec.lstrip("-").isdigit() else spec
+    if names is None:
+        return None
+    keys = [column_key(n) for n in names]
+    for alias in ALIASES[signal]:
+        for name, key in zip(names, keys, strict=True):
+            if alias in (name, key):
+                return name
+    return None
 
 
-def fit(args: argparse.Namespace, sig: dict[str, np.ndarray]) -> Any:
-    """Run the fit of `args.kind` on the signals; returns the FitResult."""
+def read_measurement(args: argparse.Namespace) -> Any:
+    """The Measurement of the columns `args.kind` needs, in SI, windowed; clear errors."""
+    from presliding.identification._mat import read_mat
+    from presliding.identification._readers import read_text
+    from presliding.identification.measurement import Measurement
+
+    check_readable(args.data, "data file")
+    columns = check_options(args.columns, "--columns", SIGNALS)
+    units = check_options(args.units, "--units", SIGNALS)
+    window = parse_window(args.window)
+    mat = _is_mat(args.data)
+    scales: dict[str, Any] = {}
+    for key, text in check_options(args.scale, "--scale", SIGNALS).items():
+        try:
+            scales[key] = float(text)
+        except ValueError:
+            if not mat:
+                raise UserError(
+                    f"--scale {key}={text}: the factor must be a number (names of scalar "
+                    "variables work for MATLAB files only)."
+                ) from None
+            scales[key] = text
+        if isinstance(scales[key], float) and not (np.isfinite(scales[key]) and scales[key]):
+            raise UserError(f"--scale {key}={text}: the factor must be finite and nonzero.")
+    source = read_mat(args.data) if mat else read_text(args.data)
+    names = source.names if mat else (list(source.names) if source.names else None)
+    found = {}
+    for signal in (*[s for group in NEEDS[args.kind] for s in group], *OPTIONAL[args.kind]):
+        col = _locate(signal, columns, names)
+        if col is not None:
+            found[signal] = col
+    rate = args.sample_rate
+    if "time" not in found and rate is None and args.kind == "presliding" and window is None:
+        rate = 1.0  # numbered samples: the presliding fit needs no time
+    for group in NEEDS[args.kind]:
+        if not any(s in found for s in group) and not (group == ("time",) and rate):
+            raise UserError(_missing(args, group, names, mat))
+    time = found.pop("time", None)
+    if time is None and rate is None:
+        raise UserError(_missing(args, ("time",), names, mat))
+    if time is not None and rate is not None:
+        raise UserError(f"--sample-rate: {args.data} has a time column ({time!r}); drop one.")
+    reader = Measurement.from_mat if mat else Measurement.from_csv
+    meas = reader(args.data, time, sample_rate=rate, units=units or None, scale=scales, **found)
+    if time is None and args.sample_rate is None:
+        note = "no time column: samples numbered 0, 1, 2, ..."
+        meas = replace(meas, source=replace(meas.source, sample_rate=None, notes=(note,)))
+    if window is not None:
+        try:
+            meas = meas.window(*window)
+        except ValueError as exc:
+            raise UserError(f"--window {args.window}: {exc}") from None
+    return meas
+
+
+def _missing(args: argparse.Namespace, group: tuple[str, ...], names: Any, mat: bool) -> str:
+    what = " or ".join(f"`{s}`" for s in group)
+    if names is None:
+        return (
+            f"{args.data}: has no header line, so columns are chosen by 0-based index; name "
+            f"{what} with --columns, e.g. --columns time=0 position=1."
+        )
+    kinds = "variables" if mat else "columns"
+    hint = " (or give --sample-rate HZ)" if group == ("time",) else ""
+    return (
+        f"{args.data}: no {kinds[:-1]} for {what} (needed by --kind {args.kind}); the {kinds} "
+        f"are {', '.join(repr(n) for n in names)}; name it with --columns "
+        f"{group[0]}=COLUMN{hint}."
+    )
+
+
+def fit(args: argparse.Namespace, meas: Any) -> tuple[Any, Any]:
+    """Run the fit of `args.kind`; returns the FitResult and the measurement it used."""
     n = DEFAULT_ELEMENTS[args.kind] if args.elements is None else args.elements
     if n < 0:
         raise UserError(f"--elements must be 0 or more; got {n}.")
@@ -104,47 +211,39 @@ def fit(args: argparse.Namespace, sig: dict[str, np.ndarray]) -> Any:
         from presliding.identification.fit_presliding import fit_presliding
 
         return fit_presliding(
-            sig["position"], sig["friction_force"], n, offset=args.offset, search=args.search,
+            meas.position, meas.friction_force, n, offset=args.offset, search=args.search,
             seed=args.seed,
-        )  # fmt: skip
-    from presliding.identification.measurement import Measurement
-
-    meas = Measurement(**sig)
+        ), meas  # fmt: skip
     fixed = None if args.mass is None else {"mass": args.mass}
     if args.kind == "motion":
         from presliding.identification.fit_motion import fit_motion
 
         if meas.velocity is None or meas.acceleration is None:
-            cutoff = args.cutoff
-            if cutoff is None:
-                cutoff = 0.1 / meas.sampling_step
             meas = meas.resample(meas.sampling_step) if not meas.is_uniform else meas
+            cutoff = 0.1 / meas.sampling_step if args.cutoff is None else args.cutoff
             meas = meas.differentiate(cutoff)
-        return fit_motion(meas, n, viscous=args.viscous, offset=args.offset, fixed=fixed)
+        return fit_motion(meas, n, viscous=args.viscous, offset=args.offset, fixed=fixed), meas
     from presliding.identification.fit_response import fit_response
 
     signal = "velocity" if meas.velocity is not None else "position"
-    return fit_response(meas, n, mass=args.mass, signal=signal)
+    return fit_response(meas, n, mass=args.mass, signal=signal), meas
 
 
-def _motion_settings(args: argparse.Namespace, sig: dict[str, np.ndarray], result: Any) -> Any:
+def _motion_settings(args: argparse.Namespace, meas: Any, result: Any) -> Any:
     """[motion] table reproducing the fitted response (response and motion kinds)."""
     from presliding.model_io import MotionSettings
 
     mass = result.parameters.get("mass")
     if mass is None or args.kind != "response":
         return None if mass is None else MotionSettings(mass=float(mass))
-    t = sig["time"]
-    v = sig["velocity"] if "velocity" in sig else np.gradient(sig["position"], t)
-    u = sig.get("applied_force")
+    t = meas.time
+    v = meas.velocity if meas.velocity is not None else np.gradient(meas.position, t)
+    u = meas.applied_force
+    y0 = meas.position[0] if meas.position is not None else 0.0
     return MotionSettings(
         mass=float(mass),
         initial_velocity=float(result.parameters.get("initial_velocity", v[0])),
-        initial_position=float(
-            result.parameters.get(
-                "initial_position", sig["position"][0] if "position" in sig else 0.0
-            )
-        ),
+        initial_position=float(result.parameters.get("initial_position", y0)),
         initial_state="saturated",
         applied_force=float(u[0]) if u is not None and np.all(u == u[0]) else 0.0,
         t_end=float(t[-1] - t[0]),
@@ -152,10 +251,55 @@ def _motion_settings(args: argparse.Namespace, sig: dict[str, np.ndarray], resul
     )
 
 
+def model_problem(result: Any, meas: Any) -> str:
+    """Why the fitted model must not be written ("" when it may be)."""
+    if result.status in ("poor_fit", "failed"):
+        return f"the fit's status is {result.status}"
+    if result.model is None:
+        return "the fitted parameters do not form a valid model"
+    values = np.array(list(result.parameters.values()), dtype=float)
+    if not np.all(np.isfinite(values)):
+        return "some fitted parameters are not finite"
+    if result.model.is_discrete and result.model.n_elements and meas.position is not None:
+        travel = float(np.ptp(meas.position))
+        big = float(np.max(result.model.threshold))
+        if big > ABSURD_TRAVEL * travel:
+            return (
+                f"a threshold of {big:.3g} is {big / travel:.3g} times the measured travel "
+                f"{travel:.3g} (the data do not determine it; try fewer --elements)"
+            )
+    return ""
+
+
+def _command_line(args: argparse.Namespace) -> str:
+    """The fit's command line, rebuilt from its options (paths shortened to file names)."""
+    parts = ["presliding fit", args.data.name, "--kind", args.kind]
+    for option in ("columns", "units", "scale"):
+        items = getattr(args, option)
+        if items:
+            parts += [f"--{option}", *items]
+    for option, value in (("--window", args.window), ("--sample-rate", args.sample_rate),
+                          ("--elements", args.elements), ("--cutoff", args.cutoff),
+                          ("--mass", args.mass)):  # fmt: skip
+        if value is not None:
+            parts += [option, str(value)]
+    parts += [flag for flag in ("--viscous", "--offset") if getattr(args, flag[2:])]
+    return " ".join(parts)
+
+
+def _header(args: argparse.Namespace, meas: Any, result: Any) -> str:
+    lines = [f"identified by `{_command_line(args)}`"]
+    if result.status != "converged":
+        lines.append(f"NOT CONVERGED: status {result.status}. Check the report before using it.")
+    lines.append(f"status {result.status}, NRMSE {100 * result.nrmse:.3g} %")
+    lines.append("data: " + meas.source.describe())
+    return "\n".join(lines)
+
+
 def run(args: argparse.Namespace) -> int:
     """Read, fit, write model.toml, fit.png and the report; print the fit report."""
     from presliding.cli.report import Section, write_report
-    from presliding.model_io import save_model
+    from presliding.model_io import MeasurementTerms, save_model
 
     folder = check_folder(args.output)
     paths = {
@@ -166,61 +310,73 @@ def run(args: argparse.Namespace) -> int:
     }
     check_outputs(paths.values(), (args.data,), overwrite=args.overwrite)
     with progress(3, f"fit ({args.kind})", quiet=args.quiet, unit="stage") as bar:
-        sig = read_signals(args)
+        meas = read_measurement(args)
         bar.update()
         try:
-            result = fit(args, sig)
+            result, meas = fit(args, meas)
         except (TypeError, ValueError) as exc:
             raise UserError(f"{args.data}: cannot fit: {exc}") from None
         bar.update()
         record_outputs(paths.values())
-        _save_fit_figure(args, sig, result, paths["figure"])
+        _save_fit_figure(args, meas, result, paths["figure"])
         written = [paths["figure"]]
-        if result.model is not None:
+        problem = model_problem(result, meas)
+        if not problem:
+            offset = result.parameters.get("offset")
+            terms = None if offset is None else MeasurementTerms(float(offset))
             save_model(
-                paths["model"], result.model, _motion_settings(args, sig, result), overwrite=True
-            )
+                paths["model"], result.model, _motion_settings(args, meas, result),
+                measurement=terms, header=_header(args, meas, result), overwrite=True,
+            )  # fmt: skip
             written.insert(0, paths["model"])
-        else:  # no model from this fit: an earlier run's model.toml would be taken for it
+        else:  # an earlier run's model.toml would be taken for this fit's
             paths["model"].unlink(missing_ok=True)
+        note = f"No model.toml written: {problem}." if problem else ""
         text = (
             f"Fit of {args.data.name} (--kind {args.kind}): {result.status}. "
-            f"NRMSE {100 * result.nrmse:.3g} %."
+            f"NRMSE {100 * result.nrmse:.3g} %. {note}"
         )
+        data = "Data: " + meas.source.describe()
         written += write_report(
             folder,
             f"presliding fit: {args.data.name}",
-            [Section("Result", text, (paths["figure"],), code=result.report())],
+            [Section("Result", text, (paths["figure"],), code=f"{data}\n\n{result.report()}")],
         )
         bar.update()
     if not args.quiet:
+        print("data: " + meas.source.describe())
         print(result.report())
+        if note:
+            print(note)
         for p in written:
             print(f"wrote {p}")
     return 0 if result.success else 1
 
 
-#: Units of the fitted signal by kind (the signal of `FitResult.signal_label`).
-UNITS = {"presliding": "N", "motion": "N", "response": "m/s"}
+def _timed(meas: Any) -> bool:
+    """True unless the samples were only numbered (a presliding file without time)."""
+    src = meas.source
+    return src.sample_rate is not None or any(c.signal == "time" for c in src.conversions)
 
 
-def _save_fit_figure(args: argparse.Namespace, sig: dict, result: Any, path: Path) -> None:
+def _save_fit_figure(args: argparse.Namespace, meas: Any, result: Any, path: Path) -> None:
     from presliding.plotting import plot_fit, plot_loop_fit, save_figure
 
-    unit = UNITS[args.kind]
-    if args.kind == "response" and result.signal_label == "position":
-        unit = "m"
+    rotary = meas.source is not None and meas.source.rotary
+    unit = result.signal_unit or ("N m" if rotary else "N")
     head = f"{args.data.name}: {result.kind} fit, {result.status}, NRMSE {100 * result.nrmse:.2f} %"
     if args.kind == "presliding":
         fig, axes = new_figure(2, 1, size=(13.2, 4.8))
-        ax = plot_loop_fit(result.abscissa, result.measured, result.fitted, ax=axes[0, 0])
+        ax = plot_loop_fit(result.abscissa, result.measured, result.fitted, ax=axes[0, 0],
+                           displacement_unit="rad" if rotary else "m")  # fmt: skip
         ax.set_title("friction force against displacement")
+        timed = _timed(meas) and meas.n_samples == result.measured.shape[0]
         ax = plot_fit(
-            np.arange(result.measured.shape[0]),
+            meas.time if timed else np.arange(result.measured.shape[0]),
             result.measured,
             result.fitted,
             ax=axes[0, 1],
-            xlabel="sample",
+            xlabel="time [s]" if timed else "sample",
             title="measured and fitted force",
         )
         fig.suptitle(head)
@@ -232,4 +388,13 @@ def _save_fit_figure(args: argparse.Namespace, sig: dict, result: Any, path: Pat
     save_figure(fig, path)
 
 
-__all__ = ["ALIASES", "fit", "read_signals", "run"]
+__all__ = [
+    "ALIASES",
+    "FIT_DESCRIPTION",
+    "FIT_EPILOG",
+    "fit",
+    "model_problem",
+    "parse_window",
+    "read_measurement",
+    "run",
+]

@@ -26,6 +26,7 @@ HEADER = (
     "velocity [m/s]",
     "acceleration [m/s^2]",
     "friction_force [N]",
+    "elastic_force [N]",
     "applied_force [N]",
 )
 
@@ -73,16 +74,24 @@ def run(args: argparse.Namespace) -> int:
     check_readable(args.model, "model file")
     spec = load_model(args.model)
     mo = spec.motion
-    force: Any = mo.applied_force
-    if args.applied_force is not None:
-        force = read_applied_force(args.applied_force)
-        if force[0][0] > 0.0:
-            raise UserError(
-                f"{args.applied_force}: the first time is {force[0][0]:g} s but the motion "
-                "starts at 0 s; add a row at time 0."
-            )
     csv_path, png_path = output_paths(args.output)
     check_outputs((csv_path, png_path), (args.model, args.applied_force), overwrite=args.overwrite)
+    offset = spec.measurement.force_offset  # measured u = m·ÿ + F + F_0: u − F_0 acts
+    force: Any = mo.applied_force - offset
+    if args.applied_force is not None:
+        t_u, u = read_applied_force(args.applied_force)
+        if t_u[0] > 0.0:
+            raise UserError(
+                f"{args.applied_force}: the first time is {t_u[0]:g} s but the motion "
+                "starts at 0 s; add a row at time 0."
+            )
+        if t_u[-1] < mo.t_end and not args.hold_last:
+            raise UserError(
+                f"{args.applied_force}: ends at {t_u[-1]:g} s, before motion.t_end = "
+                f"{mo.t_end:g} s; extend it, shorten t_end, or pass --hold-last to hold its "
+                "last value."
+            )
+        force = (t_u, u - offset)
     t_eval = np.linspace(0.0, mo.t_end, mo.samples)
     try:
         result = motion.simulate(
@@ -109,6 +118,7 @@ def run(args: argparse.Namespace) -> int:
             result.velocity,
             result.acceleration,
             result.friction_force,
+            result.elastic_force,
             result.applied_force,
         ],
         quiet=args.quiet,
@@ -116,6 +126,8 @@ def run(args: argparse.Namespace) -> int:
     save_motion_figure(result, png_path, title=f"{args.model.name}: {_headline(result)}")
     if not args.quiet:
         print(result.report())
+        if offset:
+            print(f"  applied force u − F_0, with F_0 = {offset:.6g} N from [measurement]")
         print(f"wrote {csv_path}")
         print(f"wrote {png_path}")
     return 0 if result.success else 1
@@ -125,8 +137,11 @@ def _headline(result: Any) -> str:
     n = result.n_reversals
     reversals = f"{n} reversal" + ("" if n == 1 else "s")
     if result.stop_time is None:
-        return f"moving at the end, {reversals}"
-    return f"stops at t = {result.stop_time:.4g} s after {reversals}"
+        return f"moving at the end (v = {result.final_velocity:.3g} m/s), {reversals}"
+    return (
+        f"stops at t = {result.stop_time:.4g} s at y = {result.rest_position:.4g} m after "
+        f"{reversals}"
+    )
 
 
 def save_motion_figure(result: Any, path: Path, title: str) -> None:

@@ -245,6 +245,8 @@ def _describe(spec: SweepSpec) -> str:
     else:
         parts.append(f"the density {model.density!r}")
     parts.append(f"F_m = {model.max_elastic_force:.6g} N")
+    if model.viscous:
+        parts.append(f"σ = {model.viscous:.6g} N s/m")
     if "mass" not in swept:
         parts.append(f"m = {mo.mass:g} kg")
     if "initial_velocity" not in swept:

@@ -175,6 +175,13 @@ def load_spec(path: Path) -> SweepSpec:
         raise _fail(
             path, "`sweep.quantity` 'stop_time' needs method = 'simulate' (analysis has no times)."
         )
+    if method == "analysis" and model.viscous != 0.0:
+        raise _fail(
+            path,
+            "`friction.viscous` must be 0 with method 'analysis' (eqs. 13-16 assume no viscous "
+            f"friction, the paper's assumption (i)); got {model.viscous!r}: use method = "
+            "'simulate' (finite elements).",
+        )
     if method == "analysis" and motion.applied_force != 0.0:
         raise _fail(
             path,

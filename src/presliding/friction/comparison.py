@@ -16,8 +16,9 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from presliding._validation import as_signal, check_increasing, check_same_length
-from presliding.friction.baselines import LuGreFriction
+from presliding._validation import as_signal, check_increasing, check_same_length, check_type
+from presliding.friction.baselines import CoulombFriction, DahlFriction, LuGreFriction
+from presliding.friction.pi_friction import PIFriction
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
@@ -123,16 +124,18 @@ def compare(
         t = as_signal("time", time)
         check_same_length(displacement=y, time=t)
         check_increasing("time", t)
+    kinds = (PIFriction, CoulombFriction, DahlFriction, LuGreFriction)
+    for i, (label, model) in enumerate(zip(labels, items, strict=True)):
+        where = f" at {label!r}" if isinstance(models, Mapping) else f" at index {i}"
+        check_type("models", model, kinds, where=where)
     forces: dict[str, FloatArray] = {}
     for label, model in zip(labels, items, strict=True):
         if isinstance(model, LuGreFriction):
             if t is None:
                 raise ValueError(f"`time` must be given for the LuGre model {label!r}; got None.")
             forces[label] = np.asarray(model.force(y, t)[0], dtype=np.float64)
-        elif hasattr(model, "force"):
-            forces[label] = np.asarray(model.force(y)[0], dtype=np.float64)
         else:
-            raise TypeError(f"`models` must hold friction models; got {type(model).__name__}.")
+            forces[label] = np.asarray(model.force(y)[0], dtype=np.float64)
     dy = np.diff(y)
     work = {k: float(0.5 * (f[1:] + f[:-1]) @ dy) for k, f in forces.items()}
     ref = forces[labels[0]]

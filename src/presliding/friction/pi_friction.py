@@ -1,8 +1,8 @@
 """The Prandtl–Ishlinskii friction model with a Coulomb element (eqs. 5–9).
 
-Friction force along a displacement y (eq. 8)::
+Friction force along a displacement y (eq. 8, plus an optional viscous term)::
 
-    F(y, ẏ) = c1·sign(ẏ) + Σ_j k_j (y − x_j(y, r_j)),     r_j = c_j / k_j  (eq. 6)
+    F(y, ẏ) = c1·sign(ẏ) + σ·ẏ + Σ_j k_j (y − x_j(y, r_j)),     r_j = c_j / k_j  (eq. 6)
 
 where c1 >= 0 is the Coulomb element (an element of infinite stiffness), and
 each elasto-plastic element j has stiffness k_j, break-away force c_j and play
@@ -11,8 +11,15 @@ saturates at the Coulomb level F_c = c1 + Σ c_j (eq. 9); right after every
 reversal the elastic part has stiffness Σ k_j (eq. 7).
 
 With ``density=`` the elements form a continuum with distribution μ (section
-3, eq. 10): F(y, ẏ) = c1·sign(ẏ) + ∫_0^R (y − x(y, r)) dμ(r), evaluated exactly
-by `GeneralPIOperator` with a `MemoryState`.
+3, eq. 10): F(y, ẏ) = c1·sign(ẏ) + σ·ẏ + ∫_0^R (y − x(y, r)) dμ(r), evaluated
+exactly by `GeneralPIOperator` with a `MemoryState`.
+
+The viscous coefficient σ >= 0 [N·s/m] (``viscous``) defaults to 0, the paper's
+assumption (i) ("no viscous friction effects are included"). It is the only
+rate-dependent term: the displacement-driven methods (`PIFriction.force`,
+`elastic_force`, `virgin_curve`) return the rate-independent part, and
+`viscous_force` gives σ·ẏ for a velocity; `presliding.simulate` includes σ in
+the motion (eq. 17 with σ·ẏ).
 """
 
 from __future__ import annotations
@@ -25,8 +32,10 @@ from numpy.typing import ArrayLike, NDArray
 from presliding._validation import (
     as_nonnegative_scalar,
     as_parameter_vector,
+    as_real_array,
     as_signal,
     check_derived,
+    check_finite_derived,
     check_has_friction,
     fmt,
 )
@@ -43,6 +52,9 @@ FloatArray = NDArray[np.float64]
 @dataclass(frozen=True, eq=False)
 class PIFriction:
     """Coulomb friction with presliding hysteresis, finite-element PI model (eq. 8).
+
+    F(y, ẏ) = c1·sign(ẏ) + σ·ẏ + Σ_j k_j (y − x_j(y, r_j)): eq. 8 with an optional
+    viscous term σ·ẏ (σ = 0 by default, the paper's assumption (i)).
 
     Parameters
     ----------
@@ -62,12 +74,18 @@ class PIFriction:
         model with its stiffnesses and thresholds. For any other density
         ``stiffness``, ``breakaway`` and ``threshold`` are None, states are
         `MemoryState` objects, and ``n_elements`` raises.
+    viscous : float, optional, keyword only
+        Viscous coefficient σ >= 0 [N·s/m]: the term σ·ẏ, proportional to the
+        sliding velocity. Default 0, the paper's assumption (i). It does not
+        change the rate-independent quantities (F_c, F_m, eq. 7, the virgin
+        curve, `force`); `presliding.simulate` and the batches include it.
 
     Notes
     -----
     With no elements (``stiffness=[]``) the model is classical Coulomb friction
     with F_c = c1. With c1 = 0 it is the PI operator of eq. 4. Very stiff
-    elements approach F_c·sign(ẏ).
+    elements approach F_c·sign(ẏ). At steady sliding with velocity v the
+    friction force is F_c·sign(v) + σ·v (`steady_force`).
 
     Examples
     --------
@@ -76,6 +94,11 @@ class PIFriction:
     >>> model = PIFriction(coulomb=0.0, stiffness=[500.0, 10.0, 4.0], breakaway=[1.0, 1.0, 1.0])
     >>> model.coulomb_level, model.initial_stiffness
     (3.0, 514.0)
+
+    With a viscous term σ = 2 N·s/m, steady sliding at 0.5 m/s costs F_c + σ·v:
+
+    >>> PIFriction(3.0, viscous=2.0).steady_force(0.5)
+    4.0
     """
 
     coulomb: float
@@ -83,10 +106,17 @@ class PIFriction:
     breakaway: FloatArray | None = None
     threshold: FloatArray | None = field(default=None, kw_only=True)
     density: Density | None = field(default=None, kw_only=True)
+    viscous: float = field(default=0.0, kw_only=True)
 
     def __post_init__(self) -> None:
         c1 = as_nonnegative_scalar("coulomb", self.coulomb)
+        object.__setattr__(self, "viscous", as_nonnegative_scalar("viscous", self.viscous))
         if self.density is not None and _take_density(self, c1):
+            check_finite_derived(
+                "Coulomb level F_c = c1 + F_m (eq. 9)",
+                c1 + self.density.max_elastic_force,  # type: ignore[union-attr]
+                ("coulomb", "density"),
+            )
             return
         k = as_parameter_vector("stiffness", self.stiffness, allow_empty=True)
         if (self.breakaway is None) == (self.threshold is None):
@@ -107,7 +137,8 @@ class PIFriction:
             _same_length(k, r, "threshold")
             with np.errstate(over="ignore", under="ignore"):  # reported below
                 c = k * r
-        check_derived(k, c, r)
+        given = "threshold" if self.threshold is not None else "breakaway"
+        check_derived(k, c, r, coulomb=c1, given=given)
         check_has_friction(np.array([c1]), k.shape[0])
         for arr in (c, r):
             arr = np.asarray(arr)
@@ -168,6 +199,8 @@ class PIFriction:
     def __eq__(self, other: object) -> bool:
         if not isinstance(other, PIFriction):
             return NotImplemented
+        if self.viscous != other.viscous:
+            return False
         if not (self.is_discrete and other.is_discrete):
             return self.coulomb == other.coulomb and self.density == other.density
         return (
@@ -180,12 +213,50 @@ class PIFriction:
     __hash__ = None  # type: ignore[assignment]
 
     def __repr__(self) -> str:
+        visc = f", viscous={self.viscous!r}" if self.viscous else ""
         if not self.is_discrete:
-            return f"PIFriction(coulomb={self.coulomb!r}, density={self.density!r})"
+            return f"PIFriction(coulomb={self.coulomb!r}, density={self.density!r}{visc})"
         return (
             f"PIFriction(coulomb={self.coulomb!r}, stiffness={self.stiffness.tolist()!r}, "
-            f"breakaway={self.breakaway.tolist()!r})"
+            f"breakaway={self.breakaway.tolist()!r}{visc})"
         )
+
+    # ------------------------------------------------------------------ viscous term
+    def viscous_force(self, velocity: ArrayLike) -> FloatArray | float:
+        """σ·ẏ, the viscous part of the friction force at the velocity ẏ [N].
+
+        Add it to `force` (the rate-independent part) to get the whole law
+        F(y, ẏ) = c1·sign(ẏ) + σ·ẏ + F_el(y) along a motion with known velocity.
+
+        Parameters
+        ----------
+        velocity : float or array_like
+            ẏ [m/s], finite.
+
+        Returns
+        -------
+        float or ndarray
+            σ·ẏ, of the shape of `velocity` (0 everywhere when σ = 0).
+        """
+        v = as_real_array("velocity", velocity)
+        out = self.viscous * v
+        return float(out) if np.ndim(out) == 0 else out
+
+    def steady_force(self, velocity: ArrayLike) -> FloatArray | float:
+        """F_c·sign(v) + σ·v: the friction force at steady sliding with velocity v (eq. 9).
+
+        Every element slides at constant velocity, so the elastic part is
+        saturated at F_m·sign(v); at v = 0 the value is 0 (the friction force at
+        rest is set by the applied force, anywhere in [−c1 − F_el, c1 − F_el]).
+
+        Parameters
+        ----------
+        velocity : float or array_like
+            v [m/s], finite.
+        """
+        v = as_real_array("velocity", velocity)
+        out = self.coulomb_level * np.sign(v) + self.viscous * v
+        return float(out) if np.ndim(out) == 0 else out
 
     # ------------------------------------------------------------------ states
     def relaxed_state(self, position: float = 0.0) -> PIState | MemoryState:
@@ -252,11 +323,16 @@ class PIFriction:
     def force(
         self, displacement: ArrayLike, state: PIState | MemoryState | None = None
     ) -> tuple[FloatArray, PIState | MemoryState]:
-        """Total friction force c1·sign(ẏ) + Σ k_j (y − x_j) along a displacement (eq. 8).
+        """Friction force c1·sign(ẏ) + Σ k_j (y − x_j) along a displacement (eq. 8).
 
         The Coulomb element contributes c1 times the sign of the last nonzero
         increment of the displacement (0 before any motion), i.e. the friction
         force acting on the contact while it moves in that direction.
+
+        This is the rate-independent part of the law: a displacement path has
+        no time, so the viscous term σ·ẏ is not included (it is 0 for the
+        default σ = 0). Add ``viscous_force(velocity)`` for a motion with known
+        velocity; `presliding.simulate` includes σ·ẏ in the motion.
 
         Parameters
         ----------

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, fields, is_dataclass
 from typing import Any, ClassVar
 
 import numpy as np
@@ -20,7 +20,9 @@ from presliding._validation import (
     as_count,
     as_parameter_vector,
     as_positive_scalar,
+    check_finite_derived,
     check_same_length,
+    check_size,
     fmt,
 )
 from presliding.hysteresis._density_primitives import DISCRETE, evaluate
@@ -181,6 +183,7 @@ class Density:
             that turns eq. 10 into eq. 8.
         """
         n = as_count("n", n, minimum=1)
+        check_size("n", n, n + 1, what="cells", item_bytes=5 * 8)  # edges, T, k, midpoints, mask
         big_r = self._big_r if max_threshold is None else max_threshold
         big_r = as_positive_scalar("max_threshold", big_r)
         edges = np.linspace(0.0, big_r, int(n) + 1)
@@ -226,6 +229,23 @@ class Density:
             arr.setflags(write=False)
         object.__setattr__(self, "_par", np.ascontiguousarray(kind_par))
         object.__setattr__(self, "_tab", np.ascontiguousarray(tab))
+        self._check_totals()
+
+    def _check_totals(self) -> None:
+        """μ([0, R]), F_m = M1(R) and M2(R) are finite (no overflow of the parameters).
+
+        They bound everything the operator computes: the slope, the force
+        (|F| <= F_m) and the stored energy (<= ½·M2(R), as |f(r)| <= r).
+        """
+        names = tuple(f.name for f in fields(self)) if is_dataclass(self) else ("density",)
+        with np.errstate(over="ignore", invalid="ignore"):
+            totals = (
+                ("total stiffness μ([0, R]) (eq. 7)", self.tail(0.0)),
+                ("largest elastic force F_m = ∫ r dμ", self.M1(self._big_r)),
+                ("largest stored energy ½ ∫ r² dμ", 0.5 * self.M2(self._big_r)),
+            )
+        for what, value in totals:
+            check_finite_derived(what, value, names)
 
     def _same(self, other: object, *names: str) -> bool:
         if type(other) is not type(self):
@@ -259,9 +279,10 @@ class Discrete(Density):
         rs, ks = r[order], k[order]
         tab = np.zeros((4, rs.shape[0] + 1))
         tab[0, :-1], tab[0, -1] = rs, np.inf
-        tab[1, 1:] = np.cumsum(ks * rs)
-        tab[2, 1:] = np.cumsum(ks * rs * rs)
-        tab[3, :-1] = np.cumsum(ks[::-1])[::-1]
+        with np.errstate(over="ignore", invalid="ignore"):  # overflow reported by _freeze
+            tab[1, 1:] = np.cumsum(ks * rs)
+            tab[2, 1:] = np.cumsum(ks * rs * rs)
+            tab[3, :-1] = np.cumsum(ks[::-1])[::-1]
         big_r = float(rs[-1]) if rs.shape[0] else 0.0
         self._freeze(np.array([big_r]), tab)
 

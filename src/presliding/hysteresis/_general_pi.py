@@ -86,15 +86,20 @@ def _reversal_level(last, d, base, n, stack, kind, big_r, p1, p2, tab):  # pragm
     """
     if n == 0:
         e, rho = base, abs(last - base)
-        m1, _, t = _prim(kind, big_r, p1, p2, tab, rho, False)
-        force = d * m1
     else:
         e, rho = stack[n - 1, 0], 0.5 * abs(last - stack[n - 1, 0])
-        m1, _, t = _prim(kind, big_r, p1, p2, tab, rho, False)
-        force = d * (2.0 * m1 - stack[n - 1, 2]) + stack[n - 1, 3]
     if rho >= big_r:
-        # Every element slides in direction d: forget the older memory.
-        return last - d * big_r, 0, big_r, _prim(kind, big_r, p1, p2, tab, big_r, False)[0], 0.0
+        # Every element slides in direction d: forget the older memory. The level
+        # is then computed from the new base exactly as `replay` computes it from a
+        # `MemoryState` (|last − base| may differ from R by rounding), so that a
+        # chunked run equals the whole run bit for bit.
+        base = last - d * big_r
+        n = 0
+        e, rho = base, abs(last - base)
+        if rho >= big_r:
+            return base, 0, big_r, _prim(kind, big_r, p1, p2, tab, big_r, False)[0], 0.0
+    m1, _, t = _prim(kind, big_r, p1, p2, tab, rho, False)
+    force = d * m1 if n == 0 else d * (2.0 * m1 - stack[n - 1, 2]) + stack[n - 1, 3]
     force += (last - e) * t
     return base, n, rho, m1, force - d * m1
 

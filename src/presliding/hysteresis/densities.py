@@ -134,9 +134,10 @@ class PiecewiseConstant(Density):
         m = h.shape[0]
         tab = np.zeros((5, m + 1))
         tab[0], tab[1, :m] = b, h
-        tab[2, 1:] = np.cumsum(h * (b[1:] ** 2 - b[:-1] ** 2) / 2)
-        tab[3, 1:] = np.cumsum(h * (b[1:] ** 3 - b[:-1] ** 3) / 3)
-        tab[4, :m] = np.cumsum((h * np.diff(b))[::-1])[::-1]
+        with np.errstate(over="ignore", invalid="ignore"):  # overflow reported by _freeze
+            tab[2, 1:] = np.cumsum(h * (b[1:] ** 2 - b[:-1] ** 2) / 2)
+            tab[3, 1:] = np.cumsum(h * (b[1:] ** 3 - b[:-1] ** 3) / 3)
+            tab[4, :m] = np.cumsum((h * np.diff(b))[::-1])[::-1]
         self._freeze(np.array([b[-1]]), tab)
 
     @property

@@ -38,6 +38,8 @@ from presliding._validation import (
     as_real_vector,
     as_signal,
     as_state_vector,
+    check_finite_derived,
+    check_size,
     fmt,
 )
 from presliding.hysteresis import _kernels
@@ -50,6 +52,9 @@ FloatArray = NDArray[np.float64]
 # Play states produced by the kernel may exceed the threshold by rounding of
 # y ± r; states are accepted within this relative slack.
 _SLACK = 16 * np.finfo(np.float64).eps
+# The inverse is refused when rounding could reach this relative size (fewer than
+# 4 significant digits left).
+_INVERSE_ROUNDING = 1e-4
 
 
 @dataclass(frozen=True, eq=False)
@@ -108,7 +113,9 @@ class PIState:
             x_j = y for every j, direction 0.
         """
         position = as_real_scalar("position", position)
-        return cls(position, np.full(as_count("n_elements", n_elements), position), 0.0)
+        n = as_count("n_elements", n_elements)
+        check_size("n_elements", n, n, what="elements")
+        return cls(position, np.full(n, position), 0.0)
 
     @classmethod
     def saturated(cls, position: float, threshold: ArrayLike, direction: float) -> PIState:
@@ -132,7 +139,7 @@ class PIState:
             x_j = y − direction·r_j, with that direction.
         """
         position = as_real_scalar("position", position)
-        r = as_parameter_vector("threshold", threshold, allow_empty=True)
+        r = as_parameter_vector("threshold", threshold, positive=False, allow_empty=True)
         d = as_real_scalar("direction", direction)
         if d not in (-1, 1):
             raise ValueError(f"`direction` must be -1 or 1; got {fmt(d)}.")
@@ -181,8 +188,28 @@ def _initial_play(y0: float, threshold: FloatArray, initial: ArrayLike | None) -
 
 
 def _thresholds(threshold: ArrayLike) -> tuple[FloatArray, bool]:
+    """Thresholds r_j >= 0 (r = 0 is the identity play, x = y) and whether one was a scalar."""
     scalar = np.ndim(threshold) == 0
-    return as_parameter_vector("threshold", threshold), scalar
+    return as_parameter_vector("threshold", threshold, positive=False), scalar
+
+
+def check_input_range(
+    y: FloatArray, threshold: FloatArray, weight: FloatArray, linear: float
+) -> None:
+    """The operator's arithmetic along `y` stays in the floating-point range.
+
+    The kernels form y ± r_j, and every output obeys
+    |F(t)| <= |a|·|y(t)| + Σ_j |w_j|·r_j (|y − x_j| <= r_j), so it suffices that
+    max|y| + max r_j and |a|·max|y| + Σ |w_j|·r_j are finite. O(1) extra memory.
+    """
+    if y.shape[0] == 0:
+        return
+    peak = max(float(y.max()), -float(y.min()))
+    with np.errstate(over="ignore"):
+        reach = peak + (float(threshold.max()) if threshold.shape[0] else 0.0)
+        bound = abs(linear) * peak + float(np.abs(weight) @ threshold)
+    check_finite_derived("reach max|y| + max r_j of the play operators", reach, ("y", "threshold"))
+    check_finite_derived("output bound |a|·max|y| + Σ |w_j|·r_j", bound, ("y", "linear"))
 
 
 def play(y: ArrayLike, threshold: ArrayLike, initial: ArrayLike | None = None) -> FloatArray:
@@ -193,7 +220,7 @@ def play(y: ArrayLike, threshold: ArrayLike, initial: ArrayLike | None = None) -
     y : array_like, shape (T,)
         Sampled input, assumed monotone between consecutive samples.
     threshold : float or array_like, shape (N,)
-        Half-widths r_j > 0 of the play zones.
+        Half-widths r_j >= 0 of the play zones (r = 0 is the identity, x = y).
     initial : float or array_like, shape (N,), optional
         Play state x at the first sample; must satisfy |y[0] − x| <= r.
         Default: the relaxed state x = y[0].
@@ -205,6 +232,8 @@ def play(y: ArrayLike, threshold: ArrayLike, initial: ArrayLike | None = None) -
     """
     yv = as_signal("y", y)
     r, scalar = _thresholds(threshold)
+    check_input_range(yv, r, np.zeros_like(r), 0.0)
+    check_size("y", yv.shape[0], float(yv.shape[0]) * r.shape[0], what="play outputs")
     x = _initial_play(float(yv[0]), r, initial)
     out = _kernels.empty_outputs(yv.shape[0], r.shape[0])
     _kernels.play_outputs(yv, r, x, out)
@@ -232,7 +261,8 @@ class PIOperator:
     Parameters
     ----------
     threshold : array_like, shape (N,)
-        Thresholds r_j > 0 of the play operators.
+        Thresholds r_j >= 0 of the play operators (an element with r_j = 0 is
+        the identity play: its stop output is always 0).
     weight : array_like, shape (N,)
         Weights w_j (the stiffnesses k_j for a friction bank). Any finite real
         number; a physical (dissipative) bank has w_j > 0.
@@ -255,7 +285,7 @@ class PIOperator:
     linear: float = field(default=0.0, kw_only=True)
 
     def __post_init__(self) -> None:
-        r = as_parameter_vector("threshold", self.threshold)
+        r = as_parameter_vector("threshold", self.threshold, positive=False)
         w = as_real_vector("weight", self.weight)
         object.__setattr__(self, "linear", as_real_scalar("linear", self.linear))
         if w.shape != r.shape:
@@ -263,6 +293,10 @@ class PIOperator:
                 f"`weight` must have the same length as `threshold` ({r.shape[0]}); "
                 f"got {w.shape[0]}."
             )
+        with np.errstate(over="ignore", invalid="ignore"):
+            stiffness, saturation = float(np.sum(np.abs(w))), float(np.abs(w) @ r)
+        check_finite_derived("total stiffness Σ |w_j|", stiffness, "weight")
+        check_finite_derived("saturation bound Σ |w_j|·r_j", saturation, ("weight", "threshold"))
         object.__setattr__(self, "threshold", r)
         object.__setattr__(self, "weight", w)
 
@@ -296,6 +330,7 @@ class PIOperator:
         """
         yv = as_signal("y", y)
         x, prev, direction = start_memory(yv, self.threshold, state)
+        check_input_range(yv, self.threshold, self.weight, self.linear)
         out = np.empty(yv.shape[0])
         _kernels.stop_sum(yv, self.threshold, self.weight, x, out)
         if self.linear != 0.0:
@@ -310,8 +345,43 @@ class PIOperator:
         ``linear > 0`` with positive weights; raises ValueError otherwise. Start
         it from ``presliding.hysteresis.inverse.inverse_state(self, state)``.
         """
-        rho, weight, linear = inverse_parameters(self.threshold, self.weight, self.linear)
+        with np.errstate(over="ignore", divide="ignore", invalid="ignore"):  # checked below
+            rho, weight, linear = inverse_parameters(self.threshold, self.weight, self.linear)
+        check_inverse_parameters(rho, weight, linear, self.linear + float(np.sum(self.weight)))
         return PIOperator(rho, weight, linear=linear)
+
+
+def check_inverse_parameters(
+    rho: FloatArray, weight: FloatArray, linear: float, initial_slope: float
+) -> None:
+    """The inverse's 1/a, weights 1/K_k − 1/K_(k+1) and thresholds φ(r_k) are finite and usable.
+
+    A tiny `linear` a (e.g. subnormal) makes 1/a overflow; slopes K_k near the
+    end of the range make the reciprocals overflow or lose all digits.
+    `initial_slope` is the forward operator's K_1 = a + Σ w_j.
+    """
+    check_finite_derived("inverse linear term 1/a", linear, "linear")
+    check_finite_derived(
+        "inverse weights 1/K_k − 1/K_(k+1) (K_k = a + Σ_(r_j >= r_k) w_j)",
+        weight,
+        ("weight", "linear"),
+    )
+    check_finite_derived(
+        "inverse thresholds φ(r_k) = a·r_k + Σ_j w_j·min(r_k, r_j)",
+        rho,
+        ("threshold", "weight", "linear"),
+    )
+    # y = b·F + Σ v_k σ_k cancels terms of size (|b| + Σ|v_k|)·|F| down to |y| >= |F|/K_1:
+    # rounding is amplified by κ = (|b| + Σ|v_k|)·K_1.
+    with np.errstate(over="ignore", invalid="ignore"):
+        kappa = (abs(linear) + float(np.sum(np.abs(weight)))) * abs(initial_slope)
+    if not kappa * np.finfo(np.float64).eps <= _INVERSE_ROUNDING:
+        raise ValueError(
+            "`linear` must be large enough against the weights for the inverse to keep 4 "
+            f"significant digits (condition number (|1/a| + Σ|v_k|)·K_1 at most "
+            f"{_INVERSE_ROUNDING / np.finfo(np.float64).eps:.3g}); got {fmt(1.0 / linear)} "
+            f"for 1/a, which gives {kappa:.3g}."
+        )
 
 
 def start_memory(

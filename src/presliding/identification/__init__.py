@@ -2,7 +2,15 @@
 
 Files
 -----
-measurement.py      `Measurement`: reading, checking, resampling and differentiating signals
+measurement.py      `Measurement`: checking, windowing, resampling and differentiating signals
+_measurement_readers.py   `Measurement.from_csv`, `from_mat`, `from_dataframe`, `join`
+_readers.py         delimited text: delimiters, headers or none, BOM, bad cells named
+_mat.py             MATLAB files: variables checked, clear errors for other files
+_frames.py          pandas DataFrames (pandas imported only when used)
+_join.py            `Measurement.join`: per-signal records on one time base
+_units.py           units in column headers → SI factors (pint), parameter units
+_source.py          `Source`: the file, columns, units, factors and window of a measurement
+_status.py          the poor-fit test: explained variance, parameters on bounds, likely causes
 fit_presliding.py   `fit_presliding`, `fit_virgin_curve`: force against displacement (eqs. 4–9)
 fit_motion.py       `fit_motion`: eq. 17 as a regression (the inverse model)
 fit_response.py     `fit_response`: simulated against measured motion (output error)

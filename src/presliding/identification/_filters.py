@@ -23,6 +23,10 @@ from presliding._validation import (
 
 FloatArray = NDArray[np.float64]
 
+#: The highest filter order (Butterworth) or polynomial degree (Savitzky–Golay);
+#: Butterworth filters of higher order lose all digits in transfer-function form.
+MAX_ORDER = 10
+
 
 def _sampling(time: ArrayLike, values: ArrayLike, cutoff: float) -> tuple[np.ndarray, float, float]:
     t = as_signal("time", time, min_length=2)
@@ -56,6 +60,7 @@ def lowpass(
         `order`, with the longest window whose gain at the cut-off is still
         at least 1/√2 (−3 dB).
     order : int
+        Filter order or polynomial degree, 1 to `MAX_ORDER` (10).
     """
     y, h, wn = _sampling(time, values, cutoff)
     return _smooth(y, h, wn, method, order, deriv=0)
@@ -90,7 +95,7 @@ def _smooth(y: FloatArray, h: float, wn: float, method: str, order: int, deriv: 
     from scipy import signal
 
     method = as_choice("method", method, ("butter", "savgol"))
-    order = as_count("order", order, minimum=1)
+    order = as_count("order", order, minimum=1, maximum=MAX_ORDER)
     if method == "butter":
         b, a = signal.butter(int(order), wn)
         need = 3 * max(len(a), len(b)) + 1
@@ -102,7 +107,15 @@ def _smooth(y: FloatArray, h: float, wn: float, method: str, order: int, deriv: 
         # the line through the end samples passes unchanged (unit gain, zero phase) and is
         # removed first, so that the edges start from rest and a ramp comes out exact
         line = np.linspace(y[0], y[-1], y.shape[0])
-        return np.ascontiguousarray(signal.filtfilt(b, a, y - line) + line)
+        with np.errstate(all="ignore"):  # an unstable filter is reported below
+            out = signal.filtfilt(b, a, y - line) + line
+        if not np.all(np.isfinite(out)):
+            raise ValueError(
+                f"`order` must give a numerically stable Butterworth filter at this `cutoff` "
+                f"({fmt(wn)} of the Nyquist frequency); got {order} (lower `order` or raise "
+                "`cutoff`)."
+            )
+        return np.ascontiguousarray(out)
     window = _savgol_window(wn, int(order))
     if y.shape[0] < window:
         raise ValueError(

@@ -31,8 +31,9 @@ from presliding._validation import as_choice, as_count, as_positive_scalar, as_r
 FloatArray = NDArray[np.float64]
 Tie = str | tuple[str, float]
 
-#: Status values of a fit: only "converged" is a success.
-STATUSES = ("converged", "not_identifiable", "at_bound", "max_evaluations", "failed")
+#: Status values of a fit: only "converged" is a success (see `FitResult.status`).
+STATUSES = ("converged", "not_identifiable", "at_bound", "poor_fit", "max_evaluations", "failed")
+_LISTED = 6  # names listed in a message before "and N more"
 _RANK_TOL = 1e-7  # relative singular value below which a direction counts as undetermined
 
 
@@ -65,6 +66,28 @@ def check_options(
     if max_evaluations is not None:
         max_evaluations = as_count("max_evaluations", max_evaluations, minimum=1)
     return level, max_evaluations, as_positive_scalar("tolerance", tolerance)
+
+
+def check_budget(n_samples: int, burn_in: int, n_elements: int, n_other: int, source: str) -> None:
+    """On entry: `burn_in` and the element count (two parameters each, besides `n_other`)
+    leave more used samples than parameters; `source` names the argument of the count."""
+    n_params = n_other + 2 * n_elements
+    if n_samples - burn_in > n_params:
+        return
+    if burn_in > 0 and n_samples > n_params:
+        raise ValueError(
+            f"`burn_in` must leave more samples than parameters ({n_params}), i.e. be at "
+            f"most {n_samples - n_params - 1} for {n_samples} samples; got {burn_in}."
+        )
+    if burn_in >= n_samples:
+        raise ValueError(
+            f"`burn_in` must be below the number of samples ({n_samples}); got {burn_in}."
+        )
+    most, used = max((n_samples - burn_in - 1 - n_other) // 2, 0), n_samples - burn_in
+    raise ValueError(
+        f"`{source}` must give at most {most} elements for {used} used samples "
+        f"(two parameters each, and more samples than parameters); got {n_elements}."
+    )
 
 
 def check_constraints(
@@ -167,6 +190,16 @@ class Solution:
     status: str
     message: str
     n_evaluations: int
+    at_bounds: tuple[str, ...] = ()
+    free: tuple[str, ...] = ()
+
+
+def name_list(names: Any, order: tuple[str, ...]) -> str:
+    """Names in parameter order, at most a few, then "and N more"."""
+    rank = {n: i for i, n in enumerate(order)}
+    ordered = sorted(set(names), key=lambda n: (rank.get(n, len(rank)), n))
+    shown = ", ".join(ordered[:_LISTED])
+    return shown + (f" and {len(ordered) - _LISTED} more" if len(ordered) > _LISTED else "")
 
 
 def solve_least_squares(
@@ -276,6 +309,11 @@ def solve_least_squares(
         except (ValueError, np.linalg.LinAlgError, FloatingPointError) as exc:
             return _failed(pm, x0, fixed, tied, level, f"the optimiser failed: {exc}")
         x, r, jac_free, evaluations = res.x, res.fun, res.jac, int(res.nfev)
+        # a parameter the solver left on a bound is reported exactly there (0, not 1e-69)
+        x = np.where(res.active_mask < 0, lo, np.where(res.active_mask > 0, hi, x))
+        on_bound = tuple(n for n, a in zip(pm.free, res.active_mask, strict=True) if a != 0)
+        if on_bound:
+            r = fun(x)
         status = "max_evaluations" if res.status == 0 else "converged"
         message = (
             "stopped at the evaluation limit before convergence"
@@ -290,7 +328,7 @@ def solve_least_squares(
                 "the residual does not change with any parameter (insensitive or failed model)",
             )  # fmt: skip
     else:
-        x, r, jac_free = x0, residual(pm.full(x0)), np.zeros((0, 0))
+        x, r, jac_free, on_bound = x0, residual(pm.full(x0)), np.zeros((0, 0)), ()
         status, message = "converged", "all parameters are fixed; nothing was fitted"
     cov, undetermined = _covariance(jac_free, r)
     full = pm.full(x)
@@ -300,8 +338,8 @@ def solve_least_squares(
         se[pm.matrix[:, j] != 0] = np.inf
     if undetermined and status == "converged":
         status = "not_identifiable"
-        which = sorted({names[i] for j in undetermined for i in np.flatnonzero(pm.matrix[:, j])})
-        message = f"the data do not determine {', '.join(which)} (singular Jacobian)"
+        which = {names[i] for j in undetermined for i in np.flatnonzero(pm.matrix[:, j])}
+        message = f"the data do not determine {name_list(which, names)} (singular Jacobian)"
     dof = max(r.shape[0] - len(pm.free), 1)
     q = float(stats.t.ppf(0.5 + level / 2, dof))
     return Solution(
@@ -317,6 +355,8 @@ def solve_least_squares(
         status=status,
         message=message,
         n_evaluations=evaluations,
+        at_bounds=on_bound,
+        free=pm.free,
     )
 
 
@@ -355,4 +395,5 @@ def _failed(pm: _Map, x: FloatArray, fixed: Any, tied: Any, level: float, msg: s
         status="failed",
         message=msg,
         n_evaluations=0,
+        free=pm.free,
     )

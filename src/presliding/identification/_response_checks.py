@@ -31,7 +31,8 @@ def polish_initial_velocity(sol, solve, fixed, tied, v) -> Solution:
     and kept when it fits at least as well.
     """
     x = "initial_velocity"
-    if x in fixed or x in tied or sol.status == "failed" or sol.values[x] == 0.0:
+    snapped = x in sol.at_bounds  # left on the bound by the solver: polish all the same
+    if x in fixed or x in tied or sol.status == "failed" or (sol.values[x] == 0.0 and not snapped):
         return sol
     if abs(sol.values[x]) > 1e-6 * float(np.max(np.abs(v))):
         return sol
@@ -141,4 +142,5 @@ def stiffest_first(sol: Solution, k_names: list[str]) -> Solution:
         values=relabel(sol.values),
         standard_error=relabel(sol.standard_error),
         confidence_interval=relabel(sol.confidence_interval),
+        at_bounds=tuple(rename.get(x, x) for x in sol.at_bounds),
     )

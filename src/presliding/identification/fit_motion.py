@@ -23,7 +23,9 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from presliding._validation import as_nonnegative_scalar, fmt
+from presliding.friction.pi_friction import PIFriction
 from presliding.identification import _pi_regression as pr
+from presliding.identification._status import sign_hint
 from presliding.identification.fit_presliding import (
     _with_note,
     check_enough,
@@ -103,8 +105,9 @@ def fit_motion(
     -------
     FitResult
         Fitted applied force against time; ``model`` is the PI friction model
-        (Coulomb element c1 and the elements; viscous and offset terms are in
-        `parameters` only).
+        (Coulomb element c1, the elements and the viscous term σ = ``viscous``;
+        the offset F_0 is in `parameters` only: the measured force is
+        u = m·ÿ + F + F_0).
     """
     if not isinstance(measurement, Measurement):
         raise TypeError(f"`measurement` must be a Measurement; got {type(measurement).__name__}.")
@@ -147,10 +150,17 @@ def fit_motion(
     )  # fmt: skip
     sol = fit.solution
     model, note = pi_model(sol.values, n, sol.values["coulomb"])
+    if model is not None and viscous:  # σ is part of the friction model (simulate honours it)
+        model = PIFriction(model.coulomb, model.stiffness, model.breakaway,
+                           viscous=max(sol.values["viscous"], 0.0))  # fmt: skip
+    rotary = m.source is not None and m.source.rotary
     return FitResult.from_solution(
         _with_note(sol, note), model, m.time[used], u[used], fit.fitted[used],
         kind="motion equation (eq. 17)", abscissa_label="time [s]",
-        signal_label="applied force [N]", derived=derived_quantities(model),
+        signal_label="applied force", signal_unit="N m" if rotary else "N",
+        derived=derived_quantities(model),
+        hint=sign_hint(u, np.sign(m.velocity), "applied force"),
+        rotary=rotary,
     )  # fmt: skip
 
 

@@ -22,6 +22,7 @@ determines every loop.
 from __future__ import annotations
 
 from collections.abc import Mapping
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
@@ -39,7 +40,12 @@ from presliding._validation import (
 from presliding.friction.pi_friction import PIFriction
 from presliding.identification import _pi_regression as pr
 from presliding.identification._global_search import search_thresholds
-from presliding.identification._least_squares import check_constraints, check_options
+from presliding.identification._least_squares import (
+    check_budget,
+    check_constraints,
+    check_options,
+)
+from presliding.identification._status import sign_hint
 from presliding.identification.fit_result import FitResult, Tie
 
 __all__ = ["fit_presliding", "fit_virgin_curve"]
@@ -212,6 +218,8 @@ def fit_presliding(
             "`search` must be 'grid' when `thresholds` are given (they are the start); "
             "got 'global'."
         )
+    elements_from = "thresholds" if thresholds is not None else "n_elements"
+    check_budget(y.shape[0], burn_in, n, int(bool(coulomb)) + int(bool(offset)), elements_from)
     check_varies("displacement", y)
     check_varies("force", f)
     if pr.reversal_indices(y, 0.0).shape[0] == 0:
@@ -256,15 +264,15 @@ def fit_presliding(
     sol = _with_note(sol, note + (f"; {how}" if how else ""))
     return FitResult.from_solution(
         sol, model, y[used], f[used], fit.fitted[used], kind="presliding operator",
-        abscissa_label="displacement", signal_label="friction force",
-        derived=derived_quantities(model),
+        abscissa_label="displacement [m]", signal_label="friction force", signal_unit="N",
+        derived=derived_quantities(model), hint=sign_hint(f, _direction(y), "friction force"),
     )  # fmt: skip
 
 
 def _cost(fit: pr.SeparableFit) -> float:
     """Sum of squared residuals of a separable fit (inf if it failed)."""
-    sol = fit.solution
-    return float(sol.residual @ sol.residual) if sol.status != "failed" else np.inf
+    r = fit.solution.residual
+    return float(r @ r) if fit.solution.status != "failed" else np.inf
 
 
 def _direction(y: FloatArray) -> FloatArray:
@@ -276,8 +284,6 @@ def _direction(y: FloatArray) -> FloatArray:
 
 
 def _with_note(sol: Any, note: str) -> Any:
-    from dataclasses import replace
-
     return replace(sol, message=sol.message + note) if note else sol
 
 

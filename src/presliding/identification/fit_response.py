@@ -251,8 +251,18 @@ def fit_response(
     return FitResult.from_solution(
         sol, model, t, measured, fitted, kind="output-error response",
         abscissa_label="time [s]", signal_label="position" if signal == "position" else "velocity",
+        signal_unit="m" if signal == "position" else "m/s",
+        units=_per_kg(names) if per_unit_mass else {},
         derived=derived,
     )  # fmt: skip
+
+
+def _per_kg(names: list[str]) -> dict[str, str]:
+    """Units of the parameters reported per unit mass."""
+    per = {"mass": "1 (fixed)", "coulomb": "N/kg", "coulomb_level": "N/kg", "stiffness": "N/(m kg)",
+           "breakaway": "N/kg"}  # fmt: skip
+    return {x: per[x.split("_")[0] if x.startswith(("stiffness", "breakaway")) else x]
+            for x in names if x.split("_")[0] in per or x in per}  # fmt: skip
 
 
 def _check_model_values(

@@ -32,6 +32,8 @@ from presliding.friction.pi_friction import PIFriction
 from presliding.identification._least_squares import STATUSES as STATUSES
 from presliding.identification._least_squares import Solution, solve_least_squares
 from presliding.identification._least_squares import Tie as Tie
+from presliding.identification._status import judge
+from presliding.identification._units import parameter_units
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
@@ -91,13 +93,21 @@ class FitResult:
         RMS of measured − fitted, that RMS over the range of the measured
         signal, and ‖measured − fitted‖/‖measured − mean‖ (see `fit_statistics`).
     status : str
-        ``"converged"``, ``"not_identifiable"``, ``"at_bound"`` (a parameter sits on
-        a bound, where the linearised interval does not hold), ``"max_evaluations"``
-        or ``"failed"``.
+        One of `STATUSES`: ``"converged"`` (the only success),
+        ``"not_identifiable"`` (the data do not determine some parameters),
+        ``"at_bound"`` (a parameter sits on a bound, where the linearised
+        interval does not hold), ``"poor_fit"`` (the model explains less than
+        half of the variance, or every parameter sits on a bound: check units,
+        window and sign), ``"max_evaluations"`` or ``"failed"``.
     message : str
     n_evaluations : int
     derived : dict name -> float
         Quantities computed from the parameters (e.g. the Coulomb level F_c, eq. 9).
+    at_bounds : tuple of str
+        Free parameters the optimiser left on a bound (reported exactly at it).
+    units : dict name -> str
+        SI unit of each parameter and derived quantity (rotary units for an
+        angle and a torque).
     """
 
     model: PIFriction | None
@@ -119,22 +129,37 @@ class FitResult:
     kind: str = "least-squares"
     abscissa_label: str = "sample"
     signal_label: str = "signal"
+    signal_unit: str = ""
     derived: dict[str, float] = field(default_factory=dict)
+    at_bounds: tuple[str, ...] = ()
+    units: dict[str, str] = field(default_factory=dict)
 
     @classmethod
     def from_solution(
         cls, sol: Solution, model: PIFriction | None, abscissa: Any, measured: Any, fitted: Any,
-        **labels: Any,
+        hint: str = "", rotary: bool = False, **labels: Any,
     ) -> FitResult:  # fmt: skip
-        """Assemble a result from a `Solution` and the fitted signal."""
+        """Assemble a result from a `Solution` and the fitted signal.
+
+        The status passes the poor-fit test of `_status.judge` (`hint` adds a
+        likely cause to its message); `rotary` selects rotary parameter units.
+        """
         rms, nrmse, relative = fit_statistics(measured, fitted)
+        status, message = judge(
+            sol.status, sol.message, np.asarray(measured, dtype=float),
+            np.asarray(fitted, dtype=float), sol.free, sol.at_bounds,
+            labels.get("signal_label", "signal"), hint,
+        )  # fmt: skip
+        units = parameter_units([*sol.values, *labels.get("derived", {})], rotary)
+        units.update(labels.pop("units", {}))
         return cls(
             model=model, parameters=sol.values, standard_error=sol.standard_error,
             confidence_interval=sol.confidence_interval, confidence_level=sol.level,
             fixed=sol.fixed, tied=sol.tied, abscissa=np.asarray(abscissa, dtype=float),
             measured=np.asarray(measured, dtype=float), fitted=np.asarray(fitted, dtype=float),
-            residual_rms=rms, nrmse=nrmse, relative_residual=relative, status=sol.status,
-            message=sol.message, n_evaluations=sol.n_evaluations, **labels,
+            residual_rms=rms, nrmse=nrmse, relative_residual=relative, status=status,
+            message=message, n_evaluations=sol.n_evaluations, at_bounds=sol.at_bounds,
+            units=units, **labels,
         )  # fmt: skip
 
     @property
@@ -153,30 +178,42 @@ class FitResult:
         return self.parameters.get("mass")
 
     def report(self) -> str:
-        """A readable summary: status, parameters with errors and intervals, fit quality."""
+        """A readable summary: status, parameters with units, errors and intervals, fit quality."""
         pct = f"{100 * self.confidence_level:g} %"
         lines = [
             f"{self.kind} fit: {self.status} — {self.message}",
             f"{self.measured.shape[0]} samples, {self.n_evaluations} evaluations",
             "",
-            f"{'parameter':<16}{'value':>14}{'std. error':>13}   {pct + ' interval':<30}",
+            f"{'parameter':<16}{'value':>14} {'unit':<10}{'std. error':>11}   "
+            f"{pct + ' interval':<30}",
         ]
         for n, v in self.parameters.items():
             se = self.standard_error[n]
             lo, hi = self.confidence_interval[n]
             note = " (fixed)" if n in self.fixed else (" (tied)" if n in self.tied else "")
-            lines.append(f"{n:<16}{v:>14.6g}{se:>13.3g}   [{lo:.6g}, {hi:.6g}]{note}")
+            note += " (at bound)" if n in self.at_bounds else ""
+            unit = self.units.get(n, "")
+            lines.append(f"{n:<16}{v:>14.6g} {unit:<10}{se:>11.3g}   [{lo:.6g}, {hi:.6g}]{note}")
         if self.derived:
             lines.append("")
-            lines += [f"{n:<16}{v:>14.6g}" for n, v in self.derived.items()]
+            lines += [
+                f"{n:<16}{v:>14.6g} {self.units.get(n, '')}".rstrip()
+                for n, v in self.derived.items()
+            ]
         lines += [
             "",
-            f"residual RMS: {self.residual_rms:.6g} ({self.signal_label})",
+            f"residual RMS: {self.residual_rms:.6g} {self.signal_unit} ({self.signal_label})",
             f"NRMSE (RMS / range): {100 * self.nrmse:.3f} %; "
-            f"relative residual ‖r‖/‖y − ȳ‖: {100 * self.relative_residual:.3f} %",
+            f"relative residual ‖r‖/‖y − ȳ‖: {100 * self.relative_residual:.3f} %; "
+            f"explained variance {100 * (1 - self.relative_residual**2):.3f} %",
             f"model: {self.model!r}",
         ]
         return "\n".join(lines)
+
+    def _signal_text(self) -> str:
+        return (
+            f"{self.signal_label} [{self.signal_unit}]" if self.signal_unit else self.signal_label
+        )
 
     def plot(self, ax: Axes | None = None) -> Axes:
         """Measured and fitted signal, with the residual in a panel below; returns the axes."""
@@ -184,6 +221,6 @@ class FitResult:
 
         return plot_fit(
             self.abscissa, self.measured, self.fitted, ax=ax,
-            xlabel=self.abscissa_label, ylabel=self.signal_label,
+            xlabel=self.abscissa_label, ylabel=self._signal_text(),
             title=f"{self.kind} fit (NRMSE {100 * self.nrmse:.2f} %)",
         )  # fmt: skip

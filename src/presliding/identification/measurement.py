@@ -8,16 +8,17 @@ filter followed by central differences (`Measurement.differentiate`; the
 filters `lowpass` and `estimate_derivatives` live in `_filters` and are
 re-exported here).
 
-Units follow the library convention (s, m, m/s, m/s², N) or any consistent
-set; `from_csv` and `from_mat` take a per-signal `scale` to convert on reading
-(for example ``{"position": 1e-3}`` for millimetres, or a negative factor to
-flip a sign convention).
+Units. Signals are held in SI (s, m, m/s, m/s², N; rad, rad/s, rad/s², N m
+for rotary axes). The readers convert on reading: a unit at the end of a
+column header (``Position [mm]``, ``x (um)``, ``torque [mN m]``, ``t [ms]``)
+is parsed with pint and converted to SI; ``units=`` gives or overrides a unit
+per signal; ``scale=`` applies a further factor (a negative one flips a sign
+convention). What was read and how it was converted is kept in the
+measurement's `source` (`Source.describe`).
 """
 
 from __future__ import annotations
 
-import os
-from collections.abc import Mapping
 from dataclasses import dataclass, replace
 from typing import Any
 
@@ -33,6 +34,8 @@ from presliding._validation import (
     fmt,
 )
 from presliding.identification._filters import estimate_derivatives, lowpass
+from presliding.identification._measurement_readers import MeasurementReaders
+from presliding.identification._source import Source
 
 __all__ = ["Measurement", "estimate_derivatives", "lowpass"]
 
@@ -46,7 +49,7 @@ _UNIFORM_TOL = 1e-3
 
 
 @dataclass(frozen=True, eq=False)
-class Measurement:
+class Measurement(MeasurementReaders):
     """Signals sampled on one time base (units: s, m, m/s, m/s², N).
 
     Parameters
@@ -64,6 +67,10 @@ class Measurement:
     friction_force : array_like, shape (T,), optional
         Measured friction force F [N], positive when it opposes positive motion.
 
+    source : Source, optional
+        Where the signals came from (set by the readers; kept by `window`,
+        `resample` and `differentiate`).
+
     All given signals must be finite and have the same length as `time`; at
     least one signal must be given. Arrays are stored read-only.
     """
@@ -74,6 +81,7 @@ class Measurement:
     acceleration: FloatArray | None = None
     applied_force: FloatArray | None = None
     friction_force: FloatArray | None = None
+    source: Source | None = None
 
     def __post_init__(self) -> None:
         t = as_signal("time", self.time, min_length=2)
@@ -96,6 +104,8 @@ class Measurement:
             arr.setflags(write=False)
             object.__setattr__(self, name, arr)
             given[name] = arr
+        if self.source is not None and not isinstance(self.source, Source):
+            raise TypeError(f"`source` must be a Source or None; got {type(self.source).__name__}.")
         if not given:
             raise ValueError(
                 "a Measurement must hold at least one signal besides `time`; got none of "
@@ -181,7 +191,10 @@ class Measurement:
                 f"{fmt(self.time[0])} "
                 f"to {fmt(self.time[-1])})."
             )
-        return self._map(lambda a: a[keep], self.time[keep])
+        out = self._map(lambda a: a[keep], self.time[keep])
+        if self.source is None:
+            return out
+        return replace(out, source=self.source.with_window(start, end))
 
     def resample(self, step: float) -> Measurement:
         """Linear interpolation of every signal onto a uniform grid t0, t0 + step, ... <= t_end.
@@ -207,7 +220,9 @@ class Measurement:
                 f"`step` must be at most the duration {fmt(self.duration)} s; got {fmt(h)}."
             )
         grid = self.time[0] + h * np.arange(n)
-        return self._map(lambda a: np.interp(grid, self.time, a), grid)
+        out = self._map(lambda a: np.interp(grid, self.time, a), grid)
+        note = f"resampled onto a uniform step of {h:.6g} s (linear interpolation)"
+        return out if self.source is None else replace(out, source=self.source.with_note(note))
 
     def differentiate(
         self,
@@ -253,6 +268,13 @@ class Measurement:
                 if getattr(self, n) is not None
             }
             out = replace(out, **filtered)
+        if self.source is not None:
+            note = (
+                f"velocity and acceleration estimated: zero-phase {method} low-pass at "
+                f"{cutoff:.6g} Hz, central differences"
+                + ("; forces filtered alike" if filter_forces else "")
+            )
+            out = replace(out, source=self.source.with_note(note))
         return out
 
     def _require_uniform(self, what: str) -> None:
@@ -264,133 +286,6 @@ class Measurement:
             )
 
     def _map(self, fn: Any, time: FloatArray) -> Measurement:
-        return Measurement(time, **{n: fn(a) for n, a in self.signals().items()})
-
-    # ------------------------------------------------------------------ readers
-    @classmethod
-    def from_csv(
-        cls,
-        path: str | os.PathLike[str],
-        time: str | int,
-        *,
-        delimiter: str | None = None,
-        scale: Mapping[str, float] | None = None,
-        **columns: str | int,
-    ) -> Measurement:
-        """Read a delimited text file with one header line.
-
-        Parameters
-        ----------
-        path : path-like
-        time : str or int
-            Column holding the time (header name or 0-based index).
-        delimiter : str, optional
-            Column separator; default: a tab if the header has one, else a comma
-            if it has one, else whitespace.
-        scale : mapping, optional
-            Factor per signal name ("time", "position", ...) applied on reading.
-        **columns : str or int
-            Columns of the signals, by signal name, e.g. ``position="Position [mm]"``.
-
-        Examples
-        --------
-        The tribometer file of the shared data (mm and µN; friction sign flipped)::
-
-            Measurement.from_csv(path, "Time [s]", position="Position [mm]",
-                                 friction_force="Friction [uN]",
-                                 scale={"position": 1e-3, "friction_force": -1e-6})
-        """
-        _check_signal_names(columns)
-        with open(path, encoding="utf-8") as fh:
-            header = fh.readline().rstrip("\r\n")
-        if delimiter is None:
-            delimiter = "\t" if "\t" in header else ("," if "," in header else None)
-        names = [h.strip() for h in (header.split(delimiter) if delimiter else header.split())]
-        wanted = {"time": time, **columns}
-        index = {sig: _column_index(sig, col, names) for sig, col in wanted.items()}
-        data = np.loadtxt(
-            path, delimiter=delimiter, skiprows=1, usecols=sorted(set(index.values())), ndmin=2
+        return Measurement(
+            time, **{n: fn(a) for n, a in self.signals().items()}, source=self.source
         )
-        col_of = {c: i for i, c in enumerate(sorted(set(index.values())))}
-        raw = {sig: data[:, col_of[c]] for sig, c in index.items()}
-        return cls._build(raw, scale, lambda s: s)
-
-    @classmethod
-    def from_mat(
-        cls,
-        path: str | os.PathLike[str],
-        time: str = "t",
-        *,
-        scale: Mapping[str, float | str] | None = None,
-        **variables: str,
-    ) -> Measurement:
-        """Read a MATLAB file (versions 4 and 5, through scipy.io.loadmat).
-
-        Parameters
-        ----------
-        path : path-like
-        time : str
-            Variable holding the time.
-        scale : mapping, optional
-            Factor per signal name; a string names a scalar variable of the file
-            (e.g. ``{"applied_force": "gtau"}`` for force = gtau · voltage).
-        **variables : str
-            Variables of the signals, by signal name, e.g. ``position="qm"``.
-
-        Examples
-        --------
-        The EMPS benchmark file::
-
-            Measurement.from_mat(path, position="qm", applied_force="vir",
-                                 scale={"applied_force": "gtau"})
-        """
-        from scipy.io import loadmat
-
-        _check_signal_names(variables)
-        contents = loadmat(path)
-        available = sorted(k for k in contents if not k.startswith("__"))
-
-        def get(name: str) -> np.ndarray:
-            if name not in contents:
-                raise ValueError(
-                    f"variable {name!r} is not in {os.fspath(path)!r}; it holds {available}."
-                )
-            return np.asarray(contents[name]).squeeze()
-
-        raw = {sig: get(var) for sig, var in {"time": time, **variables}.items()}
-        return cls._build(raw, scale, get)
-
-    @classmethod
-    def _build(
-        cls, raw: dict[str, Any], scale: Mapping[str, Any] | None, lookup: Any
-    ) -> Measurement:
-        scale = dict(scale or {})
-        _check_signal_names(scale, allow_time=True)
-        out = {}
-        for sig, arr in raw.items():
-            factor = scale.get(sig, 1.0)
-            if isinstance(factor, str):
-                factor = lookup(factor)
-            if np.ndim(factor) != 0:
-                raise ValueError(
-                    f"`scale` for {sig!r} must be a scalar; got shape {np.shape(factor)}."
-                )
-            out[sig] = np.asarray(arr, dtype=np.float64) * float(factor)
-        return cls(**out)
-
-
-def _check_signal_names(names: Mapping[str, Any], allow_time: bool = False) -> None:
-    allowed = (("time",) if allow_time else ()) + SIGNALS
-    for name in names:
-        if name not in allowed:
-            raise ValueError(f"signal names must be among {', '.join(allowed)}; got {name!r}.")
-
-
-def _column_index(signal: str, column: str | int, names: list[str]) -> int:
-    if isinstance(column, (int, np.integer)) and not isinstance(column, bool):
-        if not 0 <= column < len(names):
-            raise ValueError(f"column of `{signal}` must be in 0..{len(names) - 1}; got {column}.")
-        return int(column)
-    if column not in names:
-        raise ValueError(f"column of `{signal}` must be one of {names}; got {column!r}.")
-    return names.index(column)

@@ -1,4 +1,4 @@
-"""Motion of a mass with PI friction and exact stiction (eqs. 12, 17).
+"""Motion of a mass with PI friction, exact stiction and optional viscous damping (eqs. 12, 17).
 
 Files
 -----
@@ -7,6 +7,7 @@ batch.py              `simulate_batch` and `free_response`: many motions at once
 results.py            `MotionResult`, `MotionEnergy`, `MotionBatch`, `FreeResponse`
 _run.py               set-up and runners behind `simulate` (validation, grids, kernel calls)
 _event.py             the exact event kernel: closed-form pieces between events
+_damped.py            closed-form damped pieces (viscous term σ > 0), their events and energy
 _batch_events.py      compiled batches of exact motions (parallel)
 _implicit.py          the implicit stepper with exact stiction (finite elements)
 _implicit_density.py  the implicit stepper for a density μ

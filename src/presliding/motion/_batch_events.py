@@ -16,7 +16,7 @@ from presliding.motion._event import run_events
 
 @nb.njit(cache=True)
 def free_kernel(
-    m, c1, k, r, f0, y0, v0, last_dir, u, dt, n_samples, max_events
+    m, c1, sigma, k, r, f0, y0, v0, last_dir, u, dt, n_samples, max_events
 ):  # pragma: no cover
     """Position and velocity at t = i·dt, i < n_samples, under a constant force u.
 
@@ -36,17 +36,17 @@ def free_kernel(
     res = run_events(
         m, c1, k, r, f, y0, v0, last_dir, u_t, u_val, t_eval, t_end, max_events,
         o_y, o_v, scratch[0], scratch[1], scratch[2], scratch[3], scratch[4], scratch[5],
-        rev[0], rev[1],
+        rev[0], rev[1], sigma,
     )  # fmt: skip
     return o_y, o_v, res[0], res[3], res[2], res[1], res[10]
 
 
 @nb.njit(cache=True, parallel=True)
 def batch_events(  # pragma: no cover - compiled
-    m, c1, k, r, f0, y0, v0, last_dir, u_t, u_val, t_eval, t_end, max_events,
+    m, c1, sigma, k, r, f0, y0, v0, last_dir, u_t, u_val, t_eval, t_end, max_events,
     o_y, o_v, stop, n_rev, status, y_end, v_end,
 ):  # fmt: skip
-    """Run member b with m[b], c1[b], k[b], r[b], f0[b], y0[b], v0[b], last_dir[b]."""
+    """Run member b with m[b], c1[b], sigma[b], k[b], r[b], f0[b], y0[b], v0[b], last_dir[b]."""
     n_batch = m.shape[0]
     n_t = t_eval.shape[0]
     for b in nb.prange(n_batch):
@@ -56,7 +56,7 @@ def batch_events(  # pragma: no cover - compiled
         res = run_events(
             m[b], c1[b], k[b], r[b], f, y0[b], v0[b], last_dir[b], u_t, u_val, t_eval, t_end,
             max_events, o_y[b], o_v[b], scratch[0], scratch[1], scratch[2], scratch[3],
-            scratch[4], scratch[5], rev[0], rev[1],
+            scratch[4], scratch[5], rev[0], rev[1], sigma[b],
         )  # fmt: skip
         status[b] = res[0]
         n_rev[b] = res[2]

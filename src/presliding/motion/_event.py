@@ -21,10 +21,17 @@ written so that ω → 0 gives v0·t + a0·t²/2 without cancellation. Events:
 * the applied force changes (piecewise-constant u).
 
 At zero velocity the mass sticks iff |u − F_el| <= c1 (set-valued sign; equality
-sticks) and stays exactly put until u changes; otherwise it moves in the
-direction of u − F_el. Element deformations f_j = y − x_j are set exactly to
-s·r_j when an element starts to slide, so the element classification never
-depends on rounding.
+sticks; the viscous force σ·0 vanishes) and stays exactly put until u changes;
+otherwise it moves in the direction of u − F_el. Element deformations
+f_j = y − x_j are set exactly to s·r_j when an element starts to slide, so the
+element classification never depends on rounding.
+
+With a viscous term σ > 0 the pieces are damped: m·d̈ + σ·ḋ + K·d = F0, solved in
+closed form by `presliding.motion._damped` (under-, critically or over-damped;
+the exponential Coulomb–viscous decay when K = 0), with the time of zero
+velocity in closed form and the time an element reaches its threshold by a
+bracketed, safeguarded Newton iteration on the closed form. σ = 0 runs the
+undamped formulas above, unchanged.
 """
 
 from __future__ import annotations
@@ -33,6 +40,8 @@ import math
 
 import numba as nb
 import numpy as np
+
+from presliding.motion import _damped
 
 STATUS_OK = 0
 STATUS_EVENT_LIMIT = -1
@@ -85,16 +94,18 @@ def time_to_reach(vp, ap, w, dist):  # pragma: no cover - compiled
 @nb.njit(**_JIT)
 def run_events(  # pragma: no cover - compiled
     m, c1, k, r, f, y, v, last_dir, u_t, u_val, t_eval, t_end, max_events,
-    o_y, o_v, o_a, o_fel, o_u, o_eel, o_dis, o_work, rev_t, rev_y,
+    o_y, o_v, o_a, o_fel, o_u, o_eel, o_dis, o_work, rev_t, rev_y, sigma=0.0, o_vis=None,
 ):  # fmt: skip
     """Event-driven exact motion from time u_t[0]; samples written at t_eval.
 
-    ``f`` (deformations, shape (N,)) is updated in place to the final state.
-    u is u_val[i] on [u_t[i], u_t[i+1]), the last value held forever. Reversals
-    beyond the capacity of rev_t/rev_y are counted but not recorded.
+    ``sigma`` is the viscous coefficient σ >= 0. ``f`` (deformations, shape
+    (N,)) is updated in place to the final state. u is u_val[i] on
+    [u_t[i], u_t[i+1]), the last value held forever. Reversals beyond the
+    capacity of rev_t/rev_y are counted but not recorded. ``o_vis``, when
+    given, receives the viscous dissipation σ·∫v² (None skips its quadrature).
 
     Returns (status, n_samples, n_rev, stop_time (nan if moving at the end),
-    y, v, last_dir, n_events, dissipated, work, t).
+    y, v, last_dir, n_events, dissipated, work, t, viscous dissipation).
     """
     n = k.shape[0]
     n_u = u_t.shape[0]
@@ -105,6 +116,7 @@ def run_events(  # pragma: no cover - compiled
     n_rev = 0
     n_ev = 0
     dis = 0.0
+    vis = 0.0
     work = 0.0
     rest_start = np.nan
     status = STATUS_OK
@@ -131,6 +143,8 @@ def run_events(  # pragma: no cover - compiled
                     o_u[ie] = u
                     o_eel[ie] = 0.5 * eel
                     o_dis[ie] = dis
+                    if o_vis is not None:
+                        o_vis[ie] = vis
                     o_work[ie] = work
                     ie += 1
                 if t_u >= t_end:
@@ -164,17 +178,26 @@ def run_events(  # pragma: no cover - compiled
                 pel += k[j] * f[j]
                 dj = r[j] - s * f[j]
                 dmin = min(dmin, dj)
-        a0 = (u - c1 * s - fel) / m
-        w = math.sqrt(kk / m)
         vp = abs(v)  # s·v >= 0; abs also clears a signed zero (atan2 tells -0.0 apart)
-        ap = s * a0
-        dmax = reach(vp, ap, w)
-        kind = 0  # 0: element, 1: rest, 2: change of u, 3: end
-        if dmin < dmax:
-            dt = time_to_reach(vp, ap, w, dmin)
+        gam = 0.0
+        if sigma == 0.0:
+            a0 = (u - c1 * s - fel) / m
+            w = math.sqrt(kk / m)
+            ap = s * a0
+            dmax = reach(vp, ap, w)
+            kind = 0  # 0: element, 1: rest, 2: change of u, 3: end
+            if dmin < dmax:
+                dt = time_to_reach(vp, ap, w, dmin)
+            else:
+                kind = 1
+                dt = time_to_rest(vp, ap, w)
         else:
-            kind = 1
-            dt = time_to_rest(vp, ap, w)
+            gam = 0.5 * sigma / m
+            w = kk / m  # ω0² of the damped piece
+            fp = (s * (u - fel) - c1) / m
+            ap = fp - sigma * vp / m
+            a0 = s * ap
+            kind, dt, dmax = _damped_event(vp, ap, fp, gam, w, dmin, min(t_u, t_end) - t)
         if t + dt >= t_u and t_u < t_end:
             kind = 2
             dt = t_u - t
@@ -183,8 +206,14 @@ def run_events(  # pragma: no cover - compiled
             dt = t_end - t
         t1 = t + dt if kind < 2 else (t_u if kind == 2 else t_end)
         dfric = c1 + csl
+        acc = 0.0  # σ·∫v² since the start of the piece, up to time t_acc
+        t_acc = 0.0
         while ie < n_eval and (t_eval[ie] < t1 or (kind == 3 and t_eval[ie] <= t1)):
-            d, vv, aa = closed_form(v, a0, w, t_eval[ie] - t)
+            tau = t_eval[ie] - t
+            if sigma == 0.0:
+                d, vv, aa = closed_form(v, a0, w, tau)
+            else:
+                d, vv, aa = _damped.state(v, a0, gam, w, tau)
             o_y[ie] = y + d
             o_v[ie] = vv
             o_a[ie] = aa
@@ -192,16 +221,33 @@ def run_events(  # pragma: no cover - compiled
             o_u[ie] = u
             o_eel[ie] = 0.5 * (eel + 2.0 * d * pel + kk * d * d)
             o_dis[ie] = dis + dfric * s * d
+            if o_vis is not None:
+                if sigma > 0.0:
+                    acc += sigma * _damped.velocity_square_integral(v, a0, gam, w, t_acc, tau)
+                    t_acc = max(t_acc, tau)
+                o_vis[ie] = vis + acc
             o_work[ie] = work + u * d
             ie += 1
-        if kind == 0:
+        if o_vis is not None and sigma > 0.0:
+            acc += sigma * _damped.velocity_square_integral(v, a0, gam, w, t_acc, t1 - t)
+            vis += acc
+        if sigma == 0.0:
+            if kind == 0:
+                d = s * dmin
+                v = closed_form(v, a0, w, dt)[1]
+            elif kind == 1:
+                d = s * dmax
+                v = 0.0
+            else:
+                d, v, _ = closed_form(v, a0, w, dt)
+        elif kind == 0:
             d = s * dmin
-            v = closed_form(v, a0, w, dt)[1]
+            v = _damped.state(v, a0, gam, w, dt)[1]
         elif kind == 1:
             d = s * dmax
             v = 0.0
         else:
-            d, v, _ = closed_form(v, a0, w, dt)
+            d, v, _ = _damped.state(v, a0, gam, w, dt)
         if s * v <= 0.0:
             v = 0.0
         hit = kind == 0 or (kind == 1 and dmin == dmax)
@@ -221,4 +267,24 @@ def run_events(  # pragma: no cover - compiled
         elif kind == 3:
             break
     stop = rest_start if v == 0.0 else np.nan
-    return status, ie, n_rev, stop, y, v, last_dir, n_ev, dis, work, t
+    return status, ie, n_rev, stop, y, v, last_dir, n_ev, dis, work, t, vis
+
+
+@nb.njit(**_JIT)
+def _damped_event(vp, ap, fp, gam, w0sq, dmin, t_cap):  # pragma: no cover - compiled
+    """Next event of a damped piece (mirrored: vp >= 0, acceleration ap, fp = F0/m).
+
+    Returns (kind, dt, dmax): kind 0 when the nearest elastic element (distance
+    dmin to its threshold) is reached first, 1 when the velocity vanishes
+    first (after the displacement dmax); dt = inf when neither happens within
+    t_cap (the caller then ends the piece at the change of u or at the end).
+    """
+    tr = _damped.rest_time(vp, fp, gam, w0sq)
+    if tr <= t_cap:
+        dmax = _damped.state(vp, ap, gam, w0sq, tr)[0]
+        if dmin < dmax:
+            return 0, _damped.time_to_distance(vp, ap, gam, w0sq, dmin, tr), dmax
+        return 1, tr, dmax
+    if dmin < np.inf and _damped.state(vp, ap, gam, w0sq, t_cap)[0] > dmin:
+        return 0, _damped.time_to_distance(vp, ap, gam, w0sq, dmin, t_cap), np.inf
+    return 1, np.inf, np.inf

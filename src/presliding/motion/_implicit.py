@@ -2,7 +2,7 @@
 
 Each step of size h solves the monotone inclusion for the new velocity v'
 
-    m·(v' − v)/h + F_el(y + h·v') + c1·Sign(v') ∋ u,
+    m·(v' − v)/h + σ·v' + F_el(y + h·v') + c1·Sign(v') ∋ u,
 
 with Sign the set-valued sign (Sign(0) = [−1, 1]) and F_el(y + δ) the elastic
 force of the PI bank after the trial increment δ = h·v' from its current memory
@@ -12,7 +12,10 @@ in v', so the inclusion has exactly one solution:
 * v' = 0 (the mass sticks, its position does not change by a single bit) iff
   |m·v/h + u − F_el(y)| <= c1;
 * otherwise v' has the sign s of m·v/h + u − F_el(y) and solves
-  m·δ/h² + F_el(y + δ) − F_el(y) = m·v/h + u − F_el(y) − c1·s.
+  (m/h² + σ/h)·δ + F_el(y + δ) − F_el(y) = m·v/h + u − F_el(y) − c1·s.
+
+The viscous term σ·v' (σ >= 0) enters linearly: it adds σ/h to the coefficient
+of δ and nothing to the stick test (σ·0 = 0).
 
 For finite elements F_el(y + δ) − F_el(y) = Σ k_j (clamp(f_j + δ, ±r_j) − f_j) is
 piecewise linear and concave in s·δ, so Newton's method from δ = 0 reaches the
@@ -22,7 +25,8 @@ iterates (at most N + 1 passes). The elastic evaluation is the one function
 only that function and `_commit` replaced.
 
 The scheme is backward Euler on the velocity (first order in h); its energy
-balance misses the numerical dissipation ½·m·(v' − v)² + O(h²) per step.
+balance misses the numerical dissipation ½·m·(v' − v)² + O(h²) per step. The
+viscous dissipation of a step is σ·v'²·h.
 """
 
 from __future__ import annotations
@@ -100,14 +104,15 @@ def _commit(k, r, f, delta):  # pragma: no cover - compiled
 @nb.njit(**_JIT)
 def run_implicit(  # pragma: no cover - compiled
     m, c1, k, r, f, y, v, last_dir, t_grid, u_mid, out_idx,
-    o_y, o_v, o_a, o_fric, o_fel, o_eel, o_dis, o_work, rev_t, rev_y,
+    o_y, o_v, o_a, o_fric, o_fel, o_eel, o_dis, o_work, rev_t, rev_y, sigma=0.0, o_vis=None,
 ):  # fmt: skip
     """Step from t_grid[0] to t_grid[-1] with u = u_mid[i] on step i.
 
     Sample q is the state after grid point out_idx[q] (0: the initial state;
     its o_a/o_fric entries are left to the caller). ``f`` is updated in place.
-    Returns (n_rev, rest_start (nan if moving at the end), y, v, last_dir,
-    dissipated, work).
+    ``sigma`` is the viscous coefficient σ >= 0; ``o_vis``, when given, receives
+    the viscous dissipation. Returns (n_rev, rest_start (nan if moving at the end), y, v, last_dir,
+    dissipated, work, viscous dissipation).
     """
     n_steps = t_grid.shape[0] - 1
     n_out = out_idx.shape[0]
@@ -121,10 +126,16 @@ def run_implicit(  # pragma: no cover - compiled
         npos += f[j] >= r[j]
         nneg += f[j] <= -r[j]
     dis = 0.0
+    vis = 0.0
     work = 0.0
     n_rev = 0
     cap = rev_t.shape[0]
     rest_start = np.nan
+    if o_vis is not None:
+        for p in range(n_out):
+            if out_idx[p] != 0:
+                break
+            o_vis[p] = 0.0
     q = _record(0, k, f, y, v, out_idx, 0, dis, work, o_y, o_v, o_fel, o_eel, o_dis, o_work)
     h_prev = -1.0
     inv_h = m_h = mh2 = 0.0
@@ -134,7 +145,7 @@ def run_implicit(  # pragma: no cover - compiled
             h_prev = h
             inv_h = 1.0 / h
             m_h = m * inv_h
-            mh2 = m_h * inv_h
+            mh2 = m_h * inv_h + sigma * inv_h  # m/h² + σ/h (m/h² when σ = 0)
         u = u_mid[i]
         g = m_h * v + u - fel
         if abs(g) <= c1:  # sticks: y and the memory stay exactly as they are
@@ -189,6 +200,7 @@ def run_implicit(  # pragma: no cover - compiled
             y += delta
             v_new = delta * inv_h
             dis += c1 * d + dplastic
+            vis += sigma * d * d * inv_h
             work += u * delta
             if s != last_dir:
                 if last_dir != 0.0:
@@ -200,6 +212,11 @@ def run_implicit(  # pragma: no cover - compiled
             rest_start = np.nan
         if q < n_out and out_idx[q] == i + 1:
             acc = (v_new - v) * inv_h
+            if o_vis is not None:
+                for p in range(q, n_out):
+                    if out_idx[p] != i + 1:
+                        break
+                    o_vis[p] = vis
             q0 = q
             q = _record(
                 i + 1, k, f, y, v_new, out_idx, q, dis, work, o_y, o_v, o_fel, o_eel, o_dis, o_work
@@ -208,7 +225,7 @@ def run_implicit(  # pragma: no cover - compiled
                 o_a[p] = acc
                 o_fric[p] = u - m * acc
         v = v_new
-    return n_rev, rest_start, y, v, last_dir, dis, work
+    return n_rev, rest_start, y, v, last_dir, dis, work, vis
 
 
 @nb.njit(**_JIT)

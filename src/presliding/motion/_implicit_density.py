@@ -1,11 +1,11 @@
 """Implicit time stepping of eq. 17 for a friction model with a density μ (eq. 10).
 
-The motion m·ÿ + c1·Sign(ẏ) + F_el(y) ∋ u(t) with the general PI operator
+The motion m·ÿ + c1·Sign(ẏ) + σ·ẏ + F_el(y) ∋ u(t) with the general PI operator
 F_el(y) = ∫ (y − x(y, r)) dμ(r), evaluated exactly from its memory of turning
 inputs (`_general_pi`). Each step of size h solves the monotone inclusion for
 the new velocity v'
 
-    m·(v' − v)/h + F_el(y + h·v') + c1·Sign(v') ∋ u
+    m·(v' − v)/h + σ·v' + F_el(y + h·v') + c1·Sign(v') ∋ u
 
 exactly, Sign(0) = [−1, 1] being the set-valued sign:
 
@@ -13,7 +13,9 @@ exactly, Sign(0) = [−1, 1] being the set-valued sign:
   position and the memory are not touched (zero creep, bit for bit);
 * otherwise v' = s·d/h with s = sign(g) and d > 0 the root of
 
-      φ(d) = m·d/h² + s·(F_el(y + s·d) − F_el(y)) − (|g| − c1) = 0.
+      φ(d) = (m/h² + σ/h)·d + s·(F_el(y + s·d) − F_el(y)) − (|g| − c1) = 0
+
+  (the viscous term σ·v' = σ·s·d/h enters linearly; σ·0 = 0 at rest).
 
 The trial force F_el(y + s·d) and its slope T(ρ) come from `force_at` (pure:
 the memory is not changed by a trial). Along one Masing branch s·F_el is
@@ -53,7 +55,9 @@ _MAX_ITER = 200
 
 @nb.njit(**_JIT)
 def solve_step(b, s, mh2, slope0, fel, head, stack, kind, par, tab):  # pragma: no cover
-    """Root d > 0 of m/h²·d + s·(F_el(y + s·d) − F_el(y)) = b > 0 (y = head[0]).
+    """Root d > 0 of mh2·d + s·(F_el(y + s·d) − F_el(y)) = b > 0 (y = head[0]).
+
+    ``mh2`` = m/h² + σ/h, the inertia and the viscous term of the step.
 
     ``slope0`` is dF/dy on the branch leaving y in direction s (T(0) = μ([0, R])
     after a reversal); ``fel`` = F_el(y).
@@ -89,8 +93,8 @@ def _grow_rev(rev):  # pragma: no cover - compiled
 
 @nb.njit(**_JIT)
 def run_density(  # pragma: no cover - compiled
-    m, c1, head, stack, kind, par, tab, v, last_dir, t_grid, u_mid, out_idx,
-    o_y, o_v, o_a, o_fric, o_fel, o_eel, o_dis, o_work,
+    m, c1, sigma, head, stack, kind, par, tab, v, last_dir, t_grid, u_mid, out_idx,
+    o_y, o_v, o_a, o_fric, o_fel, o_eel, o_dis, o_vis, o_work,
 ):  # fmt: skip
     """Step from t_grid[0] to t_grid[-1] with u = u_mid[i] on step i.
 
@@ -99,19 +103,20 @@ def run_density(  # pragma: no cover - compiled
     grown). Sample q is the state after grid point out_idx[q] (0: the initial
     state; its o_a/o_fric entries are left to the caller). Returns (stack,
     reversals (n, 2) as rows (time, position), rest_start (nan if moving at the
-    end), v, last_dir, dissipated, work).
+    end), v, last_dir, dissipated, work, viscous dissipation).
     """
     n_steps = t_grid.shape[0] - 1
     n_out = out_idx.shape[0]
     t_total = primitives(kind, par, tab, 0.0)[2]  # μ([0, R]): slope after a reversal
     fel, slope = gk.force_at(head[0], head, stack, kind, par, tab)
     dis = 0.0
+    vis = 0.0
     work = 0.0
     rev = np.empty((64, 2))
     n_rev = 0
     rest_start = np.nan
-    q = _record(0, head, stack, kind, par, tab, fel, v, out_idx, 0, dis, work,
-                o_y, o_v, o_fel, o_eel, o_dis, o_work)  # fmt: skip
+    q = _record(0, head, stack, kind, par, tab, fel, v, out_idx, 0, dis, vis, work,
+                o_y, o_v, o_fel, o_eel, o_dis, o_vis, o_work)  # fmt: skip
     h_prev = -1.0
     inv_h = m_h = mh2 = 0.0
     for i in range(n_steps):
@@ -120,7 +125,7 @@ def run_density(  # pragma: no cover - compiled
             h_prev = h
             inv_h = 1.0 / h
             m_h = m * inv_h
-            mh2 = m_h * inv_h
+            mh2 = m_h * inv_h + sigma * inv_h  # m/h² + σ/h
         u = u_mid[i]
         g = m_h * v + u - fel
         if abs(g) <= c1:  # sticks: the position and the memory stay exactly as they are
@@ -137,6 +142,7 @@ def run_density(  # pragma: no cover - compiled
             )
             v_new = d * s * inv_h
             dis += c1 * d + dplastic
+            vis += sigma * d * d * inv_h
             work += u * s * d
             if s != last_dir:
                 if last_dir != 0.0:
@@ -150,18 +156,18 @@ def run_density(  # pragma: no cover - compiled
         if q < n_out and out_idx[q] == i + 1:
             acc = (v_new - v) * inv_h
             q0 = q
-            q = _record(i + 1, head, stack, kind, par, tab, fel, v_new, out_idx, q, dis, work,
-                        o_y, o_v, o_fel, o_eel, o_dis, o_work)  # fmt: skip
+            q = _record(i + 1, head, stack, kind, par, tab, fel, v_new, out_idx, q, dis, vis,
+                        work, o_y, o_v, o_fel, o_eel, o_dis, o_vis, o_work)  # fmt: skip
             for p in range(q0, q):
                 o_a[p] = acc
                 o_fric[p] = u - m * acc
         v = v_new
-    return stack, rev[:n_rev].copy(), rest_start, v, last_dir, dis, work
+    return stack, rev[:n_rev].copy(), rest_start, v, last_dir, dis, work, vis
 
 
 @nb.njit(**_JIT)
-def _record(i, head, stack, kind, par, tab, fel, v, out_idx, q, dis, work,
-            o_y, o_v, o_fel, o_eel, o_dis, o_work):  # fmt: skip  # pragma: no cover
+def _record(i, head, stack, kind, par, tab, fel, v, out_idx, q, dis, vis, work,
+            o_y, o_v, o_fel, o_eel, o_dis, o_vis, o_work):  # fmt: skip  # pragma: no cover
     """Write the samples that fall on grid point i; returns the next sample index."""
     if q >= out_idx.shape[0] or out_idx[q] != i:
         return q
@@ -172,6 +178,7 @@ def _record(i, head, stack, kind, par, tab, fel, v, out_idx, q, dis, work,
         o_fel[q] = fel
         o_eel[q] = eel
         o_dis[q] = dis
+        o_vis[q] = vis
         o_work[q] = work
         q += 1
     return q
@@ -225,8 +232,11 @@ def run(
     t0: float,
     t_end: float,
     h: float,
+    sigma: float = 0.0,
 ) -> dict[str, Any]:
     """Run the density stepper on a grid through the sample times; a dict of outputs.
+
+    ``sigma`` is the viscous coefficient σ >= 0 (default 0, eq. 17 as written).
 
     Works for every `Density`, a `Discrete` one included (it then reproduces the
     finite-element stepper of `_implicit` to rounding).
@@ -239,21 +249,21 @@ def run(
     head, stack = state.working_memory(density)
     e0 = 0.5 * m * v0 * v0 + float(gk.elastic_energy(head, stack, kind, par, tab))
     fel0 = float(gk.force_at(head[0], head, stack, kind, par, tab)[0])
-    o = [np.zeros(times.shape[0]) for _ in range(8)]
-    stack, rev, stop, v, d, _, _ = run_density(
-        m, c1, head, stack, kind, par, tab, v0, last_dir, grid, u_mid, out_idx, *o
+    o = [np.zeros(times.shape[0]) for _ in range(9)]
+    stack, rev, stop, v, d, _, _, _ = run_density(
+        m, c1, sigma, head, stack, kind, par, tab, v0, last_dir, grid, u_mid, out_idx, *o
     )
-    y_o, v_o, a_o, fric_o, fel_o, eel_o, dis_o, work_o = o
+    y_o, v_o, a_o, fric_o, fel_o, eel_o, dis_o, vis_o, work_o = o
     applied = forcing(times)
     at_start = out_idx == 0
     if at_start.any():
-        a_o[at_start] = initial_acceleration(m, c1, fel0, v0, float(applied[0]))
+        a_o[at_start] = initial_acceleration(m, c1, fel0, v0, float(applied[0]), sigma)
         fric_o[at_start] = applied[0] - m * a_o[at_start]
     y = float(head[0])
     return {
         "n": times.shape[0], "position": y_o, "velocity": v_o, "acceleration": a_o,
         "elastic": fel_o, "applied": applied, "friction": fric_o, "e_el": eel_o,
-        "dissipated": dis_o, "work": work_o, "rev_t": rev[:, 0].copy(),
+        "dissipated": dis_o, "viscous": vis_o, "work": work_o, "rev_t": rev[:, 0].copy(),
         "rev_y": rev[:, 1].copy(), "stop": stop, "y": y, "v": v, "dir": d,
         "count": grid.shape[0] - 1, "status": 0, "e0": e0,
         "final_state": MemoryState.from_working_memory(head, stack),

@@ -114,10 +114,12 @@ def saturation_direction(vdir: Any, u0: float) -> Any:
     return float(s) if np.ndim(s) == 0 else s
 
 
-def initial_acceleration(m: float, c1: float, fel: float, v0: float, u0: float) -> float:
-    """ÿ at the start from eq. 17 with the set-valued sign."""
+def initial_acceleration(
+    m: float, c1: float, fel: float, v0: float, u0: float, sigma: float = 0.0
+) -> float:
+    """ÿ at the start from eq. 17 (with σ·ẏ) and the set-valued sign."""
     if v0 != 0.0:
-        return (u0 - c1 * np.sign(v0) - fel) / m
+        return (u0 - c1 * np.sign(v0) - sigma * v0 - fel) / m
     g = u0 - fel
     return 0.0 if abs(g) <= c1 else (g - c1 * np.sign(g)) / m
 
@@ -126,21 +128,23 @@ def _buffers(n: int, count: int) -> list[FloatArray]:
     return [np.zeros(n) for _ in range(count)]
 
 
-def run_event(m, c1, k, r, f0, y0, v0, last_dir, forcing: Forcing, times, t0, t_end, max_events):
+def run_event(
+    m, c1, k, r, f0, y0, v0, last_dir, forcing: Forcing, times, t0, t_end, max_events, sigma=0.0
+):
     """Run the exact event kernel; returns a dict of outputs."""
     u_t, u_val = forcing.pieces(t0, t_end)
     cap = REVERSAL_CAPACITY
     while True:
         f = f0.copy()
-        o = _buffers(times.shape[0], 8)
+        o = _buffers(times.shape[0], 9)
         rev = _buffers(cap, 2)
         res = _event.run_events(m, c1, k, r, f, y0, v0, last_dir, u_t, u_val, times, t_end,
-                                max_events, *o, *rev)  # fmt: skip
-        status, n, n_rev, stop, y, v, d, n_ev, _, _, t_last = res
+                                max_events, *o[:7], o[8], *rev, sigma, o[7])  # fmt: skip
+        status, n, n_rev, stop, y, v, d, n_ev, _, _, t_last, _ = res
         if n_rev <= cap:
             break
         cap = n_rev
-    y_o, v_o, a_o, fel_o, u_o, eel_o, dis_o, work_o = (b[:n] for b in o)
+    y_o, v_o, a_o, fel_o, u_o, eel_o, dis_o, vis_o, work_o = (b[:n] for b in o)
     message = (
         "the motion was solved exactly"
         if status == 0
@@ -149,7 +153,8 @@ def run_event(m, c1, k, r, f0, y0, v0, last_dir, forcing: Forcing, times, t0, t_
     return {
         "n": n, "position": y_o, "velocity": v_o, "acceleration": a_o, "elastic": fel_o,
         "applied": u_o, "friction": u_o - m * a_o, "e_el": eel_o, "dissipated": dis_o,
-        "work": work_o, "rev_t": rev[0][:n_rev], "rev_y": rev[1][:n_rev], "stop": stop,
+        "viscous": vis_o, "work": work_o, "rev_t": rev[0][:n_rev], "rev_y": rev[1][:n_rev],
+        "stop": stop,
         "y": y, "v": v, "dir": d, "f": f, "count": n_ev, "status": status, "message": message,
     }  # fmt: skip
 
@@ -170,32 +175,50 @@ def implicit_grid(t0: float, t_end: float, times: FloatArray, h: float):
     return grid, np.ascontiguousarray(out_idx)
 
 
-def run_implicit(m, c1, k, r, f0, y0, v0, last_dir, forcing: Forcing, times, t0, t_end, h):
+def run_implicit(
+    m, c1, k, r, f0, y0, v0, last_dir, forcing: Forcing, times, t0, t_end, h, sigma=0.0
+):
     """Run the implicit stepper on a grid through the sample times; a dict of outputs."""
     grid, out_idx = implicit_grid(t0, t_end, times, h)
     u_mid = forcing(0.5 * (grid[1:] + grid[:-1]))
     cap = REVERSAL_CAPACITY
     while True:
         f = f0.copy()
-        o = _buffers(times.shape[0], 8)
+        o = _buffers(times.shape[0], 9)
         rev = _buffers(cap, 2)
-        n_rev, stop, y, v, d, _, _ = _implicit.run_implicit(
-            m, c1, k, r, f, y0, v0, last_dir, grid, u_mid, out_idx, *o, *rev
+        n_rev, stop, y, v, d, _, _, _ = _implicit.run_implicit(
+            m,
+            c1,
+            k,
+            r,
+            f,
+            y0,
+            v0,
+            last_dir,
+            grid,
+            u_mid,
+            out_idx,
+            *o[:7],
+            o[8],
+            *rev,
+            sigma,
+            o[7],
         )
         if n_rev <= cap:
             break
         cap = n_rev
-    y_o, v_o, a_o, fric_o, fel_o, eel_o, dis_o, work_o = o
+    y_o, v_o, a_o, fric_o, fel_o, eel_o, dis_o, vis_o, work_o = o
     applied = forcing(times)
     at_start = out_idx == 0
     if at_start.any():
         u0 = applied[0]
-        a_o[at_start] = initial_acceleration(m, c1, float(np.dot(k, f0)), v0, u0)
+        a_o[at_start] = initial_acceleration(m, c1, float(np.dot(k, f0)), v0, u0, sigma)
         fric_o[at_start] = u0 - m * a_o[at_start]
     return {
         "n": times.shape[0], "position": y_o, "velocity": v_o, "acceleration": a_o,
         "elastic": fel_o, "applied": applied,
-        "friction": fric_o, "e_el": eel_o, "dissipated": dis_o, "work": work_o,
+        "friction": fric_o, "e_el": eel_o, "dissipated": dis_o, "viscous": vis_o,
+        "work": work_o,
         "rev_t": rev[0][:n_rev], "rev_y": rev[1][:n_rev], "stop": stop, "y": y, "v": v,
         "dir": d, "f": f, "count": grid.shape[0] - 1, "status": 0,
         "message": f"{grid.shape[0] - 1} implicit steps of at most {h:.3g}",
@@ -218,8 +241,8 @@ def single_bank(
     return c1, np.array(k), np.array(r)
 
 
-def stack_models(models: Any) -> tuple[FloatArray, FloatArray, FloatArray]:
-    """c1 (B,), k (B, N), r (B, N) from PIFriction models; shorter banks padded inertly."""
+def stack_models(models: Any) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+    """c1 (B,), σ (B,), k (B, N), r (B, N) from PIFriction models; shorter banks padded inertly."""
     seq = [models] if isinstance(models, PIFriction) else list(models)
     if not seq:
         raise ValueError("`models` must not be empty; got 0 models.")
@@ -235,14 +258,17 @@ def stack_models(models: Any) -> tuple[FloatArray, FloatArray, FloatArray]:
     for i, mod in enumerate(seq):
         k[i, : mod.n_elements] = mod.stiffness
         r[i, : mod.n_elements] = mod.threshold
-    return np.array([mod.coulomb for mod in seq]), k, r
+    sigma = np.array([mod.viscous for mod in seq], dtype=np.float64)
+    return np.array([mod.coulomb for mod in seq]), sigma, k, r
 
 
-def stack_parameters(coulomb: Any, stiffness: Any, breakaway: Any, threshold: Any):
+def stack_parameters(
+    coulomb: Any, stiffness: Any, breakaway: Any, threshold: Any, viscous: Any = 0.0
+):
     """Validated parameter arrays of a batch, before broadcasting to the batch size.
 
-    Returns c1 (Bc,), k (Bk, N), the given `breakaway` or `threshold` (Bo, N), its
-    name, and the lengths {name: B} for `batch_size`.
+    Returns c1 (Bc,), σ (Bv,), k (Bk, N), the given `breakaway` or `threshold`
+    (Bo, N), its name, and the lengths {name: B} for `batch_size`.
     """
     if coulomb is None or stiffness is None:
         missing = " and ".join(
@@ -258,6 +284,7 @@ def stack_parameters(coulomb: Any, stiffness: Any, breakaway: Any, threshold: An
             + ("both." if breakaway is not None else "neither.")
         )
     c1 = np.array(as_parameter_vector("coulomb", coulomb, positive=False))
+    sigma = np.array(as_parameter_vector("viscous", viscous, positive=False))
     k = as_parameter_matrix("stiffness", stiffness)
     name = "breakaway" if threshold is None else "threshold"
     raw = breakaway if threshold is None else threshold
@@ -269,20 +296,22 @@ def stack_parameters(coulomb: Any, stiffness: Any, breakaway: Any, threshold: An
             f"`{name}` must have as many elements (columns) as `stiffness`; got {other.shape[1]} "
             f"and {k.shape[1]}."
         )
-    sizes = {"coulomb": c1.shape[0], "stiffness": k.shape[0], name: other.shape[0]}
-    return c1, k, other, name, sizes
+    sizes = {"coulomb": c1.shape[0], "viscous": sigma.shape[0], "stiffness": k.shape[0],
+             name: other.shape[0]}  # fmt: skip
+    return c1, sigma, k, other, name, sizes
 
 
-def broadcast_parameters(c1, k, other, name: str, n_b: int):
-    """c1 (B,), k (B, N), r (B, N) of a batch of size `n_b`, checked as PIFriction checks."""
+def broadcast_parameters(c1, sigma, k, other, name: str, n_b: int):
+    """c1 (B,), σ (B,), k (B, N), r (B, N) of a batch of size `n_b`, checked as PIFriction."""
     c1 = np.array(np.broadcast_to(c1, (n_b,)))
+    sigma = np.array(np.broadcast_to(sigma, (n_b,)))
     k = np.array(np.broadcast_to(k, (n_b, k.shape[1])))
     other = np.array(np.broadcast_to(other, k.shape))
     with np.errstate(over="ignore", under="ignore"):  # reported by check_derived
         c, r = (other, other / k) if name == "breakaway" else (k * other, other)
     check_derived(k, c, r)
     check_has_friction(c1, k.shape[1])
-    return c1, k, np.ascontiguousarray(r)
+    return c1, sigma, k, np.ascontiguousarray(r)
 
 
 def as_batch_vector(name: str, value: Any, positive: bool = False) -> FloatArray:
@@ -325,7 +354,7 @@ def batch_deformation(initial_state: Any, r: FloatArray, v0: FloatArray, u0: flo
     return np.ascontiguousarray(f), np.ascontiguousarray(vdir, dtype=np.float64)
 
 
-def run_batch(m, c1, k, r, f0, y0, v0, last_dir, u_t, u_val, times, t_end, max_events):
+def run_batch(m, c1, sigma, k, r, f0, y0, v0, last_dir, u_t, u_val, times, t_end, max_events):
     """Run the parallel batch kernel and wrap the outputs."""
     from presliding.motion._batch_events import batch_events
     from presliding.motion.results import MotionBatch
@@ -338,7 +367,7 @@ def run_batch(m, c1, k, r, f0, y0, v0, last_dir, u_t, u_val, times, t_end, max_e
     status = np.empty(n_b, dtype=np.int64)
     y_end = np.empty(n_b)
     v_end = np.empty(n_b)
-    batch_events(m, c1, k, r, f0, y0, v0, last_dir, u_t, u_val, times, t_end, max_events,
+    batch_events(m, c1, sigma, k, r, f0, y0, v0, last_dir, u_t, u_val, times, t_end, max_events,
                  o_y, o_v, stop, n_rev, status, y_end, v_end)  # fmt: skip
     stop = np.where(np.isnan(stop), np.inf, stop)
     failed = int(np.sum(status != 0))

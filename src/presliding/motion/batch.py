@@ -12,7 +12,12 @@ from collections.abc import Sequence
 import numpy as np
 from numpy.typing import ArrayLike
 
-from presliding._validation import as_count, as_positive_scalar, as_real_scalar
+from presliding._validation import (
+    as_count,
+    as_nonnegative_scalar,
+    as_positive_scalar,
+    as_real_scalar,
+)
 from presliding.friction.pi_friction import PIFriction
 from presliding.motion import _batch_events as _batch
 from presliding.motion import _run
@@ -29,6 +34,7 @@ def simulate_batch(
     stiffness: ArrayLike | None = None,
     breakaway: ArrayLike | None = None,
     threshold: ArrayLike | None = None,
+    viscous: float | ArrayLike | None = None,
     applied_force: float | tuple[ArrayLike, ArrayLike] = 0.0,
     initial_position: float | ArrayLike = 0.0,
     initial_state: str = "relaxed",
@@ -40,7 +46,8 @@ def simulate_batch(
     """Exact motions of many parameter sets and/or initial velocities, in parallel.
 
     Every member is solved by the exact event method of `simulate` (eq. 17 with
-    finite elements, eq. 8) on one compiled thread per member. Lengths must be 1
+    finite elements, eq. 8, and the viscous term σ·ẏ) on one compiled thread
+    per member. Lengths must be 1
     or one common batch size B; length-1 inputs are shared by all members.
 
     Parameters
@@ -60,6 +67,9 @@ def simulate_batch(
         Exactly one of them: breakaway forces c_j = k_j·r_j [N] or thresholds
         r_j [m]; the other one must come out finite and positive (as in
         `PIFriction`).
+    viscous : float or array_like, shape (B,), keyword only
+        σ >= 0 [N·s/m], the viscous term σ·ẏ; default 0 (the paper's assumption
+        (i)). With `models` it comes from each model's ``viscous``.
     applied_force : float or (time, value) pair, keyword only
         u [N], shared by all members: a constant, or samples held piecewise
         constant.
@@ -93,17 +103,20 @@ def simulate_batch(
     """
     if models is not None:
         given = [n for n, v in (("coulomb", coulomb), ("stiffness", stiffness),
-                                ("breakaway", breakaway), ("threshold", threshold))
+                                ("breakaway", breakaway), ("threshold", threshold),
+                                ("viscous", viscous))
                  if v is not None]  # fmt: skip
         if given:
             raise TypeError(
                 "`models` or parameter arrays (`coulomb`, `stiffness`, ...) must be given, not "
                 f"both; got `models` and `{given[0]}`."
             )
-        c1, k, r = _run.stack_models(models)
+        c1, sigma, k, r = _run.stack_models(models)
         sizes = {"models": c1.shape[0]}
     else:
-        params = _run.stack_parameters(coulomb, stiffness, breakaway, threshold)
+        params = _run.stack_parameters(
+            coulomb, stiffness, breakaway, threshold, 0.0 if viscous is None else viscous
+        )
         sizes = dict(params[-1])
     t0 = as_real_scalar("t_start", t_start)
     forcing = as_forcing(applied_force, "zoh", t0)
@@ -122,14 +135,16 @@ def simulate_batch(
         sizes[name] = arrays[name].shape[0]
     n_b = _run.batch_size(sizes)
     if models is not None:
-        c1, k, r = (np.array(np.broadcast_to(a, (n_b, *a.shape[1:]))) for a in (c1, k, r))
+        c1, sigma, k, r = (
+            np.array(np.broadcast_to(a, (n_b, *a.shape[1:]))) for a in (c1, sigma, k, r)
+        )
     else:
-        c1, k, r = _run.broadcast_parameters(*params[:4], n_b)
+        c1, sigma, k, r = _run.broadcast_parameters(*params[:5], n_b)
     m, v0, y0 = (np.array(np.broadcast_to(arrays[n], (n_b,))) for n in
                  ("mass", "initial_velocity", "initial_position"))  # fmt: skip
     f0, last_dir = _run.batch_deformation(initial_state, r, v0, u0)
     u_t, u_val = forcing.pieces(t0, t_end)
-    return _run.run_batch(m, c1, k, r, f0, y0, v0, last_dir, u_t, u_val, times, t_end,
+    return _run.run_batch(m, c1, sigma, k, r, f0, y0, v0, last_dir, u_t, u_val, times, t_end,
                           max_events)  # fmt: skip
 
 
@@ -145,13 +160,14 @@ def free_response(
     initial_position: float = 0.0,
     initial_state: str = "saturated",
     applied_force: float = 0.0,
+    viscous: float = 0.0,
     max_events: int = 10_000_000,
 ) -> FreeResponse:
     """Exact position and velocity at t = i·time_step, i < n_samples (compiled, fast).
 
     The parameter-vector form of `simulate` for least-squares losses: eq. 17
-    with finite elements (eq. 8) and a constant applied force (default 0: free
-    motion), solved by the exact event method.
+    with finite elements (eq. 8), an optional viscous term σ·ẏ and a constant
+    applied force (default 0: free motion), solved by the exact event method.
 
     Parameters
     ----------
@@ -178,6 +194,8 @@ def free_response(
         before t = 0, as in the paper's experiments; "relaxed" with none deformed.
     applied_force : float, keyword only
         Constant u [N].
+    viscous : float, keyword only
+        σ >= 0 [N·s/m], the viscous term σ·ẏ (default 0).
     max_events : int, keyword only
         Event limit; when it is reached the result has status -1 and holds only
         the samples computed before it.
@@ -203,10 +221,11 @@ def free_response(
     dt = as_positive_scalar("time_step", time_step)
     n_t = as_count("n_samples", n_samples, minimum=1)
     u = as_real_scalar("applied_force", applied_force)
+    sigma = as_nonnegative_scalar("viscous", viscous)
     limit = as_count("max_events", max_events, minimum=1)
     f0, last_dir = _run.batch_deformation(initial_state, r[None, :], np.array([v0]), u)
     y, v, status, stop, n_rev, n, t_last = _batch.free_kernel(
-        m, c1, k, r, f0[0], y0, v0, float(last_dir[0]), u, dt, n_t, limit
+        m, c1, sigma, k, r, f0[0], y0, v0, float(last_dir[0]), u, dt, n_t, limit
     )
     if status == 0:
         message = "the motion was solved exactly"

@@ -24,10 +24,12 @@ class MotionEnergy:
 
     ``kinetic`` ½·m·v², ``elastic`` ½·Σ k_j f_j² (½·∫ f² dμ for a density),
     ``dissipated`` by the Coulomb element and the sliding elements
-    (c1·|dy| + Σ c_j·|dx_j|), ``work`` of u (∫u dy),
-    ``residual`` = kinetic + elastic + dissipated − work − ``initial``: zero to
-    rounding for the event method; for the implicit method it equals minus the
-    numerical dissipation of the scheme (O(h)).
+    (c1·|dy| + Σ c_j·|dx_j|, rate independent), ``viscous`` by the viscous term
+    (σ·∫ẏ² dt; zeros when σ = 0), ``work`` of u (∫u dy),
+    ``residual`` = kinetic + elastic + dissipated + viscous − work − ``initial``:
+    zero to rounding for the event method (its viscous part is a quadrature of
+    the closed-form velocity, independent of the other terms); for the implicit
+    method it equals minus the numerical dissipation of the scheme (O(h)).
     """
 
     kinetic: FloatArray
@@ -36,6 +38,16 @@ class MotionEnergy:
     work: FloatArray
     residual: FloatArray
     initial: float
+    viscous: FloatArray | None = None
+
+    def __post_init__(self) -> None:
+        if self.viscous is None:
+            object.__setattr__(self, "viscous", np.zeros_like(self.dissipated))
+
+    @property
+    def total_dissipated(self) -> FloatArray:
+        """All the energy the friction took: ``dissipated + viscous``."""
+        return self.dissipated + self.viscous
 
     @property
     def max_relative_residual(self) -> float:
@@ -55,7 +67,8 @@ class MotionResult:
     time, position, velocity, acceleration : ndarray, shape (T,)
         Samples [s, m, m/s, m/s²].
     friction_force : ndarray, shape (T,)
-        c1·σ + F_el with σ ∈ Sign(ẏ), equal to u − m·ÿ (at rest: exactly u) [N].
+        c1·s + σ·ẏ + F_el with s ∈ Sign(ẏ) and σ the viscous coefficient, equal to
+        u − m·ÿ (at rest: exactly u) [N].
     elastic_force : ndarray, shape (T,)
         F_el = Σ k_j (y − x_j) [N].
     applied_force : ndarray, shape (T,)
@@ -123,26 +136,27 @@ class MotionResult:
     def report(self) -> str:
         """A readable summary of the motion."""
         lines = [
-            f"Motion of a mass m = {self.mass:g} with {self.model!r}",
+            f"Motion of a mass m = {self.mass:g} kg with {self.model!r}",
             f"  method {self.method}: {self.n_events} "
             + ("events" if self.method == "event" else "steps")
             + f"; status {self.status} ({self.message})",
-            f"  time {self.time[0]:g} .. {self.time[-1]:g} ({self.time.shape[0]} samples)",
+            f"  time {self.time[0]:g} .. {self.time[-1]:g} s ({self.time.shape[0]} samples)",
         ]
         if self.stop_time is None:
-            lines.append(f"  moving at the end: velocity {self.final_velocity:.6g}")
+            lines.append(f"  moving at the end: velocity {self.final_velocity:.6g} m/s")
         else:
             lines.append(
-                f"  stops at t = {self.stop_time:.12g} at position {self.rest_position:.12g}"
+                f"  stops at t = {self.stop_time:.12g} s at position {self.rest_position:.12g} m"
             )
         lines.append(f"  reversals: {self.n_reversals}")
         for t, y in zip(self.reversal_times[:10], self.reversal_positions[:10], strict=True):
-            lines.append(f"    t = {t:.12g}  y = {y:.12g}")
+            lines.append(f"    t = {t:.12g} s  y = {y:.12g} m")
         if self.n_reversals > 10:
             lines.append(f"    ... {self.n_reversals - 10} more")
         e = self.energy
+        viscous = f" (+ viscous {e.viscous[-1]:.6g})" if np.any(e.viscous) else ""
         lines.append(
-            f"  energy: initial {e.initial:.6g}, dissipated {e.dissipated[-1]:.6g}, "
+            f"  energy: initial {e.initial:.6g}, dissipated {e.dissipated[-1]:.6g}{viscous}, "
             f"work of u {e.work[-1]:.6g}, balance residual {e.max_relative_residual:.2e} "
             "(relative)"
         )
@@ -247,7 +261,7 @@ class FreeResponse:
     def report(self) -> str:
         """A readable summary."""
         n = self.time.shape[0]
-        span = f", t = {self.time[0]:g} .. {self.time[-1]:g}" if n else ""
+        span = f", t = {self.time[0]:g} .. {self.time[-1]:g} s" if n else ""
         lines = [
             f"Free response: {n} samples{span}; status {self.status} ({self.message})",
             f"  reversals: {self.n_reversals}",
@@ -257,9 +271,9 @@ class FreeResponse:
                 "  not solved to the end: the samples end where the event limit stopped it"
             )
         elif self.stop_time is None:
-            lines.append(f"  moving at the end: velocity {self.velocity[-1]:.6g}")
+            lines.append(f"  moving at the end: velocity {self.velocity[-1]:.6g} m/s")
         else:
             lines.append(
-                f"  stops at t = {self.stop_time:.12g} at position {self.position[-1]:.12g}"
+                f"  stops at t = {self.stop_time:.12g} s at position {self.position[-1]:.12g} m"
             )
         return "\n".join(lines)

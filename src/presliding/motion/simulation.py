@@ -1,17 +1,20 @@
 """Motion of a mass with PI friction and exact stiction (eqs. 12, 17).
 
-    m·ÿ + c1·Sign(ẏ) + Σ_j k_j (y − x_j(y, r_j)) = u(t)            (eq. 17)
+    m·ÿ + c1·Sign(ẏ) + σ·ẏ + Σ_j k_j (y − x_j(y, r_j)) = u(t)       (eq. 17 with σ·ẏ)
 
 with the set-valued sign Sign(0) = [−1, 1]: at zero velocity the Coulomb element
 c1 carries any force up to c1, so the mass *sticks* iff |u − F_el| <= c1 (equality
-sticks) and stays exactly put, bit for bit, until that fails. Two methods:
+sticks; the viscous force σ·0 vanishes) and stays exactly put, bit for bit, until
+that fails. The viscous coefficient σ = ``model.viscous`` is 0 by default (the
+paper's assumption (i)). Two methods:
 
 ``"event"``
     Exact for finite elements and a piecewise-constant u (a constant, or samples
     with ``hold="zoh"``): the motion is solved in closed form between events and
     the events (an element starting to slide, the velocity vanishing, a change of
-    u) are located analytically (see `presliding.motion._event`). Results are exact to
-    rounding at every time of `t_eval`.
+    u) are located analytically or, with σ > 0, by a bracketed Newton iteration on
+    the closed form (see `presliding.motion._event` and `presliding.motion._damped`).
+    Results are exact to rounding at every time of `t_eval`.
 ``"implicit"``
     Any u(t) (callable, or samples with ``hold="linear"``): an implicit step that
     solves the inclusion exactly (see `presliding.motion._implicit`); first order in the
@@ -26,7 +29,10 @@ free motion (u constant) it then stays exactly at rest forever after:
 nothing changes any more, so the simulation ends there and the remaining
 samples repeat the rest state. ``stop_time`` is the start of the rest that lasts
 until ``t_end`` (None if the mass moves at ``t_end``); with a varying u a later
-change of u may set it in motion again.
+change of u may set it in motion again. With σ > 0 an over-damped piece (σ² >=
+4·m·K, K the stiffness of the sticking elements) that creeps towards the edge
+of the stick band reaches it only as t → ∞: the mass then has no stop time,
+its velocity decays exponentially.
 """
 
 from __future__ import annotations
@@ -76,13 +82,14 @@ def simulate(
     t_start: float = 0.0,
     max_events: int = 10_000_000,
 ) -> MotionResult:
-    """Simulate m·ÿ + c1·Sign(ẏ) + F_el(y) ∋ u(t) (eq. 17) with exact stiction.
+    """Simulate m·ÿ + c1·Sign(ẏ) + σ·ẏ + F_el(y) ∋ u(t) (eq. 17) with exact stiction.
 
     Parameters
     ----------
     model : PIFriction
         The friction model: finite elements (eq. 8) or a density (eq. 10; only
-        the implicit method applies, with the exact continuous operator).
+        the implicit method applies, with the exact continuous operator), with
+        its viscous coefficient σ = ``model.viscous`` (0: the paper's eq. 17).
     mass : float
         m > 0 [kg].
     applied_force : float, callable or (time, value) pair
@@ -128,6 +135,14 @@ def simulate(
     ...                   initial_state="saturated", t_end=2.0)
     >>> round(res.stop_time, 12), res.n_reversals        # 1/3 + π·sqrt(m/k)/1: one reversal
     (0.647492598692, 1)
+
+    With a viscous term σ = 2 N·s/m and no elements, the stop of the
+    Coulomb–viscous decay, (m/σ)·ln(1 + σ·v0/c1) = ln(7)/2:
+
+    >>> res = ps.simulate(ps.PIFriction(coulomb=1.0, viscous=2.0), mass=1.0,
+    ...                   initial_velocity=3.0, t_end=2.0)
+    >>> round(res.stop_time, 12), round(float(res.energy.viscous[-1]), 6)
+    (0.972955074528, 3.486478)
     """
     _run.check_model(model, density_ok=True)
     m = as_positive_scalar("mass", mass)
@@ -153,10 +168,11 @@ def simulate(
         )
     h = (t_end - t0) / 1e4 if step is None else as_positive_scalar("step", step)
     u0 = float(forcing(np.array([t0]))[0])
+    sigma = float(model.viscous)
     if not model.is_discrete:
         state, last_dir = _density.initial_memory(model, initial_state, y0, v0, u0)
         out = _density.run(model.density, float(model.coulomb), m, state, v0, last_dir,
-                           forcing, times, t0, t_end, h)  # fmt: skip
+                           forcing, times, t0, t_end, h, sigma)  # fmt: skip
         e0, final_state = out["e0"], out["final_state"]
     else:
         f, last_dir = _run.initial_deformation(model, initial_state, y0, v0, u0)
@@ -165,10 +181,10 @@ def simulate(
         c1 = float(model.coulomb)
         if method == "event":
             out = _run.run_event(m, c1, k, r, f, y0, v0, last_dir, forcing, times, t0, t_end,
-                                 max_events)  # fmt: skip
+                                 max_events, sigma)  # fmt: skip
         else:
             out = _run.run_implicit(m, c1, k, r, f, y0, v0, last_dir, forcing, times, t0,
-                                    t_end, h)  # fmt: skip
+                                    t_end, h, sigma)  # fmt: skip
         e0 = 0.5 * m * v0 * v0 + 0.5 * float(np.dot(k * f, f))
         y_end = float(out["y"])
         final_state = PIState(y_end, y_end - out["f"], out["dir"])
@@ -178,8 +194,9 @@ def simulate(
         elastic=out["e_el"],
         dissipated=out["dissipated"],
         work=out["work"],
-        residual=kinetic + out["e_el"] + out["dissipated"] - out["work"] - e0,
+        residual=kinetic + out["e_el"] + out["dissipated"] + out["viscous"] - out["work"] - e0,
         initial=e0,
+        viscous=out["viscous"],
     )
     stop = None if np.isnan(out["stop"]) else float(out["stop"])
     y_end = float(out["y"])

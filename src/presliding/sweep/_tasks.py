@@ -82,6 +82,7 @@ def _by_simulation(task: SweepTask, p: dict[str, np.ndarray]) -> tuple[np.ndarra
         coulomb=p["coulomb"],
         stiffness=k,
         threshold=r,
+        viscous=model.viscous,
         mass=p["mass"],
         initial_velocity=p["initial_velocity"],
         initial_position=mo.initial_position,
@@ -110,9 +111,10 @@ def _by_analysis(task: SweepTask, p: dict[str, np.ndarray]) -> tuple[np.ndarray,
     for i in range(n):
         c1 = float(p["coulomb"][i])
         if model.is_discrete:
-            point = PIFriction(c1, model.stiffness, threshold=model.threshold)
+            point = PIFriction(c1, model.stiffness, threshold=model.threshold,
+                               viscous=model.viscous)  # fmt: skip
         else:
-            point = PIFriction(c1, density=model.density)
+            point = PIFriction(c1, density=model.density, viscous=model.viscous)
         tp = turning_points(
             point,
             float(p["mass"][i]),

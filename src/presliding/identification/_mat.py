@@ -1,0 +1,97 @@
+"""MATLAB files for `Measurement.from_mat` and the command line.
+
+Versions 4 to 7.2 are read through scipy.io.loadmat, with clear errors naming
+the file for a text file, an HDF5-based v7.3 file, a file scipy cannot parse,
+and variables that are not numeric vectors (signals) or scalars (scales).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from presliding._validation import fmt
+from presliding.identification._readers import check_path, read_bytes
+
+__all__ = ["MatFile", "read_mat"]
+
+FloatArray = NDArray[np.float64]
+_SNIFF = 1 << 16
+_KINDS = {"U": "text", "S": "text", "O": "a cell array or struct", "c": "complex values",
+          "V": "a struct", "b": "logical values"}  # fmt: skip
+
+
+class MatFile:
+    """The variables of a MATLAB file, with checked access."""
+
+    def __init__(self, path: Any) -> None:
+        from scipy.io import loadmat
+
+        self.path = check_path(path)
+        raw = read_bytes(self.path)[:_SNIFF]
+        if raw.startswith(b"MATLAB 7.3 MAT-file") or raw.startswith(b"\x89HDF"):
+            raise ValueError(
+                f"{self.path}: is a MATLAB 7.3 (HDF5) file, which scipy cannot read; save it "
+                "with save(..., '-v7') in MATLAB, or read it with h5py and pass the arrays to "
+                "Measurement."
+            )
+        if b"\x00" not in raw:
+            raise ValueError(
+                f"{self.path}: is a text file, not a MATLAB file; read it with "
+                "Measurement.from_csv."
+            )
+        try:
+            self.contents = loadmat(self.path)
+        except Exception as exc:  # scipy raises ValueError, TypeError, OSError, ...
+            raise ValueError(
+                f"{self.path}: cannot be read as a MATLAB file ({type(exc).__name__}: {exc})."
+            ) from None
+        self.names = sorted(k for k in self.contents if not k.startswith("__"))
+
+    def _numeric(self, name: str, what: str) -> np.ndarray:
+        if not isinstance(name, str):
+            raise TypeError(f"{what} must be a variable name (str); got {fmt(name)}.")
+        if name not in self.contents or name.startswith("__"):
+            raise ValueError(
+                f"{self.path}: no variable {name!r} ({what}); it holds "
+                f"{', '.join(self.names) or 'no variables'}."
+            )
+        arr = np.asarray(self.contents[name])
+        if arr.dtype.kind not in "iuf":
+            kind = _KINDS.get(arr.dtype.kind, str(arr.dtype))
+            raise ValueError(f"{self.path}: variable {name!r} ({what}) holds {kind}, not numbers.")
+        return arr.astype(np.float64).squeeze()
+
+    def vector(self, name: str, signal: str) -> FloatArray:
+        """A numeric vector variable (any of N, 1×N, N×1)."""
+        arr = self._numeric(name, f"`{signal}`")
+        if arr.ndim != 1:
+            raise ValueError(
+                f"{self.path}: variable {name!r} of `{signal}` must be a vector; got shape "
+                f"{np.shape(self.contents[name])}."
+            )
+        bad = ~np.isfinite(arr)
+        if bad.any():
+            i = int(np.argmax(bad))
+            raise ValueError(
+                f"{self.path}: variable {name!r} of `{signal}` holds {arr[i]} at index {i}; "
+                "every value must be finite."
+            )
+        return arr
+
+    def scalar(self, name: str, signal: str) -> float:
+        """A numeric scalar variable (a scale factor)."""
+        arr = self._numeric(name, f"the scale of `{signal}`")
+        if arr.ndim != 0:
+            raise ValueError(
+                f"{self.path}: variable {name!r} (the scale of `{signal}`) must be a scalar; got "
+                f"shape {np.shape(self.contents[name])}."
+            )
+        return float(arr)
+
+
+def read_mat(path: Any) -> MatFile:
+    """Open a MATLAB file (see `MatFile`)."""
+    return MatFile(path)
