@@ -17,7 +17,7 @@ def _plain(**kwargs):
 
 
 def test_plain_lines_per_part_and_note():
-    stream, bar = _plain(total=3, unit="part", compiling=False)
+    stream, bar = _plain(total=3, unit="part", compile_note=False)
     with bar:
         bar.part("first")
         bar.note("a remark")
@@ -36,7 +36,7 @@ def test_plain_lines_per_part_and_note():
 
 
 def test_counted_work_prints_a_line_per_tenth():
-    stream, bar = _plain(total=40, unit="chunk", compiling=False)
+    stream, bar = _plain(total=40, unit="chunk", compile_note=False)
     with bar:
         for _ in range(40):
             bar.update()
@@ -59,7 +59,7 @@ def test_quiet_and_delay_print_nothing():
 def test_a_terminal_gets_a_bar_with_the_part_and_the_note():
     stream = io.StringIO()
     with Progress("presliding cmd", total=2, unit="part", stream=stream, interactive=True,
-                  compiling=False) as bar:  # fmt: skip
+                  compile_note=False) as bar:  # fmt: skip
         bar.part("loops")
         bar.note(COMPILING)
         bar.update()

@@ -31,11 +31,18 @@ def test_readme_python_examples_run():
     text = (ROOT / "README.md").read_text(encoding="utf-8")
     blocks = [b.split("```", 1)[0] for b in text.split("```python")[1:]]
     assert blocks, "README has no python example"
+    spaces = []
     for block in blocks:
         namespace: dict[str, object] = {}
         exec(compile(block, "README.md", "exec"), namespace)
+        spaces.append(namespace)
     # the first look ends with a free stop and its plot
+    namespace = spaces[0]
     tp = namespace["tp"]
     assert tp.success and tp.n_reversals >= 1
     assert namespace["ax"].lines
+    # the control example: the exact loop settles on the predicted hunting cycle
+    if len(spaces) > 1 and "cycles" in spaces[-1]:
+        loop, cycles = spaces[-1]["res"].limit_cycle(), spaces[-1]["cycles"]
+        assert loop.steady and abs(loop.amplitude / cycles.amplitude[0] - 1) < 0.01
     plt.close("all")

@@ -8,9 +8,9 @@ presliding" (Ruderman, Rachinskii et al.).
 import importlib as _importlib
 import sys as _sys
 
-# `_numba_cache` comes first: importing it finds a folder numba can cache the
+# `_progress` comes first: importing it finds a folder numba can cache the
 # compiled kernels in, before any kernel module is imported.
-from presliding import _numba_cache, signals  # noqa: F401  (_numba_cache: for its effect)
+from presliding import _progress, signals  # noqa: F401  (_progress: for that effect)
 from presliding._version import __version__
 from presliding.analysis import (
     TurningPoints,
@@ -23,7 +23,21 @@ from presliding.analysis import (
     turning_points,
     viscous_dissipation,
 )
-from presliding.control import iosys_state, to_iosys
+from presliding.control import (
+    PID,
+    DiscreteController,
+    LimitCycles,
+    LoopBatch,
+    LoopResult,
+    MeasuredCycle,
+    describing_function,
+    iosys_state,
+    measure_limit_cycle,
+    predict_limit_cycles,
+    simulate_loop,
+    simulate_loop_batch,
+    to_iosys,
+)
 from presliding.friction import (
     Comparison,
     CoulombFriction,
@@ -33,6 +47,7 @@ from presliding.friction import (
     LuGreState,
     PIFriction,
     compare,
+    friction_batch,
 )
 from presliding.hysteresis import (
     Density,
@@ -40,6 +55,8 @@ from presliding.hysteresis import (
     Exponential,
     GeneralPIOperator,
     MemoryState,
+    PIBatch,
+    PIBatchState,
     PiecewiseConstant,
     PIOperator,
     PIState,
@@ -94,24 +111,45 @@ for _old, _new in _MOVED.items():
     globals().setdefault(_old, _module)
 del _old, _new, _module
 
+
+def __getattr__(name: str) -> object:
+    """Names loaded on first access (`presliding.control.LAZY`: they import python-control)."""
+    from presliding import control as _control
+
+    if name in _control.LAZY:
+        value = getattr(_control, name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module 'presliding' has no attribute {name!r}")
+
+
 __all__ = [
+    "PID",
     "Comparison",
     "CoulombFriction",
     "DahlFriction",
     "DahlState",
     "Density",
     "Discrete",
+    "DiscreteController",
     "Exponential",
     "FitResult",
     "FreeResponse",
+    "FrictionNonlinearity",
     "GeneralPIOperator",
+    "LimitCycles",
+    "LoopBatch",
+    "LoopResult",
     "LuGreFriction",
     "LuGreState",
+    "MeasuredCycle",
     "Measurement",
     "MemoryState",
     "MotionBatch",
     "MotionEnergy",
     "MotionResult",
+    "PIBatch",
+    "PIBatchState",
     "PIFriction",
     "PIOperator",
     "PIState",
@@ -122,6 +160,7 @@ __all__ = [
     "Uniform",
     "__version__",
     "compare",
+    "describing_function",
     "dissipated_energy",
     "elastic_energy",
     "fit_motion",
@@ -129,15 +168,20 @@ __all__ = [
     "fit_response",
     "fit_virgin_curve",
     "free_response",
+    "friction_batch",
     "inverse_state",
     "iosys_state",
+    "measure_limit_cycle",
     "phi",
     "pi_inverse",
     "play",
+    "predict_limit_cycles",
     "predict_motion_force",
     "signals",
     "simulate",
     "simulate_batch",
+    "simulate_loop",
+    "simulate_loop_batch",
     "stop",
     "stops_at_turning_point",
     "sweep",

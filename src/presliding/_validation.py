@@ -85,14 +85,24 @@ def _first_bad(arr: np.ndarray, bad: np.ndarray) -> str:
 
 
 def _check_finite(name: str, arr: np.ndarray) -> None:
-    bad = ~np.isfinite(arr)
-    if bad.any():
-        raise ValueError(f"`{name}` must be finite; {_first_bad(arr, bad)}.")
+    # a sum is finite only if every term is (no O(size) temporary); else search in pieces
+    with np.errstate(over="ignore", invalid="ignore"):
+        if math.isfinite(np.add.reduce(arr, axis=None)):
+            return
+    flat = arr.reshape(-1)
+    for start in range(0, flat.shape[0], 1 << 16):
+        bad = ~np.isfinite(flat[start : start + (1 << 16)])
+        if bad.any():
+            whole = np.zeros(arr.shape, dtype=bool)  # the error path only
+            whole.reshape(-1)[start + int(np.argmax(bad))] = True
+            raise ValueError(f"`{name}` must be finite; {_first_bad(arr, whole)}.")
 
 
-def as_signal(name: str, value: Any, *, min_length: int = 1) -> np.ndarray:
-    """A sampled signal: 1-D, finite, float64, with at least `min_length` samples."""
-    arr = _real_array(name, value)
+def as_signal(name: str, value: Any, *, min_length: int = 1, copy: bool = True) -> np.ndarray:
+    """A sampled signal: 1-D, finite, float64, with at least `min_length` samples
+    (``copy=False``: a C-contiguous float64 ndarray itself, for inputs only read)."""
+    plain = type(value) is np.ndarray and value.dtype == np.float64
+    arr = value if not copy and plain and value.flags.c_contiguous else _real_array(name, value)
     if arr.ndim != 1:
         raise ValueError(f"`{name}` must be one-dimensional (shape (T,)); got shape {arr.shape}.")
     if arr.shape[0] < min_length:

@@ -26,6 +26,7 @@ SIZES = {
     "reversals.png": (792, 528),
     "density.png": (1650, 506),
     "identification.png": (1452, 528),
+    "hunting.png": (1210, 484),
 }
 
 
@@ -100,9 +101,9 @@ def test_demo_prints_where_and_shows_progress(tmp_path, capsys):
     assert str((tmp_path / "d").resolve()) in captured.out and "report.html" in captured.out
     # stderr is not a terminal here: one plain line per part, in order
     parts = [ln for ln in captured.err.splitlines() if ln.startswith("presliding demo: [")]
-    assert [ln.split("]")[0] for ln in parts] == [f"presliding demo: [{i}/5" for i in range(1, 6)]
-    assert parts[0] == "presliding demo: [1/5] the paper's Figure 3 loops"
-    assert parts[-1] == "presliding demo: [5/5] identification round trip (section 4)"
+    assert [ln.split("]")[0] for ln in parts] == [f"presliding demo: [{i}/6" for i in range(1, 7)]
+    assert parts[0] == "presliding demo: [1/6] the paper's Figure 3 loops"
+    assert parts[-1] == "presliding demo: [6/6] continuous densities (section 3)"
     others = [ln for ln in captured.err.splitlines() if ln not in parts]
     assert set(others) <= {"presliding demo: compiling (first run only)"}
 

@@ -53,6 +53,16 @@ def reference(y, r, w, x0):
     return out, x
 
 
+def blocked(y, r, w, x, out):
+    """The two-sided time-blocked kernel, with no linear or Coulomb term."""
+    return _fused.stop_sum_blocked(y, r, w, x, out, 0.0, 0.0, y[0], 0.0)
+
+
+def one_sided(y, r, w, x, out):
+    """The one-sided time-blocked kernel, with no linear or Coulomb term."""
+    return _fused.stop_sum_one_sided(y, r, w, x, out, 0.0, 0.0, y[0], 0.0)
+
+
 def scale(r, w) -> float:
     """F_m = Σ |w_j| r_j, the force scale of the 1e-12 criterion."""
     return float(np.abs(w) @ r) if r.size else 1.0
@@ -69,7 +79,7 @@ def test_stop_sum_matches_the_straightforward_kernel(n, n_time):
     y = walk(n_time, rng)
     x0 = y[0] - rng.uniform(-1.0, 1.0, n) * r  # a non-relaxed start
     ref, x_ref = reference(y, r, w, x0)
-    for kernel in (_kernels.stop_sum, _fused.stop_sum_blocked, _fused.stop_sum_one_sided):
+    for kernel in (_kernels.stop_sum, blocked, one_sided):
         x = x0.copy()
         out = np.empty(n_time)
         kernel(y, r, w, x, out)
@@ -105,13 +115,13 @@ def test_one_sided_updates_are_bit_identical_to_the_two_sided_clamp(n, n_time, o
     _kernels.play_outputs(y, r, x_play, states)
     x = x0.copy()
     out = np.empty(n_time)
-    _fused.stop_sum_one_sided(y, r, w, x, out)
+    one_sided(y, r, w, x, out)
     assert_bit_identical(x, x_ref)
     assert_bit_identical(x, x_play)
     # every intermediate state: the state after each prefix of the input
     for t in range(n_time):
         x_prefix = x0.copy()
-        _fused.stop_sum_one_sided(y[: t + 1], r, w, x_prefix, np.empty(t + 1))
+        one_sided(y[: t + 1], r, w, x_prefix, np.empty(t + 1))
         assert_bit_identical(x_prefix, states[t])
     bound = 1e-12 * scale(r, w) + np.abs(w).sum() * np.spacing(abs(offset) + 1.0)
     assert np.max(np.abs(out - ref)) <= bound
@@ -125,7 +135,7 @@ def test_one_sided_kernel_clamps_an_outside_start_on_both_sides_first():
     x0 = np.full(64, 5.0)  # far above every band
     x = x0.copy()
     out = np.empty(3)
-    _fused.stop_sum_one_sided(y, r, w, x, out)
+    one_sided(y, r, w, x, out)
     np.testing.assert_array_equal(x, r)  # clamped to y + r at y = 0, then inside the band
     assert out[0] == pytest.approx(-(0.1 * 32 + 0.2 * 32))
 

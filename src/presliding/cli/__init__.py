@@ -5,11 +5,14 @@ Files
 commands.py     the argument parser and `main` (also ``python -m presliding``)
 common.py       user errors, input and output paths, CSV tables, figures
 demo.py, demo_sections.py, _demo_common.py   ``presliding demo``: the built-in main job
+demo_hunting.py ``presliding demo``'s hunting part: predicted against simulated cycle
 simulate.py     ``presliding simulate``
 analyze.py      ``presliding analyze``
 fit.py          ``presliding fit``
 sweep.py, sweep_spec.py     ``presliding sweep`` and its specification files
+loop.py         ``presliding loop``: a PID loop, its exact response and limit cycles
 report.py       Markdown and HTML reports
+_precompile.py  compiles a later part's kernels in a second process on a cold cache
 
 May import every layer below it.
 """

@@ -2,8 +2,9 @@
 
 Subcommands: ``demo`` (the built-in main job), ``simulate`` (a model file to a
 motion CSV and figure), ``analyze`` (stop analysis of a model file, eqs. 7, 9,
-14–16), ``fit`` (identification from a CSV file, section 4) and ``sweep`` (a
-quantity of the free motion over a parameter grid, locally or on Dask).
+14–16), ``fit`` (identification from a CSV file, section 4), ``sweep`` (a
+quantity of the free motion over a parameter grid, locally or on Dask) and
+``loop`` (a PID loop with PI friction: exact response, predicted limit cycles).
 
 User errors (a bad file, a missing column, a bad parameter) print one line on
 stderr naming the file or field and the fix, and exit with code 2; ``--debug``
@@ -37,6 +38,7 @@ examples:
       --scale applied_force=gtau --viscous --offset --window 0:20 -o fit/
   presliding sweep spec.toml -o map/       # e.g. reversal counts over c1/F_m and v0
   presliding sweep spec.toml --scheduler tcp://10.0.0.5:8786   # on a Dask cluster
+  presliding loop spec.toml -o loop/       # PID loop: exact response, predicted limit cycles
 
 model files (TOML, or JSON with the same tables; units in brackets):
   [friction]
@@ -327,6 +329,10 @@ def _build_parser() -> argparse.ArgumentParser:
         "reports it failed (a chunk whose worker died is re-run in any case; default: 2)",
     )
     sweep.set_defaults(handler=_cmd_sweep)
+
+    from presliding.cli.loop import add_parser as add_loop_parser
+
+    add_loop_parser(sub, [common, writes]).set_defaults(handler=_cmd_loop)
     return parser
 
 
@@ -367,6 +373,12 @@ def _cmd_fit(args: argparse.Namespace) -> int:
 
 def _cmd_sweep(args: argparse.Namespace) -> int:
     from presliding.cli.sweep import run
+
+    return run(args)
+
+
+def _cmd_loop(args: argparse.Namespace) -> int:
+    from presliding.cli.loop import run
 
     return run(args)
 

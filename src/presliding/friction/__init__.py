@@ -5,6 +5,7 @@ Files
 pi_friction.py        `PIFriction`: c1·sign(ẏ) + Σ k_j (y − x_j) (eq. 8), or a density μ (eq. 10)
 baselines.py          `CoulombFriction`, `DahlFriction`, `LuGreFriction` and their states
 comparison.py         `compare`: several models on one displacement path, as a `Comparison`
+batch.py              `friction_batch`: B finite-element models on one path as a `PIBatch`
 _baseline_kernels.py  compiled time loops of the Dahl and LuGre models
 
 May import: `presliding.hysteresis` and the package root's shared modules.
@@ -17,6 +18,7 @@ from presliding.friction.baselines import (
     LuGreFriction,
     LuGreState,
 )
+from presliding.friction.batch import friction_batch
 from presliding.friction.comparison import Comparison, compare
 from presliding.friction.pi_friction import PIFriction
 
@@ -29,4 +31,5 @@ __all__ = [
     "LuGreState",
     "PIFriction",
     "compare",
+    "friction_batch",
 ]

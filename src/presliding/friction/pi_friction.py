@@ -29,6 +29,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from presliding._out import as_output
 from presliding._validation import (
     as_nonnegative_scalar,
     as_parameter_vector,
@@ -317,11 +318,15 @@ class PIFriction:
         force : ndarray, shape (T,)
         final_state : PIState
         """
-        y = as_signal("displacement", displacement)
+        y = as_signal("displacement", displacement, copy=False)  # only read
         return self._run(y, state)[:2]
 
     def force(
-        self, displacement: ArrayLike, state: PIState | MemoryState | None = None
+        self,
+        displacement: ArrayLike,
+        state: PIState | MemoryState | None = None,
+        *,
+        out: np.ndarray | None = None,
     ) -> tuple[FloatArray, PIState | MemoryState]:
         """Friction force c1·sign(ẏ) + Σ k_j (y − x_j) along a displacement (eq. 8).
 
@@ -341,6 +346,10 @@ class PIFriction:
         state : PIState, optional
             Memory before the first sample; default relaxed at ``displacement[0]``
             with no motion yet.
+        out : ndarray, shape (T,), optional, keyword only
+            C-contiguous float64 array to write the force into (as numpy's
+            ``out=``); a new array by default. A C-contiguous float64
+            displacement is read in place (not copied).
 
         Returns
         -------
@@ -349,24 +358,33 @@ class PIFriction:
             Passing it to the next call on the continuation of the path gives
             bit-identical results to a single call.
         """
-        y = as_signal("displacement", displacement)
+        y = as_signal("displacement", displacement, copy=False)  # only read
+        out = as_output("out", out, y.shape)
+        if self.is_discrete:
+            # one fused pass: the Coulomb term c1·sign(ẏ) is added in the time loop
+            return self._run(y, state, self.coulomb, out)[:2]
         elastic, final, prev, d0 = self._run(y, state)
-        direction = np.empty(y.shape[0])
-        _kernels.motion_direction(y, prev, d0, direction)
-        return elastic + self.coulomb * direction, final
+        _kernels.motion_direction(y, prev, d0, out)
+        out *= self.coulomb
+        out += elastic
+        return out, final
 
     def _run(
-        self, y: FloatArray, state: PIState | MemoryState | None
+        self,
+        y: FloatArray,
+        state: PIState | MemoryState | None,
+        coulomb: float = 0.0,
+        out: FloatArray | None = None,
     ) -> tuple[FloatArray, PIState | MemoryState, float, float]:
-        """Elastic force, final memory, and the input and direction before the first sample."""
+        """Elastic force (plus ``coulomb``·sign(ẏ) for finite elements), final memory, and
+        the input and direction before the first sample."""
         if not self.is_discrete:
             elastic, _, final = run_density(self.density, y, state)  # type: ignore[arg-type]
             prev, d0 = (float(y[0]), 0.0) if state is None else (state.last_input, state.direction)
             return elastic, final, prev, d0
         x, prev, d0 = start_memory(y, self.threshold, state)
-        elastic = np.empty(y.shape[0])
-        _kernels.stop_sum(y, self.threshold, self.stiffness, x, elastic)
-        d = _kernels.last_direction(y, prev, d0)
+        elastic = np.empty(y.shape[0]) if out is None else out
+        d = _kernels.stop_sum(y, self.threshold, self.stiffness, x, elastic, 0.0, coulomb, prev, d0)
         return elastic, PIState(float(y[-1]), x, d), prev, d0
 
 

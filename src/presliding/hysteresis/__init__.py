@@ -6,17 +6,20 @@ memory. Everything above builds on these operators.
 Files
 -----
 operators.py            `play`, `stop` (eqs. 3, 5, 11), `PIOperator` (eq. 4) and its `PIState`
+batch.py                `PIBatch`, `PIBatchState`: B operators on one input, output F[T, B]
 general_pi.py           `GeneralPIOperator` and `MemoryState`: the exact operator of a density μ
 densities.py            the distributions μ of section 3: `Discrete`, `Uniform`, `Exponential`, …
 inverse.py              `pi_inverse`, `inverse_state`: the inverse PI operator (compensation)
 _inversion.py           the inverse's parameters from the loading-curve slopes
 _kernels.py, _fused.py  compiled play/stop loops, time-blocked and batched
+_batch_kernels.py       the compiled loop of `PIBatch` (batch as the SIMD axis, full output)
 _general_pi.py          compiled kernels of the general operator (closed-form pieces)
 _density_base.py, _density_primitives.py, _tabulated.py   the density classes and their primitives
 
 May import: numpy, scipy, numba and the package root's shared modules only.
 """
 
+from presliding.hysteresis.batch import PIBatch, PIBatchState
 from presliding.hysteresis.densities import (
     Density,
     Discrete,
@@ -35,6 +38,8 @@ __all__ = [
     "Exponential",
     "GeneralPIOperator",
     "MemoryState",
+    "PIBatch",
+    "PIBatchState",
     "PIOperator",
     "PIState",
     "PiecewiseConstant",

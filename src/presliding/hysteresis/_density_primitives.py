@@ -35,8 +35,12 @@ from __future__ import annotations
 import math
 
 import numba as nb
+import numpy as np
 
 DISCRETE, UNIFORM, EXPONENTIAL, PIECEWISE, TABULATED = 0, 1, 2, 3, 4
+# Flags and small integer arguments of compiled helpers are passed as
+# np.bool_(...) / np.int64(...) rather than literal constants: numba compiles one
+# specialisation per literal value, which costs seconds on a cold cache.
 _JIT = {"cache": True, "nogil": True}
 
 
@@ -116,8 +120,8 @@ def _prim(kind, big_r, p1, p2, tab, r, want_m2):  # pragma: no cover - compiled
         e = math.exp(-x)
         tail = 0.0 if big_r == math.inf else math.exp(-big_r / b)
         return (
-            a * b * b * _gamma_lower(2, x, e),
-            a * b * b * b * _gamma_lower(3, x, e) if want_m2 else 0.0,
+            a * b * b * _gamma_lower(np.int64(2), x, e),
+            a * b * b * b * _gamma_lower(np.int64(3), x, e) if want_m2 else 0.0,
             a * b * (e - tail) if x < big_r / b else 0.0,
         )
     # TABULATED: cubic Hermite with the exact derivatives r^k·dμ/dr at the nodes
@@ -142,7 +146,7 @@ def _prim(kind, big_r, p1, p2, tab, r, want_m2):  # pragma: no cover - compiled
 def primitives(kind, par, tab, r):  # pragma: no cover - compiled
     """(M1(r), M2(r), T(r)) = (∫_0^r s dμ, ∫_0^r s² dμ, μ((r, R]))."""
     big_r, p1, p2 = _unpack(par)
-    return _prim(kind, big_r, p1, p2, tab, r, True)
+    return _prim(kind, big_r, p1, p2, tab, r, np.bool_(True))
 
 
 @nb.njit(**_JIT)
@@ -150,5 +154,5 @@ def evaluate(kind, par, tab, r, which, out):  # pragma: no cover - compiled
     """Vectorised primitive: which = 1 (M1), 2 (M2) or 3 (T) at every r."""
     big_r, p1, p2 = _unpack(par)
     for i in range(r.shape[0]):
-        m1, m2, t = _prim(kind, big_r, p1, p2, tab, r[i], True)
+        m1, m2, t = _prim(kind, big_r, p1, p2, tab, r[i], np.bool_(True))
         out[i] = m1 if which == 1 else (m2 if which == 2 else t)

@@ -63,25 +63,45 @@ BATCH_CHUNK = 32
 
 
 @nb.njit(**_JIT)
-def stop_sum_blocked(y, threshold, weight, x, out):  # pragma: no cover - compiled
-    """Weighted stop sum out[t] = Σ_j w_j (y[t] − x_j[t]), four steps per pass.
+def _step_direction(yt, before, d):  # pragma: no cover - compiled
+    """Sign of the increment yt − before, or the previous direction d when it is zero."""
+    if yt > before:
+        return 1.0
+    if yt < before:
+        return -1.0
+    return d
 
-    ``x`` holds the play state before the first sample and is updated in place.
+
+@nb.njit(**_JIT)
+def stop_sum_blocked(
+    y, threshold, weight, x, out, linear, coulomb, prev, direction
+):  # pragma: no cover - compiled
+    """out[t] = a·y[t] + c·d[t] + Σ_j w_j (y[t] − x_j[t]), four steps per pass.
+
+    a = `linear`, c = `coulomb`, d[t] the sign of the last nonzero increment of
+    y (starting from the input `prev` and the direction `direction` before the
+    first sample). ``x`` holds the play state before the first sample and is
+    updated in place; returns the direction after the last sample.
     """
     n_time = y.shape[0]
     n_el = threshold.shape[0]
-    n_block = (n_time + BLOCK - 1) // BLOCK
-    for blk in range(n_block):
-        t = blk * BLOCK
-        # the last block repeats the last sample (an idempotent update)
+    last = n_time - 1
+    d = direction
+    for t in range(0, n_time, BLOCK):
+        # the last block repeats the last sample (an idempotent update, no new direction)
         y0 = y[t]
-        y1 = y[min(t + 1, n_time - 1)]
-        y2 = y[min(t + 2, n_time - 1)]
-        y3 = y[min(t + 3, n_time - 1)]
-        a0 = 0.0
-        a1 = 0.0
-        a2 = 0.0
-        a3 = 0.0
+        y1 = y[min(t + 1, last)]
+        y2 = y[min(t + 2, last)]
+        y3 = y[min(t + 3, last)]
+        d0 = _step_direction(y0, prev, d)
+        d1 = _step_direction(y1, y0, d0)
+        d2 = _step_direction(y2, y1, d1)
+        d = _step_direction(y3, y2, d2)
+        prev = y3
+        a0 = linear * y0 + coulomb * d0
+        a1 = linear * y1 + coulomb * d1
+        a2 = linear * y2 + coulomb * d2
+        a3 = linear * y3 + coulomb * d
         for j in range(n_el):
             rj = threshold[j]
             wj = weight[j]
@@ -95,16 +115,19 @@ def stop_sum_blocked(y, threshold, weight, x, out):  # pragma: no cover - compil
             a3 += wj * (y3 - xj)
             x[j] = xj
         out[t] = a0
-        if t + 1 < n_time:
+        if t + 1 <= last:
             out[t + 1] = a1
-        if t + 2 < n_time:
+        if t + 2 <= last:
             out[t + 2] = a2
-        if t + 3 < n_time:
+        if t + 3 <= last:
             out[t + 3] = a3
+    return d
 
 
 @nb.njit(**_JIT)
-def stop_sum_one_sided(y, threshold, weight, x, out):  # pragma: no cover - compiled
+def stop_sum_one_sided(
+    y, threshold, weight, x, out, linear, coulomb, prev, direction
+):  # pragma: no cover - compiled
     """`stop_sum_blocked` with one-sided updates after the first sample (see module docstring).
 
     Same play states bit for bit; four vector operations per element update.
@@ -112,27 +135,34 @@ def stop_sum_one_sided(y, threshold, weight, x, out):  # pragma: no cover - comp
     n_time = y.shape[0]
     n_el = threshold.shape[0]
     last = n_time - 1
+    d = direction
     # the full clamp at the first sample puts every state in its band; the
     # first block then repeats that sample (an update that changes nothing), so
     # every output sum comes from the same block code, wherever a chunk starts
-    prev = y[0]
+    y_first = y[0]
     for j in range(n_el):
-        x[j] = min(max(x[j], prev - threshold[j]), prev + threshold[j])
+        x[j] = min(max(x[j], y_first - threshold[j]), y_first + threshold[j])
+    up_prev = y_first
     for t in range(0, n_time, BLOCK):
         # the last block repeats the last sample (a rising step that changes nothing)
         y0 = y[t]
         y1 = y[min(t + 1, last)]
         y2 = y[min(t + 2, last)]
         y3 = y[min(t + 3, last)]
-        up0 = y0 >= prev
+        up0 = y0 >= up_prev
         up1 = y1 >= y0
         up2 = y2 >= y1
         up3 = y3 >= y2
+        up_prev = y3
+        d0 = _step_direction(y0, prev, d)
+        d1 = _step_direction(y1, y0, d0)
+        d2 = _step_direction(y2, y1, d1)
+        d = _step_direction(y3, y2, d2)
         prev = y3
-        a0 = 0.0
-        a1 = 0.0
-        a2 = 0.0
-        a3 = 0.0
+        a0 = linear * y0 + coulomb * d0
+        a1 = linear * y1 + coulomb * d1
+        a2 = linear * y2 + coulomb * d2
+        a3 = linear * y3 + coulomb * d
         for j in range(n_el):
             rj = threshold[j]
             wj = weight[j]
@@ -152,6 +182,7 @@ def stop_sum_one_sided(y, threshold, weight, x, out):  # pragma: no cover - comp
             out[t + 2] = a2
         if t + 3 <= last:
             out[t + 3] = a3
+    return d
 
 
 @nb.njit(**_JIT)

@@ -72,7 +72,7 @@ def _q(rho, m1r, m2r, kind, big_r, p1, p2, tab):  # pragma: no cover - compiled
     """Q(ρ) = ρ·M1(ρ) − M2(ρ) = ∫_0^ρ M1 (M1 constant beyond R); m1r, m2r = M1(R), M2(R)."""
     if rho >= big_r:
         return (rho - big_r) * m1r + big_r * m1r - m2r
-    m1, m2, _ = _prim(kind, big_r, p1, p2, tab, rho, True)
+    m1, m2, _ = _prim(kind, big_r, p1, p2, tab, rho, np.bool_(True))
     return rho * m1 - m2
 
 
@@ -97,8 +97,8 @@ def _reversal_level(last, d, base, n, stack, kind, big_r, p1, p2, tab):  # pragm
         n = 0
         e, rho = base, abs(last - base)
         if rho >= big_r:
-            return base, 0, big_r, _prim(kind, big_r, p1, p2, tab, big_r, False)[0], 0.0
-    m1, _, t = _prim(kind, big_r, p1, p2, tab, rho, False)
+            return base, 0, big_r, _prim(kind, big_r, p1, p2, tab, big_r, np.bool_(False))[0], 0.0
+    m1, _, t = _prim(kind, big_r, p1, p2, tab, rho, np.bool_(False))
     force = d * m1 if n == 0 else d * (2.0 * m1 - stack[n - 1, 2]) + stack[n - 1, 3]
     force += (last - e) * t
     return base, n, rho, m1, force - d * m1
@@ -107,11 +107,18 @@ def _reversal_level(last, d, base, n, stack, kind, big_r, p1, p2, tab):  # pragm
 @nb.njit(**_JIT)
 def _grow(stack):  # pragma: no cover - compiled
     new = np.empty((2 * stack.shape[0] + 8, 4))
-    new[: stack.shape[0]] = stack
+    # an element loop, not a slice assignment: the latter compiles numba's
+    # shape-mismatch error message (string formatting), seconds on a cold cache
+    for k in range(stack.shape[0]):
+        for c in range(4):
+            new[k, c] = stack[k, c]
     return new
 
 
-_RUN, _ONE, _TRIAL = 0, 1, 2  # modes of `_walk`
+# Modes of `_walk`. Callers pass them as np.int64(...), not as literal
+# constants, so that `_walk` is compiled once for all of them (a literal
+# argument would compile one specialisation per value).
+_RUN, _ONE, _TRIAL = 0, 1, 2
 
 
 @nb.njit(**_JIT)
@@ -139,7 +146,7 @@ def _walk(y, y_one, head, stack, kind, par, tab, out, dissipated, mode):  # prag
     last, d, base, n = head[0], head[1], head[2], int(head[3])
     m1r = m2r = 0.0
     if with_diss:
-        m1r, m2r, _ = _prim(kind, big_r, p1, p2, tab, big_r, True)
+        m1r, m2r, _ = _prim(kind, big_r, p1, p2, tab, big_r, np.bool_(True))
     force = slope = acc = 0.0
     count = 1 if single else y.shape[0]
     for t in range(count):
@@ -178,7 +185,7 @@ def _walk(y, y_one, head, stack, kind, par, tab, out, dissipated, mode):  # prag
         if top == 0:
             e = base
             rho = abs(yv - base)
-            m1, _, slope = _prim(kind, big_r, p1, p2, tab, rho, False)
+            m1, _, slope = _prim(kind, big_r, p1, p2, tab, rho, np.bool_(False))
             force = s * m1
             if with_diss:
                 if rho0 == math.inf:
@@ -198,7 +205,7 @@ def _walk(y, y_one, head, stack, kind, par, tab, out, dissipated, mode):  # prag
             else:
                 e, m1o, p = stack[top - 1, 0], stack[top - 1, 2], stack[top - 1, 3]
             rho = 0.5 * abs(yv - e)
-            m1, _, slope = _prim(kind, big_r, p1, p2, tab, rho, False)
+            m1, _, slope = _prim(kind, big_r, p1, p2, tab, rho, np.bool_(False))
             force = s * (2.0 * m1 - m1o) + p
             if with_diss:
                 q_rho = _q(rho, m1r, m2r, kind, big_r, p1, p2, tab)
@@ -243,27 +250,27 @@ def _push(head, stack, kind, par, tab):  # pragma: no cover - compiled
 @nb.njit(**_JIT)
 def advance(y, head, stack, kind, par, tab):  # pragma: no cover - compiled
     """Commit the sample y; return (force, stack)."""
-    force, _, _, stack = _walk(head, y, head, stack, kind, par, tab, head, head, _ONE)
+    force, _, _, stack = _walk(head, y, head, stack, kind, par, tab, head, head, np.int64(_ONE))
     return force, stack
 
 
 @nb.njit(**_JIT)
 def advance_dissipating(y, head, stack, kind, par, tab):  # pragma: no cover - compiled
     """Commit the sample y; return (force, slope, dissipated energy, stack)."""
-    return _walk(head, y, head, stack, kind, par, tab, head, head, _ONE)
+    return _walk(head, y, head, stack, kind, par, tab, head, head, np.int64(_ONE))
 
 
 @nb.njit(**_JIT)
 def force_at(y, head, stack, kind, par, tab):  # pragma: no cover - compiled
     """(force, slope dF/dy) at a trial input y; head and stack are left untouched."""
-    force, slope, _, _ = _walk(head, y, head, stack, kind, par, tab, head, head, _TRIAL)
+    force, slope, _, _ = _walk(head, y, head, stack, kind, par, tab, head, head, np.int64(_TRIAL))
     return force, slope
 
 
 @nb.njit(**_JIT)
 def run(y, head, stack, kind, par, tab, out, dissipated):  # pragma: no cover - compiled
     """Time loop: out[t] = F(y[t]); cumulative dissipation when len(dissipated) > 0."""
-    return _walk(y, 0.0, head, stack, kind, par, tab, out, dissipated, _RUN)[3]
+    return _walk(y, 0.0, head, stack, kind, par, tab, out, dissipated, np.int64(_RUN))[3]
 
 
 # ---------------------------------------------------------------------- energy

@@ -18,9 +18,10 @@ agree bit for bit.
 `stop_sum` runs a time-blocked kernel of `presliding.hysteresis._fused` (one-sided
 updates for banks of `ONE_SIDED_MIN` elements or more) on the bank padded to
 a multiple of `LANES` elements (padding elements have weight 0 and
-add exact zeros); `_stop_sum_short` and `_stop_sum_long` are the
-straightforward loops it is tested against (same play states, sums within
-1e-12 of F_m).
+add exact zeros), with the linear term a·y and the Coulomb term c·sign(ẏ) of
+eq. 8 added inside the time loop (no O(T) temporaries); `_stop_sum_short`
+and `_stop_sum_long` are the straightforward loops it is tested against (same
+play states, sums within 1e-12 of F_m).
 """
 
 from __future__ import annotations
@@ -81,24 +82,41 @@ LANES = 8
 ONE_SIDED_MIN = 64
 
 
-def stop_sum(y, threshold, weight, x, out):
-    """Weighted stop sum out[t] = Σ_j w_j (y[t] − x_j[t]) (eq. 4), state ``x`` updated in place.
+def stop_sum(
+    y: np.ndarray,
+    threshold: np.ndarray,
+    weight: np.ndarray,
+    x: np.ndarray,
+    out: np.ndarray,
+    linear: float = 0.0,
+    coulomb: float = 0.0,
+    prev: float | None = None,
+    direction: float = 0.0,
+) -> float:
+    """out[t] = a·y[t] + c·d[t] + Σ_j w_j (y[t] − x_j[t]) (eq. 4, eq. 8); ``x`` updated in place.
 
-    Same play states as `_stop_sum` bit for bit; the sum is accumulated in a
-    different (fixed) order. Every output depends only on the bank and the
-    state before it, not on where a chunk starts, so chunked = whole.
+    a = `linear`, c = `coulomb` and d[t] the sign of the last nonzero increment
+    of y, from the input `prev` (default y[0]) and `direction` before the first
+    sample. Returns the direction after the last sample. Same play states as
+    `_stop_sum` bit for bit; the sum is accumulated in a different (fixed)
+    order. Every output depends only on the bank and the state before it, not
+    on where a chunk starts, so chunked = whole. The kernel always receives
+    fresh writable copies of the (padded) bank, so it is compiled for one
+    set of argument types only.
     """
     n = threshold.shape[0]
     pad = -n % LANES
     kernel = stop_sum_one_sided if n + pad >= ONE_SIDED_MIN else stop_sum_blocked
-    if pad == 0:
-        kernel(y, threshold, weight, x, out)
-        return
-    r = np.concatenate((threshold, np.ones(pad)))
-    w = np.concatenate((weight, np.zeros(pad)))
-    xp = np.concatenate((x, np.full(pad, y[0])))
-    kernel(y, r, w, xp, out)
+    r = np.ones(n + pad)
+    w = np.zeros(n + pad)
+    xp = np.full(n + pad, y[0])
+    r[:n] = threshold
+    w[:n] = weight
+    xp[:n] = x
+    p = float(y[0]) if prev is None else float(prev)
+    d = kernel(y, r, w, xp, out, float(linear), float(coulomb), p, float(direction))
     x[:] = xp[:n]
+    return d
 
 
 @nb.njit(cache=True)

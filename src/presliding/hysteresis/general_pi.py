@@ -310,7 +310,7 @@ class GeneralPIOperator:
             ∫ (y − x(y, r)) dμ(r) at every sample (eq. 10) [N].
         final_state : MemoryState
         """
-        force, _, final = run_density(self.density, as_signal("y", y), state)
+        force, _, final = run_density(self.density, as_signal("y", y, copy=False), state)
         return force, final
 
     def force_at(self, y: float, state: MemoryState) -> tuple[float, float]:

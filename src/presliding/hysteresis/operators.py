@@ -31,6 +31,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from presliding._out import as_output
 from presliding._validation import (
     as_count,
     as_parameter_vector,
@@ -309,16 +310,22 @@ class PIOperator:
         """All elements relaxed at `position`."""
         return PIState.relaxed(position, self.n_elements)
 
-    def apply(self, y: ArrayLike, state: PIState | None = None) -> tuple[FloatArray, PIState]:
+    def apply(
+        self, y: ArrayLike, state: PIState | None = None, *, out: np.ndarray | None = None
+    ) -> tuple[FloatArray, PIState]:
         """Evaluate the operator along a sampled input.
 
         Parameters
         ----------
         y : array_like, shape (T,)
-            Input samples, monotone between consecutive samples.
+            Input samples, monotone between consecutive samples. A C-contiguous
+            float64 array is read in place (not copied).
         state : PIState, optional
             Memory before the first sample (as returned by a previous call).
             Default: relaxed at ``y[0]``.
+        out : ndarray, shape (T,), optional, keyword only
+            C-contiguous float64 array to write the output into (as numpy's
+            ``out=``); a new array by default.
 
         Returns
         -------
@@ -328,14 +335,13 @@ class PIOperator:
             Memory after the last sample; passing it to the next call on the
             continuation of the signal gives bit-identical output to one call.
         """
-        yv = as_signal("y", y)
+        yv = as_signal("y", y, copy=False)  # only read: no copy of a float64 array
         x, prev, direction = start_memory(yv, self.threshold, state)
         check_input_range(yv, self.threshold, self.weight, self.linear)
-        out = np.empty(yv.shape[0])
-        _kernels.stop_sum(yv, self.threshold, self.weight, x, out)
-        if self.linear != 0.0:
-            out += self.linear * yv
-        d = _kernels.last_direction(yv, prev, direction)
+        out = as_output("out", out, yv.shape)
+        d = _kernels.stop_sum(
+            yv, self.threshold, self.weight, x, out, self.linear, 0.0, prev, direction
+        )
         return out, PIState(float(yv[-1]), x, d)
 
     def inverse(self) -> PIOperator:

@@ -1,0 +1,122 @@
+"""Compile the kernels of a later part of a command in a second process, on a cold cache.
+
+On the first run the numba kernels are compiled, which takes most of the time
+of ``presliding demo`` (20–40 s on a 2-core machine, against a few seconds
+once they are cached). Compilation holds numba's global compiler lock, so
+threads cannot compile two kernels at once; a second process can. When the
+cache is cold, `start` launches ``python -m presliding.cli._precompile TASK``,
+which runs the named part of the command once (with the same argument types,
+so it compiles exactly the kernels that part uses) and discards its results;
+numba writes each compiled kernel to the shared on-disk cache (atomically:
+a temporary file, then a rename). The command meanwhile does its other parts,
+and `wait` blocks before the part that needs those kernels, which then loads
+them from the cache instead of compiling them again. Nothing changes in what
+the command computes: the second process only fills the cache.
+
+With a warm cache, a single core, ``NUMBA_DISABLE_JIT`` or a cache that cannot
+be read, nothing is started and `wait` returns at once. A second process that
+fails or overruns is stopped, and the command compiles what it needs itself.
+"""
+
+from __future__ import annotations
+
+import atexit
+import importlib
+import os
+import subprocess
+import sys
+
+__all__ = ["start", "stop_all", "wait"]
+
+#: task name -> "module:function" run once in the second process
+TASKS = {
+    "demo-density": "presliding.cli.demo_sections:density_part",
+}
+#: kernel whose cache entry tells whether a task's kernels are compiled already
+_SENTINELS = {
+    "demo-density": "presliding.motion._implicit_density:run_density",
+}
+#: seconds `wait` gives a second process before stopping it
+WAIT_LIMIT = 600.0
+
+_running: dict[str, subprocess.Popen] = {}
+
+
+def _cache_is_cold(task: str) -> bool:
+    """True when the task's sentinel kernel has no usable entry in numba's cache."""
+    if os.environ.get("NUMBA_DISABLE_JIT", "0") not in ("", "0"):
+        return False
+    try:
+        module, name = _SENTINELS[task].split(":")
+        dispatcher = getattr(importlib.import_module(module), name)
+        cache = dispatcher._cache  # numba's FunctionCache (cache=True)
+        return not cache._cache_file._load_index()
+    except Exception:  # any doubt: behave as before, compile in this process
+        return False
+
+
+def _cores() -> int:
+    """Cores this process may run on (its affinity mask where the platform has one)."""
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:  # not on every platform
+        return os.cpu_count() or 1
+
+
+def start(task: str) -> bool:
+    """Start compiling `task`'s kernels in a second process if that can help; True if started."""
+    if task in _running or _cores() < 2 or not _cache_is_cold(task):
+        return False
+    flags = ["-P"] if sys.version_info >= (3, 11) else []  # no current folder on sys.path
+    try:
+        proc = subprocess.Popen(
+            [sys.executable, *flags, "-m", "presliding.cli._precompile", task],
+            stdin=subprocess.DEVNULL,
+            stdout=subprocess.DEVNULL,
+            stderr=subprocess.DEVNULL,
+        )
+    except OSError:
+        return False
+    if not _running:
+        atexit.register(stop_all)
+    _running[task] = proc
+    return True
+
+
+def wait(task: str) -> None:
+    """Block until `task`'s second process (if any) has finished; stop it past `WAIT_LIMIT`."""
+    proc = _running.pop(task, None)
+    if proc is None:
+        return
+    try:
+        proc.wait(timeout=WAIT_LIMIT)
+    except subprocess.TimeoutExpired:
+        _stop(proc)
+
+
+def stop_all() -> None:
+    """Stop every second process still running (the command ended or failed early)."""
+    while _running:
+        _stop(_running.popitem()[1])
+
+
+def _stop(proc: subprocess.Popen) -> None:
+    if proc.poll() is None:
+        proc.terminate()
+    try:
+        proc.wait(timeout=10.0)
+    except subprocess.TimeoutExpired:
+        proc.kill()
+        proc.wait()
+
+
+def main(argv: list[str]) -> int:
+    """Run each named task once, discarding its results (the kernels land in the cache)."""
+    for task in argv:
+        module, name = TASKS[task].split(":")
+        getattr(importlib.import_module(module), name)()
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main(sys.argv[1:]))

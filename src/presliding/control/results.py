@@ -1,0 +1,273 @@
+"""Results of closed loops: `LoopResult` (a `MotionResult` with the control signal) and
+`LoopBatch` (many gain sets), and the measured limit cycle of a loop."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any, NamedTuple
+
+import numpy as np
+from numpy.typing import NDArray
+
+from presliding._validation import as_real_scalar, fmt
+from presliding.motion.results import MotionResult
+
+if TYPE_CHECKING:  # pragma: no cover
+    from matplotlib.axes import Axes
+
+FloatArray = NDArray[np.float64]
+
+__all__ = ["LoopBatch", "LoopResult", "MeasuredCycle", "measure_limit_cycle"]
+
+
+class MeasuredCycle(NamedTuple):
+    """An oscillation measured from turning points (`measure_limit_cycle`)."""
+
+    amplitude: float  #: half the mean swing between consecutive turning points [m]
+    frequency: float  #: 2π over the mean time between every second turning point [rad/s]
+    cycles: int  #: full cycles measured
+    trend: float  #: last swing over first swing, minus 1 (0: steady; < 0: decaying)
+
+    @property
+    def steady(self) -> bool:
+        """At least two cycles whose swing changes by less than 2 % over the window."""
+        return self.cycles >= 2 and abs(self.trend) < 0.02
+
+
+def measure_limit_cycle(
+    reversal_times: FloatArray, reversal_positions: FloatArray, after: float
+) -> MeasuredCycle:
+    """Amplitude, angular frequency, cycles and trend of the oscillation after time `after`.
+
+    From the exact turning points: the amplitude is half the mean distance between
+    consecutive turning points, the period the mean time between every second one,
+    the trend the relative change of the swing from the first to the last pair of
+    turning points. NaN (0 cycles) when fewer than two full cycles follow `after`.
+    """
+    t_all = np.asarray(reversal_times, dtype=np.float64)
+    y_all = np.asarray(reversal_positions, dtype=np.float64)
+    keep = t_all >= float(after)
+    t, y = t_all[keep], y_all[keep]
+    if t.shape[0] < 5:
+        return MeasuredCycle(float("nan"), float("nan"), 0, float("nan"))
+    swing = np.abs(np.diff(y))
+    amplitude = 0.5 * float(np.mean(swing))
+    period = float(np.mean(t[2:] - t[:-2]))
+    first, last = swing[:2].mean(), swing[-2:].mean()
+    trend = float(last / first - 1.0) if first > 0 else float("nan")
+    return MeasuredCycle(amplitude, 2.0 * np.pi / period, (t.shape[0] - 1) // 2, trend)
+
+
+@dataclass(frozen=True, eq=False)
+class LoopResult(MotionResult):
+    """A sampled-data closed loop (`simulate_loop`): the motion and the control signal.
+
+    The motion fields are those of `MotionResult`, sampled at ``time`` (the
+    sample instants, or `substeps` samples per period); ``applied_force`` is the
+    held force u there. Beside them:
+
+    Attributes
+    ----------
+    control_time : ndarray, shape (K + 1,)
+        The sample instants t_k = t_start + k·dt.
+    control : ndarray, shape (K + 1,)
+        u_k, the controller's output (saturated, feedforward included) [N].
+    reference : ndarray, shape (K + 1,)
+        r_k [m].
+    measured : ndarray, shape (K + 1,)
+        y_k, the position the controller read [m].
+    feedforward : ndarray, shape (K + 1,)
+        u_ff,k [N] (zeros when none was given).
+    controller : PID or DiscreteController
+    """
+
+    control_time: FloatArray
+    control: FloatArray
+    reference: FloatArray
+    measured: FloatArray
+    feedforward: FloatArray
+    controller: Any
+
+    @property
+    def error(self) -> FloatArray:
+        """e_k = r_k − y_k at the sample instants [m]."""
+        return self.reference - self.measured
+
+    def limit_cycle(self, after: float | None = None) -> MeasuredCycle:
+        """The oscillation after `after` [s] (default: half way through the run): amplitude
+        [m], angular frequency [rad/s], cycles and trend (see `measure_limit_cycle`)."""
+        t0, t1 = float(self.time[0]), float(self.time[-1])
+        start = 0.5 * (t0 + t1) if after is None else as_real_scalar("after", after)
+        return measure_limit_cycle(self.reversal_times, self.reversal_positions, start)
+
+    def plot(self, ax: Axes | None = None, *, kind: str = "tracking") -> Axes:
+        """Position and reference over time ("tracking"), the error ("error"), the control
+        signal ("control"), or a `MotionResult` kind ("time", "phase", "loop")."""
+        from presliding.plotting import new_axes
+
+        if kind in ("time", "phase", "loop"):
+            return super().plot(ax, kind=kind)
+        if kind not in ("tracking", "error", "control"):
+            raise ValueError(
+                "`kind` must be one of 'tracking', 'error', 'control', 'time', 'phase', 'loop'; "
+                f"got {fmt(kind)}."
+            )
+        ax = new_axes(ax)
+        if kind == "tracking":
+            ax.step(self.control_time, self.reference, where="post", color="k", lw=1.0,
+                    label="reference r")  # fmt: skip
+            ax.plot(self.time, self.position, color="C0", lw=1.2, label="position y")
+            ax.set_ylabel("position [m]")
+        elif kind == "error":
+            ax.plot(self.control_time, self.error, color="C3", lw=1.0, label="error r − y")
+            ax.set_ylabel("error [m]")
+        else:
+            ax.step(self.control_time, self.control, where="post", color="C2", lw=1.0,
+                    label="control u")  # fmt: skip
+            ax.plot(self.time, self.friction_force, color="C1", lw=1.0, label="friction F")
+            ax.set_ylabel("force [N]")
+        ax.set_xlabel("time t [s]")
+        ax.legend(frameon=False, fontsize=8)
+        return ax
+
+    def report(self) -> str:
+        """The motion's report and the tracking figures."""
+        e = self.error
+        lines = [
+            super().report(),
+            f"  controller {self.controller!r}",
+            f"  {self.control_time.shape[0]} samples of dt = {self.controller.dt:g} s; "
+            f"|u| max {np.max(np.abs(self.control)):.6g}",
+            f"  error: rms {np.sqrt(np.mean(e * e)):.6g}, max |e| {np.max(np.abs(e)):.6g}, "
+            f"final {e[-1]:.6g}",
+        ]
+        cyc = self.limit_cycle()
+        if cyc.cycles:
+            kind = "steady" if cyc.steady else f"swing changing by {cyc.trend:+.1%}"
+            lines.append(
+                f"  oscillation (second half): amplitude {cyc.amplitude:.6g}, frequency "
+                f"{cyc.frequency:.6g} rad/s ({cyc.cycles} cycles, {kind})"
+            )
+        return "\n".join(lines)
+
+    def to_dict(self) -> dict[str, Any]:
+        """The sampled signals and the summary as plain Python/numpy values."""
+        return {
+            "time": self.time, "position": self.position, "velocity": self.velocity,
+            "acceleration": self.acceleration, "friction_force": self.friction_force,
+            "applied_force": self.applied_force, "control_time": self.control_time,
+            "control": self.control, "reference": self.reference, "measured": self.measured,
+            "feedforward": self.feedforward, "reversal_times": self.reversal_times,
+            "reversal_positions": self.reversal_positions, "stop_time": self.stop_time,
+            "status": self.status, "success": self.success, "message": self.message,
+            "n_events": self.n_events, "mass": self.mass,
+        }  # fmt: skip
+
+    def to_pandas(self) -> Any:
+        """A DataFrame of the controller's samples (time index t_k): r, y, e, u, u_ff."""
+        import pandas as pd
+
+        return pd.DataFrame(
+            {"reference": self.reference, "position": self.measured, "error": self.error,
+             "control": self.control, "feedforward": self.feedforward},
+            index=pd.Index(self.control_time, name="time"),
+        )  # fmt: skip
+
+
+@dataclass(frozen=True, eq=False)
+class LoopBatch:
+    """Closed loops of many gain sets (`simulate_loop_batch`), e.g. for a tuning map.
+
+    Attributes
+    ----------
+    kp, ki, kd : ndarray, shape (B,)
+        The gains of each member.
+    time : ndarray, shape (K + 1,)
+        The sample instants.
+    position, control : ndarray, shape (B, K + 1) or None
+        y_k and u_k of each member (None with ``outputs="summary"``; NaN after a
+        member's failure).
+    error_rms, error_max, half_range : ndarray, shape (B,)
+        rms and max |r_k − y_k| and half the range of y_k over the instants from
+        `settle_time` on (half_range: the amplitude of a hunting cycle).
+    n_reversals : ndarray of int, shape (B,)
+    final_position, final_velocity : ndarray, shape (B,)
+    status : ndarray of int, shape (B,)
+        0 ok, -1 the event limit was reached.
+    settle_time : float
+    message : str
+    """
+
+    kp: FloatArray
+    ki: FloatArray
+    kd: FloatArray
+    time: FloatArray
+    position: FloatArray | None
+    control: FloatArray | None
+    error_rms: FloatArray
+    error_max: FloatArray
+    half_range: FloatArray
+    n_reversals: NDArray[np.int64]
+    final_position: FloatArray
+    final_velocity: FloatArray
+    status: NDArray[np.int64]
+    settle_time: float
+    message: str
+
+    @property
+    def success(self) -> bool:
+        """True when every member succeeded."""
+        return bool(np.all(self.status == 0))
+
+    def plot(self, ax: Axes | None = None, *, kind: str = "error_rms") -> Axes:
+        """A summary ("error_rms", "error_max", "half_range") against the member index, or
+        the positions of all members over time ("position")."""
+        from presliding.plotting import new_axes
+
+        ax = new_axes(ax)
+        if kind == "position":
+            if self.position is None:
+                raise ValueError("`kind` 'position' needs outputs='full'; got a summary batch.")
+            ax.plot(self.time, self.position.T, lw=0.8)
+            ax.set(xlabel="time t [s]", ylabel="position y [m]")
+            return ax
+        if kind not in ("error_rms", "error_max", "half_range"):
+            raise ValueError(
+                "`kind` must be 'error_rms', 'error_max', 'half_range' or 'position'; got "
+                f"{fmt(kind)}."
+            )
+        ax.plot(np.arange(self.kp.shape[0]), getattr(self, kind), "o-", ms=3)
+        ax.set(xlabel="gain set", ylabel=f"{kind.replace('_', ' ')} [m]", yscale="log")
+        return ax
+
+    def report(self) -> str:
+        """A readable summary."""
+        n = self.kp.shape[0]
+        best = int(np.nanargmin(self.error_rms)) if np.any(np.isfinite(self.error_rms)) else 0
+        return "\n".join([
+            f"{n} closed loops, {self.time.shape[0]} samples each; {self.message}",
+            f"  after t = {self.settle_time:g} s: rms error {np.nanmin(self.error_rms):.6g} .. "
+            f"{np.nanmax(self.error_rms):.6g}, half range of y {np.nanmin(self.half_range):.6g}"
+            f" .. {np.nanmax(self.half_range):.6g}",
+            f"  smallest rms error: kp = {self.kp[best]:g}, ki = {self.ki[best]:g}, "
+            f"kd = {self.kd[best]:g}",
+        ])  # fmt: skip
+
+    def to_dict(self) -> dict[str, Any]:
+        """The per-member summaries (and signals, when kept) as plain values."""
+        return {
+            "kp": self.kp, "ki": self.ki, "kd": self.kd, "time": self.time,
+            "position": self.position, "control": self.control, "error_rms": self.error_rms,
+            "error_max": self.error_max, "half_range": self.half_range,
+            "n_reversals": self.n_reversals, "final_position": self.final_position,
+            "final_velocity": self.final_velocity, "status": self.status,
+            "settle_time": self.settle_time, "success": self.success, "message": self.message,
+        }  # fmt: skip
+
+    def to_pandas(self) -> Any:
+        """One row per gain set: gains, summaries, status."""
+        import pandas as pd
+
+        cols = ("kp", "ki", "kd", "error_rms", "error_max", "half_range", "n_reversals",
+                "final_position", "final_velocity", "status")  # fmt: skip
+        return pd.DataFrame({c: getattr(self, c) for c in cols})

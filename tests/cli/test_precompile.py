@@ -1,0 +1,67 @@
+"""The second process that compiles a later part's kernels on a cold cache (`_precompile`)."""
+
+from __future__ import annotations
+
+import subprocess
+
+import pytest
+
+from presliding.cli import _precompile
+
+
+@pytest.fixture(autouse=True)
+def _no_leftovers():
+    yield
+    _precompile.stop_all()
+    assert not _precompile._running
+
+
+def test_a_warm_cache_starts_nothing_and_wait_returns_at_once(monkeypatch):
+    monkeypatch.setattr(_precompile, "_cores", lambda: 2)
+    monkeypatch.setattr(_precompile, "_cache_is_cold", lambda task: False)
+    assert _precompile.start("demo-density") is False
+    _precompile.wait("demo-density")  # nothing to wait for
+
+
+def test_disabled_jit_or_an_unknown_sentinel_count_as_warm(monkeypatch):
+    monkeypatch.setenv("NUMBA_DISABLE_JIT", "1")
+    assert _precompile._cache_is_cold("demo-density") is False
+    monkeypatch.delenv("NUMBA_DISABLE_JIT")
+    monkeypatch.setitem(_precompile._SENTINELS, "missing", "presliding.nowhere:kernel")
+    assert _precompile._cache_is_cold("missing") is False
+
+
+def test_one_core_starts_nothing(monkeypatch):
+    monkeypatch.setattr(_precompile, "_cores", lambda: 1)
+    monkeypatch.setattr(_precompile, "_cache_is_cold", lambda task: True)
+    assert _precompile.start("demo-density") is False
+
+
+def test_a_started_process_is_waited_for_and_reaped(monkeypatch):
+    monkeypatch.setattr(_precompile, "_cores", lambda: 2)
+    monkeypatch.setattr(_precompile, "_cache_is_cold", lambda task: True)
+    # an unknown task makes the second process exit at once with an error: the
+    # command then compiles for itself, as without a second process
+    assert _precompile.start("no-such-task") is True
+    assert _precompile.start("no-such-task") is False  # one process per task
+    proc = _precompile._running["no-such-task"]
+    _precompile.wait("no-such-task")
+    assert proc.returncode not in (None, 0)
+    assert "no-such-task" not in _precompile._running
+
+
+def test_stop_all_ends_a_process_that_is_still_running(monkeypatch):
+    proc = subprocess.Popen(["sleep", "30"])
+    monkeypatch.setitem(_precompile._running, "slow", proc)
+    _precompile.stop_all()
+    assert proc.poll() is not None
+
+
+def test_the_tasks_name_functions_that_exist():
+    import importlib
+
+    for task, target in _precompile.TASKS.items():
+        module, name = target.split(":")
+        assert callable(getattr(importlib.import_module(module), name)), task
+        module, name = _precompile._SENTINELS[task].split(":")
+        assert hasattr(getattr(importlib.import_module(module), name), "_cache")
