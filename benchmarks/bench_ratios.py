@@ -7,13 +7,13 @@ that a busy machine moves both sides alike:
    (`PIBatch.apply`), against a plain C reference compiled here (the same
    B×N play updates and sums, element-major layout, ``cc -O3 -march=native``)
    and against B calls of `PIOperator.apply`;
-2. `simulate` against its own compiled loop (slot, see `FIGURES`);
+2. `simulate` against its own compiled loop (from `bench_motion_overhead.py`);
 3. `PIFriction.force` against `PIOperator.apply` on the same bank, N = 5
    (both writing into a given ``out=`` array);
 4. memory and copies of a whole-array call: the peak of traced allocations
    (tracemalloc, which numpy reports to) beyond the output, per sample, and
    whether the input was copied;
-5. the density stepper (slot);
+5. the density stepper against the straightforward one (from `bench_motion_overhead.py`);
 6. `PIOperator.apply` with N = 5, ns per step (into a given ``out=`` array,
    and with a new output array each call), against the straightforward
    kernel and a register-resident C reference (the five states in local
@@ -246,8 +246,26 @@ def figure_batch(ctx: Context) -> list[Row]:
 
 
 def figure_simulate(ctx: Context) -> list[Row]:
-    """2. `simulate` against its own compiled loop (1e6 steps, 1001 outputs and every step)."""
-    return [Row("2. simulate overhead", "not measured here yet", "", "<= 1.3x / 2x kernel")]
+    """2. `simulate` against its own compiled loop (1e6 steps, 1001 outputs and every step).
+
+    The implicit method (N = 5, u sampled and held linearly) and the event method (1e6
+    pieces of a sampled u), from `bench_motion_overhead.py`: paired runs of the whole call
+    and of its loop writing into given buffers (the ratio checked) and with fresh buffers.
+    """
+    import bench_motion_overhead as mo
+
+    rows = []
+    for method, results in (("implicit", mo.implicit_overhead(ctx.repeats)),
+                            ("event", mo.event_overhead(ctx.repeats))):  # fmt: skip
+        for n_out, whole, loop, fresh in results:
+            limit = 1.3 if n_out == 1001 else 2.0
+            what = "1001 samples" if n_out == 1001 else "every step"
+            rows.append(Row(f"2. simulate, {method}, 1e6 steps, {what}",
+                            f"{span(whole, 1e3)} ms; loop {span(loop, 1e3)} ms",
+                            f"{ratio_runs(whole, loop)} the loop ({ratio_runs(whole, fresh)} with "
+                            "fresh buffers)", f"<= {limit}x loop",
+                            med(whole) / med(loop) <= limit))  # fmt: skip
+    return rows
 
 
 def figure_force(ctx: Context) -> list[Row]:
@@ -299,8 +317,17 @@ def figure_memory(ctx: Context) -> list[Row]:
 
 
 def figure_density(ctx: Context) -> list[Row]:
-    """5. The density stepper, uniform and exponential μ (ns per step)."""
-    return [Row("5. density stepper", "not measured here yet", "", "<= 150 ns/step")]
+    """5. The density stepper, uniform and exponential μ (ns per step through `simulate`),
+    against the straightforward stepper (one compiled trial call per Newton iterate and a
+    commit call), from `bench_motion_overhead.py`."""
+    import bench_motion_overhead as mo
+
+    rows = []
+    for name, fused, straight, n in mo.density(ctx.repeats):
+        rows.append(Row(f"5. density stepper, {name}", f"{span(fused, 1e9 / n)} ns/step",
+                        f"{ratio_runs(straight, fused)} faster than the straightforward stepper",
+                        "<= 150 ns/step", med(fused) * 1e9 / n <= 150.0))  # fmt: skip
+    return rows
 
 
 def figure_small_bank(ctx: Context) -> list[Row]:

@@ -137,9 +137,33 @@ def test_simulate_with_applied_force_csv(tmp_path, model_file, hold):
         initial_state="saturated",
         t_eval=np.linspace(0.0, 0.12, 601),
         hold=hold,
+        rtol=1e-3 if hold == "linear" else None,  # the implicit step for an accuracy target
     )
     np.testing.assert_allclose(data[:, 1], ref.position, rtol=1e-13, atol=1e-15)
     np.testing.assert_allclose(data[:, 6], ref.applied_force, rtol=1e-13, atol=1e-15)
+
+
+def test_simulate_hold_linear_meets_its_accuracy_target(tmp_path, model_file, capsys):
+    t = np.array([0.0, 0.03, 0.06, 0.09, 0.12])
+    u = np.array([1.2, -0.5, 0.8, 0.0, 0.3])
+    force = tmp_path / "u.csv"
+    force.write_text(
+        "time [s],value [N]\n" + "".join(f"{a},{b}\n" for a, b in zip(t, u, strict=True))
+    )
+    out = tmp_path / "out.csv"
+    assert main(["simulate", str(model_file), "--applied-force", str(force), "--hold", "linear",
+                 "-o", str(out)]) == 0  # fmt: skip
+    printed = capsys.readouterr().out
+    assert "position error estimate" in printed
+    data = np.loadtxt(out, delimiter=",", skiprows=1)
+    fine = ps.simulate(load_model(model_file).model, 1.0, applied_force=(t, u), hold="linear",
+                       initial_velocity=0.06, initial_state="saturated",
+                       t_eval=np.linspace(0.0, 0.12, 601), step=2e-7)  # fmt: skip
+    scale = np.max(np.abs(fine.position - fine.position[0]))
+    err = np.max(np.abs(data[:, 1] - fine.position))
+    assert err <= 2e-3 * scale  # the target 1e-3 of the displacement, with the estimate's slack
+    estimate = float(printed.split("position error estimate (step doubling):")[1].split()[0])
+    assert err / 2 <= estimate <= 2 * err  # the printed estimate is the actual error
 
 
 # ---------------------------------------------------------------------- analyze

@@ -27,7 +27,8 @@ def density_run(density, c1, m, state, v0, applied, times, h, last_dir=None):
     """The density stepper called directly (also for a Discrete density)."""
     forcing = as_forcing(applied, "zoh", 0.0)
     d = float(np.sign(v0)) if last_dir is None else last_dir
-    return dens_step.run(density, c1, m, state, v0, d, forcing, times, 0.0, times[-1], h)
+    n_steps = max(int(np.ceil(times[-1] / h * (1.0 - 1e-9))), 1)
+    return dens_step.run(density, c1, m, state, v0, d, forcing, times, 0.0, times[-1], n_steps)
 
 
 def order(errors, ratio=2.0):

@@ -9,7 +9,9 @@ and the energy balance with the viscous loss integrated on its own.
 
 from __future__ import annotations
 
+import itertools
 import math
+import warnings
 from decimal import Decimal, getcontext
 
 import numpy as np
@@ -288,7 +290,7 @@ def test_density_stepper_with_viscous_equals_the_finite_element_stepper():
     state = ps.MemoryState.saturated(0.0, 1.0, float(R.max()))
     forcing = as_forcing(0.0, "zoh", 0.0)
     out = dens_step.run(ps.Discrete(K, R), 0.3, 1.5, state, 0.8, 1.0, forcing, times, 0.0,
-                        3.0, 1e-3, 2.5)  # fmt: skip
+                        3.0, 3000, 2.5)  # fmt: skip
     np.testing.assert_allclose(out["position"], ref.position, rtol=0, atol=1e-12)
     np.testing.assert_allclose(out["viscous"], ref.energy.viscous, rtol=1e-10, atol=1e-15)
     # and a continuous density: the viscous loss is counted, the energy never grows
@@ -333,3 +335,55 @@ def test_bad_batch_viscous_is_rejected():
                        initial_velocity=[1.0, 2.0, 3.0], t_end=1.0)  # fmt: skip
     with pytest.raises(TypeError, match="got `models` and `viscous`"):
         simulate_batch(ps.PIFriction(0.3, K, threshold=R), viscous=1.0, t_end=1.0)
+
+
+# ----------------------------------------------------------------------- the viscous loss
+def _quad_square(v0, a0, gam, w0sq, h):
+    """∫_0^h v² by adaptive quadrature of the closed-form velocity (an independent route)."""
+    from scipy.integrate import IntegrationWarning, quad
+
+    from presliding.motion import _damped
+
+    def v2(t):
+        return _damped.state(v0, a0, gam, w0sq, t)[1] ** 2
+
+    points = np.linspace(0.0, h, 65)
+    with warnings.catch_warnings():  # quad at its rounding limit says so; the sum is fine
+        warnings.simplefilter("ignore", IntegrationWarning)
+        return sum(quad(v2, a, b, epsabs=0.0, epsrel=2e-14, limit=200)[0]
+               for a, b in itertools.pairwise(points))  # fmt: skip
+
+
+@pytest.mark.parametrize(
+    "w0sq_over_gam2",
+    [0.0, 1e-12, 1e-6, 0.25, 1.0 - 1e-9, 1.0, 1.0 + 1e-9, 1.0 + 1e-3, 4.0, 1e4],
+    ids=lambda x: f"w0^2/g^2={x:g}",
+)
+@pytest.mark.parametrize("gam_h", [1e-5, 0.3, 4.0, 60.0])
+def test_viscous_loss_closed_form_matches_quadrature(w0sq_over_gam2, gam_h):
+    from presliding.motion import _damped
+
+    gam = 0.7
+    w0sq = w0sq_over_gam2 * gam * gam
+    h = gam_h / gam
+    for v0, a0 in ((1.3, -0.4), (0.8, -2.0 * gam * 0.8), (0.2, 1.5)):
+        got = _damped.square_integral(v0, a0, gam, w0sq, h)
+        ref = _quad_square(v0, a0, gam, w0sq, h)
+        assert got == pytest.approx(ref, rel=5e-13, abs=1e-300)
+    # intervals add up: restarting at an inner time gives the same total
+    whole = _damped.square_integral(1.3, -0.4, gam, w0sq, h)
+    split = _damped.velocity_square_integral(1.3, -0.4, gam, w0sq, 0.0, 0.4 * h)
+    split += _damped.velocity_square_integral(1.3, -0.4, gam, w0sq, 0.4 * h, h)
+    assert split == pytest.approx(whole, rel=1e-12)
+
+
+def test_viscous_loss_is_an_independent_check_of_the_closed_forms():
+    # the energy balance closes to 1e-12 only because the loss integrates the true velocity:
+    # a loss 1e-9 off would show in the residual
+    model = ps.PIFriction(coulomb=0.05, stiffness=[300.0, 80.0], breakaway=[0.4, 0.3], viscous=0.9)
+    res = simulate(model, 1.2, initial_velocity=0.9, initial_state="saturated", t_end=30.0)
+    e = res.energy
+    assert np.max(np.abs(e.residual)) <= 1e-12 * e.initial
+    assert e.viscous[-1] > 1e-3 * e.initial
+    shifted = e.residual + 1e-9 * e.viscous
+    assert np.max(np.abs(shifted)) > 1e-12 * e.initial

@@ -189,7 +189,9 @@ class TurningPoints:
     elastic_forces : ndarray, shape (P,)
         F_el at those positions.
     n_reversals : int
-        Turning points at which the motion reversed (the final stop not counted).
+        Turning points at which the motion reversed (the final stop not counted):
+        sign changes of the velocity, as in `presliding.simulate`; a start from
+        rest is not a reversal, whatever direction the memory remembers.
     rest_position : float or None
         Where the mass came to rest; None if it never stops.
     status : str

@@ -34,7 +34,7 @@ TASKS = {
 }
 #: kernel whose cache entry tells whether a task's kernels are compiled already
 _SENTINELS = {
-    "demo-density": "presliding.motion._implicit_density:run_density",
+    "demo-density": "presliding.motion._density_loop:run_fused",
 }
 #: seconds `wait` gives a second process before stopping it
 WAIT_LIMIT = 600.0

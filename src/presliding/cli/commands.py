@@ -164,7 +164,16 @@ def _build_parser() -> argparse.ArgumentParser:
         type=float,
         default=None,
         metavar="SECONDS",
-        help="largest step of the implicit method (default: the duration / 10^4)",
+        help="largest step of the implicit method (default: chosen by step doubling for --rtol)",
+    )
+    simulate.add_argument(
+        "--rtol",
+        type=float,
+        default=None,
+        metavar="R",
+        help="accuracy target of the implicit method: the step is halved until the estimated "
+        "position error is at most R times the largest displacement (default 1e-3 unless "
+        "--step is given); the estimate is printed",
     )
     simulate.add_argument(
         "-o",

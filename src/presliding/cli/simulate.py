@@ -93,6 +93,10 @@ def run(args: argparse.Namespace) -> int:
             )
         force = (t_u, u - offset)
     t_eval = np.linspace(0.0, mo.t_end, mo.samples)
+    if args.rtol is not None and not (np.isfinite(args.rtol) and args.rtol > 0):
+        raise UserError(f"--rtol must be a positive number; got {args.rtol:g}.")
+    # the implicit step is chosen for an accuracy target unless --step fixes it
+    rtol = args.rtol if args.rtol is not None else (DEFAULT_RTOL if args.step is None else None)
     try:
         result = motion.simulate(
             spec.model,
@@ -105,6 +109,7 @@ def run(args: argparse.Namespace) -> int:
             method=args.method,
             hold=args.hold,
             step=args.step,
+            rtol=rtol,
         )
     except (TypeError, ValueError) as exc:
         raise UserError(f"{args.model}: cannot simulate: {exc}") from None
@@ -131,6 +136,9 @@ def run(args: argparse.Namespace) -> int:
         print(f"wrote {csv_path}")
         print(f"wrote {png_path}")
     return 0 if result.success else 1
+
+
+DEFAULT_RTOL = 1e-3  # of the largest displacement, for the implicit step
 
 
 def _headline(result: Any) -> str:

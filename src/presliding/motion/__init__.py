@@ -5,12 +5,15 @@ Files
 simulation.py         `simulate`: one motion, by the exact event method or an implicit step
 batch.py              `simulate_batch` and `free_response`: many motions at once
 results.py            `MotionResult`, `MotionEnergy`, `MotionBatch`, `FreeResponse`
-_run.py               set-up and runners behind `simulate` (validation, grids, kernel calls)
+_run.py               set-up and runners behind `simulate` (validation, steps, continuation)
+_batch_setup.py       set-up of batches: parameters, broadcasting, the parallel kernel call
 _event.py             the exact event kernel: closed-form pieces between events
 _damped.py            closed-form damped pieces (viscous term σ > 0), their events and energy
 _batch_events.py      compiled batches of exact motions (parallel)
-_implicit.py          the implicit stepper with exact stiction (finite elements)
-_implicit_density.py  the implicit stepper for a density μ
+_implicit.py          the implicit step with exact stiction (finite elements), its grid loop
+_implicit_loop.py     the implicit time loop of `simulate`: uniform steps, samples off the steps
+_implicit_density.py  the implicit stepper for a density μ: set-up and runner
+_density_loop.py      its fused loop: Newton and commit with the memory in local variables
 _forcing.py           the applied force u(t): constant, callable or samples
 
 May import: `presliding.friction`, `presliding.hysteresis` and the root's shared modules.

@@ -31,9 +31,11 @@ Events (mirrored so that v0 >= 0):
   velocity vanishes, so the root is bracketed and found by Newton's method on
   the closed form (ḋ = v), safeguarded by bisection, to rounding.
 
-The viscous dissipation σ·∫v² is integrated by Gauss–Legendre quadrature of the
-closed-form velocity on panels graded to the time scales of the piece, so that
-the energy balance of a motion is an independent check of the closed forms.
+The viscous dissipation σ·∫v² is in closed form too (`square_integral`): the
+integral of the square of the closed-form velocity, by modes (a series in
+γ² − ω0² near critical damping and over short times), never through the energy
+balance, so that the balance of a motion stays an independent check of the
+closed forms.
 """
 
 from __future__ import annotations
@@ -49,18 +51,8 @@ _MAX_TERMS = 60
 _MAX_ITER = 200
 
 
-def _gauss(n: int) -> tuple[np.ndarray, np.ndarray]:
-    """Gauss–Legendre nodes and weights on [0, 1]."""
-    x, w = np.polynomial.legendre.leggauss(n)
-    return np.ascontiguousarray(0.5 * (x + 1.0)), np.ascontiguousarray(0.5 * w)
-
-
-# rules by κ·h (κ the fastest rate of v², h the panel): the error bound
-# (κh)^(2n+1)·(n!)^4/((2n+1)·((2n)!)^3) stays below 1e-15 of the panel
-GL2_X, GL2_W = _gauss(2)  # κh <= 0.005
-GL4_X, GL4_W = _gauss(4)  # κh <= 0.2
-GL10_X, GL10_W = _gauss(10)  # κh <= π
-GL12_X, GL12_W = _gauss(12)  # κh <= 2π (graded panels, where the fast mode has decayed)
+_INV_FACT = np.array([1.0 / math.factorial(n) for n in range(64)])
+_SERIES_TERMS = 20  # at most, of the near-critical series of ∫v²
 
 
 @nb.njit(**_JIT)
@@ -201,53 +193,175 @@ def time_to_distance(vp, ap, gam, w0sq, dist, hi):  # pragma: no cover - compile
 
 
 @nb.njit(**_JIT)
-def _panel(v0, a0, gam, w0sq, a, h, xs, ws):  # pragma: no cover - compiled
-    acc = 0.0
-    for i in range(xs.shape[0]):
-        g, c, _ = basis(gam, w0sq, a + h * xs[i])
-        v = v0 * c + a0 * g
-        acc += ws[i] * v * v
-    return acc * h
+def _square_series(v0, b, gam, eta, h):  # pragma: no cover - compiled
+    """∫_0^h v² with v = e^{−γs}·(v0·C(s) + b·S(s)), C, S entire in η = γ² − ω0² (real).
+
+    C = cosh(√η s), S = sinh(√η s)/√η (cos and sin/ω when η < 0). With
+    q = 4ηh² and the moments μ_n = ∫_0^1 u^n·e^{−x·u} du / n! (x = 2γh; all positive
+    sums: μ_N = e^{−x}·Σ_j x^j/(N+1+j)!, then μ_{n−1} = x·μ_n + e^{−x}/n! downward, or
+    x^{−(n+1)} once the tail e^{−x}·Σ_{j<=n} x^j/j! is below 1e-18, x >= 2N + 50):
+
+        ∫ = v0²·h·(μ0 + ½Σ_{k>=1} q^k μ_2k) + 2·v0·b·h²·Σ_{k>=0} q^k μ_2k+1
+            + b²·h³·2·Σ_{k>=1} q^{k−1} μ_2k
+
+    (C² = (1 + C(2s))/2, C·S = S(2s)/2, S² = (C(2s) − 1)/(2η)). The terms fall
+    at least as fast as |q|^k/(2k+1)! and as (|η|/γ²)^k: used where either is small.
+    """
+    q = 4.0 * eta * h * h
+    # terms needed: the k-th is below min(|q|^k/(2k+1)!, (|η|/γ²)^k) of the first
+    ratio = abs(eta) / (gam * gam)
+    b1 = 1.0
+    b2 = 1.0
+    n_terms = _SERIES_TERMS
+    for k in range(1, _SERIES_TERMS + 1):
+        b1 *= abs(q) / ((2 * k) * (2 * k + 1))
+        b2 *= ratio
+        if min(b1, b2) < 1e-18:
+            n_terms = k
+            break
+    n_max = 2 * n_terms + 1
+    x = 2.0 * gam * h
+    if x >= 2.0 * n_max + 50.0:  # μ_n = x^{−(n+1)}: sums of powers of r = q/x²
+        r = q / (x * x)
+        rk = 1.0
+        s_all = 1.0  # Σ_{k<=K} r^k
+        for _ in range(n_terms):
+            rk *= r
+            s_all += rk
+        cc = (1.0 + 0.5 * (s_all - 1.0)) / x
+        cs = s_all / (x * x)
+        ss = (s_all - rk) / (x * x * x)
+    else:
+        # μ_N by its series, then downward μ_{n−1} = x·μ_n + e^{−x}/n!, each moment
+        # taken into the Horner sums as it comes: no array
+        e = math.exp(-x)
+        term = _INV_FACT[n_max + 1]
+        acc = term
+        j = 0
+        while term > 1e-18 * acc:
+            term *= x / (n_max + 2 + j)
+            acc += term
+            j += 1
+        mu = e * acc
+        acc_o = 0.0  # Σ_{k>=0} q^k μ_{2k+1}
+        acc_s = 0.0  # Σ_{k>=1} q^{k−1} μ_{2k}
+        for n in range(n_max, 0, -1):
+            if n % 2 == 1:
+                acc_o = mu + q * acc_o
+            else:
+                acc_s = mu + q * acc_s
+            mu = x * mu + e * _INV_FACT[n]
+        cc = mu + 0.5 * q * acc_s  # μ0 + ½Σ_{k>=1} q^k μ_{2k}
+        cs = acc_o
+        ss = acc_s
+    return h * (v0 * v0 * cc + h * (2.0 * v0 * b * cs + 2.0 * b * b * h * ss))
+
+
+@nb.njit(**_JIT)
+def square_integral(v0, a0, gam, w0sq, h):  # pragma: no cover - compiled
+    """∫_0^h v(s)² ds of one damped piece with v(0) = v0, v'(0) = a0, in closed form.
+
+    With η = γ² − ω0² (> 0 over-damped, < 0 under-damped) and δ = 2·sqrt(|η|) the
+    spacing of the modes (λ1 − λ2 = δ, or the frequency 2ω_d):
+
+    * near critical damping or over short times (δ·h <= 1 or δ <= γ/2), the
+      series of `_square_series` in η (real, no division by δ);
+    * under-damped (ω_d = sqrt(−η)): v = e^{−γs}(v0·cos ω_d s + b·sin ω_d s),
+      b = (γ·v0 + a0)/ω_d, and with E = ∫e^{−2γs} and ψ = ∫e^{(−2γ + 2iω_d)s},
+      ∫v² = (v0² + b²)/2·E + (v0² − b²)/2·Re ψ + v0·b·Im ψ;
+    * over-damped (modes λ1 = −ω0²/(γ + ω_h) slow, λ2 = −(γ + ω_h) fast):
+      v = v0·e^{λ2 s} + w·g(s), w = a0 − λ2·v0, g = (e^{λ1 s} − e^{λ2 s})/δ, and
+      ∫v² = v0²·Ψ(2λ2) + 2·v0·w·Ψ[2λ2, λ1+λ2] + 2·w²·Ψ[2λ2, λ1+λ2, 2λ1],
+      divided differences of Ψ(μ) = ∫_0^h e^{μs} ds = expm1(μh)/μ, whose points
+      are δ apart (well separated in this branch). K = 0 (λ1 = 0) is this case.
+
+    Independent of the energy balance of the motion: it integrates the
+    closed-form velocity, so the balance stays a check of the closed forms.
+    """
+    if not h > 0.0:
+        return 0.0
+    eta = gam * gam - w0sq
+    delta = 2.0 * math.sqrt(abs(eta))
+    if delta * h <= 1.0 or delta <= 0.5 * gam:
+        return _square_series(v0, gam * v0 + a0, gam, eta, h)
+    beta = 2.0 * gam
+    if eta < 0.0:
+        wd = 0.5 * delta
+        b = (gam * v0 + a0) / wd
+        e = -math.expm1(-beta * h) / beta
+        ex = math.exp(-beta * h)
+        th = 2.0 * wd * h
+        re = ex * math.cos(th) - 1.0  # e^{zh} − 1, z = −β + 2iω_d
+        im = ex * math.sin(th)
+        den = beta * beta + 4.0 * wd * wd  # (e^{zh} − 1)/z = (re + i·im)·conj(z)/|z|²
+        rc = (-beta * re + 2.0 * wd * im) / den
+        rs = (-beta * im - 2.0 * wd * re) / den
+        return 0.5 * (v0 * v0 + b * b) * e + 0.5 * (v0 - b) * (v0 + b) * rc + v0 * b * rs
+    wh = 0.5 * delta
+    lam1 = -w0sq / (gam + wh)
+    lam2 = -(gam + wh)
+    w = a0 - lam2 * v0
+    p0 = _psi(2.0 * lam2, h)
+    p1 = _psi(lam1 + lam2, h)
+    p2 = _psi(2.0 * lam1, h)
+    d01 = (p1 - p0) / delta
+    d12 = (p2 - p1) / delta
+    d012 = (d12 - d01) / (2.0 * delta)
+    return v0 * v0 * p0 + 2.0 * v0 * w * d01 + 2.0 * w * w * d012
+
+
+@nb.njit(**_JIT)
+def state_square(v0, a0, gam, w0sq, t):  # pragma: no cover - compiled
+    """`state` and `square_integral` at once: (d, v, a, ∫_0^t v²).
+
+    Where both are in closed form and under-damped, the square integral reuses
+    the exponential and the sine and cosine of the state (e^{−2γt} = e², the
+    double angle), so a sample with the viscous loss costs little more than
+    one without; elsewhere the two functions are called.
+    """
+    eta = gam * gam - w0sq
+    if t > 0.0 and eta < 0.0:
+        wd = math.sqrt(-eta)
+        if 2.0 * wd * t > 1.0 and 2.0 * wd > 0.5 * gam:
+            # basis() in its under-damped closed form (the series cannot apply: w0·t > 1/2)
+            em1 = math.expm1(-gam * t)
+            e = 1.0 + em1
+            th = wd * t
+            s1 = math.sin(th)
+            cs = math.cos(th)
+            sn = s1 / wd
+            half = s1 * s1 / (1.0 + cs) if cs > 0.0 else 1.0 - cs
+            g = e * sn
+            c = e * (cs + gam * sn)
+            q = (half - em1 * cs - gam * e * sn) / w0sq
+            d = v0 * (g + 2.0 * gam * q) + a0 * q
+            v = v0 * c + a0 * g
+            a = a0 * (c - 2.0 * gam * g) - v0 * w0sq * g
+            # square_integral() in its under-damped closed form, from the same values
+            beta = 2.0 * gam
+            b = (gam * v0 + a0) / wd
+            ee = -(em1 * (em1 + 2.0)) / beta  # −expm1(−2γt)/(2γ)
+            ex = e * e
+            re = ex * (cs * cs - s1 * s1) - 1.0
+            im = ex * (2.0 * s1 * cs)
+            den = beta * beta + 4.0 * wd * wd
+            rc = (-beta * re + 2.0 * wd * im) / den
+            rs = (-beta * im - 2.0 * wd * re) / den
+            sq = 0.5 * (v0 * v0 + b * b) * ee + 0.5 * (v0 - b) * (v0 + b) * rc + v0 * b * rs
+            return d, v, a, sq
+    d, v, a = state(v0, a0, gam, w0sq, t)
+    return d, v, a, square_integral(v0, a0, gam, w0sq, t)
 
 
 @nb.njit(**_JIT)
 def velocity_square_integral(v0, a0, gam, w0sq, ta, tb):  # pragma: no cover - compiled
-    """∫_ta^tb v(s)² ds of one damped piece (times since its start), by Gauss–Legendre.
+    """∫_ta^tb v(s)² ds of one damped piece (times since its start), in closed form.
 
-    v² varies at most at the rate κ = 2·max(ω0, γ + ω_h). Panels are at most
-    π/κ long at the start of the piece and grow as half the time since its
-    start (the fast mode has decayed there), capped by a quarter period of the
-    oscillation or by the slow time scale 1/|λ1|; an over-damped piece that has
-    crept towards rest for 40 slow time constants adds nothing more.
+    The piece is restarted at ta (its velocity and acceleration there) and
+    `square_integral` taken over tb − ta.
     """
     if not tb > ta:
         return 0.0
-    eps = w0sq - gam * gam
-    wh = math.sqrt(-eps) if eps < 0.0 else 0.0
-    kappa = 2.0 * max(math.sqrt(w0sq), gam + wh)
-    h0 = math.pi / kappa
-    cap = np.inf
-    tail = np.inf
-    if eps > 0.0:
-        cap = 0.5 * math.pi / math.sqrt(eps)  # half a period of v²
-    elif w0sq > 0.0:
-        lam1 = w0sq / (gam + wh)  # |λ1|
-        cap = 0.5 * math.pi / lam1
-        tail = max(40.0 / lam1, 40.0 * h0)
-    total = 0.0
-    s = ta
-    while s < tb:
-        if s >= tail:
-            break
-        h = min(max(h0, 0.5 * s), cap, tb - s)
-        kh = kappa * h
-        if kh <= 0.005:
-            total += _panel(v0, a0, gam, w0sq, s, h, GL2_X, GL2_W)
-        elif kh <= 0.2:
-            total += _panel(v0, a0, gam, w0sq, s, h, GL4_X, GL4_W)
-        elif kh <= math.pi:
-            total += _panel(v0, a0, gam, w0sq, s, h, GL10_X, GL10_W)
-        else:
-            total += _panel(v0, a0, gam, w0sq, s, h, GL12_X, GL12_W)
-        s = s + h if s + h < tb else tb
-    return total
+    if ta > 0.0:
+        _, v0, a0 = state(v0, a0, gam, w0sq, ta)
+    return square_integral(v0, a0, gam, w0sq, tb - ta)

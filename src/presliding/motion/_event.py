@@ -95,14 +95,20 @@ def time_to_reach(vp, ap, w, dist):  # pragma: no cover - compiled
 def run_events(  # pragma: no cover - compiled
     m, c1, k, r, f, y, v, last_dir, u_t, u_val, t_eval, t_end, max_events,
     o_y, o_v, o_a, o_fel, o_u, o_eel, o_dis, o_work, rev_t, rev_y, sigma=0.0, o_vis=None,
+    piece=None,
 ):  # fmt: skip
     """Event-driven exact motion from time u_t[0]; samples written at t_eval.
 
     ``sigma`` is the viscous coefficient σ >= 0. ``f`` (deformations, shape
     (N,)) is updated in place to the final state. u is u_val[i] on
-    [u_t[i], u_t[i+1]), the last value held forever. Reversals beyond the
-    capacity of rev_t/rev_y are counted but not recorded. ``o_vis``, when
-    given, receives the viscous dissipation σ·∫v² (None skips its quadrature).
+    [u_t[i], u_t[i+1]), the last value held forever. ``last_dir`` is the
+    direction of the trajectory's last motion (0: none; a reversal is a change
+    of the sign of the velocity, so a start from rest is never one). Reversals
+    beyond the capacity of rev_t/rev_y are counted but not recorded. ``o_vis``,
+    when given, receives the viscous dissipation σ·∫v² (None skips it).
+    ``piece``, when given (shape (5 + N,)), receives the start of the last
+    closed-form piece: [t, y, v, last_dir, u, f_1..f_N] (a continuation that
+    resumes it reproduces this run bit for bit).
 
     Returns (status, n_samples, n_rev, stop_time (nan if moving at the end),
     y, v, last_dir, n_events, dissipated, work, t, viscous dissipation).
@@ -121,6 +127,8 @@ def run_events(  # pragma: no cover - compiled
     rest_start = np.nan
     status = STATUS_OK
     while True:
+        while iu + 1 < n_u and u_t[iu + 1] <= t:  # an event exactly at a change of u
+            iu += 1
         u = u_val[iu]
         t_u = u_t[iu + 1] if iu + 1 < n_u else np.inf
         fel = 0.0
@@ -161,6 +169,14 @@ def run_events(  # pragma: no cover - compiled
                 n_rev += 1
             last_dir = s
         rest_start = np.nan
+        if piece is not None:
+            piece[0] = t
+            piece[1] = y
+            piece[2] = v
+            piece[3] = last_dir
+            piece[4] = u
+            for j in range(n):
+                piece[5 + j] = f[j]
         n_ev += 1
         if n_ev > max_events:
             status = STATUS_EVENT_LIMIT
@@ -198,22 +214,25 @@ def run_events(  # pragma: no cover - compiled
             ap = fp - sigma * vp / m
             a0 = s * ap
             kind, dt, dmax = _damped_event(vp, ap, fp, gam, w, dmin, min(t_u, t_end) - t)
-        if t + dt >= t_u and t_u < t_end:
+        # an element or a rest exactly at the change of u or at the end is an event
+        # (set exactly; a rest at t_end is a stop at t_end)
+        if t + dt > t_u and t_u < t_end:
             kind = 2
             dt = t_u - t
-        if t + dt >= t_end and kind != 2:
+        if t + dt > t_end and kind != 2:
             kind = 3
             dt = t_end - t
         t1 = t + dt if kind < 2 else (t_u if kind == 2 else t_end)
         dfric = c1 + csl
-        acc = 0.0  # σ·∫v² since the start of the piece, up to time t_acc
-        t_acc = 0.0
         while ie < n_eval and (t_eval[ie] < t1 or (kind == 3 and t_eval[ie] <= t1)):
             tau = t_eval[ie] - t
+            sq = 0.0
             if sigma == 0.0:
                 d, vv, aa = closed_form(v, a0, w, tau)
-            else:
+            elif o_vis is None:
                 d, vv, aa = _damped.state(v, a0, gam, w, tau)
+            else:  # with σ·∫v² since the start of the piece, in closed form
+                d, vv, aa, sq = _damped.state_square(v, a0, gam, w, tau)
             o_y[ie] = y + d
             o_v[ie] = vv
             o_a[ie] = aa
@@ -222,15 +241,11 @@ def run_events(  # pragma: no cover - compiled
             o_eel[ie] = 0.5 * (eel + 2.0 * d * pel + kk * d * d)
             o_dis[ie] = dis + dfric * s * d
             if o_vis is not None:
-                if sigma > 0.0:
-                    acc += sigma * _damped.velocity_square_integral(v, a0, gam, w, t_acc, tau)
-                    t_acc = max(t_acc, tau)
-                o_vis[ie] = vis + acc
+                o_vis[ie] = vis + sigma * sq
             o_work[ie] = work + u * d
             ie += 1
         if o_vis is not None and sigma > 0.0:
-            acc += sigma * _damped.velocity_square_integral(v, a0, gam, w, t_acc, t1 - t)
-            vis += acc
+            vis += sigma * _damped.square_integral(v, a0, gam, w, t1 - t)
         if sigma == 0.0:
             if kind == 0:
                 d = s * dmin

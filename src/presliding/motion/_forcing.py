@@ -15,7 +15,14 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from presliding._validation import as_choice, as_real_scalar, as_signal, check_same_length, fmt
+from presliding._validation import (
+    as_choice,
+    as_real_scalar,
+    as_signal,
+    check_same_length,
+    check_size,
+    fmt,
+)
 
 FloatArray = NDArray[np.float64]
 
@@ -46,11 +53,37 @@ class Forcing:
         if self.kind == "constant":
             return np.array([t_start]), self.values.copy()
         i0 = int(np.searchsorted(self.times, t_start, side="right")) - 1
-        inside = (self.times > t_start) & (self.times < t_end)
-        t = np.concatenate(([t_start], self.times[inside]))
-        val = np.concatenate((self.values[i0 : i0 + 1], self.values[inside]))
-        keep = np.concatenate(([True], val[1:] != val[:-1]))
-        return np.ascontiguousarray(t[keep]), np.ascontiguousarray(val[keep])
+        i1 = int(np.searchsorted(self.times, t_end, side="left"))
+        t = self.times[i0:i1].copy()
+        t[0] = t_start
+        val = self.values[i0:i1]
+        same = val[1:] == val[:-1]
+        if same.any():
+            keep = np.concatenate(([True], ~same))
+            return np.ascontiguousarray(t[keep]), np.ascontiguousarray(val[keep])
+        return t, np.ascontiguousarray(val)
+
+    def loop_form(
+        self, t0: float, t_end: float, n_steps: int
+    ) -> tuple[int, FloatArray, FloatArray, FloatArray]:
+        """(kind, times, values, midpoint values) for the implicit loops.
+
+        A constant or sampled u is evaluated inside the loop at the midpoints of
+        the n_steps equal steps (no array of step times); a callable is called
+        once on every midpoint (its array is checked against the size limit
+        first).
+        """
+        empty = np.empty(0)
+        if self.kind == "constant":
+            return 0, empty, self.values, empty
+        if self.kind == "sampled":
+            kind = 1 if self.hold == "zoh" else 2
+            i0 = max(int(np.searchsorted(self.times, t0, side="right")) - 1, 0)
+            return kind, self.times[i0:], self.values[i0:], empty
+        check_size("step", (t_end - t0) / n_steps, n_steps, what="values of u (one per step)")
+        h = (t_end - t0) / n_steps
+        mid = t0 + (np.arange(n_steps) + 0.5) * h
+        return 3, empty, empty, self(mid)
 
     def __call__(self, t: FloatArray) -> FloatArray:
         """u at the times t (an array)."""

@@ -17,15 +17,17 @@ exactly, Sign(0) = [−1, 1] being the set-valued sign:
 
   (the viscous term σ·v' = σ·s·d/h enters linearly; σ·0 = 0 at rest).
 
-The trial force F_el(y + s·d) and its slope T(ρ) come from `force_at` (pure:
-the memory is not changed by a trial). Along one Masing branch s·F_el is
-nondecreasing and concave in d (the slope T(ρ) = μ((ρ, R]) falls as the front ρ
-advances), so φ is increasing and concave: Newton's method from a point left of
-the root stays left of it and increases monotonically to it. It starts at
-d0 = b/(m/h² + T(ρ_now)) <= root and is safeguarded by the bracket
-[d0, b·h²/m] (bisection where a step would leave it), to full precision; d > 0
-always, so v' has the sign of g. The step is then committed with
-`advance_dissipating`, which also returns the energy the sliding stops dissipate.
+The trial force F_el(y + s·d) and its slope T(ρ) follow from the memory in
+closed form. Along one Masing branch s·F_el is nondecreasing and concave in d
+(the slope T(ρ) = μ((ρ, R]) falls as the front ρ advances), so φ is increasing
+and concave: Newton's method from a point left of the root stays left of it
+and increases monotonically to it. It starts at d0 = b/(m/h² + T(ρ_now)) <=
+root and is safeguarded by the bracket [0, b·h²/m] (bisection where a step
+would leave it), to full precision; d > 0 always, so v' has the sign of g. The
+step is then committed, with the energy the sliding stops dissipate. Trials
+and commit are fused into one compiled loop with the memory in local
+variables (`presliding.motion._density_loop`); steps are uniform and samples
+between grid points are read off the step that contains them.
 
 Backward Euler on the velocity: first order in h, stable for any h. Per step
 the energy balance misses the numerical dissipation ½·m·(v' − v)² + O(h²); the
@@ -36,152 +38,18 @@ from __future__ import annotations
 
 from typing import Any
 
-import numba as nb
 import numpy as np
 from numpy.typing import NDArray
 
 from presliding._validation import fmt
 from presliding.hysteresis import _general_pi as gk
-from presliding.hysteresis._density_primitives import primitives
+from presliding.hysteresis._density_primitives import EXPONENTIAL, PIECEWISE, TABULATED, UNIFORM
 from presliding.hysteresis.general_pi import MemoryState
 from presliding.hysteresis.operators import PIState
+from presliding.motion._density_loop import run_fused
 from presliding.motion._forcing import Forcing
 
 FloatArray = NDArray[np.float64]
-_JIT = {"cache": True, "nogil": True}
-_EPS = 2.220446049250313e-16
-_MAX_ITER = 200
-
-
-@nb.njit(**_JIT)
-def solve_step(b, s, mh2, slope0, fel, head, stack, kind, par, tab):  # pragma: no cover
-    """Root d > 0 of mh2·d + s·(F_el(y + s·d) − F_el(y)) = b > 0 (y = head[0]).
-
-    ``mh2`` = m/h² + σ/h, the inertia and the viscous term of the step.
-
-    ``slope0`` is dF/dy on the branch leaving y in direction s (T(0) = μ([0, R])
-    after a reversal); ``fel`` = F_el(y).
-    """
-    y = head[0]
-    lo = 0.0
-    hi = b / mh2
-    d = b / (mh2 + slope0)
-    for _ in range(_MAX_ITER):
-        f, sl = gk.force_at(y + s * d, head, stack, kind, par, tab)
-        phi = mh2 * d + s * (f - fel) - b
-        if phi < 0.0:
-            lo = d
-        elif phi > 0.0:
-            hi = d
-        else:
-            break
-        dn = d - phi / (mh2 + sl)
-        if not (dn > lo and dn < hi):  # also catches a NaN
-            dn = 0.5 * (lo + hi)
-        if dn == d or hi - lo <= 2.0 * _EPS * hi:
-            break
-        d = dn
-    return d
-
-
-@nb.njit(**_JIT)
-def _grow_rev(rev):  # pragma: no cover - compiled
-    new = np.empty((2 * rev.shape[0], 2))
-    new[: rev.shape[0]] = rev
-    return new
-
-
-@nb.njit(**_JIT)
-def run_density(  # pragma: no cover - compiled
-    m, c1, sigma, head, stack, kind, par, tab, v, last_dir, t_grid, u_mid, out_idx,
-    o_y, o_v, o_a, o_fric, o_fel, o_eel, o_dis, o_vis, o_work,
-):  # fmt: skip
-    """Step from t_grid[0] to t_grid[-1] with u = u_mid[i] on step i.
-
-    The position is the memory's last input head[0]; head and stack are the
-    working memory (updated in place; the final stack is returned, it may have
-    grown). Sample q is the state after grid point out_idx[q] (0: the initial
-    state; its o_a/o_fric entries are left to the caller). Returns (stack,
-    reversals (n, 2) as rows (time, position), rest_start (nan if moving at the
-    end), v, last_dir, dissipated, work, viscous dissipation).
-    """
-    n_steps = t_grid.shape[0] - 1
-    n_out = out_idx.shape[0]
-    t_total = primitives(kind, par, tab, 0.0)[2]  # μ([0, R]): slope after a reversal
-    fel, slope = gk.force_at(head[0], head, stack, kind, par, tab)
-    dis = 0.0
-    vis = 0.0
-    work = 0.0
-    rev = np.empty((64, 2))
-    n_rev = 0
-    rest_start = np.nan
-    q = _record(0, head, stack, kind, par, tab, fel, v, out_idx, 0, dis, vis, work,
-                o_y, o_v, o_fel, o_eel, o_dis, o_vis, o_work)  # fmt: skip
-    h_prev = -1.0
-    inv_h = m_h = mh2 = 0.0
-    for i in range(n_steps):
-        h = t_grid[i + 1] - t_grid[i]
-        if h != h_prev:
-            h_prev = h
-            inv_h = 1.0 / h
-            m_h = m * inv_h
-            mh2 = m_h * inv_h + sigma * inv_h  # m/h² + σ/h
-        u = u_mid[i]
-        g = m_h * v + u - fel
-        if abs(g) <= c1:  # sticks: the position and the memory stay exactly as they are
-            v_new = 0.0
-            if rest_start != rest_start:
-                rest_start = t_grid[i]
-        else:
-            s = 1.0 if g > 0.0 else -1.0
-            slope0 = slope if s == head[1] else t_total
-            y_old = head[0]
-            d = solve_step(abs(g) - c1, s, mh2, slope0, fel, head, stack, kind, par, tab)
-            fel, slope, dplastic, stack = gk.advance_dissipating(
-                y_old + s * d, head, stack, kind, par, tab
-            )
-            v_new = d * s * inv_h
-            dis += c1 * d + dplastic
-            vis += sigma * d * d * inv_h
-            work += u * s * d
-            if s != last_dir:
-                if last_dir != 0.0:
-                    if n_rev == rev.shape[0]:
-                        rev = _grow_rev(rev)
-                    rev[n_rev, 0] = t_grid[i]
-                    rev[n_rev, 1] = y_old
-                    n_rev += 1
-                last_dir = s
-            rest_start = np.nan
-        if q < n_out and out_idx[q] == i + 1:
-            acc = (v_new - v) * inv_h
-            q0 = q
-            q = _record(i + 1, head, stack, kind, par, tab, fel, v_new, out_idx, q, dis, vis,
-                        work, o_y, o_v, o_fel, o_eel, o_dis, o_vis, o_work)  # fmt: skip
-            for p in range(q0, q):
-                o_a[p] = acc
-                o_fric[p] = u - m * acc
-        v = v_new
-    return stack, rev[:n_rev].copy(), rest_start, v, last_dir, dis, work, vis
-
-
-@nb.njit(**_JIT)
-def _record(i, head, stack, kind, par, tab, fel, v, out_idx, q, dis, vis, work,
-            o_y, o_v, o_fel, o_eel, o_dis, o_vis, o_work):  # fmt: skip  # pragma: no cover
-    """Write the samples that fall on grid point i; returns the next sample index."""
-    if q >= out_idx.shape[0] or out_idx[q] != i:
-        return q
-    eel = gk.elastic_energy(head, stack, kind, par, tab)
-    while q < out_idx.shape[0] and out_idx[q] == i:
-        o_y[q] = head[0]
-        o_v[q] = v
-        o_fel[q] = fel
-        o_eel[q] = eel
-        o_dis[q] = dis
-        o_vis[q] = vis
-        o_work[q] = work
-        q += 1
-    return q
 
 
 # ---------------------------------------------------------------------- set-up and runner
@@ -220,6 +88,18 @@ def initial_memory(
     )
 
 
+def density_bound(density: Any) -> float:
+    """An upper bound of dμ/dr (inf for point masses), for the end of the Newton steps."""
+    kind, par, tab = density._kind, density._par, density._tab
+    if kind in (UNIFORM, EXPONENTIAL):
+        return float(par[1])
+    if kind == PIECEWISE:
+        return float(np.max(tab[1, : tab.shape[1] - 1]))
+    if kind == TABULATED:
+        return 2.0 * float(np.max(np.abs(tab[1])))  # with room for the cubic interpolation
+    return np.inf
+
+
 def run(
     density: Any,
     c1: float,
@@ -231,42 +111,55 @@ def run(
     times: FloatArray,
     t0: float,
     t_end: float,
-    h: float,
+    n_steps: int,
     sigma: float = 0.0,
 ) -> dict[str, Any]:
-    """Run the density stepper on a grid through the sample times; a dict of outputs.
+    """Run the fused density stepper: n_steps equal steps, samples read off the steps.
 
-    ``sigma`` is the viscous coefficient σ >= 0 (default 0, eq. 17 as written).
-
-    Works for every `Density`, a `Discrete` one included (it then reproduces the
-    finite-element stepper of `_implicit` to rounding).
+    ``last_dir`` is the trajectory's last direction (0: none; for counting
+    reversals); ``sigma`` the viscous coefficient σ >= 0. Works for every
+    `Density`, a `Discrete` one included (it then reproduces the finite-element
+    stepper of `_implicit_loop` to rounding).
     """
-    from presliding.motion._run import implicit_grid, initial_acceleration
+    from presliding.motion._run import (
+        REVERSAL_CAPACITY,
+        applied_force_at,
+        motion_overflow,
+        start_implicit_samples,
+    )
 
-    grid, out_idx = implicit_grid(t0, t_end, times, h)
-    u_mid = forcing(0.5 * (grid[1:] + grid[:-1]))
+    u_kind, u_t, u_val, u_mid = forcing.loop_form(t0, t_end, n_steps)
     kind, par, tab = density._kind, density._par, density._tab
     head, stack = state.working_memory(density)
     e0 = 0.5 * m * v0 * v0 + float(gk.elastic_energy(head, stack, kind, par, tab))
     fel0 = float(gk.force_at(head[0], head, stack, kind, par, tab)[0])
-    o = [np.zeros(times.shape[0]) for _ in range(9)]
-    stack, rev, stop, v, d, _, _, _ = run_density(
-        m, c1, sigma, head, stack, kind, par, tab, v0, last_dir, grid, u_mid, out_idx, *o
-    )
+    cap = REVERSAL_CAPACITY
+    head0, stack0 = head, stack
+    while True:  # again with room for every reversal if there were more (rare)
+        head, stack = head0.copy(), stack0.copy()
+        o = [np.empty(times.shape[0]) for _ in range(9)]
+        rev = np.empty((2, cap))
+        stack, n_rev, stop, v, d, _, _, _ = run_fused(
+            m, c1, sigma, head, stack, kind, par, tab, density_bound(density), v0, last_dir, t0,
+            t_end, n_steps,
+            u_kind, u_t, u_val, u_mid, times, *o, rev[0], rev[1],
+        )  # fmt: skip
+        if n_rev <= cap:
+            break
+        cap = n_rev
     y_o, v_o, a_o, fric_o, fel_o, eel_o, dis_o, vis_o, work_o = o
-    applied = forcing(times)
-    at_start = out_idx == 0
-    if at_start.any():
-        a_o[at_start] = initial_acceleration(m, c1, fel0, v0, float(applied[0]), sigma)
-        fric_o[at_start] = applied[0] - m * a_o[at_start]
+    applied = applied_force_at(forcing, u_kind, u_t, u_val, times)
+    start_implicit_samples(times, t0, a_o, fric_o, applied, m, c1, fel0, v0, sigma)
     y = float(head[0])
+    if not (np.isfinite(y) and np.isfinite(v)):
+        motion_overflow(t_end)
+    h = (t_end - t0) / n_steps
     return {
-        "n": times.shape[0], "position": y_o, "velocity": v_o, "acceleration": a_o,
-        "elastic": fel_o, "applied": applied, "friction": fric_o, "e_el": eel_o,
-        "dissipated": dis_o, "viscous": vis_o, "work": work_o, "rev_t": rev[:, 0].copy(),
-        "rev_y": rev[:, 1].copy(), "stop": stop, "y": y, "v": v, "dir": d,
-        "count": grid.shape[0] - 1, "status": 0, "e0": e0,
+        "n": times.shape[0], "time": times, "position": y_o, "velocity": v_o,
+        "acceleration": a_o, "elastic": fel_o, "applied": applied, "friction": fric_o,
+        "e_el": eel_o, "dissipated": dis_o, "viscous": vis_o, "work": work_o,
+        "rev_t": rev[0, :n_rev].copy(), "rev_y": rev[1, :n_rev].copy(), "stop": stop, "y": y,
+        "v": v, "dir": d, "count": n_steps, "status": 0, "e0": e0, "t_end": t_end,
         "final_state": MemoryState.from_working_memory(head, stack),
-        "message": f"{grid.shape[0] - 1} implicit steps of at most {h:.3g} "
-        f"(exact continuous operator)",
+        "message": f"{n_steps} implicit steps of {h:.3g} (exact continuous operator)",
     }  # fmt: skip

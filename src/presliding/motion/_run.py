@@ -2,34 +2,28 @@
 
 from __future__ import annotations
 
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
 
 from presliding._validation import (
-    as_nonnegative_scalar,
-    as_parameter_matrix,
-    as_parameter_vector,
+    as_positive_scalar,
     as_real_scalar,
-    as_real_vector,
     as_signal,
-    check_derived,
-    check_has_friction,
     check_increasing,
-    check_same_length,
     fmt,
 )
 from presliding.friction.pi_friction import PIFriction
 from presliding.hysteresis.operators import PIState
-from presliding.motion import _event, _implicit
+from presliding.motion import _event
+from presliding.motion import _implicit_loop as _loop
 from presliding.motion._forcing import Forcing
 
 FloatArray = NDArray[np.float64]
 REVERSAL_CAPACITY = 1024
-# Deformations within this relative distance of a threshold count as saturated
-# (PIState.saturated stores play = y − r, whose difference y − play rounds).
-_SNAP = 64 * np.finfo(np.float64).eps
+DEFAULT_STEPS = 10_000  # implicit steps over the span when `step` is not given
+MAX_STEPS = 10**10  # implicit steps of one call (minutes of computing)
 
 
 def check_model(model: Any, *, density_ok: bool = False) -> None:
@@ -60,6 +54,11 @@ def time_grid(t0: float, t_end: Any, t_eval: Any) -> tuple[float, FloatArray]:
     t_end = as_real_scalar("t_end", t_end)
     if not t_end > t0:
         raise ValueError(f"`t_end` must be greater than `t_start` = {fmt(t0)}; got {fmt(t_end)}.")
+    if not np.isfinite(t_end - t0):
+        raise ValueError(
+            f"`t_end` − `t_start` must be finite; got {fmt(t_end)} − {fmt(t0)} (beyond the "
+            "floating-point range)."
+        )
     if times is None:
         return t_end, np.linspace(t0, t_end, 1001)
     if times[0] < t0 or times[-1] > t_end:
@@ -70,10 +69,48 @@ def time_grid(t0: float, t_end: Any, t_eval: Any) -> tuple[float, FloatArray]:
     return t_end, times
 
 
+class Continuation(NamedTuple):
+    """What an event run's final state remembers so that a continuation from it
+    reproduces the whole run bit for bit: the exact deformations (y − play
+    rounds), the trajectory's last direction, the rest start, and the start of
+    the closed-form piece in progress (None at rest)."""
+
+    t_end: float
+    y: float
+    v: float
+    f: FloatArray
+    direction: float
+    rest_start: float
+    piece: FloatArray | None
+    key: tuple
+
+
+def model_key(model: PIFriction, m: float) -> tuple:
+    return (m, float(model.coulomb), float(model.viscous), model.stiffness.tobytes(),
+            model.threshold.tobytes())  # fmt: skip
+
+
+def continuation_of(state: Any, model: PIFriction, m: float, y0: float, v0: float, t0: float):
+    """The `Continuation` an initial state carries, if it continues this very motion."""
+    c = getattr(state, "_continuation", None)
+    if not isinstance(c, Continuation):
+        return None
+    if (c.t_end, c.y, c.v, c.key) != (t0, y0, v0, model_key(model, m)):
+        return None
+    return c
+
+
 def initial_deformation(
     model: PIFriction, initial_state: Any, y0: float, v0: float, u0: float
 ) -> tuple[FloatArray, float]:
-    """Element deformations f_j = y − x_j at the start, and the last motion direction."""
+    """Element deformations f_j = y − x_j at the start, and the direction of the last
+    motion (of the velocity, else the memory's): the memory's direction at the end
+    when the mass never moves.
+
+    Nothing is snapped to the thresholds: a memory within rounding of
+    saturation stays as given (the kernels treat |f_j| >= r_j as saturated), so a
+    mass that never moves keeps its memory bit for bit.
+    """
     r = np.asarray(model.threshold, dtype=np.float64)
     vdir = float(np.sign(v0))
     if isinstance(initial_state, str):
@@ -97,10 +134,16 @@ def initial_deformation(
             "`initial_state.last_input` must equal `initial_position`; got "
             f"{fmt(initial_state.last_input)} and {fmt(y0)}."
         )
-    f = initial_state.last_input - initial_state.play
-    near = np.abs(f) >= r * (1.0 - _SNAP)
-    f = np.where(near, np.sign(f) * r, f)
-    return np.ascontiguousarray(f), vdir if vdir != 0 else initial_state.direction
+    f = np.ascontiguousarray(initial_state.last_input - initial_state.play)
+    return f, vdir if vdir != 0 else initial_state.direction
+
+
+def final_state(y: float, f: FloatArray, direction: float, initial_state: Any, y0: float,
+                f0: FloatArray) -> PIState:  # fmt: skip
+    """The memory at the end: the initial PIState itself where nothing moved."""
+    if y == y0 and np.array_equal(f, f0) and isinstance(initial_state, PIState):
+        return PIState(initial_state.last_input, initial_state.play.copy(), direction)
+    return PIState(y, y - f, direction)
 
 
 def saturation_direction(vdir: Any, u0: float) -> Any:
@@ -124,46 +167,168 @@ def initial_acceleration(
     return 0.0 if abs(g) <= c1 else (g - c1 * np.sign(g)) / m
 
 
+def step_count(t0: float, t_end: float, step: Any) -> int:
+    """Number of equal implicit steps of at most `step` over [t0, t_end], within limits."""
+    span = t_end - t0  # finite (`time_grid`)
+    if step is None:
+        return DEFAULT_STEPS
+    h = as_positive_scalar("step", step)
+    n = np.ceil(span / h * (1.0 - 1e-9))  # a relative 1e-9 forgives the rounding of span / h
+    if not n <= MAX_STEPS:
+        raise ValueError(
+            f"`step` must give at most {MAX_STEPS:.0e} implicit steps over [t_start, t_end] = "
+            f"[{fmt(t0)}, {fmt(t_end)}]; got {fmt(h)}, which asks for {n:.3g} steps (use a "
+            "larger `step` or a shorter span)."
+        )
+    return max(int(n), 1)
+
+
+def accuracy_target(rtol: Any, atol: Any) -> tuple[float, float] | None:
+    """(rtol, atol) of an accuracy target of the implicit method, or None without one."""
+    from presliding._validation import as_nonnegative_scalar
+
+    a = as_nonnegative_scalar("atol", atol)
+    if rtol is None and a == 0.0:
+        return None
+    r = 0.0 if rtol is None else as_nonnegative_scalar("rtol", rtol)
+    if r == 0.0 and a == 0.0:
+        raise ValueError("`rtol` or `atol` must be positive for an accuracy target; got 0.0.")
+    return r, a
+
+
+def refine(run: Any, t0: float, t_end: float, n_steps: int, rtol: float, atol: float) -> Any:
+    """Halve the implicit step until the step-doubling error estimate meets the target.
+
+    ``run(h)`` simulates with the step h. With the first-order scheme the error of
+    the finer of two runs is about their difference; the finer run is returned,
+    with the estimate (positions at the samples) and how the step was chosen.
+    """
+    from dataclasses import replace
+
+    coarse = run((t_end - t0) / n_steps)
+    while True:
+        if 2 * n_steps > MAX_STEPS:
+            fine = coarse
+            err = np.inf
+            met = False
+            break
+        n_steps *= 2
+        fine = run((t_end - t0) / n_steps)
+        err = float(np.max(np.abs(fine.position - coarse.position), initial=0.0))
+        err = max(err, abs(fine.final_state.last_input - coarse.final_state.last_input))
+        scale = float(np.max(np.abs(fine.position - fine.position[0]), initial=0.0))
+        goal = atol + rtol * scale
+        met = err <= goal
+        if met:
+            break
+        coarse = fine
+    h = (t_end - t0) / n_steps
+    if met:
+        message = (f"{n_steps} implicit steps of {h:.3g}, chosen by step doubling for an "
+                   f"estimated position error {err:.3g} <= {goal:.3g}")  # fmt: skip
+        return replace(fine, message=message, error_estimate=err)
+    message = (f"the accuracy target was not met within {MAX_STEPS:.0e} steps: {n_steps} "
+               f"steps of {h:.3g}")  # fmt: skip
+    return replace(fine, status=-2, message=message, error_estimate=err)
+
+
+def check_energy(m: float, v0: float, e0: float) -> None:
+    """The initial energy is finite (½·m·v0² and the elastic energy)."""
+    if not np.isfinite(0.5 * m * v0 * v0):
+        raise ValueError(
+            "`initial_velocity` must give a finite kinetic energy ½·m·v0² with `mass` = "
+            f"{fmt(m)}; got {fmt(v0)} (beyond the floating-point range)."
+        )
+    if not np.isfinite(e0):  # pragma: no cover - states are checked against the thresholds
+        raise ValueError(f"`initial_state` must store a finite elastic energy; got {fmt(e0)}.")
+
+
+def motion_overflow(t_end: float) -> None:
+    """Raise: the motion left the floating-point range; name the arguments that set it."""
+    raise ValueError(
+        f"`t_end` must keep the motion in the floating-point range; got {fmt(t_end)}: the "
+        "position, velocity or energy overflows before it (a shorter "
+        "`t_end`, a smaller `applied_force` or `initial_velocity`, or units that keep the "
+        "values moderate)."
+    )
+
+
 def _buffers(n: int, count: int) -> list[FloatArray]:
-    return [np.zeros(n) for _ in range(count)]
+    return [np.empty(n) for _ in range(count)]
 
 
 def run_event(
-    m, c1, k, r, f0, y0, v0, last_dir, forcing: Forcing, times, t0, t_end, max_events, sigma=0.0
-):
-    """Run the exact event kernel; returns a dict of outputs."""
+    m, c1, k, r, f0, y0, v0, last_dir, forcing: Forcing, times, t0, t_end, max_events, sigma=0.0,
+    resume: Continuation | None = None,
+):  # fmt: skip
+    """Run the exact event kernel; returns a dict of outputs.
+
+    With `resume` (a continuation of the same motion) the kernel restarts the
+    closed-form piece in progress at its own start, so that the motion is the
+    whole run's bit for bit; dissipation, viscous loss and work are then
+    counted from t0 as usual.
+    """
     u_t, u_val = forcing.pieces(t0, t_end)
-    cap = REVERSAL_CAPACITY
+    t_eval = times
+    y_start, v_start, f_start = y0, v0, f0
+    piece = resume.piece if resume is not None else None
+    if piece is not None and piece[4] == u_val[0]:
+        u_t = u_t.copy()
+        u_t[0] = piece[0]
+        y_start, v_start, last_dir = float(piece[1]), float(piece[2]), float(piece[3])
+        f_start = np.ascontiguousarray(piece[5:])
+        if times[0] != t0:
+            t_eval = np.concatenate(([t0], times))
+    else:
+        piece = None
+    n_out = t_eval.shape[0]
+    # room for a reversal per piece of u (pages are touched only when written); more
+    # reversals than that run the kernel again with room for all of them (rare)
+    cap = max(REVERSAL_CAPACITY, 2 * u_t.shape[0])
     while True:
-        f = f0.copy()
-        o = _buffers(times.shape[0], 9)
+        f = f_start.copy()
+        o = _buffers(n_out, 9)
         rev = _buffers(cap, 2)
-        res = _event.run_events(m, c1, k, r, f, y0, v0, last_dir, u_t, u_val, times, t_end,
-                                max_events, *o[:7], o[8], *rev, sigma, o[7])  # fmt: skip
+        p_out = np.empty(5 + k.shape[0])
+        res = _event.run_events(m, c1, k, r, f, y_start, v_start, last_dir, u_t, u_val,
+                                t_eval, t_end, max_events, *o[:7], o[8], *rev, sigma, o[7],
+                                p_out)  # fmt: skip
         status, n, n_rev, stop, y, v, d, n_ev, _, _, t_last, _ = res
         if n_rev <= cap:
             break
         cap = n_rev
     y_o, v_o, a_o, fel_o, u_o, eel_o, dis_o, vis_o, work_o = (b[:n] for b in o)
+    if piece is not None and n:  # energies from t0, the extra first sample dropped
+        for arr in (dis_o, vis_o, work_o):
+            arr -= arr[0]
+        if t_eval is not times:
+            y_o, v_o, a_o, fel_o, u_o, eel_o, dis_o, vis_o, work_o = (
+                b[1:] for b in (y_o, v_o, a_o, fel_o, u_o, eel_o, dis_o, vis_o, work_o)
+            )
+            n -= 1
     message = (
         "the motion was solved exactly"
         if status == 0
         else f"the event limit max_events = {max_events} was reached at t = {t_last:.6g}"
     )
     return {
-        "n": n, "position": y_o, "velocity": v_o, "acceleration": a_o, "elastic": fel_o,
+        "n": n, "time": times[:n], "position": y_o, "velocity": v_o, "acceleration": a_o,
+        "elastic": fel_o,
         "applied": u_o, "friction": u_o - m * a_o, "e_el": eel_o, "dissipated": dis_o,
         "viscous": vis_o, "work": work_o, "rev_t": rev[0][:n_rev], "rev_y": rev[1][:n_rev],
-        "stop": stop,
-        "y": y, "v": v, "dir": d, "f": f, "count": n_ev, "status": status, "message": message,
+        "stop": stop, "y": y, "v": v, "dir": d, "f": f, "count": n_ev, "status": status,
+        "message": message, "piece": p_out if v != 0.0 else None, "t_end": t_end,
     }  # fmt: skip
 
 
 def implicit_grid(t0: float, t_end: float, times: FloatArray, h: float):
-    """Step grid through every sample time (equal substeps <= h); sample grid indices."""
+    """Step grid through every sample time (equal substeps <= h); sample grid indices.
+
+    The grid form of `presliding.motion._implicit.run_implicit`; `simulate` uses
+    the uniform steps of `presliding.motion._implicit_loop` instead.
+    """
     b = np.unique(np.concatenate(([t0], times, [t_end])))
     gaps = np.diff(b)
-    # substeps of at most h (a relative 1e-9 forgives the rounding of gaps / h)
     n_sub = np.maximum(np.ceil(gaps / h * (1.0 - 1e-9)), 1.0).astype(np.int64)
     start = np.concatenate(([0], np.cumsum(n_sub)))
     which = np.repeat(np.arange(gaps.shape[0]), n_sub)
@@ -176,204 +341,51 @@ def implicit_grid(t0: float, t_end: float, times: FloatArray, h: float):
 
 
 def run_implicit(
-    m, c1, k, r, f0, y0, v0, last_dir, forcing: Forcing, times, t0, t_end, h, sigma=0.0
+    m, c1, k, r, f0, y0, v0, last_dir, forcing: Forcing, times, t0, t_end, n_steps, sigma=0.0
 ):
-    """Run the implicit stepper on a grid through the sample times; a dict of outputs."""
-    grid, out_idx = implicit_grid(t0, t_end, times, h)
-    u_mid = forcing(0.5 * (grid[1:] + grid[:-1]))
+    """Run the implicit stepper: n_steps equal steps, samples read off the steps."""
+    u_kind, u_t, u_val, u_mid = forcing.loop_form(t0, t_end, n_steps)
     cap = REVERSAL_CAPACITY
     while True:
         f = f0.copy()
         o = _buffers(times.shape[0], 9)
         rev = _buffers(cap, 2)
-        n_rev, stop, y, v, d, _, _, _ = _implicit.run_implicit(
-            m,
-            c1,
-            k,
-            r,
-            f,
-            y0,
-            v0,
-            last_dir,
-            grid,
-            u_mid,
-            out_idx,
-            *o[:7],
-            o[8],
-            *rev,
-            sigma,
-            o[7],
-        )
+        n_rev, stop, y, v, d, _, _, _ = _loop.run_uniform(
+            m, c1, sigma, k, r, f, y0, v0, last_dir, t0, t_end, n_steps, u_kind, u_t, u_val,
+            u_mid, times, *o, *rev,
+        )  # fmt: skip
         if n_rev <= cap:
             break
         cap = n_rev
     y_o, v_o, a_o, fric_o, fel_o, eel_o, dis_o, vis_o, work_o = o
-    applied = forcing(times)
-    at_start = out_idx == 0
-    if at_start.any():
-        u0 = applied[0]
-        a_o[at_start] = initial_acceleration(m, c1, float(np.dot(k, f0)), v0, u0, sigma)
-        fric_o[at_start] = u0 - m * a_o[at_start]
+    applied = applied_force_at(forcing, u_kind, u_t, u_val, times)
+    start_implicit_samples(times, t0, a_o, fric_o, applied, m, c1, float(np.dot(k, f0)), v0,
+                           sigma)  # fmt: skip
+    h = (t_end - t0) / n_steps
     return {
-        "n": times.shape[0], "position": y_o, "velocity": v_o, "acceleration": a_o,
+        "n": times.shape[0], "time": times, "position": y_o, "velocity": v_o, "acceleration": a_o,
         "elastic": fel_o, "applied": applied,
         "friction": fric_o, "e_el": eel_o, "dissipated": dis_o, "viscous": vis_o,
         "work": work_o,
         "rev_t": rev[0][:n_rev], "rev_y": rev[1][:n_rev], "stop": stop, "y": y, "v": v,
-        "dir": d, "f": f, "count": grid.shape[0] - 1, "status": 0,
-        "message": f"{grid.shape[0] - 1} implicit steps of at most {h:.3g}",
+        "dir": d, "f": f, "count": n_steps, "status": 0, "t_end": t_end,
+        "message": f"{n_steps} implicit steps of {h:.3g}",
     }  # fmt: skip
 
 
-# ---------------------------------------------------------------------- batches
-def single_bank(
-    coulomb: Any, stiffness: Any, threshold: Any
-) -> tuple[float, FloatArray, FloatArray]:
-    """c1, k (N,), r (N,) of one model given by its parameter vectors, validated as PIFriction."""
-    c1 = as_nonnegative_scalar("coulomb", coulomb)
-    k = as_parameter_vector("stiffness", stiffness, allow_empty=True)
-    r = as_parameter_vector("threshold", threshold, allow_empty=True)
-    check_same_length(stiffness=k, threshold=r)
-    with np.errstate(over="ignore", under="ignore"):  # reported by check_derived
-        c = k * r
-    check_derived(k, c, r)
-    check_has_friction(np.array([c1]), k.shape[0])
-    return c1, np.array(k), np.array(r)
+def applied_force_at(forcing: Forcing, u_kind: int, u_t, u_val, times: FloatArray) -> FloatArray:
+    """u at the sample times: compiled for a constant or sampled u, the callable otherwise."""
+    if u_kind == _loop.U_ARRAY:
+        return forcing(times)
+    out = np.empty(times.shape[0])
+    _loop.applied_at_times(u_kind, u_t, u_val, times, out)
+    return out
 
 
-def stack_models(models: Any) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
-    """c1 (B,), σ (B,), k (B, N), r (B, N) from PIFriction models; shorter banks padded inertly."""
-    seq = [models] if isinstance(models, PIFriction) else list(models)
-    if not seq:
-        raise ValueError("`models` must not be empty; got 0 models.")
-    for i, model in enumerate(seq):
-        if not isinstance(model, PIFriction):
-            raise TypeError(f"`models` must hold PIFriction models; got {type(model).__name__} "
-                            f"at index {i}.")  # fmt: skip
-        check_model(model)
-    n = max(mod.n_elements for mod in seq)
-    # an inert element: no stiffness, never reaches its threshold
-    k = np.zeros((len(seq), n))
-    r = np.full((len(seq), n), np.inf)
-    for i, mod in enumerate(seq):
-        k[i, : mod.n_elements] = mod.stiffness
-        r[i, : mod.n_elements] = mod.threshold
-    sigma = np.array([mod.viscous for mod in seq], dtype=np.float64)
-    return np.array([mod.coulomb for mod in seq]), sigma, k, r
-
-
-def stack_parameters(
-    coulomb: Any, stiffness: Any, breakaway: Any, threshold: Any, viscous: Any = 0.0
-):
-    """Validated parameter arrays of a batch, before broadcasting to the batch size.
-
-    Returns c1 (Bc,), σ (Bv,), k (Bk, N), the given `breakaway` or `threshold`
-    (Bo, N), its name, and the lengths {name: B} for `batch_size`.
-    """
-    if coulomb is None or stiffness is None:
-        missing = " and ".join(
-            f"`{n}`" for n, v in (("coulomb", coulomb), ("stiffness", stiffness)) if v is None
-        )
-        raise TypeError(
-            "`coulomb` and `stiffness` (with `breakaway` or `threshold`) must be given when "
-            f"`models` is not; got no {missing}."
-        )
-    if (breakaway is None) == (threshold is None):
-        raise TypeError(
-            "`breakaway` or `threshold` must be given, not both; got "
-            + ("both." if breakaway is not None else "neither.")
-        )
-    c1 = np.array(as_parameter_vector("coulomb", coulomb, positive=False))
-    sigma = np.array(as_parameter_vector("viscous", viscous, positive=False))
-    k = as_parameter_matrix("stiffness", stiffness)
-    name = "breakaway" if threshold is None else "threshold"
-    raw = breakaway if threshold is None else threshold
-    other = as_parameter_matrix(name, raw)
-    if np.ndim(raw) == 0:  # one value for every element
-        other = np.full((1, k.shape[1]), other[0, 0])
-    if other.shape[1] != k.shape[1]:
-        raise ValueError(
-            f"`{name}` must have as many elements (columns) as `stiffness`; got {other.shape[1]} "
-            f"and {k.shape[1]}."
-        )
-    sizes = {"coulomb": c1.shape[0], "viscous": sigma.shape[0], "stiffness": k.shape[0],
-             name: other.shape[0]}  # fmt: skip
-    return c1, sigma, k, other, name, sizes
-
-
-def broadcast_parameters(c1, sigma, k, other, name: str, n_b: int):
-    """c1 (B,), σ (B,), k (B, N), r (B, N) of a batch of size `n_b`, checked as PIFriction."""
-    c1 = np.array(np.broadcast_to(c1, (n_b,)))
-    sigma = np.array(np.broadcast_to(sigma, (n_b,)))
-    k = np.array(np.broadcast_to(k, (n_b, k.shape[1])))
-    other = np.array(np.broadcast_to(other, k.shape))
-    with np.errstate(over="ignore", under="ignore"):  # reported by check_derived
-        c, r = (other, other / k) if name == "breakaway" else (k * other, other)
-    check_derived(k, c, r)
-    check_has_friction(c1, k.shape[1])
-    return c1, sigma, k, np.ascontiguousarray(r)
-
-
-def as_batch_vector(name: str, value: Any, positive: bool = False) -> FloatArray:
-    """A finite scalar or 1-D array (positive if asked), as a 1-D array."""
-    if positive:
-        return as_parameter_vector(name, value)
-    return as_real_vector(name, value)
-
-
-def batch_size(sizes: dict[str, int]) -> int:
-    """The common batch size: every length is 1 or the same B."""
-    big = {n for n in sizes.values() if n != 1}
-    if len(big) > 1:
-        long = {k: v for k, v in sizes.items() if v != 1}
-        names = ", ".join(f"`{k}`" for k in long)
-        got = ", ".join(f"{k} {v}" for k, v in long.items())
-        raise ValueError(
-            f"{names} must have length 1 or one common length B (the batch size); got "
-            f"lengths {got}."
-        )
-    return big.pop() if big else 1
-
-
-def batch_deformation(initial_state: Any, r: FloatArray, v0: FloatArray, u0: float):
-    """Deformations (B, N) and last directions (B,) for "relaxed" or "saturated" starts."""
-    if not isinstance(initial_state, str):
-        raise TypeError(
-            f"`initial_state` must be 'relaxed' or 'saturated'; got {type(initial_state).__name__}."
-        )
-    vdir = np.sign(v0)
-    if initial_state == "relaxed":
-        f = np.zeros(r.shape)
-    elif initial_state == "saturated":
-        vdir = saturation_direction(vdir, u0)
-        f = np.where(np.isfinite(r), vdir[:, None] * r, 0.0)
-    else:
-        raise ValueError(
-            f"`initial_state` must be 'relaxed' or 'saturated'; got {fmt(initial_state)}."
-        )
-    return np.ascontiguousarray(f), np.ascontiguousarray(vdir, dtype=np.float64)
-
-
-def run_batch(m, c1, sigma, k, r, f0, y0, v0, last_dir, u_t, u_val, times, t_end, max_events):
-    """Run the parallel batch kernel and wrap the outputs."""
-    from presliding.motion._batch_events import batch_events
-    from presliding.motion.results import MotionBatch
-
-    n_b, n_t = m.shape[0], times.shape[0]
-    o_y = np.full((n_b, n_t), np.nan)
-    o_v = np.full((n_b, n_t), np.nan)
-    stop = np.empty(n_b)
-    n_rev = np.empty(n_b, dtype=np.int64)
-    status = np.empty(n_b, dtype=np.int64)
-    y_end = np.empty(n_b)
-    v_end = np.empty(n_b)
-    batch_events(m, c1, sigma, k, r, f0, y0, v0, last_dir, u_t, u_val, times, t_end, max_events,
-                 o_y, o_v, stop, n_rev, status, y_end, v_end)  # fmt: skip
-    stop = np.where(np.isnan(stop), np.inf, stop)
-    failed = int(np.sum(status != 0))
-    message = (
-        "all motions solved exactly"
-        if not failed
-        else (f"{failed} of {n_b} motions reached the event limit max_events = {max_events}")
-    )
-    return MotionBatch(times, o_y, o_v, stop, n_rev, y_end, v_end, status, message)
+def start_implicit_samples(times, t0, a_o, fric_o, applied, m, c1, fel0, v0, sigma) -> None:
+    """Acceleration and friction force of the samples at t0 (from eq. 17 at the start)."""
+    n0 = int(np.searchsorted(times, t0, side="right"))
+    if n0:
+        u0 = applied[0]
+        a_o[:n0] = initial_acceleration(m, c1, fel0, v0, u0, sigma)
+        fric_o[:n0] = u0 - m * a_o[:n0]

@@ -17,9 +17,11 @@ from presliding._validation import (
     as_nonnegative_scalar,
     as_positive_scalar,
     as_real_scalar,
+    check_size,
 )
 from presliding.friction.pi_friction import PIFriction
 from presliding.motion import _batch_events as _batch
+from presliding.motion import _batch_setup as _setup
 from presliding.motion import _run
 from presliding.motion._forcing import as_forcing
 from presliding.motion.results import FreeResponse, MotionBatch
@@ -90,8 +92,9 @@ def simulate_batch(
     Returns
     -------
     MotionBatch
-        Positions and velocities (B, T), stop times, reversal counts and a
-        status per member.
+        Positions and velocities (B, T), stop times, reversal counts (sign
+        changes of the velocity; a start from rest is not one) and a status
+        per member.
 
     Examples
     --------
@@ -111,10 +114,10 @@ def simulate_batch(
                 "`models` or parameter arrays (`coulomb`, `stiffness`, ...) must be given, not "
                 f"both; got `models` and `{given[0]}`."
             )
-        c1, sigma, k, r = _run.stack_models(models)
+        c1, sigma, k, r = _setup.stack_models(models)
         sizes = {"models": c1.shape[0]}
     else:
-        params = _run.stack_parameters(
+        params = _setup.stack_parameters(
             coulomb, stiffness, breakaway, threshold, 0.0 if viscous is None else viscous
         )
         sizes = dict(params[-1])
@@ -131,20 +134,20 @@ def simulate_batch(
     arrays = {}
     for name, val in (("mass", mass), ("initial_velocity", initial_velocity),
                       ("initial_position", initial_position)):  # fmt: skip
-        arrays[name] = _run.as_batch_vector(name, val, positive=name == "mass")
+        arrays[name] = _setup.as_batch_vector(name, val, positive=name == "mass")
         sizes[name] = arrays[name].shape[0]
-    n_b = _run.batch_size(sizes)
+    n_b = _setup.batch_size(sizes)
     if models is not None:
         c1, sigma, k, r = (
             np.array(np.broadcast_to(a, (n_b, *a.shape[1:]))) for a in (c1, sigma, k, r)
         )
     else:
-        c1, sigma, k, r = _run.broadcast_parameters(*params[:5], n_b)
+        c1, sigma, k, r = _setup.broadcast_parameters(*params[:5], n_b)
     m, v0, y0 = (np.array(np.broadcast_to(arrays[n], (n_b,))) for n in
                  ("mass", "initial_velocity", "initial_position"))  # fmt: skip
-    f0, last_dir = _run.batch_deformation(initial_state, r, v0, u0)
+    f0, last_dir = _setup.batch_deformation(initial_state, r, v0, u0)
     u_t, u_val = forcing.pieces(t0, t_end)
-    return _run.run_batch(m, c1, sigma, k, r, f0, y0, v0, last_dir, u_t, u_val, times, t_end,
+    return _setup.run_batch(m, c1, sigma, k, r, f0, y0, v0, last_dir, u_t, u_val, times, t_end,
                           max_events)  # fmt: skip
 
 
@@ -204,7 +207,8 @@ def free_response(
     -------
     FreeResponse
         ``time``, ``position``, ``velocity`` (n_samples,), ``stop_time``,
-        ``n_reversals``, ``status``, ``message`` and ``success``; check
+        ``n_reversals`` (sign changes of the velocity, as in `simulate`),
+        ``status``, ``message`` and ``success``; check
         ``success`` (or ``status``) before using the samples.
 
     Examples
@@ -215,15 +219,17 @@ def free_response(
     (True, 0.647492598692, 1)
     """
     m = as_positive_scalar("mass", mass)
-    c1, k, r = _run.single_bank(coulomb, stiffness, threshold)
+    c1, k, r = _setup.single_bank(coulomb, stiffness, threshold)
     v0 = as_real_scalar("initial_velocity", initial_velocity)
     y0 = as_real_scalar("initial_position", initial_position)
     dt = as_positive_scalar("time_step", time_step)
     n_t = as_count("n_samples", n_samples, minimum=1)
+    # position, velocity, sample times and the kernel's six scratch rows
+    check_size("n_samples", n_samples, n_t, what="samples", item_bytes=9 * 8)
     u = as_real_scalar("applied_force", applied_force)
     sigma = as_nonnegative_scalar("viscous", viscous)
     limit = as_count("max_events", max_events, minimum=1)
-    f0, last_dir = _run.batch_deformation(initial_state, r[None, :], np.array([v0]), u)
+    f0, last_dir = _setup.batch_deformation(initial_state, r[None, :], np.array([v0]), u)
     y, v, status, stop, n_rev, n, t_last = _batch.free_kernel(
         m, c1, sigma, k, r, f0[0], y0, v0, float(last_dir[0]), u, dt, n_t, limit
     )

@@ -3,7 +3,7 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -74,8 +74,9 @@ class MotionResult:
     applied_force : ndarray, shape (T,)
         u at the sample times [N].
     reversal_times, reversal_positions : ndarray
-        Where a new motion phase starts opposite to the previous one (the turning
-        points; for the implicit method, to the step).
+        Where the velocity changes sign: a new motion phase opposite to the
+        previous one (the turning points; for the implicit method, to the step).
+        A start from rest is not a reversal.
     stop_time : float or None
         Start of the rest lasting until the end (see the module notes); None if the
         mass moves at the end.
@@ -88,12 +89,17 @@ class MotionResult:
     final_velocity : float
     status : int
         0 on success, negative on failure (-1: event limit reached; the samples
-        stop where the simulation stopped).
+        stop where the simulation stopped; -2: the accuracy target `rtol`/`atol`
+        was not met within the step limit).
     message : str
     method : str
         "event" or "implicit".
     n_events : int
         Events (event method) or steps (implicit method).
+    error_estimate : float or None
+        Implicit method with an accuracy target (`rtol`/`atol` of `simulate`):
+        the step-doubling estimate of the largest position error at the samples
+        [m]; None otherwise.
     """
 
     time: FloatArray
@@ -116,6 +122,7 @@ class MotionResult:
     n_events: int
     mass: float
     model: Any
+    error_estimate: float | None = field(default=None, kw_only=True)
 
     @property
     def success(self) -> bool:
@@ -148,6 +155,8 @@ class MotionResult:
             lines.append(
                 f"  stops at t = {self.stop_time:.12g} s at position {self.rest_position:.12g} m"
             )
+        if self.error_estimate is not None:
+            lines.append(f"  position error estimate (step doubling): {self.error_estimate:.3g} m")
         lines.append(f"  reversals: {self.n_reversals}")
         for t, y in zip(self.reversal_times[:10], self.reversal_positions[:10], strict=True):
             lines.append(f"    t = {t:.12g} s  y = {y:.12g} m")

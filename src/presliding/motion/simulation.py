@@ -24,6 +24,24 @@ paper's assumption (i)). Two methods:
 
 ``"auto"`` picks "event" whenever it applies.
 
+Reversals. A reversal is a change of sign of the trajectory's velocity: the
+mass moved one way, and now moves the other way (through a stop or not). A
+start from rest is never a reversal, whatever direction the friction memory
+remembers; ``reversal_times`` are the turning points, as in
+`presliding.analysis.turning_points`, `simulate_batch` and `free_response`.
+
+Implicit steps. The step sequence depends only on t_start, t_end and `step`
+(equal steps), never on `t_eval`: samples between two steps are read off the
+step that contains them (see `presliding.motion._implicit_loop`).
+
+Continuation. The `final_state` of an event run remembers (privately) the
+exact deformations and the closed-form piece in progress: a run started from
+it at ``t_start`` = the first run's ``t_end``, with ``initial_position`` =
+``final_state.last_input``, ``initial_velocity`` = ``final_velocity`` and the
+same model, mass and applied force, reproduces the whole run bit for bit.
+A given memory is used as it is (nothing is snapped to the thresholds), so a
+mass that never moves returns its initial memory unchanged.
+
 Stop. The mass *stops* when its velocity vanishes while |u − F_el| <= c1. For
 free motion (u constant) it then stays exactly at rest forever after:
 nothing changes any more, so the simulation ends there and the remaining
@@ -47,6 +65,7 @@ from presliding.friction.pi_friction import PIFriction
 from presliding.hysteresis.general_pi import MemoryState
 from presliding.hysteresis.operators import PIState
 from presliding.motion import _implicit_density as _density
+from presliding.motion import _implicit_loop as _loop
 from presliding.motion import _run
 from presliding.motion._forcing import as_forcing
 from presliding.motion.batch import free_response, simulate_batch
@@ -81,6 +100,8 @@ def simulate(
     *,
     t_start: float = 0.0,
     max_events: int = 10_000_000,
+    rtol: float | None = None,
+    atol: float = 0.0,
 ) -> MotionResult:
     """Simulate m·ÿ + c1·Sign(ẏ) + σ·ẏ + F_el(y) ∋ u(t) (eq. 17) with exact stiction.
 
@@ -114,14 +135,22 @@ def simulate(
     hold : "zoh" or "linear"
         How samples of u are held between sample times.
     step : float, optional
-        Largest step of the implicit method; default (t_end − t_start)/10⁴.
-        The grid contains every sample time.
+        Largest step of the implicit method; the span is divided into equal
+        steps no longer than it (default 10⁴ steps), independent of `t_eval`.
     t_start : float, keyword only
         Start time [s] (default 0): the initial conditions hold at t_start, the
         motion is solved on [t_start, t_end] and a sampled `applied_force` must
         start at or before it.
     max_events : int, keyword only
         Event limit of the event method (status -1 when reached).
+    rtol, atol : float, keyword only
+        Accuracy target of the implicit method: when `rtol` is given (or `atol`
+        > 0) the step is halved, from `step` (default (t_end − t_start)/10⁴),
+        until the step-doubling estimate max|y_h − y_h/2| of the position
+        error at the samples is at most atol + rtol·max|y − y0| [m]; the result
+        carries the estimate as ``error_estimate`` (and says so in its
+        message). The scheme is first order, so each halving about halves the
+        error; the step count is limited as for `step`.
 
     Returns
     -------
@@ -153,6 +182,8 @@ def simulate(
     method = as_choice("method", method, METHODS)
     t_end, times = _run.time_grid(t0, t_end, t_eval)
     max_events = as_count("max_events", max_events, minimum=1)
+    step = None if step is None else as_positive_scalar("step", step)
+    target = _run.accuracy_target(rtol, atol)
     if method == "event" and not model.is_discrete:
         raise ValueError(
             "`method` 'event' needs a finite-element model (the closed-form pieces need "
@@ -164,45 +195,78 @@ def simulate(
     if method == "event" and not forcing.piecewise_constant:
         raise ValueError(
             "`method` 'event' needs a piecewise-constant `applied_force` (a constant, or "
-            f"samples with hold='zoh'); got a {forcing.kind} force with hold={forcing.hold!r}."
+            f"samples with hold={'zoh'!r}); got a {forcing.kind} force with hold={forcing.hold!r}."
         )
-    h = (t_end - t0) / 1e4 if step is None else as_positive_scalar("step", step)
+    n_steps = _run.step_count(t0, t_end, step) if method == "implicit" else 0
+    if target is not None and method == "implicit":
+        kw = dict(applied_force=applied_force, initial_position=initial_position,
+                  initial_velocity=initial_velocity, initial_state=initial_state, t_end=t_end,
+                  t_eval=times, method="implicit", hold=hold, t_start=t_start)  # fmt: skip
+        return _run.refine(lambda h: simulate(model, mass, step=h, **kw), t0, t_end, n_steps,
+                           *target)  # fmt: skip
     u0 = float(forcing(np.array([t0]))[0])
     sigma = float(model.viscous)
+    traj_dir = float(np.sign(v0))  # a start from rest is never a reversal
+    resume = None
     if not model.is_discrete:
-        state, last_dir = _density.initial_memory(model, initial_state, y0, v0, u0)
-        out = _density.run(model.density, float(model.coulomb), m, state, v0, last_dir,
-                           forcing, times, t0, t_end, h, sigma)  # fmt: skip
+        state, mem_dir = _density.initial_memory(model, initial_state, y0, v0, u0)
+        _run.check_energy(m, v0, 0.5 * m * v0 * v0)
+        out = _density.run(model.density, float(model.coulomb), m, state, v0, traj_dir,
+                           forcing, times, t0, t_end, n_steps, sigma)  # fmt: skip
         e0, final_state = out["e0"], out["final_state"]
     else:
-        f, last_dir = _run.initial_deformation(model, initial_state, y0, v0, u0)
+        f0, mem_dir = _run.initial_deformation(model, initial_state, y0, v0, u0)
+        if method == "event":
+            resume = _run.continuation_of(initial_state, model, m, y0, v0, t0)
+        if resume is not None:
+            f0, traj_dir = resume.f.copy(), resume.direction
         k = np.ascontiguousarray(model.stiffness, dtype=np.float64)
         r = np.ascontiguousarray(model.threshold, dtype=np.float64)
         c1 = float(model.coulomb)
+        e0 = 0.5 * m * v0 * v0 + 0.5 * float(np.dot(k * f0, f0))
+        _run.check_energy(m, v0, e0)
         if method == "event":
-            out = _run.run_event(m, c1, k, r, f, y0, v0, last_dir, forcing, times, t0, t_end,
-                                 max_events, sigma)  # fmt: skip
+            out = _run.run_event(m, c1, k, r, f0, y0, v0, traj_dir, forcing, times, t0, t_end,
+                                 max_events, sigma, resume)  # fmt: skip
         else:
-            out = _run.run_implicit(m, c1, k, r, f, y0, v0, last_dir, forcing, times, t0,
-                                    t_end, h, sigma)  # fmt: skip
-        e0 = 0.5 * m * v0 * v0 + 0.5 * float(np.dot(k * f, f))
+            out = _run.run_implicit(m, c1, k, r, f0, y0, v0, traj_dir, forcing, times, t0,
+                                    t_end, n_steps, sigma)  # fmt: skip
+        if not (np.isfinite(out["y"]) and np.isfinite(out["v"])):
+            _run.motion_overflow(t_end)
         y_end = float(out["y"])
-        final_state = PIState(y_end, y_end - out["f"], out["dir"])
-    kinetic = 0.5 * m * out["velocity"] ** 2
+        direction = out["dir"] if out["dir"] != 0.0 else mem_dir
+        final_state = _run.final_state(y_end, out["f"], direction, initial_state, y0, f0)
+        if method == "event":
+            stop_at = out["stop"] if out["v"] == 0.0 else np.nan
+            if resume is not None and stop_at == t0 and not np.isnan(resume.rest_start):
+                out["stop"] = stop_at = resume.rest_start  # the rest began before t_start
+            object.__setattr__(final_state, "_continuation", _run.Continuation(
+                t_end, y_end, float(out["v"]), out["f"].copy(), float(out["dir"]), stop_at,
+                out["piece"], _run.model_key(model, m)))  # fmt: skip
+    return _result(out, m, e0, final_state, method, model)
+
+
+def _result(out: dict, m: float, e0: float, final_state: Any, method: str, model: PIFriction):
+    """The MotionResult of a run's outputs (energies assembled here, O(samples))."""
+    kinetic, residual, finite = _loop.energy_terms(
+        m, e0, out["position"], out["velocity"], out["e_el"], out["dissipated"], out["viscous"],
+        out["work"],
+    )  # fmt: skip
+    if not (finite and np.isfinite(out["y"]) and np.isfinite(out["v"])):
+        _run.motion_overflow(out["t_end"])
     energy = MotionEnergy(
         kinetic=kinetic,
         elastic=out["e_el"],
         dissipated=out["dissipated"],
         work=out["work"],
-        residual=kinetic + out["e_el"] + out["dissipated"] + out["viscous"] - out["work"] - e0,
+        residual=residual,
         initial=e0,
         viscous=out["viscous"],
     )
     stop = None if np.isnan(out["stop"]) else float(out["stop"])
     y_end = float(out["y"])
-    n = out["n"]
     return MotionResult(
-        time=times[:n],
+        time=out["time"],
         position=out["position"],
         velocity=out["velocity"],
         acceleration=out["acceleration"],
