@@ -2,7 +2,8 @@
 
 Equation numbers in the documentation refer to the paper "Use of
 Prandtl–Ishlinskii hysteresis operators for Coulomb friction modeling with
-presliding" (Ruderman, Rachinskii et al.).
+presliding" (M. Ruderman and D. Rachinskii, Journal of Physics: Conference
+Series 811, 2017).
 """
 
 import importlib as _importlib
