@@ -1,4 +1,5 @@
-"""Friction compensation in a closed position loop: none, Coulomb and PI feedforward.
+"""Friction compensation in a closed position loop: none, Coulomb and PI feedforward
+=================================================================================
 
 A 1 kg stage under a sampled PID (0.1 ms, saturating at 20 N, derivative of the error,
 so that a moving reference costs no velocity error) follows a smooth

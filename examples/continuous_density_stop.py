@@ -1,4 +1,5 @@
-"""Free stop of a mass with a continuous distribution of stops (section 3, eqs. 10–16).
+"""Free stop of a mass with a continuous distribution of stops (section 3, eqs. 10–16)
+===================================================================================
 
 Friction with an untruncated exponential density dμ/dr = a·exp(−r/b) (a
 Dahl-like virgin curve) and a Coulomb element c1 = 0.1·F_m. The mass starts

@@ -1,4 +1,5 @@
-"""Presliding hysteresis loops of the paper's Figure 3.
+"""Presliding hysteresis loops of the paper's Figure 3
+===================================================
 
 Three stop elements with break-away forces c = [1, 1, 1] and stiffnesses
 k2,3 = [10, 4]; the stiffness k1 of the first element is varied over
@@ -109,11 +110,10 @@ def draw(path: Path) -> Path:
     return path
 
 
-def main(argv: list[str]) -> int:
+def main(argv: list[str]) -> None:
     out = Path(argv[1]) if len(argv) > 1 else Path.cwd() / "figure3_loops.png"
     print(f"wrote {draw(out)}")
-    return 0
 
 
 if __name__ == "__main__":
-    raise SystemExit(main(sys.argv))
+    main(sys.argv)

@@ -1,4 +1,5 @@
-"""Free motion to a stop with Coulomb friction and presliding (the paper's Figures 4 and 5).
+"""Free motion to a stop with Coulomb friction and presliding (the paper's Figures 4 and 5)
+========================================================================================
 
 Left: steady sliding under a constant force u = F_c, switched off at t = 0.05 s;
 the velocity decreases linearly at F_c/m, overshoots slightly negative after

@@ -1,4 +1,5 @@
-"""Feedforward friction compensation with the inverse PI operator.
+"""Feedforward friction compensation with the inverse PI operator
+==============================================================
 
 A positioning stage (mass m on a preload spring k_s) slides on a contact with
 presliding friction: c1·sign(ẏ) plus three elasto-plastic elements (eq. 17).

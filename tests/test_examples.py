@@ -28,3 +28,16 @@ def test_example_runs_and_writes_its_figure(script, tmp_path):
     assert done.returncode == 0, done.stderr
     data = out.read_bytes()
     assert data[:8] == PNG_MAGIC and len(data) > 20_000
+
+
+@pytest.mark.parametrize("script", EXAMPLES, ids=lambda p: p.stem)
+def test_example_follows_the_gallery_conventions(script):
+    """The docs' gallery (sphinx-gallery) needs a title line underlined with "=" at the top of
+    the docstring, and runs the script in-process, so it must not raise SystemExit."""
+    text = script.read_text(encoding="utf-8")
+    first, second = text.split("\n", 2)[:2]
+    assert first.startswith('"""') and len(first) > 3, "the docstring must open the file"
+    assert set(second) == {"="} and len(second) >= len(first) - 3, (
+        f"{script.name}: underline the docstring's first line (the gallery title) with '='"
+    )
+    assert "raise SystemExit" not in text and "sys.exit(" not in text

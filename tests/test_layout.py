@@ -16,7 +16,7 @@ import pytest
 import presliding
 
 PACKAGE = Path(presliding.__file__).resolve().parent
-ROOT = PACKAGE.parents[1]
+ROOT = Path(__file__).resolve().parents[1]  # the checkout (or unpacked sdist) of the tests
 LAYERS = (
     "hysteresis",
     "friction",

@@ -99,8 +99,8 @@ def test_save_figure_size(tmp_path, tight):
     image = imread(path)
     if tight:  # cropped to the content, with a small pad
         assert abs(image.shape[1] - 200) < 20 and abs(image.shape[0] - 150) < 20
-    else:
-        assert image.shape[:2] == (150, 200)
+    else:  # figsize × dpi, within the rounding that differs across matplotlib versions
+        assert abs(image.shape[0] - 150) <= 2 and abs(image.shape[1] - 200) <= 2
     assert [p.name for p in tmp_path.iterdir()] == ["f.png"]
 
 

@@ -2,13 +2,16 @@
 
 Equation numbers in the documentation refer to the paper "Use of
 Prandtl–Ishlinskii hysteresis operators for Coulomb friction modeling with
-presliding" (Ruderman, Rachinskii et al.).
+presliding" (M. Ruderman and D. Rachinskii, Journal of Physics: Conference
+Series 811, 2017).
 """
 
 import importlib as _importlib
 import sys as _sys
 
-from presliding import signals
+# `_progress` comes first: importing it finds a folder numba can cache the
+# compiled kernels in, before any kernel module is imported.
+from presliding import _progress, signals  # noqa: F401  (_progress: for that effect)
 from presliding._version import __version__
 from presliding.analysis import (
     TurningPoints,

@@ -1,5 +1,6 @@
 """Chunked parameter sweeps: serial, local processes and a Dask LocalCluster agree."""
 
+import os
 import sys
 
 import matplotlib
@@ -171,8 +172,10 @@ def test_input_validation():
         sweep(surface, GRID, n_workers=0)
     with pytest.raises(TypeError, match="`fn` must be callable"):
         sweep(3.0, GRID)
-    with pytest.raises(TypeError, match="`fn` must be picklable"):
+    with pytest.raises(TypeError, match=r"`fn` must be picklable .*cloudpickle"):
         sweep(lambda ratio, velocity: ratio, GRID, n_workers=2)
+    with pytest.raises(ValueError, match="`retries` must be nonnegative; got -1"):
+        sweep(surface, GRID, retries=-1)
     with pytest.raises(TypeError, match="`scheduler` must be None, a scheduler address"):
         sweep(surface, GRID, scheduler=3)
 
@@ -188,6 +191,65 @@ def test_missing_dask_names_the_extra(monkeypatch):
     monkeypatch.setitem(sys.modules, "distributed", None)
     with pytest.raises(ImportError, match=r"pip install presliding\[dask\]"):
         sweep(surface, GRID, scheduler="tcp://127.0.0.1:1")
+
+
+def test_to_pandas_and_to_xarray_of_a_product_grid():
+    pd = pytest.importorskip("pandas")
+    xr = pytest.importorskip("xarray")
+    res = sweep(surface, GRID, n_workers=1, chunk_size=10)
+    frame = res.to_pandas()
+    assert list(frame.index.names) == ["ratio", "velocity"] and list(frame) == ["value", "failed"]
+    assert frame.shape == (77, 2) and frame.attrs["status"] == "ok"
+    table = frame["value"].unstack()  # the 2-D map back
+    np.testing.assert_array_equal(table.to_numpy(), res.values)
+    np.testing.assert_array_equal(table.index.to_numpy(), GRID["ratio"])
+    np.testing.assert_array_equal(table.columns.to_numpy(), GRID["velocity"])
+    assert frame.loc[(GRID["ratio"][2], GRID["velocity"][5]), "value"] == res.values[2, 5]
+    data = res.to_xarray()
+    assert isinstance(data, xr.Dataset) and data["value"].dims == ("ratio", "velocity")
+    np.testing.assert_array_equal(data["value"].values, res.values)
+    np.testing.assert_array_equal(data["ratio"].values, GRID["ratio"])
+    assert not data["failed"].values.any() and data.attrs["backend"] == "serial"
+    point = data["value"].sel(ratio=GRID["ratio"][2], velocity=GRID["velocity"][5])
+    assert float(point) == res.values[2, 5]
+    assert isinstance(frame, pd.DataFrame)
+
+
+def test_to_pandas_and_to_xarray_of_rows_and_tables():
+    pytest.importorskip("pandas")
+    pytest.importorskip("xarray")
+    rows = sweep(two_outputs, GRID, n_workers=1)
+    frame = rows.to_pandas(names=["sum", "product"])
+    assert list(frame) == ["sum", "product", "failed"]
+    np.testing.assert_array_equal(frame["product"].to_numpy(), rows.values[..., 1].ravel())
+    assert list(rows.to_pandas()) == ["value_0", "value_1", "failed"]
+    data = rows.to_xarray(names=["sum", "product"])
+    np.testing.assert_array_equal(data["sum"].values, rows.values[..., 0])
+    table = np.zeros(4, dtype=[("ratio", float), ("velocity", float)])
+    table["ratio"], table["velocity"] = [0.1, 0.2, 0.3, 0.4], [1.0, -1.0, 2.0, 0.0]
+    res = sweep(nan_where_negative, table, n_workers=1)
+    frame = res.to_pandas()
+    assert list(frame) == ["ratio", "velocity", "value", "failed"]
+    np.testing.assert_array_equal(frame["velocity"].to_numpy(), table["velocity"])
+    assert frame["failed"].tolist() == [False, True, False, False]
+    data = res.to_xarray()
+    assert data["value"].dims == ("point",) and data["ratio"].dims == ("point",)
+    np.testing.assert_array_equal(data["failed"].values, [False, True, False, False])
+    assert data.attrs["status"] == "failed"
+    with pytest.raises(ValueError, match="`names` must be 2 distinct non-empty strings"):
+        rows.to_pandas(names=["sum"])
+    with pytest.raises(ValueError, match="must not repeat a grid name or 'failed'"):
+        rows.to_xarray(names=["ratio", "x"])
+
+
+def test_pandas_and_xarray_are_optional(monkeypatch):
+    res = sweep(surface, GRID, n_workers=1)
+    monkeypatch.setitem(sys.modules, "pandas", None)
+    monkeypatch.setitem(sys.modules, "xarray", None)
+    with pytest.raises(ImportError, match=r"pip install presliding\[pandas\]"):
+        res.to_pandas()
+    with pytest.raises(ImportError, match=r"pip install presliding\[xarray\]"):
+        res.to_xarray()
 
 
 def test_plot_maps_and_curves():
@@ -207,9 +269,63 @@ def test_plot_maps_and_curves():
     plt.close(ax.figure)
 
 
-def test_dask_local_cluster_equals_local_run():
+def flaky_once(marker_dir, ratio, velocity):
+    """Raises the first time each chunk runs (a marker file per chunk), then succeeds."""
+    import pathlib
+
+    marker = pathlib.Path(marker_dir) / f"{ratio[0]!r}-{velocity[0]!r}"
+    if not marker.exists():
+        marker.write_text("seen")
+        raise OSError("a transient failure")
+    return surface(ratio, velocity)
+
+
+def slow_surface(ratio, velocity):
+    import time
+
+    time.sleep(0.25)
+    return surface(ratio, velocity)
+
+
+def _kill_a_worker_mid_sweep(client, run):
+    """Run `run()` in a thread and kill a worker process while it runs a chunk."""
+    import contextlib
+    import threading
+    import time
+
+    out = {}
+    thread = threading.Thread(target=lambda: out.update(result=run()))
+    thread.start()
+    deadline = time.monotonic() + 60
+    victim = None
+    while victim is None and time.monotonic() < deadline:
+        victim = next((w for w, keys in client.processing().items() if keys), None)
+        time.sleep(0.02)
+    assert victim is not None, "no chunk started"
+    with contextlib.suppress(Exception):  # the connection drops as the worker exits
+        client.run(os._exit, 1, workers=[victim])
+    thread.join(timeout=120)
+    assert not thread.is_alive()
+    return out["result"]
+
+
+def test_dask_local_cluster_equals_local_run(tmp_path, monkeypatch):
     distributed = pytest.importorskip("distributed")
+    import functools
+
+    import cloudpickle
+
     serial = sweep(surface, GRID, n_workers=1, chunk_size=10)
+    r, v = np.meshgrid(GRID["ratio"], GRID["velocity"], indexing="ij")
+    sent = []
+    original_map = distributed.Client.map
+
+    def spy_map(self, func, *iterables, **kwargs):  # what each task carries, as Dask sends it
+        sent.extend(len(cloudpickle.dumps(args)) for args in zip(*iterables, strict=True))
+        return original_map(self, func, *iterables, **kwargs)
+
+    monkeypatch.setattr(distributed.Client, "map", spy_map)
+    big = {"ratio": np.linspace(0.1, 0.9, 1000), "velocity": np.linspace(-2.0, 3.0, 1000)}
     with (
         distributed.LocalCluster(
             n_workers=2,
@@ -224,9 +340,49 @@ def test_dask_local_cluster_equals_local_run():
         on_address = sweep(surface, GRID, cluster.scheduler_address)
         failing = sweep(fails_on_large, {"velocity": [0.0, 3.0], "ratio": [0.5]}, client,
                         chunk_size=1)  # fmt: skip
+        # cloudpickle: a lambda runs on Dask (local processes refuse it, see test_input_validation)
+        with_lambda = sweep(lambda ratio, velocity: ratio * velocity, GRID, client)
+        sent.clear()
+        million = sweep(surface, big, client)  # chunks from the cluster's 2 threads: 8
+        million_sent = list(sent)
+        flaky = functools.partial(flaky_once, str(tmp_path))
+        retried = sweep(flaky, GRID, client, chunk_size=20, retries=1)
+        (tmp_path / "second").mkdir()
+        not_retried = sweep(functools.partial(flaky_once, str(tmp_path / "second")), GRID,
+                            client, chunk_size=20)  # fmt: skip
+        # a table: each chunk's rows are scattered once; rows lost with a killed worker are
+        # scattered again (LocalCluster's nanny starts a new worker process)
+        scattered = []
+        original_scatter = distributed.Client.scatter
+
+        def spy_scatter(self, data, *args, **kwargs):
+            scattered.append(len(data) if isinstance(data, list) else 0)
+            return original_scatter(self, data, *args, **kwargs)
+
+        monkeypatch.setattr(distributed.Client, "scatter", spy_scatter)
+        table = np.zeros(77, dtype=[("ratio", float), ("velocity", float)])
+        table["ratio"], table["velocity"] = r.ravel(), v.ravel()
+        killed = _kill_a_worker_mid_sweep(
+            client, lambda: sweep(slow_surface, table, client, chunk_size=7)
+        )
         assert client.status == "running"  # a given Client is left open
     for res in (on_client, on_address):
         assert res.backend == "dask" and res.n_workers == 2 and res.status == "ok"
         np.testing.assert_array_equal(res.values, serial.values)
     assert "on 2 Dask workers" in on_client.report()
     assert failing.status == "failed" and failing.failed[:, 0].tolist() == [False, True]
+    assert "ValueError: velocity too large" in failing.message
+    np.testing.assert_array_equal(with_lambda.values, r * v)
+    # a million points: each task carries two futures and an index range, a few hundred bytes
+    assert million.n_chunks == 8 and million.success and len(million_sent) == 8
+    assert max(million_sent) < 1000, million_sent
+    rb, vb = np.meshgrid(big["ratio"], big["velocity"], indexing="ij")
+    np.testing.assert_array_equal(million.values, surface(rb, vb))
+    assert retried.success and retried.n_chunks == 4
+    np.testing.assert_array_equal(retried.values, serial.values)
+    assert not_retried.status == "failed" and not_retried.failed.all()
+    assert "OSError: a transient failure" in not_retried.message
+    assert killed.kind == "table" and killed.success and killed.n_chunks == 11, killed.message
+    np.testing.assert_array_equal(killed.values, serial.values.ravel())
+    lists = [n for n in scattered if n]
+    assert lists[0] == 11 and len(lists) >= 2 and sum(lists[1:]) < 11, scattered

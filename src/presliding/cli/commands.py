@@ -247,6 +247,8 @@ def _build_parser() -> argparse.ArgumentParser:
         "simulate, whose batch kernel uses every core anyway, and for analysis grids under "
         "20000 points; else the machine's cores)",
     )
+    retries = "with --scheduler: re-run a chunk that raised up to N times (default: 2)"
+    sweep.add_argument("--retries", type=int, default=2, metavar="N", help=retries)
     sweep.set_defaults(handler=_cmd_sweep)
 
     from presliding.cli.loop import add_parser as add_loop_parser

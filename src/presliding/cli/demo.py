@@ -14,7 +14,8 @@ Six parts, each a figure and a report section:
    exact sampled-data loop (`presliding.cli.demo_hunting`).
 
 It takes a few seconds once the compiled kernels are cached (the first run
-compiles them).
+compiles them, and says so). Progress goes to stderr: a bar on a terminal, one
+line per part elsewhere, nothing with ``--quiet``.
 """
 
 from __future__ import annotations
@@ -25,7 +26,7 @@ from typing import Any
 
 import numpy as np
 
-from presliding._progress import progress
+from presliding._progress import COMPILING, Progress
 from presliding.cli import _precompile
 from presliding.cli._demo_common import (
     FIGURE3_FIRST_STIFFNESS,
@@ -320,25 +321,41 @@ def run_demo(out_dir: Path, *, quiet: bool = True) -> list[Path]:
 
     # On a cold cache the density part's kernels (the largest share) compile in a
     # second process while parts 1-3 and 5 run here; the report order is unchanged.
-    _precompile.start("demo-density")
+    precompiling = _precompile.start("demo-density")
     sections = []
+    parts = [  # in the order they run
+        "the paper's Figure 3 loops",
+        "free motion to a stop (Figures 4 and 5)",
+        "reversal counts over c1/F_m",
+        "identification round trip (section 4)",
+        "hunting of a PI loop (describing function)",
+        "continuous densities (section 3)",
+    ]
     try:
-        with progress(6, "presliding demo", quiet=quiet, unit="part") as bar:
+        with Progress("presliding demo", total=len(parts), unit="part", quiet=quiet) as bar:
+            bar.part(parts[0])
             path = figure3_loops(out_dir)
             sections.append(_figure3_section(path))
             bar.update()
+            bar.part(parts[1])
             stop = free_stop()
             sections.append(_free_stop_section(stop, free_stop_figure(stop, out_dir)))
             bar.update()
+            bar.part(parts[2])
             sweep = reversal_sweep()
             sections.append(_reversal_section(sweep, reversal_figure(sweep, out_dir)))
             bar.update()
+            bar.part(parts[3])
             ident = identification()
             ident_section = identification_section(ident, identification_figure(ident, out_dir))
             bar.update()
+            bar.part(parts[4])
             hunt = hunting_part()
             hunt_section = hunting_section(hunt, hunting_figure(hunt, out_dir))
             bar.update()
+            bar.part(parts[5])
+            if precompiling:  # its kernels are still being compiled in the second process
+                bar.note(COMPILING)
             _precompile.wait("demo-density")
             dens = density_part()
             sections.append(density_section(dens, density_figure(dens, out_dir)))

@@ -68,13 +68,14 @@ def check_scheduler(address: str) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Load the specification, run the sweep, write CSV, PNG and report; print a summary."""
-    from presliding._progress import progress_enabled
     from presliding.sweep.runner import sweep
 
     check_readable(args.spec, "sweep specification")
     spec = load_spec(args.spec)
     if args.workers is not None and args.workers < 1:
         raise UserError(f"--workers must be a whole number >= 1; got {args.workers}.")
+    if args.retries < 0:
+        raise UserError(f"--retries must be a whole number >= 0; got {args.retries}.")
     if args.workers is not None and args.scheduler is not None:
         raise UserError(
             "--workers sets local worker processes; with --scheduler the cluster's workers run "
@@ -95,9 +96,10 @@ def run(args: argparse.Namespace) -> int:
             args.scheduler,
             chunk_size=chunk_size(spec, workers),
             n_workers=None if args.scheduler is not None else workers,
-            progress=progress_enabled(args.quiet),
+            progress=not args.quiet,
+            retries=args.retries if args.scheduler is not None else 0,
         )
-    except (OSError, ValueError) as exc:
+    except (OSError, ValueError, RuntimeError) as exc:
         if args.scheduler is None or args.debug:
             raise
         text = " ".join(str(exc).split())

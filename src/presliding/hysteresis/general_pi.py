@@ -250,8 +250,8 @@ class GeneralPIOperator:
     >>> from presliding import Uniform
     >>> op = GeneralPIOperator(Uniform(height=2.0, max_threshold=1.0))
     >>> force, state = op.apply([0.0, 0.5, 2.0, 1.0])
-    >>> force.round(6).tolist()   # virgin curve a·(R·y − y²/2), then F_m, then a reversal
-    [0.0, 0.75, 1.0, 0.25]
+    >>> force.round(6).tolist()   # virgin curve, F_m, then F_m − 2·virgin(1/2) (Masing)
+    [0.0, 0.75, 1.0, -0.5]
     """
 
     density: Density

@@ -3,11 +3,14 @@
 Files
 -----
 runner.py    `sweep`: chunks of the grid on workers, then one `SweepResult`
-result.py    `SweepResult`: values, status, plot, report
+result.py    `SweepResult`: values, status, plot, report, pandas and xarray
+_grid.py     the points as product axes or table columns; chunks as index ranges
+_dask.py     Dask: scatter once, tasks of index ranges, retries, cluster size
 _tasks.py    the per-chunk work of ``presliding sweep`` (reversal counts, rest positions, …)
 
 May import: `presliding.identification` and everything below it, and the root's
-shared modules. Dask is imported only when used (the ``dask`` extra).
+shared modules. Dask, pandas and xarray are imported only when used (the
+``dask``, ``pandas`` and ``xarray`` extras).
 """
 
 from presliding.sweep.result import SweepResult

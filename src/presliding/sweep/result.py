@@ -1,7 +1,13 @@
-"""The result of a parameter sweep (`presliding.sweep.sweep`): values, status, plot, report."""
+"""The result of a parameter sweep (`presliding.sweep.sweep`): values, status, plot, report.
+
+`SweepResult.to_pandas` and `SweepResult.to_xarray` hand the values to pandas and
+xarray, which are optional (the ``pandas`` and ``xarray`` extras) and imported
+only when those methods are called.
+"""
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
@@ -9,6 +15,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 if TYPE_CHECKING:  # pragma: no cover
+    import pandas as pd
+    import xarray as xr
     from matplotlib.axes import Axes
 
 
@@ -79,6 +87,102 @@ class SweepResult:
         axes = [self.grid[n] for n in names]
         return plot_sweep(axes, self.values, names, ax=ax, **kwargs)
 
+    def to_pandas(self, names: Sequence[str] | None = None) -> pd.DataFrame:
+        """The values as a pandas DataFrame, one row per point.
+
+        Parameters
+        ----------
+        names : sequence of str, optional
+            Column names of the per-point values: one name for one value per
+            point, or one per entry of a row. Default ``"value"``, or
+            ``"value_0"``, ``"value_1"``, ... for rows.
+
+        Returns
+        -------
+        pandas.DataFrame
+            For a product grid, indexed by a MultiIndex of the axes (first axis
+            varying slowest, as in ``values.ravel()``), so ``df["value"].unstack()``
+            gives the 2-D map; for a table, the grid's columns first, then the
+            values. A boolean column ``failed`` marks the points of `failed`.
+            ``df.attrs`` holds ``status``, ``message``, ``backend`` and ``elapsed``.
+        """
+        pd = _optional("pandas", "to_pandas")
+        columns = self._named_values(names)
+        columns["failed"] = self.failed.ravel()
+        if self.kind == "product":
+            index = pd.MultiIndex.from_product(list(self.grid.values()), names=list(self.grid))
+            frame = pd.DataFrame(columns, index=index)
+        else:
+            frame = pd.DataFrame({**self.grid, **columns})
+        frame.attrs.update(self._attrs())
+        return frame
+
+    def to_xarray(self, names: Sequence[str] | None = None) -> xr.Dataset:
+        """The values as an xarray Dataset on the grid's coordinates.
+
+        Parameters
+        ----------
+        names : sequence of str, optional
+            Names of the per-point values, as for `to_pandas`; each becomes a data
+            variable.
+
+        Returns
+        -------
+        xarray.Dataset
+            For a product grid, one dimension per axis with the axis values as
+            coordinates; for a table, one dimension ``point`` with the grid's
+            columns as coordinates along it. Data variables: the values (one per
+            name) and ``failed``; ``attrs`` holds ``status``, ``message``,
+            ``backend`` and ``elapsed``.
+        """
+        xr = _optional("xarray", "to_xarray")
+        if self.kind == "product":
+            dims = tuple(self.grid)
+            coords: dict[str, Any] = dict(self.grid)
+        else:
+            dims = ("point",)
+            coords = {name: ("point", col) for name, col in self.grid.items()}
+        data = {
+            name: (dims, column.reshape(self.shape))
+            for name, column in self._named_values(names).items()
+        }
+        data["failed"] = (dims, self.failed)
+        return xr.Dataset(data, coords=coords, attrs=self._attrs())
+
+    def _named_values(self, names: Sequence[str] | None) -> dict[str, np.ndarray]:
+        """The per-point values as flat columns, by name."""
+        n = int(np.prod(self.shape))
+        flat = self.values.reshape(n, -1)
+        width = flat.shape[1]
+        per_point = self.values.shape[len(self.shape) :]
+        if names is None:
+            names = ["value"] if not per_point else [f"value_{j}" for j in range(width)]
+        else:
+            names = list(names)
+            if (
+                len(names) != width
+                or len(set(names)) != width
+                or not all(isinstance(name, str) and name for name in names)
+            ):
+                raise ValueError(
+                    f"`names` must be {width} distinct non-empty strings, one per value of a "
+                    f"point; got {names!r}."
+                )
+            clash = set(names) & ({"failed"} | set(self.grid))
+            if clash:
+                raise ValueError(
+                    f"`names` must not repeat a grid name or 'failed'; got {sorted(clash)}."
+                )
+        return {name: flat[:, j] for j, name in enumerate(names)}
+
+    def _attrs(self) -> dict[str, Any]:
+        return {
+            "status": self.status,
+            "message": self.message,
+            "backend": self.backend,
+            "elapsed": self.elapsed,
+        }
+
     def report(self) -> str:
         """A readable summary of the grid, the run and the values."""
         lines = [f"sweep: {self.status} ({self.message})"]
@@ -93,6 +197,19 @@ class SweepResult:
         if ok.size and np.issubdtype(ok.dtype, np.number):
             lines.append(f"  values in [{np.min(ok):.6g}, {np.max(ok):.6g}]")
         return "\n".join(lines)
+
+
+def _optional(module: str, method: str) -> Any:
+    """Import an optional dependency, or say which extra installs it."""
+    import importlib
+
+    try:
+        return importlib.import_module(module)
+    except ImportError as exc:
+        raise ImportError(
+            f"`SweepResult.{method}` needs the optional `{module}` package; install it with "
+            f"`pip install presliding[{module}]`."
+        ) from exc
 
 
 def where_run(backend: str, workers: int) -> str:

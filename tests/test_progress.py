@@ -1,0 +1,92 @@
+"""The progress helper: a bar on a terminal, plain lines elsewhere, silence when quiet,
+and "compiling (first run only)" exactly when numba compiles presliding's kernels."""
+
+from __future__ import annotations
+
+import io
+import os
+import subprocess
+import sys
+
+from presliding._progress import COMPILING, Progress
+
+
+def _plain(**kwargs):
+    stream = io.StringIO()
+    return stream, Progress("presliding cmd", stream=stream, interactive=False, **kwargs)
+
+
+def test_plain_lines_per_part_and_note():
+    stream, bar = _plain(total=3, unit="part", compile_note=False)
+    with bar:
+        bar.part("first")
+        bar.note("a remark")
+        bar.note("a remark")  # said once per part
+        bar.update()
+        bar.part("second")
+        bar.note("a remark")
+        bar.update(2)
+    assert stream.getvalue().splitlines() == [
+        "presliding cmd: [1/3] first",
+        "presliding cmd: a remark",
+        "presliding cmd: [2/3] second",
+        "presliding cmd: a remark",
+    ]
+    assert bar.n == 3
+
+
+def test_counted_work_prints_a_line_per_tenth():
+    stream, bar = _plain(total=40, unit="chunk", compile_note=False)
+    with bar:
+        for _ in range(40):
+            bar.update()
+    lines = stream.getvalue().splitlines()
+    assert len(lines) == 10
+    assert lines[0] == "presliding cmd: 4/40 chunks (10 %)"
+    assert lines[-1] == "presliding cmd: 40/40 chunks (100 %)"
+
+
+def test_quiet_and_delay_print_nothing():
+    for kwargs in ({"quiet": True}, {"delay": 60.0}):
+        stream, bar = _plain(total=2, **kwargs)
+        with bar:
+            bar.part("a part")
+            bar.note("a note")
+            bar.update(2)
+        assert stream.getvalue() == ""
+
+
+def test_a_terminal_gets_a_bar_with_the_part_and_the_note():
+    stream = io.StringIO()
+    with Progress("presliding cmd", total=2, unit="part", stream=stream, interactive=True,
+                  compile_note=False) as bar:  # fmt: skip
+        bar.part("loops")
+        bar.note(COMPILING)
+        bar.update()
+    text = stream.getvalue()
+    assert "presliding cmd: loops" in text and COMPILING in text and "/2 [" in text
+    assert "\r" in text  # redrawn in place, not one line per update
+
+
+def test_compiling_is_said_on_a_cold_cache_only(tmp_path):
+    """A fresh numba cache folder: the first process compiles (and says so), the next loads."""
+    code = (
+        "import sys, presliding as ps\n"
+        "from presliding._progress import Progress\n"
+        "with Progress('probe', total=1, stream=sys.stdout, interactive=False) as bar:\n"
+        "    bar.part('force')\n"
+        "    ps.PIFriction(0.5, [500.0, 10.0], [1.0, 1.0]).force([0.0, 0.3, -0.2])\n"
+        "    bar.update()\n"
+        "print(bar.n_compiled)\n"
+    )
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path)}
+    runs = [
+        subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True,
+                       timeout=600)
+        for _ in range(2)
+    ]  # fmt: skip
+    for run in runs:
+        assert run.returncode == 0, run.stderr
+    first, second = (run.stdout.splitlines() for run in runs)
+    assert first[:2] == ["probe: [1/1] force", f"probe: {COMPILING}"] and int(first[-1]) > 0
+    assert second == ["probe: [1/1] force", "0"]
