@@ -7,8 +7,16 @@ Import them with ``from tests.helpers import ...``; the fixtures live in
 from __future__ import annotations
 
 import itertools
+import math
+import os
+import signal
+import warnings
+from collections.abc import Callable
+from dataclasses import dataclass, field, fields, is_dataclass
+from typing import Any
 
 import numpy as np
+import pytest
 from hypothesis import settings
 from hypothesis import strategies as st
 
@@ -144,3 +152,176 @@ def stop_records(seed: int, n_records: int, model: PIFriction, mass: float = 2.0
         truth.append({"initial_position": y0, "initial_velocity": v0, "preload_fraction": frac * d,
                       "n_reversals": res.n_reversals})  # fmt: skip
     return out, truth
+
+
+# ----------------------------------------------------------------- the bad-input review
+# Every public entry point meets bad values of every class that applies to each of its
+# arguments (the tables are in tests/**/test_bad_inputs.py). The promise checked: a
+# ValueError or TypeError in one sentence naming the argument the user passed, within a
+# time limit and without a RuntimeWarning. A value that may be legal (huge, tiny) is
+# either refused that way or gives a finite result.
+_TYPES = (("str", "1.0"), ("None", None), ("list_of_str", ["a", "b"]), ("dict", {"a": 1.0}))
+_SCALAR = (*_TYPES, ("bool", True), ("array", [1.0, 2.0]), ("nan", math.nan),
+           ("inf", math.inf), ("-inf", -math.inf))  # fmt: skip
+_VECTOR = (("str", "1 2"), ("None", None), ("list_of_str", ["a", "b"]), ("dict", {"a": 1.0}),
+           ("bool", [True, False]), ("nan", [1.0, math.nan]), ("inf", [1.0, math.inf]),
+           ("empty", []), ("2d", [[1.0, 2.0], [3.0, 4.0]]),
+           ("ragged", [[1.0], [1.0, 2.0]]))  # fmt: skip
+_COUNT = (("str", "3"), ("None", None), ("bool", True), ("float", 2.5), ("nan", math.nan),
+          ("dict", {"a": 1}), ("negative", -1))  # fmt: skip
+_OBJECTS = (("None", None), ("str", "nope"), ("float", 3.0), ("object", object()),
+            ("dict", {"a": 1.0}))  # fmt: skip
+_BIG = (("huge", 1e308),)
+_SMALL = (("huge", 1e308), ("tiny", 1e-320))
+
+
+def _kind(bad: Any, legal: Any = ()) -> tuple[tuple[str, Any, bool], ...]:
+    """(label, value, False) for each bad value, then (label, value, True) for legal ones."""
+    return (*((lab, v, False) for lab, v in bad), *((lab, v, True) for lab, v in legal))
+
+
+_VEC = tuple((lab, v) for lab, v in _VECTOR if lab != "2d")
+#: kind -> ((label, value, may be legal), ...)
+KINDS: dict[str, tuple[tuple[str, Any, bool], ...]] = {
+    "real": _kind(_SCALAR, _BIG),
+    "nonnegative": _kind((*_SCALAR, ("negative", -3.0)), _SMALL),
+    "positive": _kind((*_SCALAR, ("negative", -3.0), ("zero", 0.0)), _SMALL),
+    "count": _kind((*_COUNT, ("zero", 0)), (("huge", 10**12),)),
+    "count0": _kind(_COUNT, (("huge", 10**12),)),
+    "signal": _kind((*_VEC, ("2d", [[0.0, 1.0], [1.0, 2.0]])), (("huge", [0.0, 1e308, -1e308]),)),
+    "positive_vector": _kind(
+        (*_VECTOR, ("negative", [1.0, -3.0]), ("zero", [1.0, 0.0])),
+        (("huge", [1e308, 1e308]), ("tiny", [1e-320, 1e-320])),
+    ),
+    "nonnegative_vector": _kind(
+        (*_VECTOR, ("negative", [1.0, -3.0])),
+        (("huge", [1e308, 1e308]), ("tiny", [1e-320, 1e-320])),
+    ),
+    "real_vector": _kind(_VECTOR, (("huge", [1e308, -1e308]),)),
+    "real_array": _kind(
+        tuple((lab, v) for lab, v in _VECTOR if lab not in ("empty", "2d")),
+        (("huge", [1e308, -1e308]),),
+    ),
+    "matrix": _kind((*_VEC, ("1d", [1.0, 2.0]), ("3d", [[[1.0]]]))),
+    "choice": _kind(
+        (("unknown", "nope"), ("None", None), ("int", 3), ("list", ["a"]), ("empty", ""))
+    ),
+    "object": _kind(_OBJECTS),
+    "callable": _kind(tuple((lab, v) for lab, v in _OBJECTS if lab != "dict")),
+    "mapping": _kind((("str", "nope"), ("list", [1.0, 2.0]), ("float", 3.0))),
+}
+
+
+@dataclass
+class Entry:
+    """A public entry point: `call(**good)` succeeds; `args` maps each argument to its kind
+    (a key of `KINDS`; a trailing "?" allows None, "*" an empty array, "~" infinity, and "!"
+    leaves out the values that may be legal, for calls that would run long on them);
+    `extra` holds cases of its own: (label, overrides, needle, may be legal); `needles`
+    gives an argument other names its errors may use ("a|b")."""
+
+    call: Callable[..., Any]
+    good: dict[str, Any]
+    args: dict[str, str]
+    extra: list[tuple[str, dict[str, Any], str, bool]] = field(default_factory=list)
+    needles: dict[str, str] = field(default_factory=dict)
+
+
+class Make:
+    """A value built at test time from the test's temporary folder (files, folders)."""
+
+    def __init__(self, build: Callable[[Any], Any]) -> None:
+        self.build = build
+
+
+def bad_input_cases(entries: dict[str, Entry]) -> list[Any]:
+    """pytest parameters (entry, overrides, needle, may be legal), one per bad value."""
+    params = []
+    for name, entry in entries.items():
+        for arg, kind in entry.args.items():
+            skip = {"?": "None", "*": "empty", "~": "inf"}
+            skip = {label for mark, label in skip.items() if mark in kind}
+            needle = entry.needles.get(arg, arg)
+            for label, value, legal in KINDS[kind.rstrip("?*~!")]:
+                if label in skip or (legal and "!" in kind):
+                    continue
+                params.append(
+                    pytest.param(entry, {arg: value}, needle, legal, id=f"{name}-{arg}-{label}")
+                )
+        for label, overrides, needle, legal in entry.extra:
+            params.append(pytest.param(entry, overrides, needle, legal, id=f"{name}-{label}"))
+    return params
+
+
+class _Hang(Exception):
+    pass
+
+
+def _alarm(signum: int, frame: Any) -> None:
+    raise _Hang
+
+
+def _finite(value: Any, where: str = "result", depth: int = 0) -> None:
+    if depth > 3 or value is None or isinstance(value, (str, bytes, bool)):
+        return
+    if isinstance(value, (float, np.floating)) or (
+        isinstance(value, np.ndarray) and value.dtype.kind == "f"
+    ):
+        assert np.all(np.isfinite(value)), f"{where} is not finite: {value!r}"[:300]
+    elif isinstance(value, (tuple, list)):
+        for i, item in enumerate(value[:50]):
+            _finite(item, f"{where}[{i}]", depth + 1)
+    elif is_dataclass(value) and not isinstance(value, type):
+        for f in fields(value):
+            if f.name not in ("model", "final_state", "controller", "predictor"):
+                _finite(getattr(value, f.name), f"{where}.{f.name}", depth + 1)
+
+
+def check_bad_input(
+    entry: Entry, overrides: dict[str, Any], needle: str, legal: bool, tmp_path: Any,
+    timeout: float = 20.0,
+) -> None:  # fmt: skip
+    """Call the entry point with the bad value and check the promise (see above)."""
+    kwargs = {**entry.good, **overrides}
+    kwargs = {k: v.build(tmp_path) if isinstance(v, Make) else v for k, v in kwargs.items()}
+    previous = signal.signal(signal.SIGALRM, _alarm)
+    signal.setitimer(signal.ITIMER_REAL, timeout)
+    try:
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            try:
+                result = entry.call(**kwargs)
+            except (ValueError, TypeError, FileNotFoundError, IsADirectoryError) as exc:
+                message = str(exc)
+                if isinstance(exc, OSError):  # a missing file or a folder: Python's own errors
+                    assert "file:" in needle, f"{type(exc).__name__}: {message}"
+                assert "\n" not in message.strip(), f"more than one line: {message!r}"
+                files = [n[5:] for n in needle.split("|") if n.startswith("file:")]
+                if files and isinstance(kwargs[files[0]], (str, os.PathLike)):
+                    # errors in a file name the file first
+                    assert message.startswith(str(kwargs[files[0]])), message
+                else:
+                    named = any(f"`{n}{e}" in message for n in needle.split("|") for e in "`.[")
+                    assert named, f"does not name `{needle}`: {message!r}"
+                    assert "got" in message, f"does not give the value received: {message!r}"
+                assert message.count(". ") == 0 or "(" in message, f"two sentences: {message!r}"
+            except _Hang:
+                pytest.fail(f"no answer within {timeout} s")
+            except Exception as exc:
+                pytest.fail(f"{type(exc).__name__}: {exc}"[:400])
+            else:
+                assert legal, f"accepted: {overrides!r}"[:300]
+                _finite(result)
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, previous)
+    noisy = [str(w.message) for w in caught if issubclass(w.category, RuntimeWarning)]
+    assert not noisy, f"warnings: {noisy}"
+
+
+def check_good_call(entry: Entry, tmp_path: Any) -> None:
+    """The table's starting point works: its good call succeeds without a warning."""
+    kwargs = {k: v.build(tmp_path) if isinstance(v, Make) else v for k, v in entry.good.items()}
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)
+        entry.call(**kwargs)

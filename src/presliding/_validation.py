@@ -1,22 +1,13 @@
 """The one home of input validation and its wording.
 
-Every public constructor and function of presliding checks its inputs on entry
-with these helpers, so that a bad input is reported in one sentence naming the
-parameter, the rule and the value received, for example::
-
-    ValueError: `stiffness` must be positive; got -3.0 at index 1.
-
-Nothing is clipped silently, and no NaN is ever returned in place of an error.
-
-Three families beyond the plain argument checks:
-
-* **Overflow.** Quantities derived from the arguments (F_c, F_m, Σ k_j, r_j = c_j/k_j,
-  energies, output bounds) are checked for finiteness with `check_finite_derived`,
-  naming the arguments they come from; `check_derived` does so for a bank of elements.
-* **Sizes.** `check_size` compares a requested allocation with `size_limit()` (half
-  the machine's memory unless `MAX_ALLOCATION_BYTES` is set) before anything is
-  allocated, and reports both.
-* **Types.** `check_type` names the argument and the type expected.
+Every public constructor and function checks its inputs on entry with these helpers, so a
+bad input is reported in one sentence naming the argument, the rule and the value received
+("`stiffness` must be positive; got -3.0 at index 1."). Nothing is clipped silently, and
+no NaN or inf is returned in place of an error. Beyond the plain checks: quantities derived
+from the arguments (F_c, Σ k_j, r_j = c_j/k_j, energies, ranges) are checked for finiteness
+naming their sources (`check_finite_derived`, `check_derived`); `check_size` compares an
+allocation with `size_limit()` before it is made; `check_time_span` bounds simulated time;
+`renamed` makes errors of an inner call name the argument the user passed.
 """
 
 from __future__ import annotations
@@ -24,32 +15,19 @@ from __future__ import annotations
 import math
 import numbers
 import os
+from collections.abc import Iterator
+from contextlib import contextmanager
 from typing import Any
 
 import numpy as np
 
 __all__ = [
-    "as_choice",
-    "as_count",
-    "as_nonnegative_scalar",
-    "as_parameter_matrix",
-    "as_parameter_vector",
-    "as_positive_scalar",
-    "as_real_array",
-    "as_real_scalar",
-    "as_real_vector",
-    "as_signal",
-    "as_state_vector",
-    "check_derived",
-    "check_finite_derived",
-    "check_has_friction",
-    "check_increasing",
-    "check_same_length",
-    "check_size",
-    "check_type",
-    "fmt",
-    "size_limit",
-]
+    "as_choice", "as_count", "as_nonnegative_scalar", "as_parameter_matrix",
+    "as_parameter_vector", "as_positive_scalar", "as_real_array", "as_real_scalar",
+    "as_real_vector", "as_signal", "as_state_vector", "check_derived", "check_finite_derived",
+    "check_has_friction", "check_increasing", "check_same_length", "check_size",
+    "check_time_span", "check_type", "fmt", "renamed", "size_limit"
+]  # fmt: skip
 
 
 def fmt(value: Any) -> str:
@@ -70,7 +48,10 @@ def _real_array(name: str, value: Any) -> np.ndarray:
         raise TypeError(
             f"`{name}` must be a real number or array of real numbers; got {fmt(value)}."
         )
-    arr = np.asarray(value)
+    try:
+        arr = np.asarray(value)
+    except ValueError:  # ragged nested sequences
+        raise ValueError(f"`{name}` must be a rectangular array; got {fmt(value)}.") from None
     if arr.dtype == object or arr.dtype.kind not in "iuf":
         raise TypeError(
             f"`{name}` must be a real number or array of real numbers; got dtype {arr.dtype}."
@@ -111,6 +92,8 @@ def as_signal(name: str, value: Any, *, min_length: int = 1, copy: bool = True) 
         )
         raise ValueError(f"`{name}` {rule}; got {arr.shape[0]} samples.")
     _check_finite(name, arr)
+    if arr.shape[0] > 1:  # increments (time steps, displacements) are finite within the range
+        check_finite_derived("range max − min", float(arr.max()) - float(arr.min()), name)
     return np.ascontiguousarray(arr)
 
 
@@ -158,10 +141,11 @@ def as_parameter_vector(
     name: str,
     value: Any,
     *,
-    positive: bool = True,
+    positive: bool | None = True,
     allow_empty: bool = False,
 ) -> np.ndarray:
-    """A read-only 1-D float64 vector of finite, positive (or nonnegative) parameters.
+    """A read-only 1-D float64 vector of finite parameters, positive (or nonnegative; None: any
+    sign).
 
     A scalar is accepted and becomes a vector of length one.
     """
@@ -174,7 +158,7 @@ def as_parameter_vector(
         raise ValueError(f"`{name}` must not be empty; got 0 elements.")
     _check_finite(name, arr)
     bad = ~(arr > 0) if positive else arr < 0
-    if bad.any():
+    if positive is not None and bad.any():
         rule = "positive" if positive else "nonnegative"
         raise ValueError(f"`{name}` must be {rule}; {_first_bad(arr, bad)}.")
     arr = np.ascontiguousarray(arr)
@@ -184,17 +168,7 @@ def as_parameter_vector(
 
 def as_real_vector(name: str, value: Any, *, allow_empty: bool = False) -> np.ndarray:
     """A read-only, finite, 1-D float64 vector of any sign (a scalar becomes length one)."""
-    arr = _real_array(name, value)
-    if arr.ndim == 0:
-        arr = arr.reshape(1)
-    if arr.ndim != 1:
-        raise ValueError(f"`{name}` must be a scalar or one-dimensional; got shape {arr.shape}.")
-    if arr.shape[0] == 0 and not allow_empty:
-        raise ValueError(f"`{name}` must not be empty; got 0 elements.")
-    _check_finite(name, arr)
-    arr = np.ascontiguousarray(arr)
-    arr.setflags(write=False)
-    return arr
+    return as_parameter_vector(name, value, positive=None, allow_empty=allow_empty)
 
 
 def as_state_vector(name: str, value: Any, size: int) -> np.ndarray:
@@ -212,9 +186,9 @@ def check_same_length(**arrays: np.ndarray) -> None:
     """All given arrays have the same length along their first axis."""
     lengths = {k: len(v) for k, v in arrays.items()}
     if len(set(lengths.values())) > 1:
-        listing = ", ".join(f"`{k}` has {n}" for k, n in lengths.items())
+        listing = " and ".join(str(n) for n in lengths.values())
         raise ValueError(
-            f"{' and '.join(f'`{k}`' for k in lengths)} must have the same length; {listing}."
+            f"{' and '.join(f'`{k}`' for k in lengths)} must have the same length; got {listing}."
         )
 
 
@@ -252,6 +226,35 @@ def as_count(name: str, value: Any, *, minimum: int = 0, maximum: int | None = N
     if maximum is not None and value > maximum:
         raise ValueError(f"`{name}` must be at most {maximum}; got {fmt(value)}.")
     return int(value)
+
+
+#: Longest simulated time span [s]: up to it float64 times resolve 0.2 ms; beyond it,
+#: spans such as 1e308 s only overflow the motion and the plots' time axes.
+MAX_TIME_SPAN = 1e12
+
+
+def check_time_span(name: str, value: Any, span: float) -> None:
+    """A simulated time span (`span`, set by the argument `name` = `value`) is at most
+    `MAX_TIME_SPAN`: "`t_end` must keep the time span within 1e+12 s ...; got 1e+308."."""
+    if not abs(span) <= MAX_TIME_SPAN:
+        raise ValueError(
+            f"`{name}` must keep the simulated time span within {MAX_TIME_SPAN:g} s (about "
+            f"31,700 years, where float64 times still resolve 0.2 ms); got {fmt(value)}."
+        )
+
+
+@contextmanager
+def renamed(**names: str) -> Iterator[None]:
+    """Errors raised inside name the caller's arguments (``renamed(force="applied_force")``)."""
+    try:
+        yield
+    except (ValueError, TypeError) as exc:
+        text = str(exc)
+        for inner, outer in names.items():
+            text = text.replace(f"`{inner}`", f"`{outer}`").replace(f"`{inner}[", f"`{outer}[")
+        if text == str(exc):
+            raise
+        raise type(exc)(text) from exc
 
 
 def check_type(name: str, value: Any, expected: type | tuple[type, ...], *, where: str = "") -> Any:
@@ -341,12 +344,7 @@ def as_parameter_matrix(name: str, value: Any) -> np.ndarray:
 
     A scalar becomes shape (1, 1) and a 1-D vector one row (1, N); N may be 0.
     """
-    try:
-        arr = _real_array(name, value)
-    except ValueError as err:  # ragged nested sequences
-        raise ValueError(
-            f"`{name}` must be a rectangular array of shape (B, N); got {fmt(value)}."
-        ) from err
+    arr = _real_array(name, value)
     if arr.ndim < 2:
         arr = arr.reshape(1, -1)
     if arr.ndim != 2:
@@ -380,14 +378,12 @@ def check_derived(
     (twice the largest stored energy ½ Σ k_j r_j²). `given` names the argument
     the user passed besides `stiffness` ("breakaway" or "threshold").
     """
-    for name, arr in (("breakaway", c), ("threshold", r)):
-        bad = ~(np.isfinite(arr) & (arr > 0))
+    for name, arr in (("breakaway c_j = k_j r_j", c), ("threshold r_j = c_j/k_j", r)):
+        bad = ~(np.isfinite(arr) & (arr > 0))  # the one not given is derived (eq. 6)
         if bad.any():
-            idx = tuple(int(i) for i in np.argwhere(bad)[0])
-            where = idx[0] if len(idx) == 1 else idx
             raise ValueError(
-                f"`{name}` must come out finite and positive; got {fmt(arr[idx])} at index "
-                f"{where} (from stiffness {fmt(k[idx])})."
+                f"`stiffness` and `{given}` must give a finite, positive {name} (eq. 6); "
+                f"{_first_bad(arr, bad)}."
             )
     if k.shape[-1] == 0:
         return

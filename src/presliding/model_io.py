@@ -47,7 +47,7 @@ from pathlib import Path
 from typing import Any
 
 from presliding._io import write_text
-from presliding._validation import check_type
+from presliding._validation import check_time_span, check_type
 from presliding.friction.pi_friction import PIFriction
 from presliding.hysteresis.densities import Density, Exponential, PiecewiseConstant, Uniform
 
@@ -242,6 +242,10 @@ def model_from_tables(path: str | Path, data: dict[str, Any]) -> ModelFile:
         raise ModelFileError(f"{path}: `motion.mass` must be positive; got {mo['mass']!r}.")
     if not float(mo["t_end"]) > 0:
         raise ModelFileError(f"{path}: `motion.t_end` must be positive; got {mo['t_end']!r}.")
+    try:
+        check_time_span("motion.t_end", mo["t_end"], float(mo["t_end"]))
+    except ValueError as exc:
+        raise ModelFileError(f"{path}: {exc}") from None
     if int(mo["samples"]) != mo["samples"] or mo["samples"] < 2:
         raise ModelFileError(
             f"{path}: `motion.samples` must be a whole number >= 2; got {mo['samples']!r}."

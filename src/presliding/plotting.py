@@ -9,35 +9,25 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike
 
+from presliding._validation import check_type
+
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
 
 __all__ = [
-    "new_axes",
-    "place_legend",
-    "plot_batch",
-    "plot_density",
-    "plot_fit",
-    "plot_forces",
-    "plot_free_response",
-    "plot_hysteresis",
-    "plot_loop_fit",
-    "plot_motion",
-    "plot_reversal_counts",
-    "plot_sweep",
-    "plot_turning_points",
-    "save_figure",
-]
+    "new_axes", "place_legend", "plot_batch", "plot_density", "plot_fit", "plot_forces",
+    "plot_free_response", "plot_hysteresis", "plot_loop_fit", "plot_motion",
+    "plot_reversal_counts", "plot_sweep", "plot_turning_points", "save_figure"
+]  # fmt: skip
 
 
 def new_axes(ax: Axes | None = None, **subplot_kw: Any) -> Axes:
-    """Return `ax`, or the axes of a new pyplot figure when it is None."""
-    if ax is not None:
-        return ax
+    """Return `ax` (matplotlib Axes, else a TypeError), or a new pyplot figure's axes if None."""
     import matplotlib.pyplot as plt
 
-    _, ax = plt.subplots(**subplot_kw)
-    return ax
+    if ax is not None:
+        return check_type("ax", ax, plt.Axes)
+    return plt.subplots(**subplot_kw)[1]
 
 
 def plot_hysteresis(

@@ -238,20 +238,22 @@ def test_the_density_loop_commits_what_the_operator_gives(dens):
 
 # ----------------------------------------------------------------------- clear errors
 def test_overflowing_motions_name_the_argument_passed():
-    with pytest.raises(ValueError, match="`t_end` must keep the motion in the floating-point"):
-        simulate(MODEL, 1.0, applied_force=5.0, t_end=1e308)
+    # a time span beyond 1e12 s is refused before anything runs, whatever the motion
+    for kwargs in ({"applied_force": 5.0}, {"initial_velocity": 1.0}):
+        with pytest.raises(ValueError, match=r"`t_end` must keep the simulated time span within"):
+            simulate(MODEL, 1.0, t_end=1e308, **kwargs)
     with pytest.raises(ValueError, match="`initial_velocity` must give a finite kinetic energy"):
         simulate(MODEL, 1.0, initial_velocity=1e200, t_end=1.0)
     with pytest.raises(ValueError, match="`initial_velocity`"):
         simulate(MODEL, 1.0, initial_velocity=1e200, t_end=1.0, method="implicit")
     with pytest.raises(ValueError, match=r"`step` must give at most 1e\+10 implicit steps"):
         simulate(MODEL, 1.0, applied_force=lambda t: 0 * t, t_end=1e3, step=1e-12)
-    with pytest.raises(ValueError, match="`t_end` − `t_start` must be finite"):
+    with pytest.raises(ValueError, match="`t_end` must keep the simulated time span within"):
         simulate(MODEL, 1.0, t_start=-1e308, t_end=1e308, method="implicit")
     with pytest.raises(ValueError, match="`n_samples` must ask for at most"):
         free_response(1.0, 0.2, [100.0], [0.01], 1.0, 1e-3, 10**12)
-    # a free motion with a huge t_end is fine: it stops
-    assert simulate(MODEL, 1.0, initial_velocity=1.0, t_end=1e308).stop_time is not None
+    # a free motion over the longest span is fine: it stops
+    assert simulate(MODEL, 1.0, initial_velocity=1.0, t_end=1e12).stop_time is not None
 
 
 @pytest.mark.parametrize("dens", [ps.Uniform(2.0, 1.0), ps.Exponential(3.0, 0.4)],

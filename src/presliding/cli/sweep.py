@@ -142,6 +142,9 @@ def _summary(spec: SweepSpec, result: Any, value: Any, stopped: Any) -> str:
     lines = [ln for ln in result.report().splitlines() if not ln.startswith("  values in")]
     name, unit = spec.quantity, QUANTITIES[spec.quantity][0]
     ok = value[stopped]
+    if ok.size < value.size:  # the run is not "ok" when points hold no value (a gap or blank map)
+        state = "failed" if ok.size == 0 else "partial"
+        lines[0] = f"sweep: {state} ({value.size - ok.size} of {value.size} points not at rest)"
     if ok.size:
         lines.append(f"  {name} [{unit}] in [{ok.min():.6g}, {ok.max():.6g}]")
     if ok.size < value.size:

@@ -257,6 +257,8 @@ def _axis(path: Path, field: str, name: str, entry: Any) -> Axis:
     num = entry["num"]
     if not isinstance(num, int) or isinstance(num, bool) or num < 1:
         raise _fail(path, f"`{field}.num` must be a whole number >= 1; got {num!r}.")
+    if num > MAX_POINTS:  # before the axis is allocated
+        raise _fail(path, f"`{field}.num` must be at most {MAX_POINTS} per run; got {num!r}.")
     for key in ("start", "stop"):
         if not _is_number(entry[key]) or not math.isfinite(entry[key]):
             raise _fail(path, f"`{field}.{key}` must be a finite number; got {entry[key]!r}.")

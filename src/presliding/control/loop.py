@@ -29,6 +29,7 @@ from presliding._validation import (
     as_real_scalar,
     as_real_vector,
     as_signal,
+    check_time_span,
     fmt,
 )
 from presliding.control import _loop
@@ -86,6 +87,7 @@ def _instants(t0: float, dt: float, t_end: Any, reference: Any, feedforward: Any
     """The number of instants K + 1, from `t_end` or the length of a sampled signal."""
     if t_end is not None:
         t_end = as_real_scalar("t_end", t_end)
+        check_time_span("t_end", t_end, t_end - t0)
         periods = (t_end - t0) / dt
         k = round(periods)
         if k < 1 or abs(periods - k) > 1e-9 * max(periods, 1.0):

@@ -31,6 +31,7 @@ from presliding._validation import (
     as_real_scalar,
     as_signal,
     check_same_length,
+    check_size,
     fmt,
 )
 from presliding.identification._filters import estimate_derivatives, lowpass
@@ -214,7 +215,10 @@ class Measurement(MeasurementReaders):
             Every signal interpolated onto the new grid.
         """
         h = as_positive_scalar("step", step)
-        n = int(np.floor(self.duration / h * (1 + 1e-12))) + 1
+        with np.errstate(over="ignore"):
+            count = np.floor(self.duration / h * (1 + 1e-12)) + 1.0
+        n_signals = 1 + sum(getattr(self, f) is not None for f in SIGNALS)
+        n = check_size("step", h, count, what="samples", item_bytes=8 * n_signals)
         if n < 2:
             raise ValueError(
                 f"`step` must be at most the duration {fmt(self.duration)} s; got {fmt(h)}."

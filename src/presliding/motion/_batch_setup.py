@@ -34,7 +34,7 @@ def single_bank(
     check_same_length(stiffness=k, threshold=r)
     with np.errstate(over="ignore", under="ignore"):  # reported by check_derived
         c = k * r
-    check_derived(k, c, r)
+    check_derived(k, c, r, given="threshold")
     check_has_friction(np.array([c1]), k.shape[0])
     return c1, np.array(k), np.array(r)
 
@@ -107,7 +107,7 @@ def broadcast_parameters(c1, sigma, k, other, name: str, n_b: int):
     other = np.array(np.broadcast_to(other, k.shape))
     with np.errstate(over="ignore", under="ignore"):  # reported by check_derived
         c, r = (other, other / k) if name == "breakaway" else (k * other, other)
-    check_derived(k, c, r)
+    check_derived(k, c, r, given=name)
     check_has_friction(c1, k.shape[1])
     return c1, sigma, k, np.ascontiguousarray(r)
 

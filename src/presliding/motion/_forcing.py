@@ -147,19 +147,19 @@ def as_forcing(applied_force: Any, hold: str, t_start: float) -> Forcing:
         f(np.array([t_start]))  # fails early with a clear message
         return f
     if isinstance(applied_force, (tuple, list)) and len(applied_force) == 2:
-        time = as_signal("applied_force time", applied_force[0])
-        value = as_signal("applied_force value", applied_force[1])
-        check_same_length(**{"applied_force time": time, "applied_force value": value})
+        time = as_signal("applied_force[0]", applied_force[0])
+        value = as_signal("applied_force[1]", applied_force[1])
+        check_same_length(**{"applied_force[0]": time, "applied_force[1]": value})
         steps = np.diff(time)
         if (steps <= 0).any():
             i = int(np.argmax(steps <= 0)) + 1
             raise ValueError(
-                "`applied_force time` must be strictly increasing; "
+                "`applied_force[0]` (time) must be strictly increasing; "
                 f"got {fmt(time[i])} after {fmt(time[i - 1])} at index {i}."
             )
         if time[0] > t_start:
             raise ValueError(
-                f"`applied_force time` must start at or before `t_start` = {fmt(t_start)}; "
+                f"`applied_force[0]` (time) must start at or before `t_start` = {fmt(t_start)}; "
                 f"got {fmt(time[0])}."
             )
         return Forcing("sampled", hold, time, value)

@@ -12,6 +12,7 @@ from presliding._validation import (
     as_real_scalar,
     as_signal,
     check_increasing,
+    check_time_span,
     fmt,
 )
 from presliding.friction.pi_friction import PIFriction
@@ -54,11 +55,7 @@ def time_grid(t0: float, t_end: Any, t_eval: Any) -> tuple[float, FloatArray]:
     t_end = as_real_scalar("t_end", t_end)
     if not t_end > t0:
         raise ValueError(f"`t_end` must be greater than `t_start` = {fmt(t0)}; got {fmt(t_end)}.")
-    if not np.isfinite(t_end - t0):
-        raise ValueError(
-            f"`t_end` − `t_start` must be finite; got {fmt(t_end)} − {fmt(t0)} (beyond the "
-            "floating-point range)."
-        )
+    check_time_span("t_end", t_end, t_end - t0)
     if times is None:
         return t_end, np.linspace(t0, t_end, 1001)
     if times[0] < t0 or times[-1] > t_end:

@@ -26,7 +26,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from presliding._validation import as_signal, check_increasing, check_same_length
+from presliding._validation import as_signal, check_increasing, check_same_length, renamed
 from presliding.friction.pi_friction import PIFriction
 from presliding.hysteresis.inverse import PIInverse
 from presliding.hysteresis.operators import PIState
@@ -213,6 +213,7 @@ def quasi_static_response(
             f"got {type(initial_state).__name__}."
         )
     start = initial_state if initial_state is not None else model.relaxed_state(0.0)
-    fel = inverse.elastic_force(u, start)
-    y, final = inverse.apply(u, start)
+    with renamed(force="applied_force", state="initial_state"):
+        fel = inverse.elastic_force(u, start)
+        y, final = inverse.apply(u, start)
     return QuasiStaticResponse(t, u, y, fel, final, model)

@@ -21,7 +21,7 @@ from collections.abc import Callable
 from concurrent.futures import CancelledError
 from typing import Any
 
-from presliding._validation import fmt
+from presliding._validation import check_type, fmt
 from presliding.sweep._grid import Points, describe_error, run_chunk
 
 DASK_HINT = "install it with `pip install presliding[dask]`"
@@ -50,6 +50,7 @@ def check_address(address: str) -> None:
     then holds the exiting process for a minute.) Raises ImportError, naming
     the extra to install, when `distributed` is missing.
     """
+    check_type("scheduler", address, str)
     distributed = import_distributed()
     try:
         distributed.comm.get_address_host_port(address)

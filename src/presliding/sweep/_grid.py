@@ -10,13 +10,14 @@ from ``(points, i, n_chunks)``: nothing of size n_points travels with a task.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
-from presliding._validation import as_real_vector, fmt
+from presliding._validation import as_real_vector, check_size, fmt
 
 
 @dataclass(frozen=True, eq=False)
@@ -87,6 +88,9 @@ def as_points(grid: Any) -> Points:
         if np.ndim(arr) > 1:
             raise ValueError(f"`grid[{name!r}]` must be one-dimensional; got {np.shape(arr)}.")
         axes.append(as_real_vector(f"grid[{name!r}]", arr))
+    # the values, the failure flags and each chunk's columns scale with the product
+    n_points = math.prod(a.shape[0] for a in axes)
+    check_size("grid", grid, n_points, what="grid points", item_bytes=8 * (len(axes) + 2))
     return Points("product", tuple(grid), tuple(axes))
 
 

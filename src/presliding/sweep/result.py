@@ -14,6 +14,8 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
+from presliding._validation import check_type
+
 if TYPE_CHECKING:  # pragma: no cover
     import pandas as pd
     import xarray as xr
@@ -158,7 +160,9 @@ class SweepResult:
         if names is None:
             names = ["value"] if not per_point else [f"value_{j}" for j in range(width)]
         else:
-            names = list(names)
+            names = (
+                [names] if isinstance(names, str) else list(check_type("names", names, Sequence))
+            )
             if (
                 len(names) != width
                 or len(set(names)) != width

@@ -48,6 +48,8 @@ __all__ = ["DASK_HINT", "SweepResult", "check_address", "sweep"]
 
 #: Default chunks per worker (per thread on Dask): enough to balance uneven chunks.
 CHUNKS_PER_WORKER = 4
+#: Most local worker processes (each starts an interpreter and the compiled kernels).
+MAX_WORKERS = 1024
 
 
 def sweep(
@@ -124,7 +126,11 @@ def sweep(
     if isinstance(scheduler, Executor):
         client = scheduler
         given = getattr(scheduler, "_max_workers", None) or 1
-        workers = given if n_workers is None else as_count("n_workers", n_workers, minimum=1)
+        workers = (
+            given
+            if n_workers is None
+            else as_count("n_workers", n_workers, minimum=1, maximum=MAX_WORKERS)
+        )
         backend = "executor"
     elif scheduler is not None:
         check_cloudpickle(fn)
@@ -132,7 +138,11 @@ def sweep(
         backend = "dask"
     else:
         default = os.cpu_count() or 1
-        workers = default if n_workers is None else as_count("n_workers", n_workers, minimum=1)
+        workers = (
+            default
+            if n_workers is None
+            else as_count("n_workers", n_workers, minimum=1, maximum=MAX_WORKERS)
+        )
         backend = "serial" if workers == 1 else "processes"
     if chunk_size is not None:
         chunk_size = as_count("chunk_size", chunk_size, minimum=1)
