@@ -273,7 +273,8 @@ def _finite(value: Any, where: str = "result", depth: int = 0) -> None:
             _finite(item, f"{where}[{i}]", depth + 1)
     elif is_dataclass(value) and not isinstance(value, type):
         for f in fields(value):
-            if f.name not in ("model", "final_state", "controller", "predictor"):
+            # stop_time: inf where a member still moves at the end (documented)
+            if f.name not in ("model", "final_state", "controller", "predictor", "stop_time"):
                 _finite(getattr(value, f.name), f"{where}.{f.name}", depth + 1)
 
 

@@ -22,7 +22,7 @@ from typing import Any
 import numpy as np
 
 __all__ = [
-    "as_choice", "as_count", "as_nonnegative_scalar", "as_parameter_matrix",
+    "as_choice", "as_count", "as_list", "as_nonnegative_scalar", "as_parameter_matrix",
     "as_parameter_vector", "as_positive_scalar", "as_real_array", "as_real_scalar",
     "as_real_vector", "as_signal", "as_state_vector", "check_derived", "check_finite_derived",
     "check_has_friction", "check_increasing", "check_same_length", "check_size",
@@ -145,10 +145,7 @@ def as_parameter_vector(
     allow_empty: bool = False,
 ) -> np.ndarray:
     """A read-only 1-D float64 vector of finite parameters, positive (or nonnegative; None: any
-    sign).
-
-    A scalar is accepted and becomes a vector of length one.
-    """
+    sign); a scalar becomes a vector of length one."""
     arr = _real_array(name, value)
     if arr.ndim == 0:
         arr = arr.reshape(1)
@@ -228,19 +225,24 @@ def as_count(name: str, value: Any, *, minimum: int = 0, maximum: int | None = N
     return int(value)
 
 
-#: Longest simulated time span [s]: up to it float64 times resolve 0.2 ms; beyond it,
-#: spans such as 1e308 s only overflow the motion and the plots' time axes.
+#: Longest simulated time span [s] (float64 times resolve 0.2 ms there; 1e308 s overflows).
 MAX_TIME_SPAN = 1e12
 
 
 def check_time_span(name: str, value: Any, span: float) -> None:
-    """A simulated time span (`span`, set by the argument `name` = `value`) is at most
-    `MAX_TIME_SPAN`: "`t_end` must keep the time span within 1e+12 s ...; got 1e+308."."""
+    """A simulated time span `span` (set by the argument `name` = `value`) is at most 1e12 s."""
     if not abs(span) <= MAX_TIME_SPAN:
         raise ValueError(
             f"`{name}` must keep the simulated time span within {MAX_TIME_SPAN:g} s (about "
             f"31,700 years, where float64 times still resolve 0.2 ms); got {fmt(value)}."
         )
+
+
+def as_list(name: str, value: Any) -> list[Any]:
+    """A sequence of items (a list, tuple or any iterable but a string or a mapping) as a list."""
+    if isinstance(value, (str, bytes, dict)) or not hasattr(value, "__iter__"):
+        raise TypeError(f"`{name}` must be a list; got {fmt(value)}.")
+    return list(value)
 
 
 @contextmanager

@@ -248,7 +248,7 @@ def plot_turning_points(
     from presliding._validation import as_count
     from presliding.hysteresis.general_pi import MemoryState, run_density
 
-    n = as_count("samples_per_swing", samples_per_swing, minimum=1)
+    n = as_count("samples_per_swing", samples_per_swing, minimum=1, maximum=10**6)  # a plot
     model, state = result.model, result.initial_state
     knots = np.concatenate(([state.last_input], result.positions))
     swings = np.linspace(knots[:-1], knots[1:], n + 1, axis=1)[:, 1:]  # ends exactly at knots

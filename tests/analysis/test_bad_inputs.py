@@ -68,7 +68,7 @@ ENTRIES = {
     "total_energy": Entry(
         lambda **a: total_energy(**a),
         {"model": MODEL, "mass": 1.0, "velocity": 0.1, "state": STATE},
-        {"model": "object", "mass": "positive", "velocity": "real", "state": "object"},
+        {"model": "object", "mass": "nonnegative", "velocity": "real", "state": "object"},
         [*WRONG_STATE, ("huge", {"mass": 1e200, "velocity": 1e200}, "mass|velocity", False)],
     ),
     "elastic_energy": Entry(
@@ -98,7 +98,7 @@ ENTRIES = {
         needles={"time": "time|velocity", "velocity": "velocity|time"},
     ),
     "TurningPoints.plot": Entry(
-        lambda **a: POINTS.plot(**a), {}, {"ax": "object", "samples_per_swing": "count"}
+        lambda **a: POINTS.plot(**a), {}, {"ax": "object?", "samples_per_swing": "count"}
     ),
 }
 

@@ -197,10 +197,10 @@ ENTRIES = {
         needles={"applied_force": "applied_force|time", "time": "time|applied_force"},
     ),
     "MotionResult.plot": Entry(
-        lambda **a: RESULT.plot(**a), {"kind": "time"}, {"ax": "object", "kind": "choice"}
+        lambda **a: RESULT.plot(**a), {"kind": "time"}, {"ax": "object?", "kind": "choice"}
     ),
     "MotionBatch.plot": Entry(
-        lambda **a: BATCH.plot(**a), {"kind": "velocity"}, {"ax": "object", "kind": "choice"}
+        lambda **a: BATCH.plot(**a), {"kind": "velocity"}, {"ax": "object?", "kind": "choice"}
     ),
 }
 

@@ -33,6 +33,7 @@ from presliding._validation import (
     check_increasing,
     check_same_length,
     fmt,
+    renamed,
 )
 from presliding.friction import _baseline_kernels as _bk
 from presliding.friction.pi_friction import PIFriction
@@ -133,7 +134,8 @@ class DahlFriction:
 
     def relaxed_state(self, position: float = 0.0) -> DahlState:
         """Rest at `position` with zero force."""
-        return DahlState(position, 0.0)
+        with renamed(last_input="position"):
+            return DahlState(position, 0.0)
 
     def force(
         self, displacement: ArrayLike, state: DahlState | None = None
@@ -262,9 +264,9 @@ class LuGreFriction:
             g(v) [N], same shape as `velocity`, between F_c and F_s.
         """
         v = as_real_array("velocity", velocity)
-        return self.coulomb + (self.static - self.coulomb) * np.exp(
-            -((v / self.stribeck_velocity) ** 2)
-        )
+        with np.errstate(over="ignore"):  # |v| ≫ v_s: exp(−inf) = 0, the exact limit
+            decay = np.exp(-((v / self.stribeck_velocity) ** 2))
+        return self.coulomb + (self.static - self.coulomb) * decay
 
     def steady_state_force(self, velocity: ArrayLike) -> FloatArray:
         """F_ss(v) = g(v)·sign(v) + σ2·v, the force at constant velocity v.
@@ -284,7 +286,8 @@ class LuGreFriction:
 
     def relaxed_state(self, position: float = 0.0, time: float = 0.0) -> LuGreState:
         """Rest at `position` and `time` with undeflected bristles."""
-        return LuGreState(position, time, 0.0, 0.0)
+        with renamed(last_input="position", last_time="time"):
+            return LuGreState(position, time, 0.0, 0.0)
 
     def force(
         self, displacement: ArrayLike, time: ArrayLike, state: LuGreState | None = None

@@ -13,6 +13,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from presliding._validation import as_list
 from presliding.friction.pi_friction import PIFriction
 from presliding.hysteresis.batch import PIBatch
 
@@ -44,7 +45,7 @@ def friction_batch(models: Sequence[PIFriction]) -> PIBatch:
     >>> force.shape
     (5, 2)
     """
-    models = list(models)
+    models = as_list("models", models)
     for i, m in enumerate(models):
         if not isinstance(m, PIFriction):
             raise TypeError(f"`models` must hold PIFriction models; got {type(m).__name__} at {i}.")

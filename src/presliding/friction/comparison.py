@@ -16,7 +16,13 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from presliding._validation import as_signal, check_increasing, check_same_length, check_type
+from presliding._validation import (
+    as_list,
+    as_signal,
+    check_increasing,
+    check_same_length,
+    check_type,
+)
 from presliding.friction.baselines import CoulombFriction, DahlFriction, LuGreFriction
 from presliding.friction.pi_friction import PIFriction
 
@@ -112,7 +118,7 @@ def compare(
     if isinstance(models, Mapping):
         labels, items = [str(k) for k in models], list(models.values())
     else:
-        items = list(models)
+        items = as_list("models", models)
         labels = [type(m).__name__ for m in items]
     if not items:
         raise ValueError("`models` must not be empty; got no models.")

@@ -291,8 +291,9 @@ class PIFriction:
         """
         if not isinstance(elastic_only, (bool, np.bool_)):
             raise TypeError(f"`elastic_only` must be True or False; got {fmt(elastic_only)}.")
-        scalar = np.ndim(displacement) == 0
-        y = as_signal("displacement", np.atleast_1d(displacement))
+        y = as_real_array("displacement", displacement)
+        scalar = y.ndim == 0
+        y = as_signal("displacement", np.atleast_1d(y))
         ay = np.abs(y)
         if not self.is_discrete:
             elastic = self.density.virgin_curve(ay)  # type: ignore[union-attr]
@@ -395,8 +396,8 @@ def _take_density(model: PIFriction, c1: float) -> bool:
         raise TypeError(f"`density` must be a Density; got {type(dens).__name__}.")
     if np.size(model.stiffness) or model.breakaway is not None or model.threshold is not None:
         raise TypeError(
-            "give either `density` or the elements (`stiffness` with `breakaway` or "
-            "`threshold`), not both."
+            "`density` excludes the elements (`stiffness` with `breakaway` or `threshold`); "
+            "got both."
         )
     if isinstance(dens, Discrete):
         object.__setattr__(model, "stiffness", dens.stiffness)

@@ -9,6 +9,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from presliding._validation import (
+    as_list,
     as_nonnegative_scalar,
     as_parameter_matrix,
     as_parameter_vector,
@@ -41,7 +42,7 @@ def single_bank(
 
 def stack_models(models: Any) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
     """c1 (B,), σ (B,), k (B, N), r (B, N) from PIFriction models; shorter banks padded inertly."""
-    seq = [models] if isinstance(models, PIFriction) else list(models)
+    seq = [models] if isinstance(models, PIFriction) else as_list("models", models)
     if not seq:
         raise ValueError("`models` must not be empty; got 0 models.")
     for i, model in enumerate(seq):

@@ -17,7 +17,9 @@ from presliding._validation import (
     as_nonnegative_scalar,
     as_positive_scalar,
     as_real_scalar,
+    check_finite_derived,
     check_size,
+    check_time_span,
 )
 from presliding.friction.pi_friction import PIFriction
 from presliding.motion import _batch_events as _batch
@@ -145,6 +147,9 @@ def simulate_batch(
         c1, sigma, k, r = _setup.broadcast_parameters(*params[:5], n_b)
     m, v0, y0 = (np.array(np.broadcast_to(arrays[n], (n_b,))) for n in
                  ("mass", "initial_velocity", "initial_position"))  # fmt: skip
+    with np.errstate(over="ignore"):
+        energy = 0.5 * m * v0 * v0
+    check_finite_derived("kinetic energy ½·m·v0²", energy, ("mass", "initial_velocity"))
     f0, last_dir = _setup.batch_deformation(initial_state, r, v0, u0)
     u_t, u_val = forcing.pieces(t0, t_end)
     return _setup.run_batch(m, c1, sigma, k, r, f0, y0, v0, last_dir, u_t, u_val, times, t_end,
@@ -224,10 +229,16 @@ def free_response(
     y0 = as_real_scalar("initial_position", initial_position)
     dt = as_positive_scalar("time_step", time_step)
     n_t = as_count("n_samples", n_samples, minimum=1)
+    check_time_span("time_step", dt, dt * (n_t - 1))
     # position, velocity, sample times and the kernel's six scratch rows
     check_size("n_samples", n_samples, n_t, what="samples", item_bytes=9 * 8)
     u = as_real_scalar("applied_force", applied_force)
     sigma = as_nonnegative_scalar("viscous", viscous)
+    with np.errstate(over="ignore"):  # the damped pieces' rates (σ/2m)² and Σk/m
+        rates = (np.float64(0.5 * sigma / m) ** 2, np.sum(k) / m, 0.5 * m * np.float64(v0) ** 2)
+    check_finite_derived("damping rate (σ/2m)²", rates[0], ("viscous", "mass"))
+    check_finite_derived("frequency² Σk/m", rates[1], ("stiffness", "mass"))
+    check_finite_derived("kinetic energy ½·m·v0²", rates[2], ("mass", "initial_velocity"))
     limit = as_count("max_events", max_events, minimum=1)
     f0, last_dir = _setup.batch_deformation(initial_state, r[None, :], np.array([v0]), u)
     y, v, status, stop, n_rev, n, t_last = _batch.free_kernel(
