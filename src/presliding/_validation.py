@@ -164,7 +164,7 @@ def as_parameter_vector(
 
 
 def as_real_vector(name: str, value: Any, *, allow_empty: bool = False) -> np.ndarray:
-    """A read-only, finite, 1-D float64 vector of any sign (a scalar becomes length one)."""
+    """`as_parameter_vector` of any sign."""
     return as_parameter_vector(name, value, positive=None, allow_empty=allow_empty)
 
 
@@ -291,8 +291,7 @@ def check_finite_derived(what: str, value: Any, names: str | tuple[str, ...]) ->
 
 
 # ---------------------------------------------------------------------- sizes
-#: Largest allocation, in bytes, that `check_size` lets through; None: half of
-#: the machine's physical memory (`size_limit`).
+#: Largest allocation [bytes] `check_size` lets through; None: half the physical memory.
 MAX_ALLOCATION_BYTES: int | None = None
 
 
@@ -313,9 +312,9 @@ def _bytes(n: float) -> str:
 
 
 def _amount(count: float) -> str:
-    if math.isfinite(count) and count < 1e15 and count == int(count):
-        return str(int(count))
-    return f"{count:.3g}" if math.isfinite(count) else "more than 1.8e308"
+    if not math.isfinite(count):
+        return "more than 1.8e308"
+    return str(int(count)) if count < 1e15 and count == int(count) else f"{count:.3g}"
 
 
 def check_size(
@@ -358,10 +357,13 @@ def as_parameter_matrix(name: str, value: Any) -> np.ndarray:
     return np.ascontiguousarray(arr)
 
 
-def as_real_array(name: str, value: Any) -> np.ndarray:
-    """A finite float64 array of any shape (a scalar stays 0-d); strings and bools rejected."""
+def as_real_array(name: str, value: Any, *, finite: bool = True) -> np.ndarray:
+    """A float64 array of any shape (a scalar stays 0-d), finite (``finite=False``: ±inf ok)."""
     arr = _real_array(name, value)
-    _check_finite(name, arr)
+    if finite:
+        _check_finite(name, arr)
+    elif np.isnan(arr).any():
+        raise ValueError(f"`{name}` must not be NaN; {_first_bad(arr, np.isnan(arr))}.")
     return arr if arr.ndim == 0 else np.ascontiguousarray(arr)
 
 

@@ -20,10 +20,10 @@ from presliding._validation import (
     as_count,
     as_parameter_vector,
     as_positive_scalar,
+    as_real_array,
     check_finite_derived,
     check_same_length,
     check_size,
-    fmt,
 )
 from presliding.hysteresis._density_primitives import DISCRETE, evaluate
 
@@ -49,11 +49,12 @@ class Density:
         Density._registry[cls.__name__] = cls
 
     # ------------------------------------------------------------ primitives
-    def _eval(self, r: ArrayLike, which: int) -> Any:
-        scalar = np.ndim(r) == 0
-        rv = np.ascontiguousarray(np.atleast_1d(np.asarray(r, dtype=np.float64)))
-        if rv.ndim != 1 or np.isnan(rv).any():
-            raise ValueError(f"`r` must be a scalar or 1-D array without NaN; got {fmt(r)}.")
+    def _eval(self, r: ArrayLike, which: int, name: str = "r") -> Any:
+        rv = as_real_array(name, r, finite=False)  # r = inf: the moments over all thresholds
+        scalar = rv.ndim == 0
+        rv = np.ascontiguousarray(np.atleast_1d(rv))
+        if rv.ndim != 1:
+            raise ValueError(f"`{name}` must be a scalar or one-dimensional; got shape {rv.shape}.")
         out = np.empty(rv.shape[0])
         evaluate(self._kind, self._par, self._tab, rv, which, out)
         return float(out[0]) if scalar else out
@@ -157,7 +158,7 @@ class Density:
 
     def virgin_curve(self, displacement: ArrayLike) -> Any:
         """Elastic initial loading curve sign(y)·(M1(|y|) + |y|·T(|y|)) from the relaxed state."""
-        y = np.asarray(displacement, dtype=np.float64)
+        y = as_real_array("displacement", displacement)
         a = np.abs(y)
         out = np.sign(y) * (self.M1(a) + np.where(a < self._big_r, a, 0.0) * self.tail(a))
         return float(out) if np.ndim(out) == 0 else out
