@@ -234,8 +234,10 @@ class Make:
         self.build = build
 
 
-def bad_input_cases(entries: dict[str, Entry]) -> list[Any]:
-    """pytest parameters (entry, overrides, needle, may be legal), one per bad value."""
+def bad_input_cases(entries: dict[str, Entry], known: frozenset[str] = frozenset()) -> list[Any]:
+    """pytest parameters (entry, overrides, needle, may be legal), one per bad value; the ids
+    in `known` are open gaps, marked as strict expected failures (fixing one fails the test
+    until its id leaves the list)."""
     params = []
     for name, entry in entries.items():
         for arg, kind in entry.args.items():
@@ -245,12 +247,11 @@ def bad_input_cases(entries: dict[str, Entry]) -> list[Any]:
             for label, value, legal in KINDS[kind.rstrip("?*~!")]:
                 if label in skip or (legal and "!" in kind):
                     continue
-                params.append(
-                    pytest.param(entry, {arg: value}, needle, legal, id=f"{name}-{arg}-{label}")
-                )
+                params.append((entry, {arg: value}, needle, legal, f"{name}-{arg}-{label}"))
         for label, overrides, needle, legal in entry.extra:
-            params.append(pytest.param(entry, overrides, needle, legal, id=f"{name}-{label}"))
-    return params
+            params.append((entry, overrides, needle, legal, f"{name}-{label}"))
+    gap = pytest.mark.xfail(strict=True, reason="an open gap of the bad-input review")
+    return [pytest.param(*p[:4], id=p[4], marks=[gap] if p[4] in known else []) for p in params]
 
 
 class _Hang(Exception):

@@ -22,7 +22,7 @@ from typing import Any
 import numpy as np
 
 __all__ = [
-    "as_choice", "as_count", "as_list", "as_nonnegative_scalar", "as_parameter_matrix",
+    "as_bounds", "as_choice", "as_count", "as_list", "as_nonnegative_scalar", "as_parameter_matrix",
     "as_parameter_vector", "as_positive_scalar", "as_real_array", "as_real_scalar",
     "as_real_vector", "as_signal", "as_state_vector", "check_derived", "check_finite_derived",
     "check_has_friction", "check_increasing", "check_same_length", "check_size",
@@ -35,27 +35,22 @@ def fmt(value: Any) -> str:
     if isinstance(value, (float, np.floating)):
         return repr(float(value))
     if isinstance(value, np.ndarray):
-        if value.size > 6:
-            return f"an array of shape {value.shape}"
-        return repr(value.tolist())
+        return f"an array of shape {value.shape}" if value.size > 6 else repr(value.tolist())
     text = repr(value)
     return text if len(text) <= 60 else text[:57] + "..."
 
 
 def _real_array(name: str, value: Any) -> np.ndarray:
     """Convert to a float64 array, rejecting booleans, strings, complex and objects."""
+    rule = f"`{name}` must be a real number or array of real numbers; got"
     if value is None or isinstance(value, (str, bytes)):
-        raise TypeError(
-            f"`{name}` must be a real number or array of real numbers; got {fmt(value)}."
-        )
+        raise TypeError(f"{rule} {fmt(value)}.")
     try:
         arr = np.asarray(value)
     except ValueError:  # ragged nested sequences
         raise ValueError(f"`{name}` must be a rectangular array; got {fmt(value)}.") from None
     if arr.dtype == object or arr.dtype.kind not in "iuf":
-        raise TypeError(
-            f"`{name}` must be a real number or array of real numbers; got dtype {arr.dtype}."
-        )
+        raise TypeError(f"{rule} dtype {arr.dtype}.")
     return np.array(arr, dtype=np.float64, copy=True)
 
 
@@ -207,9 +202,7 @@ def check_increasing(name: str, arr: np.ndarray, after: float | None = None) -> 
             f"at index {i}."
         )
     if after is not None and arr.shape[0] and not arr[0] > after:
-        raise ValueError(
-            f"`{name}` must start after the state's time {fmt(after)}; got {fmt(arr[0])}."
-        )
+        raise ValueError(f"`{name}` must start after the state's time {after}; got {fmt(arr[0])}.")
 
 
 def as_count(name: str, value: Any, *, minimum: int = 0, maximum: int | None = None) -> int:
@@ -279,8 +272,7 @@ def _sources(names: str | tuple[str, ...]) -> str:
 
 def check_finite_derived(what: str, value: Any, names: str | tuple[str, ...]) -> None:
     """The quantity `what` (with its formula), computed from the arguments `names` the user
-    passed, came out finite: "`coulomb` and `breakaway` must give a finite Coulomb level
-    F_c = c1 + Σ c_j (eq. 9); got inf (...)." An array is checked element by element."""
+    passed, came out finite (an array element by element)."""
     arr = np.asarray(value, dtype=np.float64)
     bad = ~np.isfinite(arr)
     if bad.any():
@@ -320,12 +312,8 @@ def _amount(count: float) -> str:
 def check_size(
     name: str, value: Any, count: float, *, what: str = "values", item_bytes: int = 8
 ) -> int:
-    """Before allocating: `count` items of `item_bytes` (over all arrays per item) fit
-    `size_limit()`; returns ``int(count)``. `name` and `value` are the argument the user
-    passed that sets the size; a float `count` may be inf (an overflow, reported as such).
-    "`n` must ask for at most 805306368 values (6 GiB, half of this machine's memory); got
-    1000000000000, which asks for 1000000000000 values (7.28 TiB)."
-    """
+    """Before allocating: `count` items of `item_bytes` fit `size_limit()`; returns int(count).
+    `name` = `value` is the argument that sets the size; a float `count` may be inf."""
     limit = size_limit()
     most = limit // max(int(item_bytes), 1)
     count = float(count) if not isinstance(count, numbers.Integral) else count
@@ -341,10 +329,8 @@ def check_size(
 
 
 def as_parameter_matrix(name: str, value: Any) -> np.ndarray:
-    """A 2-D float64 array (B, N) of finite, positive parameters, one row per batch member.
-
-    A scalar becomes shape (1, 1) and a 1-D vector one row (1, N); N may be 0.
-    """
+    """A 2-D float64 array (B, N) of finite, positive parameters, one row per batch member
+    (a scalar becomes shape (1, 1) and a 1-D vector one row (1, N); N may be 0)."""
     arr = _real_array(name, value)
     if arr.ndim < 2:
         arr = arr.reshape(1, -1)
@@ -375,13 +361,9 @@ def check_derived(
     coulomb: Any = 0.0,
     given: str = "breakaway",
 ) -> None:
-    """A bank's derived quantities came out finite: c and r = c/k (eq. 6) also positive.
-
-    Beyond the elements, the totals over the last axis (one bank per row for a
-    batch) must be finite: Σ k_j (eq. 7), F_c = c1 + Σ c_j (eq. 9) and Σ c_j r_j
-    (twice the largest stored energy ½ Σ k_j r_j²). `given` names the argument
-    the user passed besides `stiffness` ("breakaway" or "threshold").
-    """
+    """A bank's derived c and r = c/k (eq. 6) are finite and positive, and its totals over
+    the last axis finite: Σ k_j (eq. 7), F_c (eq. 9), ½ Σ k_j r_j². `given`: "breakaway" or
+    "threshold", the argument passed besides `stiffness`."""
     for name, arr in (("breakaway c_j = k_j r_j", c), ("threshold r_j = c_j/k_j", r)):
         bad = ~(np.isfinite(arr) & (arr > 0))  # the one not given is derived (eq. 6)
         if bad.any():
@@ -407,6 +389,24 @@ def check_derived(
         )
     for what, value, names in totals:
         check_finite_derived(what, value, names)
+
+
+def as_bounds(name: str, value: Any, names: Any) -> dict[str, tuple[float, float]]:
+    """A mapping of parameter names (among `names`) to (lower, upper) with lower < upper."""
+    if value is None:
+        return {}
+    check_type(name, value, dict)
+    out = {}
+    for key, pair in value.items():
+        if key not in names:
+            raise ValueError(f"`{name}` names unknown parameter {key!r}; got {sorted(value)}.")
+        if not isinstance(pair, (tuple, list)) or len(pair) != 2:
+            raise ValueError(f"`{name}[{key!r}]` must be a pair (lower, upper); got {fmt(pair)}.")
+        lo, hi = (as_real_scalar(f"{name}[{key!r}]", v, finite=False) for v in pair)
+        if not lo < hi:
+            raise ValueError(f"`{name}[{key!r}]` must have lower < upper; got {fmt(pair)}.")
+        out[key] = (lo, hi)
+    return out
 
 
 def check_has_friction(c1: np.ndarray, n_elements: int) -> None:

@@ -157,7 +157,6 @@ ENTRIES = {
         {
             "model": "object",
             "state": "object?",
-            "mass": "positive?",
             "position": "real",
             "velocity": "real",
         },

@@ -46,7 +46,7 @@ ENTRIES = {
     "play": Entry(
         lambda **a: play(**a),
         {"y": Y, "threshold": 0.1, "initial": None},
-        {"y": "signal", "threshold": "nonnegative", "initial": "real?"},
+        {"y": "signal", "threshold": "nonnegative_vector", "initial": "real_vector?"},
         [
             (
                 "initial-length",
@@ -64,7 +64,7 @@ ENTRIES = {
     "PIOperator": Entry(
         lambda **a: PIOperator(**a),
         {"threshold": [0.1, 0.2], "weight": [1.0, 2.0], "linear": 0.0},
-        {"threshold": "nonnegative_vector", "weight": "positive_vector", "linear": "nonnegative"},
+        {"threshold": "nonnegative_vector", "weight": "real_vector", "linear": "real"},
         [("mismatch", {"threshold": [0.1, 0.2, 0.3]}, "threshold", False)],
     ),
     "PIOperator.relaxed_state": Entry(
@@ -115,8 +115,8 @@ ENTRIES = {
         {"threshold": [[0.1, 0.2]], "weight": [[1.0, 2.0]], "linear": 0.0, "coulomb": 0.0},
         {
             "threshold": "nonnegative_vector",
-            "weight": "positive_vector",
-            "linear": "nonnegative",
+            "weight": "real_vector",
+            "linear": "real",
             "coulomb": "nonnegative",
         },
         [

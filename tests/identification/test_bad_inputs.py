@@ -172,7 +172,7 @@ ENTRIES = {
             ("scale-unknown-signal", {"scale": {"nope": 2.0}}, "scale", False),
             ("text-named-mat", {"path": _file("x.mat", CSV)}, "file:path", True),
         ],
-        needles={"path": "path"},
+        needles={"path": "path|file:path"},
     ),
     "Measurement.from_mat": Entry(
         lambda **a: Measurement.from_mat(**a),
@@ -182,6 +182,7 @@ ENTRIES = {
             ("csv-as-mat", {"path": _file("x.mat", CSV)}, "file:path", False),
             ("empty", {"path": _file("e.mat", b"")}, "file:path", False),
         ],
+        needles={"path": "path|file:path"},
     ),
     "Measurement.from_dataframe": Entry(
         lambda **a: Measurement.from_dataframe(**a),

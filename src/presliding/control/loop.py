@@ -29,6 +29,7 @@ from presliding._validation import (
     as_real_scalar,
     as_real_vector,
     as_signal,
+    check_size,
     check_time_span,
     fmt,
 )
@@ -201,6 +202,7 @@ def simulate_loop(
     max_events = as_count("max_events", max_events, minimum=1)
     n = times.shape[0]
     n_out = (n - 1) * sub + 1
+    check_size("substeps", substeps, n_out, what="output samples", item_bytes=9 * 8)
     kind, p, s, a, b, c, d, x = _controller_arrays(ctrl)
     sigma = float(model.viscous)
     e0 = 0.5 * m * v0 * v0 + 0.5 * float(np.dot(k * f, f))

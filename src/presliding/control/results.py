@@ -9,7 +9,12 @@ from typing import TYPE_CHECKING, Any, NamedTuple
 import numpy as np
 from numpy.typing import NDArray
 
-from presliding._validation import as_real_scalar, fmt
+from presliding._validation import (
+    as_real_scalar,
+    as_real_vector,
+    check_same_length,
+    fmt,
+)
 from presliding.motion.results import MotionResult
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -44,9 +49,10 @@ def measure_limit_cycle(
     the trend the relative change of the swing from the first to the last pair of
     turning points. NaN (0 cycles) when fewer than two full cycles follow `after`.
     """
-    t_all = np.asarray(reversal_times, dtype=np.float64)
-    y_all = np.asarray(reversal_positions, dtype=np.float64)
-    keep = t_all >= float(after)
+    t_all = as_real_vector("reversal_times", reversal_times, allow_empty=True)
+    y_all = as_real_vector("reversal_positions", reversal_positions, allow_empty=True)
+    check_same_length(reversal_times=t_all, reversal_positions=y_all)
+    keep = t_all >= as_real_scalar("after", after)
     t, y = t_all[keep], y_all[keep]
     if t.shape[0] < 5:
         return MeasuredCycle(float("nan"), float("nan"), 0, float("nan"))

@@ -17,7 +17,14 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy import integrate
 
-from presliding._validation import as_parameter_vector, as_positive_scalar, as_real_vector, fmt
+from presliding._validation import (
+    as_nonnegative_scalar,
+    as_parameter_vector,
+    as_positive_scalar,
+    as_real_array,
+    as_real_vector,
+    fmt,
+)
 from presliding.hysteresis._density_base import Density
 from presliding.hysteresis._density_primitives import TABULATED
 
@@ -49,7 +56,7 @@ class Tabulated(Density):
     def __post_init__(self) -> None:
         g = as_real_vector("grid", self.grid)
         v = as_parameter_vector("values", self.values, positive=False)
-        mom = np.asarray(self.moments, dtype=np.float64)
+        mom = as_real_array("moments", self.moments)
         n = g.shape[0] - 1
         if n < 1 or v.shape != g.shape or mom.shape != (3, n + 1):
             raise ValueError(
@@ -58,7 +65,8 @@ class Tabulated(Density):
             )
         h = g[-1] / n
         if g[0] != 0 or not np.allclose(g, h * np.arange(n + 1), rtol=1e-12, atol=0):
-            raise ValueError("`grid` must be uniform and start at 0.")
+            raise ValueError(f"`grid` must be uniform and start at 0; got {fmt(g)}.")
+        as_nonnegative_scalar("interpolation_error", self.interpolation_error)
         tab = np.vstack([g, v, mom])
         self._freeze(np.array([g[-1], h]), tab)
 

@@ -20,6 +20,8 @@ from numpy.typing import ArrayLike, NDArray
 
 from presliding._out import as_output
 from presliding._validation import (
+    as_count,
+    as_list,
     as_real_array,
     as_real_scalar,
     as_signal,
@@ -65,6 +67,7 @@ class PIBatchState:
 
     def member(self, b: int) -> PIState:
         """The `PIState` of member b."""
+        b = as_count("b", b, maximum=self.play.shape[0] - 1)
         return PIState(self.last_input, self.play[b].copy(), self.direction)
 
     @classmethod
@@ -76,7 +79,7 @@ class PIBatchState:
         ValueError
             If the states differ in `last_input`, `direction` or size.
         """
-        states = list(states)
+        states = as_list("states", states)
         for i, s in enumerate(states):
             if not isinstance(s, PIState):
                 raise TypeError(
@@ -185,7 +188,7 @@ class PIBatch:
         operators : sequence of PIOperator
             The members; their `linear` coefficients are kept.
         """
-        ops = list(operators)
+        ops = as_list("operators", operators)
         for i, op in enumerate(ops):
             if not isinstance(op, PIOperator):
                 raise TypeError(
@@ -222,6 +225,7 @@ class PIBatch:
 
     def member(self, b: int) -> PIOperator:
         """Member b as a `PIOperator` (its Coulomb element, if any, is not part of it)."""
+        b = as_count("b", b, maximum=self.threshold.shape[0] - 1)
         return PIOperator(self.threshold[b], self.weight[b], linear=float(self.linear[b]))
 
     def relaxed_state(self, position: float = 0.0) -> PIBatchState:

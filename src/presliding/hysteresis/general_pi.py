@@ -17,7 +17,14 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from presliding._validation import as_real_scalar, as_real_vector, as_signal, fmt
+from presliding._validation import (
+    as_real_array,
+    as_real_scalar,
+    as_real_vector,
+    as_signal,
+    check_type,
+    fmt,
+)
 from presliding.hysteresis import _general_pi as gk
 from presliding.hysteresis.densities import Density
 
@@ -140,6 +147,7 @@ class MemoryState:
         position = as_real_scalar("position", position)
         if isinstance(direction, bool) or direction not in (-1, 1):
             raise ValueError(f"`direction` must be -1 or 1; got {fmt(direction)}.")
+        max_threshold = as_real_scalar("max_threshold", max_threshold, finite=False)
         if not (max_threshold == math.inf or max_threshold > 0):
             raise ValueError(f"`max_threshold` must be positive; got {fmt(max_threshold)}.")
         base = (
@@ -169,7 +177,9 @@ class MemoryState:
         float or ndarray
             Deformations f(r) [m], same shape as `threshold`.
         """
-        r = np.asarray(threshold, dtype=np.float64)
+        r = as_real_array("threshold", threshold, finite=False)
+        if r.size == 0 or np.any(r < 0):
+            raise ValueError(f"`threshold` must be nonempty with r >= 0; got {fmt(threshold)}.")
         y, e, d, prev = self.last_input, self.turning, self.direction, self.base
         out = np.full(r.shape, y - prev if math.isfinite(prev) else 0.0)
         for k in range(e.shape[0]):
@@ -209,6 +219,7 @@ class MemoryState:
             `head`; one row per turning input in `stack` (rows beyond the
             depth are spare capacity).
         """
+        check_type("density", density, Density)
         return gk.replay(
             self.last_input,
             self.direction,
@@ -232,6 +243,13 @@ class MemoryState:
         -------
         MemoryState
         """
+        head = as_real_array("head", head, finite=False)
+        stack = as_real_array("stack", stack, finite=False)
+        if head.shape != (4,) or not 0 <= head[3] <= len(stack) or head[3] % 1:
+            raise ValueError(f"`head` must be (last input, direction, base, depth <= "
+                             f"len(stack)) of a kernel run; got {fmt(head)}.")  # fmt: skip
+        if stack.ndim != 2 or stack.shape[1] < 1:
+            raise ValueError(f"`stack` must be two-dimensional; got shape {stack.shape}.")
         n = int(head[3])
         return cls(float(head[0]), stack[:n, 0].copy(), float(head[2]), float(head[1]))
 

@@ -168,6 +168,8 @@ class PIState:
             If the state does not hold N play outputs, or some |y − x_j| exceeds
             r_j (beyond rounding).
         """
+        if type(threshold) is not np.ndarray or threshold.dtype != np.float64:
+            threshold = as_parameter_vector("threshold", threshold, positive=False)
         n = threshold.shape[0]
         if self.play.shape != (n,):
             raise ValueError(

@@ -26,7 +26,13 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from presliding._validation import as_choice, as_positive_scalar, as_real_scalar, fmt
+from presliding._validation import (
+    as_bounds,
+    as_choice,
+    as_positive_scalar,
+    as_real_scalar,
+    fmt,
+)
 from presliding.identification._fit_options import (  # noqa: F401 (their home before)
     check_budget,
     check_constraints,
@@ -230,10 +236,7 @@ def solve_least_squares(
         gradient_tolerance = as_positive_scalar("gradient_tolerance", gradient_tolerance)
     fixed, tied = check_constraints(fixed, tied)
     names = tuple(initial)
-    bounds = dict(bounds or {})
-    for n in bounds:
-        if n not in names:
-            raise ValueError(f"`bounds` names unknown parameter {n!r}; known: {list(names)}.")
+    bounds = as_bounds("bounds", bounds, names)
     pm = _parameter_map(names, fixed, tied)
     lower = np.array([bounds.get(n, (-np.inf, np.inf))[0] for n in names], dtype=float)
     upper = np.array([bounds.get(n, (-np.inf, np.inf))[1] for n in names], dtype=float)

@@ -213,7 +213,7 @@ def read_text(path: Any, *, delimiter: str | None = None, header: bool | None = 
         detected (a header when any cell of the first line is not a number).
     """
     path = check_path(path)
-    if delimiter is not None and delimiter not in _DELIMITERS:
+    if delimiter is not None and (not isinstance(delimiter, str) or delimiter not in _DELIMITERS):
         raise ValueError(
             "`delimiter` must be one of ',', ';', '\\t', ' ' or 'whitespace'; got "
             f"{fmt(delimiter)}."

@@ -29,6 +29,7 @@ import numpy as np
 from presliding._validation import (
     as_choice,
     as_count,
+    as_list,
     as_nonnegative_scalar,
     as_positive_scalar,
     as_real_scalar,
@@ -68,7 +69,7 @@ def check_records(records: Any, signal: str, signals: tuple[str, ...]) -> list[p
 
 def check_quasi_static_records(records: Any) -> list[pp.Record]:
     """The records of a quasi-static fit as a checked list (position and applied force)."""
-    found = [records] if isinstance(records, Measurement) else list(records)
+    found = [records] if isinstance(records, Measurement) else as_list("records", records)
     if not found:
         raise ValueError("`records` must hold at least one Measurement; got none.")
     for i, m in enumerate(found):
@@ -193,6 +194,10 @@ def prune_elements(problem: pp.PooledProblem, sol: Solution, spec: Any) -> Pruni
 
 
 # ---------------------------------------------------------------------- bootstrap
+#: Most bootstrap refits a fit accepts (each is a full fit).
+MAX_BOOTSTRAP = 100_000
+
+
 def record_bootstrap(
     sol: Solution,
     problem: pp.PooledProblem,

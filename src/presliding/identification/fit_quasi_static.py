@@ -45,6 +45,7 @@ from presliding.identification._response_checks import (
     stiffest_first,
 )
 from presliding.identification._response_setup import (
+    MAX_BOOTSTRAP,
     check_model_values,
     check_quasi_static_records,
     nuisance_only,
@@ -167,7 +168,7 @@ def fit_quasi_static(
     fixed, tied = check_constraints(fixed, tied)
     spec = ModelSpec(n, equal_breakaway, density, cells)
     check_model_values(spec, fixed, tied, initial)
-    bootstrap = as_count("bootstrap", bootstrap)
+    bootstrap = as_count("bootstrap", bootstrap, maximum=MAX_BOOTSTRAP)
     fmin = 0.0 if min_coulomb_level is None else as_positive_scalar(
         "min_coulomb_level", min_coulomb_level)  # fmt: skip
     problem = QuasiStaticProblem(recs, spec, initial_state, offset=offset, suffix=not single)

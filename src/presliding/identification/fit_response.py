@@ -38,7 +38,13 @@ from dataclasses import replace
 
 import numpy as np
 
-from presliding._validation import as_choice, as_count, as_positive_scalar, fmt
+from presliding._validation import (
+    as_bounds,
+    as_choice,
+    as_count,
+    as_positive_scalar,
+    fmt,
+)
 from presliding.identification import _pooled_problem as pp
 from presliding.identification._least_squares import (
     LARGE_PROBLEM,
@@ -60,6 +66,7 @@ from presliding.identification._response_checks import (
 )
 from presliding.identification._response_result import PER_UNIT_MASS, response_result
 from presliding.identification._response_setup import (
+    MAX_BOOTSTRAP,
     check_model_values,
     check_records,
     initial_bounds,
@@ -217,7 +224,7 @@ def fit_response(
     fixed, tied = check_constraints(fixed, tied)
     spec = ModelSpec(n, equal_breakaway, density, cells)
     check_model_values(spec, fixed, tied, initial)
-    bootstrap = as_count("bootstrap", bootstrap)
+    bootstrap = as_count("bootstrap", bootstrap, maximum=MAX_BOOTSTRAP)
     if mass is not None:
         fixed["mass"] = as_positive_scalar("mass", mass)
     if coulomb_level is not None:
@@ -271,9 +278,7 @@ def fit_response(
     if fmin is not None and spec.has_level_parameter:
         box["coulomb_level"] = (fmin, np.inf)
         start["coulomb_level"] = max(start["coulomb_level"], fmin)
-    for key, (lo, hi) in dict(bounds or {}).items():
-        if key not in names:
-            raise ValueError(f"`bounds` names unknown parameter {key!r}; known: {names}.")
+    for key, (lo, hi) in as_bounds("bounds", bounds, names).items():
         old = box.get(key, (-np.inf, np.inf))
         box[key] = (max(old[0], float(lo)), min(old[1], float(hi)))
     box = {x: box.get(x, (-np.inf, np.inf)) for x in names}

@@ -30,7 +30,12 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
-from presliding._validation import as_nonnegative_scalar, as_positive_scalar, fmt
+from presliding._validation import (
+    as_list,
+    as_nonnegative_scalar,
+    as_positive_scalar,
+    fmt,
+)
 from presliding.friction.pi_friction import PIFriction
 from presliding.identification import _pi_regression as pr
 from presliding.identification.fit_result import FitResult
@@ -131,7 +136,7 @@ def _virgin(model: Any) -> PIFriction:
 def _loop_records(loops: Any) -> list[tuple[FloatArray, FloatArray]]:
     """(displacement, force) pairs from Measurements (position and friction or applied
     force) or (displacement, force) tuples."""
-    items = [loops] if isinstance(loops, (Measurement, tuple)) else list(loops)
+    items = [loops] if isinstance(loops, (Measurement, tuple)) else as_list("loops", loops)
     out = []
     for i, item in enumerate(items):
         if isinstance(item, Measurement):

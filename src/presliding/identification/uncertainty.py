@@ -30,6 +30,8 @@ from collections.abc import Sequence
 import numpy as np
 from numpy.typing import NDArray
 
+from presliding._validation import as_count, as_real_array, fmt
+
 __all__ = [
     "andrews_bandwidth",
     "correlation_matrix",
@@ -138,8 +140,14 @@ def hac_covariance(
     bandwidths : list of int
         L of each block.
     """
-    jac = np.asarray(jacobian, dtype=float)
-    r = np.asarray(residual, dtype=float)
+    jac = as_real_array("jacobian", jacobian)
+    if jac.ndim != 2:
+        raise ValueError(f"`jacobian` must be two-dimensional (n, p); got shape {jac.shape}.")
+    r = as_real_array("residual", residual)
+    if r.shape != jac.shape[:1]:
+        raise ValueError(f"`residual` must have shape ({jac.shape[0]},); got shape {r.shape}.")
+    if bandwidth is not None:
+        bandwidth = as_count("bandwidth", bandwidth, maximum=max(jac.shape[0] - 1, 0))
     n, p = jac.shape
     if p == 0:
         return np.zeros((0, 0)), [], []
@@ -238,7 +246,11 @@ def correlation_matrix(covariance: FloatArray) -> FloatArray:
     ndarray, shape (p, p)
         With ones on the diagonal where the variance is positive and finite.
     """
-    c = np.asarray(covariance, dtype=float)
+    c = as_real_array("covariance", covariance, finite=False)
+    if c.ndim != 2 or c.shape[0] != c.shape[1]:
+        raise ValueError(f"`covariance` must be a square matrix; got shape {c.shape}.")
+    if np.any(np.diag(c) < 0):
+        raise ValueError(f"`covariance` must have a nonnegative diagonal; got {fmt(np.diag(c))}.")
     d = np.sqrt(np.diag(c))
     ok = np.isfinite(d) & (d > 0)
     out = np.zeros_like(c)
