@@ -9,7 +9,9 @@ Uncertainty follows the usual linearisation at the optimum: with the Jacobian
 J of the residuals with respect to the free parameters, n residuals and p free
 parameters, the covariance is s²·(JᵀJ)⁻¹ with s² = ‖r‖²/(n − p); tied
 parameters inherit it through their factor, fixed ones have zero error. The
-confidence interval is value ± t_{n−p}·SE (Student t at the chosen level). It
+confidence interval is value ± t_{n−p}·SE (Student t at the chosen level); where it would
+cross a bound of the parameter (a nonnegative one below 0), it is taken on a log scale from
+that bound instead (`bounded_interval`), so it never leaves the parameter's range. It
 is exact for parameters that enter linearly and Gaussian independent noise, a
 first-order approximation otherwise. A direction of parameter space that the
 data do not determine (a singular JᵀJ) makes the affected errors infinite and
@@ -20,7 +22,7 @@ the status ``"not_identifiable"``. The outcome is a `Solution`;
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -141,6 +143,7 @@ class Solution:
     bandwidths: tuple[int, ...] = ()  # HAC bandwidth of each block (empty: independent)
     at_bounds: tuple[str, ...] = ()
     free: tuple[str, ...] = ()
+    bounds: dict[str, tuple[float, float]] = field(default_factory=dict)  # the finite ones
 
 
 def name_list(names: Any, order: tuple[str, ...]) -> str:
@@ -335,7 +338,8 @@ def solve_least_squares(
         values=dict(zip(names, full.tolist(), strict=True)),
         standard_error=dict(zip(names, se.tolist(), strict=True)),
         confidence_interval={
-            n: (v - q * s, v + q * s) for n, v, s in zip(names, full, se, strict=True)
+            n: bounded_interval(v, q * s, lower[i], upper[i])
+            for i, (n, v, s) in enumerate(zip(names, full, se, strict=True))
         },
         level=level,
         fixed=tuple(fixed),
@@ -348,7 +352,33 @@ def solve_least_squares(
         bandwidths=widths,
         at_bounds=on_bound,
         free=pm.free,
+        bounds={
+            n: (float(a), float(b))
+            for n, a, b in zip(names, lower, upper, strict=True)
+            if np.isfinite(a) or np.isfinite(b)
+        },
     )
+
+
+def bounded_interval(value: float, half: float, lo: float, hi: float) -> tuple[float, float]:
+    """value ± half (Wald), unless that interval crosses a bound of the parameter: then on a
+    log scale from that bound, lo + d·exp(±half/d) with d = value − lo (mirrored for hi), which
+    agrees with the Wald interval to first order in half/d and never leaves [lo, hi]. A value on
+    its bound, or an infinite error, reaches out to the bound itself (the bound is reported)."""
+    a, b = value - half, value + half
+    with np.errstate(over="ignore", divide="ignore", invalid="ignore"):
+        if a < lo:
+            d = value - lo
+            a, b = (lo + d * np.exp(-half / d), lo + d * np.exp(half / d)) if d > 0 else (lo, b)
+        if b > hi:
+            d = hi - value
+            a, b = (
+                (min(a, hi - d * np.exp(half / d)), hi - d * np.exp(-half / d))
+                if d > 0
+                else (a, hi)
+            )
+    a, b = float(max(a, lo)), float(min(b, hi))
+    return (a if np.isfinite(half) else float(lo), b if np.isfinite(half) else float(hi))
 
 
 def _failed(pm: _Map, x: FloatArray, fixed: Any, tied: Any, level: float, msg: str) -> Solution:

@@ -314,9 +314,11 @@ def nuisance_only(sol: Solution, problem: pp.PooledProblem, fixed: Mapping) -> S
     if not loose or any(problem.record_of.get(x) is None for x in loose):
         return sol
     records = sorted({problem.record_of[x] + 1 for x in loose})
+    more = f" and {len(records) - 8} more" if len(records) > 8 else ""
     message = (
         f"converged; the data do not determine the own parameters of record(s) "
-        f"{', '.join(map(str, records))} (infinite intervals); the shared parameters are "
+        f"{', '.join(map(str, records[:8]))}{more}"
+        " (infinite intervals); the shared parameters are "
         "determined"
     )
     return replace(sol, status="converged", message=message)

@@ -9,7 +9,9 @@ Uncertainty follows the usual linearisation at the optimum: with the Jacobian
 J of the residuals with respect to the free parameters, n residuals and p free
 parameters, the covariance is s²·(JᵀJ)⁻¹ with s² = ‖r‖²/(n − p); tied
 parameters inherit it through their factor, fixed ones have zero error. The
-confidence interval is value ± t_{n−p}·SE (Student t at the chosen level). It
+confidence interval is value ± t_{n−p}·SE (Student t at the chosen level); where it would
+cross a bound of the parameter (a nonnegative one below 0), it is taken on a log scale from
+that bound instead, so it never leaves the parameter's range. It
 is exact for parameters that enter linearly and Gaussian independent noise, a
 first-order approximation otherwise. A direction of parameter space that the
 data do not determine (a singular JᵀJ) makes the affected errors infinite and
@@ -119,6 +121,9 @@ class FitResult:
         A `presliding.identification.CrossValidation` whose table the report shows.
     at_bounds : tuple of str
         Free parameters the optimiser left on a bound (reported exactly at it).
+    bounds : dict name -> (lower, upper)
+        The bounds of the parameters that have a finite one (the fit's own,
+        such as stiffness >= 0, and the caller's).
     units : dict name -> str
         SI unit of each parameter and derived quantity (rotary units for an
         angle and a torque).
@@ -153,6 +158,7 @@ class FitResult:
     predictor: Any = field(default=None, repr=False)
     at_bounds: tuple[str, ...] = ()
     units: dict[str, str] = field(default_factory=dict)
+    bounds: dict[str, tuple[float, float]] = field(default_factory=dict)
 
     @classmethod
     def from_solution(
@@ -179,7 +185,7 @@ class FitResult:
             measured=np.asarray(measured, dtype=float), fitted=np.asarray(fitted, dtype=float),
             residual_rms=rms, nrmse=nrmse, relative_residual=relative, status=status,
             message=message, n_evaluations=sol.n_evaluations, at_bounds=sol.at_bounds,
-            units=units, covariance=sol.covariance, **labels,
+            units=units, covariance=sol.covariance, bounds=sol.bounds, **labels,
         )  # fmt: skip
 
     @property
@@ -233,6 +239,7 @@ class FitResult:
             "confidence_level": self.confidence_level,
             "fixed": list(self.fixed),
             "tied": list(self.tied),
+            "bounds": {k: list(v) for k, v in self.bounds.items()},
             "derived": dict(self.derived),
             "residual_rms": self.residual_rms,
             "nrmse": self.nrmse,
@@ -294,7 +301,8 @@ class FitResult:
             se = self.standard_error[n]
             lo, hi = self.confidence_interval[n]
             note = " (fixed)" if n in self.fixed else (" (tied)" if n in self.tied else "")
-            note += " (at bound)" if n in self.at_bounds else ""
+            if n in self.at_bounds:
+                note += f" (at its bound {_bound_text(self.bounds.get(n), v)})"
             unit = self.units.get(n, "")
             line = f"{n:<{width}}{v:>14.6g} {unit:<10}{se:>11.3g}   [{lo:.6g}, {hi:.6g}]{note}"
             if n in boot:
@@ -307,6 +315,7 @@ class FitResult:
                 f"{n:<{width}}{v:>14.6g} {self.units.get(n, '')}".rstrip()
                 for n, v in self.derived.items()
             ]
+        lines += _bounds_lines(self.bounds, list(self.parameters))
         lines += self._correlation_lines()
         lines += [
             "",
@@ -352,3 +361,23 @@ class FitResult:
             xlabel=self.abscissa_label, ylabel=self._signal_text(),
             title=f"{self.kind} fit (NRMSE {100 * self.nrmse:.2f} %)",
         )  # fmt: skip
+
+
+def _bound_text(bounds: tuple[float, float] | None, value: float) -> str:
+    if bounds is None:
+        return f"{value:.6g}"
+    return f"{bounds[0]:.6g}" if value == bounds[0] else f"{bounds[1]:.6g}"
+
+
+def _bounds_lines(bounds: dict[str, tuple[float, float]], order: list[str]) -> list[str]:
+    """Bounds grouped by range, parameters in their order (at most 8 named per range)."""
+    groups: dict[tuple[float, float], list[str]] = {}
+    for n in order:
+        if n in bounds:
+            groups.setdefault(bounds[n], []).append(n)
+    lines = []
+    for (lo, hi), names in groups.items():
+        rng = f"[{lo:.6g}, {hi:.6g}]".replace("[-inf", "(-inf").replace("inf]", "inf)")
+        more = f" and {len(names) - 8} more" if len(names) > 8 else ""
+        lines.append(f"  {rng}: {', '.join(names[:8])}{more}")
+    return ["", "bounds:", *lines] if lines else []
