@@ -238,9 +238,9 @@ def test_friction_rejects_inconsistent_construction():
     assert_rejects(lambda: PIFriction(0.0), ValueError, "coulomb")
     assert_rejects(lambda: PIFriction(0.0, [], []), ValueError, "coulomb")
     # r = c / k overflows or underflows: reported, never a silent inf or 0
-    assert_rejects(lambda: PIFriction(0.0, [1e-300], [1e300]), ValueError, "threshold")
-    assert_rejects(lambda: PIFriction(0.0, [1e300], [1e-300]), ValueError, "threshold")
-    assert_rejects(lambda: PIFriction(0.0, [1e300], threshold=[1e300]), ValueError, "breakaway")
+    assert_rejects(lambda: PIFriction(0.0, [1e-300], [1e300]), ValueError, "breakaway")
+    assert_rejects(lambda: PIFriction(0.0, [1e300], [1e-300]), ValueError, "breakaway")
+    assert_rejects(lambda: PIFriction(0.0, [1e300], threshold=[1e300]), ValueError, "threshold")
 
 
 @pytest.mark.parametrize(("value", "exc", "text"), BAD_SIGNALS)

@@ -46,7 +46,10 @@ def test_a_parameter_on_its_bound_is_reported_exactly_there():
     assert res.success
     assert res.parameters["coulomb"] == 0.0 and "coulomb" in res.at_bounds
     line = next(ln for ln in res.report().splitlines() if ln.startswith("coulomb "))
-    assert " 0 N " in line and line.endswith("(at bound)")
+    assert " 0 N " in line and line.endswith("(at its bound 0)")
+    # the interval of a nonnegative parameter on its bound starts at the bound, not below it
+    assert res.confidence_interval["coulomb"][0] == 0.0
+    assert res.bounds["coulomb"] == (0.0, np.inf) and "  [0, inf): coulomb" in res.report()
     assert "stiffness_1" in res.report() and " N/m " in res.report()
 
 

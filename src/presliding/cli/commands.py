@@ -20,7 +20,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from presliding._version import __version__
-from presliding.cli.common import UserError
+from presliding.cli.common import UserError, checked
 
 __all__ = ["UserError", "main"]
 
@@ -161,14 +161,14 @@ def _build_parser() -> argparse.ArgumentParser:
     )
     simulate.add_argument(
         "--step",
-        type=float,
+        type=checked("--step"),
         default=None,
         metavar="SECONDS",
         help="largest step of the implicit method (default: chosen by step doubling for --rtol)",
     )
     simulate.add_argument(
         "--rtol",
-        type=float,
+        type=checked("--rtol"),
         default=None,
         metavar="R",
         help="accuracy target of the implicit method: the step is halved until the estimated "
@@ -240,7 +240,7 @@ def _build_parser() -> argparse.ArgumentParser:
     )
     sweep.add_argument(
         "--workers",
-        type=int,
+        type=checked("--workers", integer=True, minimum=1),
         default=None,
         metavar="N",
         help="local worker processes; 1 runs in this process (default: 1 for method "
@@ -248,7 +248,9 @@ def _build_parser() -> argparse.ArgumentParser:
         "20000 points; else the machine's cores)",
     )
     retries = "with --scheduler: re-run a chunk that raised up to N times (default: 2)"
-    sweep.add_argument("--retries", type=int, default=2, metavar="N", help=retries)
+    sweep.add_argument(
+        "--retries", type=checked("--retries", integer=True), default=2, metavar="N", help=retries
+    )
     sweep.set_defaults(handler=_cmd_sweep)
 
     from presliding.cli.loop import add_parser as add_loop_parser

@@ -2,9 +2,10 @@
 
 from __future__ import annotations
 
+import argparse
 import os
 import re
-from collections.abc import Iterable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -15,6 +16,7 @@ from numpy.typing import NDArray
 from presliding import _io
 from presliding._io import atomic_path, remove_stale_temporaries, write_text
 from presliding._progress import progress
+from presliding._validation import as_count, as_positive_scalar
 
 FloatArray = NDArray[np.float64]
 
@@ -340,3 +342,24 @@ __all__ = [
     "tidy_fit_axes",
     "write_csv",
 ]
+
+
+def checked(option: str, *, integer: bool = False, **limits: Any) -> Callable[[str], Any]:
+    """An argparse `type` for a numeric option, checked by the shared validation: a positive
+    number, or (`integer`) a count within `limits` (``minimum``, ``maximum``). A bad value is
+    one line naming the option: "argument --cutoff: `--cutoff` must be positive; got -1.0."."""
+
+    def convert(text: str) -> Any:
+        try:
+            value = int(text) if integer else float(text)
+        except ValueError:
+            kind = "a whole number" if integer else "a number"
+            raise argparse.ArgumentTypeError(f"`{option}` must be {kind}; got {text!r}.") from None
+        try:
+            if integer:
+                return as_count(option, value, **limits)
+            return as_positive_scalar(option, value)
+        except (TypeError, ValueError) as exc:
+            raise argparse.ArgumentTypeError(str(exc)) from None
+
+    return convert

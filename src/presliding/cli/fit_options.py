@@ -7,6 +7,8 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
 
+from presliding.cli.common import checked
+
 __all__ = ["add_fit_parser"]
 
 
@@ -68,14 +70,14 @@ def add_fit_parser(
     )
     fit.add_argument(
         "--sample-rate",
-        type=float,
+        type=checked("--sample-rate"),
         default=None,
         metavar="HZ",
         help="sample rate [Hz] when the file has no time column",
     )
     fit.add_argument(
         "--elements",
-        type=int,
+        type=checked("--elements", integer=True, maximum=10_000),
         default=None,
         metavar="N",
         help="number of elasto-plastic elements (default: 3 presliding, 0 motion, 4 response)",
@@ -90,14 +92,20 @@ def add_fit_parser(
         "global search (differential evolution), keeping the better fit",
     )
     fit.add_argument(
-        "--seed", type=int, default=None, help="seed of the global search (reproducible runs)"
+        "--seed",
+        type=checked("--seed", integer=True),
+        default=None,
+        help="seed of the global search (reproducible runs)",
     )
     fit.add_argument(
-        "--mass", type=float, default=None, help="response/motion: known mass m [kg] (held fixed)"
+        "--mass",
+        type=checked("--mass"),
+        default=None,
+        help="response/motion: known mass m [kg] (held fixed)",
     )
     fit.add_argument(
         "--cutoff",
-        type=float,
+        type=checked("--cutoff"),
         default=None,
         metavar="HZ",
         help="motion: low-pass cut-off for the velocity/acceleration estimate "
@@ -138,14 +146,14 @@ def _add_pooled_options(fit: argparse.ArgumentParser) -> None:
     )
     fit.add_argument(
         "--max-evaluations",
-        type=int,
+        type=checked("--max-evaluations", integer=True, minimum=1),
         default=None,
         metavar="N",
         help="most residual evaluations of each solver run",
     )
     fit.add_argument(
         "--bootstrap",
-        type=int,
+        type=checked("--bootstrap", integer=True),
         default=0,
         metavar="N",
         help="record-level bootstrap resamples (three or more files)",

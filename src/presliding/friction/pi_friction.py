@@ -396,8 +396,8 @@ def _take_density(model: PIFriction, c1: float) -> bool:
         raise TypeError(f"`density` must be a Density; got {type(dens).__name__}.")
     if np.size(model.stiffness) or model.breakaway is not None or model.threshold is not None:
         raise TypeError(
-            "`density` excludes the elements (`stiffness` with `breakaway` or `threshold`); "
-            "got both."
+            "give either `density` or the elements (`stiffness` with `breakaway` or "
+            "`threshold`), not both; got both."
         )
     if isinstance(dens, Discrete):
         object.__setattr__(model, "stiffness", dens.stiffness)

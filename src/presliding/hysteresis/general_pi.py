@@ -244,14 +244,15 @@ class MemoryState:
         MemoryState
         """
         head = as_real_array("head", head, finite=False)
-        stack = as_real_array("stack", stack, finite=False)
+        stack = check_type("stack", stack, np.ndarray)
+        if stack.ndim != 2 or stack.shape[1] < 1:
+            raise ValueError(f"`stack` must be two-dimensional; got shape {stack.shape}.")
         if head.shape != (4,) or not 0 <= head[3] <= len(stack) or head[3] % 1:
             raise ValueError(f"`head` must be (last input, direction, base, depth <= "
                              f"len(stack)) of a kernel run; got {fmt(head)}.")  # fmt: skip
-        if stack.ndim != 2 or stack.shape[1] < 1:
-            raise ValueError(f"`stack` must be two-dimensional; got shape {stack.shape}.")
         n = int(head[3])
-        return cls(float(head[0]), stack[:n, 0].copy(), float(head[2]), float(head[1]))
+        turning = as_real_vector("stack", stack[:n, 0], allow_empty=True)  # rows beyond: spare
+        return cls(float(head[0]), turning.copy(), float(head[2]), float(head[1]))
 
 
 @dataclass(frozen=True, eq=False)
