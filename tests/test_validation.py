@@ -414,3 +414,60 @@ def test_count_minimum_wording():
         as_count("n", 2, minimum=3)
     with pytest.raises(TypeError, match=r"^`n` must be an integer; got True\.$"):
         as_count("n", True, minimum=1)
+
+
+# ----------------------------------------------------------------- shared mechanisms of issue 16
+def test_ragged_arrays_are_named_by_every_helper():
+    from presliding._validation import as_real_array
+
+    for helper in (as_signal_, as_real_array):
+        assert_rejects(lambda h=helper: h("displacement", [[1.0], [1.0, 2.0]]), ValueError,
+                       "displacement")  # fmt: skip
+
+
+def as_signal_(name, value):
+    from presliding._validation import as_signal
+
+    return as_signal(name, value)
+
+
+def test_a_signal_whose_range_overflows_is_refused_naming_it():
+    message = assert_rejects(lambda: as_signal_("time", [0.0, 1e308, -1e308]), ValueError, "time")
+    assert "range max − min" in message
+
+
+def test_renamed_makes_inner_errors_name_the_callers_argument():
+    from presliding._validation import as_real_scalar, renamed
+
+    nan = float("nan")
+    with (
+        pytest.raises(ValueError, match=r"^`applied_force` must be finite; got nan\.$"),
+        renamed(force="applied_force"),
+    ):
+        as_real_scalar("force", nan)
+    with pytest.raises(TypeError, match=r"^`other` must be a real"), renamed(force="x"):
+        as_real_scalar("other", "x")  # an error naming another argument is left as it is
+
+
+def test_lists_bounds_and_time_spans():
+    from presliding._validation import as_bounds, as_list, check_time_span
+
+    assert as_list("models", (1, 2)) == [1, 2]
+    for bad in (None, 3.0, "ab", {"a": 1}):
+        assert_rejects(lambda b=bad: as_list("models", b), TypeError, "models")
+    assert as_bounds("bounds", {"a": (0, np.inf)}, ("a", "b")) == {"a": (0.0, np.inf)}
+    assert_rejects(lambda: as_bounds("bounds", {"c": (0, 1)}, ("a",)), ValueError, "bounds")
+    assert_rejects(lambda: as_bounds("bounds", {"a": (1, 0)}, ("a",)), ValueError, "bounds")
+    assert_rejects(lambda: as_bounds("bounds", {"a": 1.0}, ("a",)), ValueError, "bounds")
+    assert_rejects(lambda: as_bounds("bounds", 3.0, ("a",)), TypeError, "bounds")
+    check_time_span("t_end", 1e12, 1e12)
+    assert_rejects(lambda: check_time_span("t_end", 1e308, 1e308), ValueError, "t_end")
+
+
+def test_resample_checks_the_size_before_allocating():
+    from presliding import Measurement
+
+    m = Measurement(np.array([0.0, 1.0, 2.0]), position=np.zeros(3))
+    assert_rejects(lambda: m.resample(1e-12), ValueError, "step")
+    assert_rejects(lambda: m.resample(1e-320), ValueError, "step")
+    assert m.resample(0.5).time.shape == (5,)

@@ -399,7 +399,7 @@ def as_bounds(name: str, value: Any, names: Any) -> dict[str, tuple[float, float
     out = {}
     for key, pair in value.items():
         if key not in names:
-            raise ValueError(f"`{name}` names unknown parameter {key!r}; got {sorted(value)}.")
+            raise ValueError(f"`{name}` must name parameters of the fit; got {key!r}.")
         if not isinstance(pair, (tuple, list)) or len(pair) != 2:
             raise ValueError(f"`{name}[{key!r}]` must be a pair (lower, upper); got {fmt(pair)}.")
         lo, hi = (as_real_scalar(f"{name}[{key!r}]", v, finite=False) for v in pair)
