@@ -393,18 +393,15 @@ def check_derived(
 
 def as_bounds(name: str, value: Any, names: Any) -> dict[str, tuple[float, float]]:
     """A mapping of parameter names (among `names`) to (lower, upper) with lower < upper."""
-    if value is None:
-        return {}
-    check_type(name, value, dict)
-    out = {}
-    for key, pair in value.items():
+    out: dict[str, tuple[float, float]] = {}
+    for key, pair in check_type(name, {} if value is None else value, dict).items():
         if key not in names:
             raise ValueError(f"`{name}` must name parameters of the fit; got {key!r}.")
         if not isinstance(pair, (tuple, list)) or len(pair) != 2:
-            raise ValueError(f"`{name}[{key!r}]` must be a pair (lower, upper); got {fmt(pair)}.")
+            raise ValueError(f"`{name}` must map {key!r} to a pair (lo, hi); got {fmt(pair)}.")
         lo, hi = (as_real_scalar(f"{name}[{key!r}]", v, finite=False) for v in pair)
         if not lo < hi:
-            raise ValueError(f"`{name}[{key!r}]` must have lower < upper; got {fmt(pair)}.")
+            raise ValueError(f"`{name}` must map {key!r} to lower < upper; got {fmt(pair)}.")
         out[key] = (lo, hi)
     return out
 

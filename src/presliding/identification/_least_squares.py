@@ -79,7 +79,9 @@ def _parameter_map(
     for label, spec in (("fixed", fixed), ("tied", tied)):
         for n in spec:
             if n not in names:
-                raise ValueError(f"`{label}` names unknown parameter {n!r}; known: {list(names)}.")
+                raise ValueError(
+                    f"`{label}` must name parameters of the fit ({fmt(list(names))}); got {n!r}."
+                )
     both = set(fixed) & set(tied)
     if both:
         raise ValueError(f"a parameter cannot be both fixed and tied; got {sorted(both)}.")

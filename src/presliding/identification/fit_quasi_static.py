@@ -182,7 +182,7 @@ def fit_quasi_static(
             start[problem.nuisance("preload_fraction", i)] = 0.0
     for key, val in dict(initial or {}).items():
         if key not in names:
-            raise ValueError(f"`initial` names unknown parameter {key!r}; known: {names}.")
+            raise ValueError(f"`initial` must name parameters of the fit; got {key!r}.")
         start[key] = float(val)
     start = {x: start[x] for x in names}
     box = {**spec.bounds(), "offset": (-np.inf, np.inf)}

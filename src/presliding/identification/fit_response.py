@@ -269,7 +269,7 @@ def fit_response(
             start[problem.nuisance("preload_fraction", i)] = 1.0 if rec.velocity[0] else 0.0
     for key, val in dict(initial or {}).items():
         if key not in names:
-            raise ValueError(f"`initial` names unknown parameter {key!r}; known: {names}.")
+            raise ValueError(f"`initial` must name parameters of the fit; got {key!r}.")
         start[key] = float(val)
     start = {x: start[x] for x in names}
     box = {**spec.bounds(), "mass": (0.0, np.inf), "offset": (-np.inf, np.inf),
