@@ -60,7 +60,7 @@ ENTRIES = {
     ),
     "DiscreteController.from_lti": Entry(
         lambda **a: DiscreteController.from_lti(**a),
-        {"system": CONTROLLER.continuous()},
+        {"system": __import__("control").c2d(CONTROLLER.continuous(), 1e-3)},
         {"system": "object"},
     ),
     "simulate_loop": Entry(
@@ -185,6 +185,40 @@ def test_the_table_starts_from_good_calls(name, tmp_path):
     check_good_call(ENTRIES[name], tmp_path)
 
 
-@pytest.mark.parametrize(("entry", "overrides", "needle", "legal"), bad_input_cases(ENTRIES))
+#: Open gaps of the review (issue 16), each a strict expected failure: fixing one makes its
+#: test fail until its id is taken out of this list.
+KNOWN = frozenset(
+    {
+        "DiscreteController-A-1d",
+        "DiscreteController-A-empty",
+        "FrictionNonlinearity-state-dict",
+        "FrictionNonlinearity-state-float",
+        "FrictionNonlinearity-state-object",
+        "FrictionNonlinearity-state-str",
+        "FrictionNonlinearity.describing_function-amplitude-array",
+        "FrictionNonlinearity.describing_function-amplitude-huge",
+        "FrictionNonlinearity.describing_function-amplitude-tiny",
+        "LoopResult.limit_cycle-after-huge",
+        "describing_function-amplitude-2d",
+        "describing_function-amplitude-empty",
+        "describing_function-amplitude-huge",
+        "describing_function-amplitude-tiny",
+        "measure_limit_cycle-after-huge",
+        "predict_limit_cycles-amplitudes-nan",
+        "predict_limit_cycles-frequencies-negative",
+        "predict_limit_cycles-points-1e12",
+        "simulate_loop-initial_velocity-huge",
+        "simulate_loop-mass-tiny",
+        "simulate_loop-reference-callable-str",
+        "simulate_loop_batch-mass-tiny",
+        "simulate_loop_batch-settle_time-negative",
+        "to_iosys-inputs-int",
+        "to_iosys-name-empty",
+        "to_iosys-name-unknown",
+    }
+)
+
+
+@pytest.mark.parametrize(("entry", "overrides", "needle", "legal"), bad_input_cases(ENTRIES, KNOWN))
 def test_bad_input_is_a_clear_error(entry, overrides, needle, legal, tmp_path):
     check_bad_input(entry, overrides, needle, legal, tmp_path)

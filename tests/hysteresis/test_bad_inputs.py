@@ -320,6 +320,40 @@ ENTRIES = {
 }
 
 
-@pytest.mark.parametrize(("entry", "overrides", "needle", "legal"), bad_input_cases(ENTRIES))
+#: Open gaps of the review (issue 16), each a strict expected failure: fixing one makes its
+#: test fail until its id is taken out of this list.
+KNOWN = frozenset(
+    {
+        "Density.M1-r-empty",
+        "Density.M1-r-inf",
+        "Density.M1-r-negative",
+        "Density.discretize-max_threshold-huge",
+        "Density.from_function-function-raises",
+        "Density.from_function-max_threshold-huge",
+        "Density.from_function-max_threshold-tiny",
+        "Density.virgin_curve-displacement-2d",
+        "Density.virgin_curve-displacement-empty",
+        "Exponential-max_threshold-inf",
+        "GeneralPIOperator.force_at-state-None",
+        "MemoryState-last_input-huge",
+        "MemoryState-turning-empty",
+        "MemoryState-turning-huge",
+        "MemoryState.deformation-threshold-2d",
+        "MemoryState.deformation-threshold-inf",
+        "MemoryState.play-threshold-2d",
+        "MemoryState.play-threshold-inf",
+        "MemoryState.saturated-max_threshold-inf",
+        "PIBatchState-play-2d",
+        "PIOperator.inverse-linear-negative",
+        "PIState-play-empty",
+        "PIState-play-ragged",
+        "PIState.saturated-threshold-empty",
+        "play-threshold-ragged",
+        "stop-threshold-ragged",
+    }
+)
+
+
+@pytest.mark.parametrize(("entry", "overrides", "needle", "legal"), bad_input_cases(ENTRIES, KNOWN))
 def test_bad_input_is_a_clear_error(entry, overrides, needle, legal, tmp_path):
     check_bad_input(entry, overrides, needle, legal, tmp_path)

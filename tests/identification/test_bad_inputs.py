@@ -357,6 +357,15 @@ def test_the_table_starts_from_good_calls(name, tmp_path):
     check_good_call(ENTRIES[name], tmp_path)
 
 
-@pytest.mark.parametrize(("entry", "overrides", "needle", "legal"), bad_input_cases(ENTRIES))
+#: Open gaps of the review (issue 16), each a strict expected failure: fixing one makes its
+#: test fail until its id is taken out of this list.
+KNOWN = frozenset(
+    {
+        "masing_check-reversal_tolerance-huge",
+    }
+)
+
+
+@pytest.mark.parametrize(("entry", "overrides", "needle", "legal"), bad_input_cases(ENTRIES, KNOWN))
 def test_bad_input_is_a_clear_error(entry, overrides, needle, legal, tmp_path):
     check_bad_input(entry, overrides, needle, legal, tmp_path)

@@ -368,7 +368,7 @@ class GeneralPIOperator:
         float
             Stored elastic energy [J].
         """
-        head, stack = _memory(self.density, state, state.last_input)
+        head, stack = _memory(self.density, check_type("state", state, MemoryState), 0.0)
         d = self.density
         return float(gk.elastic_energy(head, stack, d._kind, d._par, d._tab))
 

@@ -162,7 +162,7 @@ class Measurement(MeasurementReaders):
         if missing:
             raise ValueError(
                 f"`measurement` must hold {', '.join(f'`{n}`' for n in missing)} for {purpose}; "
-                f"it holds {', '.join(f'`{n}`' for n in self.signals())}."
+                f"got one holding {', '.join(f'`{n}`' for n in self.signals())}."
             )
 
     # ------------------------------------------------------------------ transformations
