@@ -90,3 +90,20 @@ def test_compiling_is_said_on_a_cold_cache_only(tmp_path):
     first, second = (run.stdout.splitlines() for run in runs)
     assert first[:2] == ["probe: [1/1] force", f"probe: {COMPILING}"] and int(first[-1]) > 0
     assert second == ["probe: [1/1] force", "0"]
+
+
+def test_a_delayed_part_line_comes_first_once_the_delay_has_passed():
+    import time
+
+    stream, bar = _plain(total=2, delay=0.05, compile_note=False)
+    with bar:
+        bar.part("reading")  # before the delay: held back
+        bar.part("fitting")  # replaces it
+        time.sleep(0.06)
+        bar.note("a note after the delay")
+        bar.part("writing")
+    assert stream.getvalue().splitlines() == [
+        "presliding cmd: [2/2] fitting",
+        "presliding cmd: a note after the delay",
+        "presliding cmd: [3/2] writing",
+    ]

@@ -259,7 +259,8 @@ class Progress:
         Say "compiling (first run only)" while numba compiles presliding's kernels.
     delay : float
         Show nothing before this many seconds have passed [s]: short work stays
-        silent (the bar appears, or plain lines start, once it runs longer).
+        silent (the bar appears, or plain lines start, once it runs longer; the
+        line of the part in progress then comes first).
 
     Use it as a context manager (or call `close`). Every method is cheap and
     does nothing when quiet.
@@ -291,6 +292,7 @@ class Progress:
         self._note: str | None = None
         self._notes_said: set[str] = set()
         self._tenths_said = 0
+        self._pending: str | None = None  # a part's line held back by `delay`
         self._t0 = time.perf_counter()
         self._bar: Any = None
         self._listening: Any = None
@@ -321,7 +323,7 @@ class Progress:
             self._bar.set_postfix_str("", refresh=True)
         else:
             count = f"[{self._n_parts}/{self.total}] " if self.total else ""
-            self._line(f"{count}{name}")
+            self._line(f"{count}{name}", part=True)
 
     def update(self, n: int = 1) -> None:
         """`n` more units of work are done."""
@@ -382,12 +384,17 @@ class Progress:
         else:
             self.note(COMPILING)
 
-    def _line(self, text: str) -> None:
+    def _line(self, text: str, *, part: bool = False) -> None:
         if self.delay and self.elapsed < self.delay:
+            if part:  # said before the first line of the part that comes after the delay
+                self._pending = text
             return
+        pending, self._pending = self._pending, None
+        lines = [text] if part or pending is None else [pending, text]
         # a closed stream: progress is never worth an error
         with contextlib.suppress(OSError, ValueError):
-            print(f"{self.desc}: {text}", file=self.stream, flush=True)
+            for line in lines:
+                print(f"{self.desc}: {line}", file=self.stream, flush=True)
 
 
 configure()
