@@ -18,12 +18,12 @@ the windows after the reversals where presliding acts.
 
 Where the PI feedforward comes from. Moved slowly, the contact follows the
 applied force through the hysteresis y = Γ[u]: the elastic force follows u
-through a play of threshold c1 and the bank is inverted on its range |u| < F_c.
+through a play of threshold c1 and the bank is inverted on its range −F_c < u < F_c.
 The library builds Γ as ``ps.friction_inverse(model)`` (a `PIInverse`, c1
 included). The feedforward that makes the contact follow y_ref is Γ⁻¹[y_ref],
 and Γ⁻¹ is the friction model itself, c1·sign(ẏ) + Σ k_j (y − x_j) (eq. 8):
 ``model.force(y_ref)``. The script checks that round trip: in every presliding
-transition (|u| < F_c), Γ maps the feedforward's friction part back onto the
+transition (−F_c < u < F_c), Γ maps the feedforward's friction part back onto the
 reference. In gross sliding the force sits at F_c and no position follows from
 it (Γ raises there), so the round trip is checked on the transitions only.
 
