@@ -198,7 +198,7 @@ def cross_validate(
     initial = as_choice("initial", initial, ("fit", "measured"))
     given = options.pop("progress", None)  # passed on only when given (any fit works)
     with reporting(False if given is None else given, "cross_validate") as shown:
-        extra = {} if given is None else {"progress": shown}
+        extra: dict[str, Any] = {} if given is None else {"progress": shown}
         shown.stage(f"fit of all {len(recs)} records")
         full = fit(recs, **options, **extra)
         fits, predictions = [], []
