@@ -107,3 +107,18 @@ def test_a_delayed_part_line_comes_first_once_the_delay_has_passed():
         "presliding cmd: a note after the delay",
         "presliding cmd: [3/2] writing",
     ]
+
+
+def test_a_delayed_bar_draws_nothing_before_the_delay_and_notes_after_it():
+    import time
+
+    stream = io.StringIO()
+    with Progress("presliding cmd", total=2, stream=stream, interactive=True,
+                  compile_note=False, delay=0.2) as bar:  # fmt: skip
+        bar.part("reading")
+        bar.note("early note")
+        assert stream.getvalue() == ""  # a quick command shows nothing
+        time.sleep(0.25)
+        bar.note("late note")
+        assert "presliding cmd: reading" in stream.getvalue()
+        assert "late note" in stream.getvalue() and "early note" not in stream.getvalue()

@@ -318,9 +318,9 @@ class Progress:
         self._n_parts += 1
         self._note = None
         self._notes_said.clear()  # a note is said again in a later part
-        if self._bar is not None:
+        if self._bar is not None:  # drawn now only once `delay` has passed (as tqdm's updates)
             self._bar.set_description_str(f"{self.desc}: {name}", refresh=False)
-            self._bar.set_postfix_str("", refresh=True)
+            self._bar.set_postfix_str("", refresh=self._due())
         else:
             count = f"[{self._n_parts}/{self.total}] " if self.total else ""
             self._line(f"{count}{name}", part=True)
@@ -345,7 +345,7 @@ class Progress:
             return
         self._note = text
         if self._bar is not None:
-            self._bar.set_postfix_str(text, refresh=True)
+            self._bar.set_postfix_str(text, refresh=self._due())
         elif text not in self._notes_said:
             self._notes_said.add(text)
             self._line(text)
@@ -376,6 +376,9 @@ class Progress:
         self.close()
 
     # ---------------------------------------------------------------- private
+    def _due(self) -> bool:
+        return not self.delay or self.elapsed >= self.delay
+
     def _on_compile(self, kernel: str) -> None:
         self.n_compiled += 1
         if self._bar is not None:
