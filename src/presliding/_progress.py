@@ -18,21 +18,15 @@ one of presliding's kernels, through numba's event API (``"numba:compile"``,
 sent only on cache misses).
 
 **Progress.** `Progress` is what a command uses for work that can take more than
-about two seconds (the demo, sweeps, fits)::
-
-    from presliding._progress import Progress
-
-    with Progress("presliding fit", total=3, unit="stage", quiet=args.quiet) as bar:
-        bar.part("start values")      # a named part begins
-        ...
-        bar.update()                  # one more unit done
-
-It writes to stderr: on a terminal a tqdm bar named after the current part,
-with the latest note after it; elsewhere (a log file, a pipe, CI) plain lines,
-one per part, one per distinct note within a part and, for counted work without
-parts, one per tenth of the total (``presliding demo: [2/6] free motion to a
-stop``); nothing with ``quiet=True`` (``--quiet``). While it is open it says
-"compiling (first run only)" whenever numba compiles a kernel (a cold cache).
+about two seconds (the demo, sweeps, fits): ``with Progress("presliding fit",
+total=3, unit="stage", quiet=args.quiet) as bar:``, then ``bar.part(name)`` as a
+named part begins, ``bar.note(text)`` and ``bar.update()`` per unit done. It
+writes to stderr: on a terminal a tqdm bar named after the current part, with
+the latest note after it; elsewhere (a log file, a pipe, CI) plain lines, one per
+part, one per distinct note within a part and, for counted work without parts,
+one per tenth of the total (``presliding demo: [2/6] free motion to a stop``);
+nothing with ``quiet=True`` (``--quiet``). While it is open it says "compiling
+(first run only)" whenever numba compiles a kernel (a cold cache).
 `progress` and `progress_enabled` are the older bar-only helpers (a tqdm bar on
 a terminal, nothing elsewhere) for short steps such as writing a CSV file.
 """
@@ -44,6 +38,7 @@ import os
 import stat
 import sys
 import tempfile
+import threading
 import time
 from collections.abc import Callable, Iterator
 from pathlib import Path
@@ -227,14 +222,9 @@ def progress(total: float | None, desc: str, *, quiet: bool = False, unit: str =
     from tqdm import tqdm
 
     return tqdm(
-        total=total,
-        desc=desc,
-        unit=unit,
-        disable=not progress_enabled(quiet),
-        file=sys.stderr,
-        leave=False,
-        dynamic_ncols=True,
-    )
+        total=total, desc=desc, unit=unit, disable=not progress_enabled(quiet), file=sys.stderr,
+        leave=False, dynamic_ncols=True,
+    )  # fmt: skip
 
 
 class Progress:
@@ -295,6 +285,7 @@ class Progress:
         self._pending: str | None = None  # a part's line held back by `delay`
         self._t0 = time.perf_counter()
         self._bar: Any = None
+        self._timer: threading.Timer | None = None
         self._listening: Any = None
         if quiet:
             return
@@ -305,6 +296,10 @@ class Progress:
                 total=total, desc=desc, unit=unit, file=self.stream, leave=False,
                 dynamic_ncols=True, mininterval=0.2, delay=self.delay,
             )  # fmt: skip
+            if self.delay > 0:  # drawn when the delay ends, even if no update comes then
+                self._timer = threading.Timer(self.delay, self._draw)
+                self._timer.daemon = True
+                self._timer.start()
         if compile_note:
             self._listening = compiling(self._on_compile)
             self._listening.__enter__()
@@ -352,6 +347,8 @@ class Progress:
 
     def close(self) -> None:
         """Remove the bar (terminal) and stop listening for compilation."""
+        if self._timer is not None:
+            self._timer.cancel()
         if self._listening is not None:
             listening, self._listening = self._listening, None
             listening.__exit__(None, None, None)
@@ -376,6 +373,10 @@ class Progress:
         self.close()
 
     # ---------------------------------------------------------------- private
+    def _draw(self) -> None:  # the timer's: a closed bar or stream is never worth an error
+        with contextlib.suppress(OSError, ValueError, AttributeError):
+            self._bar.refresh()
+
     def _due(self) -> bool:
         return not self.delay or self.elapsed >= self.delay
 
