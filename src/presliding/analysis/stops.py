@@ -43,6 +43,7 @@ from presliding.analysis._walks import (
     check_reach,
     element_swing,
 )
+from presliding.friction._parts import density_of, elements
 from presliding.friction.pi_friction import PIFriction
 from presliding.hysteresis import _general_pi as gk
 from presliding.hysteresis.general_pi import MemoryState
@@ -140,11 +141,12 @@ def turning_point(model: PIFriction) -> float:
             f"(otherwise the mass sticks at the first turning point); got {fmt(c1)} >= {fmt(fm)}."
         )
     if model.is_discrete:
-        u, _ = element_swing(model.stiffness, model.threshold, c1, -model.threshold, 1.0, 0.0)
+        k, r, _ = elements(model)
+        u, _ = element_swing(k, r, c1, -r, 1.0, 0.0)
         return float(u)
-    state = MemoryState.saturated(0.0, -1.0, model.density.max_threshold)
+    state = MemoryState.saturated(0.0, -1.0, density_of(model).max_threshold)
     head, stack = _start(model, state, 1.0)
-    y, _ = DensitySwing(model.density, c1).swing(head, stack, 1.0, 0.0)
+    y, _ = DensitySwing(density_of(model), c1).swing(head, stack, 1.0, 0.0)
     return float(y)
 
 
@@ -255,7 +257,7 @@ class TurningPoints:
 
 def _start(model: PIFriction, state: MemoryState, s: float) -> tuple[FloatArray, FloatArray]:
     """Working memory with the motion set to direction s (a reversal pushed if needed)."""
-    d = model.density
+    d = density_of(model)
     head, stack = state.working_memory(d)
     if head[1] != 0.0 and head[1] != s:
         stack = gk._push(head, stack, d._kind, d._par, d._tab)
@@ -368,7 +370,7 @@ def turning_points(
     return _result(walk, positions, forces, n_rev, status, message, y0, v0, m, model, state)
 
 
-def _result(  # type: ignore[no-untyped-def]
+def _result(
     walk, positions, forces, n_rev, status, message, y0, v0, m, model, initial
 ) -> TurningPoints:
     rest = positions[-1] if status == "stopped" else None
@@ -411,5 +413,5 @@ def _initial_state(
             f"{' or '.join(e.__name__ for e in expected)}; got {type(initial_state).__name__}."
         )
     if isinstance(initial_state, PIState):
-        initial_state.check_against(model.threshold, "initial_state")  # type: ignore[union-attr]
-    return initial_state  # type: ignore[return-value]
+        initial_state.check_against(elements(model)[1], "initial_state")
+    return initial_state

@@ -59,7 +59,9 @@ def as_controller(controller: Any) -> PID | DiscreteController:
     )
 
 
-def _signal(name: str, value: Any, times: FloatArray | None, n: int | None) -> FloatArray:
+def _signal(
+    name: str, value: Any, times: NDArray[np.floating[Any]] | None, n: int | None
+) -> FloatArray:
     """A signal at the sample instants: a constant, samples, or a function of time."""
     if callable(value):
         if times is None:
@@ -208,9 +210,10 @@ def simulate_loop(
         out = [np.full(n_out, np.nan) for _ in range(9)]
         ctl = np.full(n, np.nan)
         rev = [np.empty(cap), np.empty(cap)]
+        buffers = [*out, ctl, *rev]
         res = _loop.run_loop(m, float(model.coulomb), sigma, k, r, ff_, y0, v0, last_dir, kind,
                              p, s.copy(), a, b, c, d, x.copy(), ref, ff, t0, ctrl.dt, sub,
-                             max_events, *out, ctl, *rev)  # fmt: skip
+                             max_events, *buffers)  # fmt: skip
         status, n_rev, rest, y_end, v_end, d_end, n_ev, done = res
         if n_rev <= cap:
             break

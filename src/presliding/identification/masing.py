@@ -199,7 +199,7 @@ def masing_check(
     tol = as_positive_scalar("tolerance", tolerance)
     if reversal_tolerance is not None:
         reversal_tolerance = as_nonnegative_scalar("reversal_tolerance", reversal_tolerance)
-    ys, ms, ps, per = [], [], [], []
+    ys, ms, ps = [], [], []
     force_range = 0.0
     for y, f in _loop_records(loops):
         rt = auto_tolerance(y) if reversal_tolerance is None else reversal_tolerance

@@ -137,7 +137,7 @@ class Prediction:
     ) -> Prediction:
         """A prediction with its NRMSE computed."""
         _, nrmse, _ = fit_statistics(measured, predicted)
-        defaults = {"measured_reversals": None, "predicted_reversals": None,
+        defaults: dict[str, Any] = {"measured_reversals": None, "predicted_reversals": None,
                     "measured_rest": None, "predicted_rest": None, "parameters": {}}  # fmt: skip
         return cls(np.asarray(abscissa, float), np.asarray(measured, float),
                    np.asarray(predicted, float), labels[0], labels[1], nrmse,

@@ -62,7 +62,7 @@ def stack_models(models: Any) -> tuple[FloatArray, FloatArray, FloatArray, Float
 
 def stack_parameters(
     coulomb: Any, stiffness: Any, breakaway: Any, threshold: Any, viscous: Any = 0.0
-):
+) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray, str, dict[str, int]]:
     """Validated parameter arrays of a batch, before broadcasting to the batch size.
 
     Returns c1 (Bc,), σ (Bv,), k (Bk, N), the given `breakaway` or `threshold`

@@ -38,10 +38,10 @@ class MotionEnergy:
     work: FloatArray
     residual: FloatArray
     initial: float
-    viscous: FloatArray | None = None
+    viscous: FloatArray = field(default_factory=lambda: np.empty(0))  # zeros when not given
 
     def __post_init__(self) -> None:
-        if self.viscous is None:
+        if self.viscous is None or (self.viscous.size == 0 < self.dissipated.size):
             object.__setattr__(self, "viscous", np.zeros_like(self.dissipated))
 
     @property

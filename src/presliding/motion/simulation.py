@@ -199,7 +199,7 @@ def simulate(
         )
     n_steps = _run.step_count(t0, t_end, step) if method == "implicit" else 0
     if target is not None and method == "implicit":
-        kw = dict(applied_force=applied_force, initial_position=initial_position,
+        kw: dict[str, Any] = dict(applied_force=applied_force, initial_position=initial_position,
                   initial_velocity=initial_velocity, initial_state=initial_state, t_end=t_end,
                   t_eval=times, method="implicit", hold=hold, t_start=t_start)  # fmt: skip
         return _run.refine(lambda h: simulate(model, mass, step=h, **kw), t0, t_end, n_steps,
