@@ -37,7 +37,7 @@ from presliding.control.results import LoopBatch, LoopResult
 from presliding.friction.pi_friction import PIFriction
 from presliding.hysteresis.operators import PIState
 from presliding.motion import _run
-from presliding.motion.results import MotionEnergy
+from presliding.motion.results import MotionEnergy, member_statuses, motion_status
 
 __all__ = ["simulate_loop", "simulate_loop_batch"]
 
@@ -176,7 +176,7 @@ def simulate_loop(
         Output samples per period (>= 1): the exact motion between the instants too.
     t_start : float, keyword only
     max_events : int, keyword only
-        Event limit of the whole run (status -1 when reached).
+        Event limit of the whole run (status "event_limit" when reached).
 
     Returns
     -------
@@ -238,7 +238,8 @@ def simulate_loop(
         reversal_times=rev[0][:n_rev].copy(), reversal_positions=rev[1][:n_rev].copy(),
         stop_time=stop, rest_position=None if stop is None else float(y_end), energy=energy,
         final_state=PIState(float(y_end), float(y_end) - ff_, float(d_end)),
-        final_velocity=float(v_end), status=int(status), message=message, method="event",
+        final_velocity=float(v_end), status=motion_status(int(status)), message=message,
+        method="event",
         n_events=int(n_ev), mass=m, model=model, control_time=times[:n_ctl],
         control=ctl[:n_ctl], reference=ref[:n_ctl], measured=y_o[::sub][:n_ctl],
         feedforward=ff[:n_ctl], controller=ctrl,
@@ -349,5 +350,6 @@ def simulate_loop_batch(
         kp=g["kp"], ki=g["ki"], kd=g["kd"], time=times,
         position=o_y if rows else None, control=o_u if rows else None, error_rms=e_rms,
         error_max=e_max, half_range=half, n_reversals=n_rev, final_position=y_end,
-        final_velocity=v_end, status=status, settle_time=float(times[i_from]), message=message,
+        final_velocity=v_end, member_status=member_statuses(status),
+        settle_time=float(times[i_from]), message=message,
     )  # fmt: skip

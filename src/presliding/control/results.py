@@ -10,7 +10,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from presliding._validation import as_real_scalar, fmt
-from presliding.motion.results import MotionResult
+from presliding.hysteresis._results import deprecated_code
+from presliding.motion.results import STATUS_SUCCESS, MotionResult, motion_status
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
@@ -159,7 +160,7 @@ class LoopResult(MotionResult):
             "control": self.control, "reference": self.reference, "measured": self.measured,
             "feedforward": self.feedforward, "reversal_times": self.reversal_times,
             "reversal_positions": self.reversal_positions, "stop_time": self.stop_time,
-            "status": self.status, "success": self.success, "message": self.message,
+            "status": str(self.status), "success": self.success, "message": self.message,
             "n_events": self.n_events, "mass": self.mass,
         }  # fmt: skip
 
@@ -167,11 +168,13 @@ class LoopResult(MotionResult):
         """A DataFrame of the controller's samples (time index t_k): r, y, e, u, u_ff."""
         import pandas as pd
 
-        return pd.DataFrame(
+        frame = pd.DataFrame(
             {"reference": self.reference, "position": self.measured, "error": self.error,
              "control": self.control, "feedforward": self.feedforward},
             index=pd.Index(self.control_time, name="time"),
         )  # fmt: skip
+        frame.attrs.update(success=self.success, status=str(self.status), message=self.message)
+        return frame
 
 
 @dataclass(frozen=True, eq=False)
@@ -192,10 +195,15 @@ class LoopBatch:
         `settle_time` on (half_range: the amplitude of a hunting cycle).
     n_reversals : ndarray of int, shape (B,)
     final_position, final_velocity : ndarray, shape (B,)
-    status : ndarray of int, shape (B,)
-        0 ok, -1 the event limit was reached.
+    member_status : ndarray of str, shape (B,)
+        Each member's status: "success" or "event_limit" (the event limit was
+        reached).
     settle_time : float
     message : str
+    status : str
+        "success" when every member succeeded, else the first failed member's
+        status (as `MotionBatch.status`). Formerly the array of integer codes:
+        `status_code` still gives it, deprecated.
     """
 
     kp: FloatArray
@@ -210,14 +218,29 @@ class LoopBatch:
     n_reversals: NDArray[np.int64]
     final_position: FloatArray
     final_velocity: FloatArray
-    status: NDArray[np.int64]
+    member_status: NDArray[np.str_]
     settle_time: float
     message: str
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "member_status", np.asarray(self.member_status, dtype=np.str_))
+
+    @property
+    def status(self) -> str:
+        """The overall status: "success" when every member succeeded, else the first failure's."""
+        failed = self.member_status[self.member_status != STATUS_SUCCESS]
+        return motion_status(str(failed[0]) if failed.size else STATUS_SUCCESS)
 
     @property
     def success(self) -> bool:
         """True when every member succeeded."""
-        return bool(np.all(self.status == 0))
+        return bool(np.all(self.member_status == STATUS_SUCCESS))
+
+    @property
+    def status_code(self) -> NDArray[np.int64]:
+        """Deprecated: the integer status of each member (0 or -1); use `member_status`."""
+        codes = np.where(self.member_status == STATUS_SUCCESS, 0, -1).astype(np.int64)
+        return deprecated_code(codes, "'success' or 'event_limit'")
 
     def plot(self, ax: Axes | None = None, *, kind: str = "error_rms") -> Axes:
         """A summary ("error_rms", "error_max", "half_range") against the member index, or
@@ -260,8 +283,9 @@ class LoopBatch:
             "position": self.position, "control": self.control, "error_rms": self.error_rms,
             "error_max": self.error_max, "half_range": self.half_range,
             "n_reversals": self.n_reversals, "final_position": self.final_position,
-            "final_velocity": self.final_velocity, "status": self.status,
-            "settle_time": self.settle_time, "success": self.success, "message": self.message,
+            "final_velocity": self.final_velocity, "member_status": self.member_status,
+            "status": str(self.status), "settle_time": self.settle_time, "success": self.success,
+            "message": self.message,
         }  # fmt: skip
 
     def to_pandas(self) -> Any:
@@ -269,5 +293,7 @@ class LoopBatch:
         import pandas as pd
 
         cols = ("kp", "ki", "kd", "error_rms", "error_max", "half_range", "n_reversals",
-                "final_position", "final_velocity", "status")  # fmt: skip
-        return pd.DataFrame({c: getattr(self, c) for c in cols})
+                "final_position", "final_velocity", "member_status")  # fmt: skip
+        frame = pd.DataFrame({c: getattr(self, c) for c in cols})
+        frame.attrs.update(success=self.success, status=str(self.status), message=self.message)
+        return frame

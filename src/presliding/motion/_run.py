@@ -20,6 +20,7 @@ from presliding.hysteresis.operators import PIState
 from presliding.motion import _event
 from presliding.motion import _implicit_loop as _loop
 from presliding.motion._forcing import Forcing
+from presliding.motion.results import STATUS_ACCURACY_NOT_MET
 
 FloatArray = NDArray[np.float64]
 REVERSAL_CAPACITY = 1024
@@ -231,7 +232,7 @@ def refine(run: Any, t0: float, t_end: float, n_steps: int, rtol: float, atol: f
         return replace(fine, message=message, error_estimate=err)
     message = (f"the accuracy target was not met within {MAX_STEPS:.0e} steps: {n_steps} "
                f"steps of {h:.3g}")  # fmt: skip
-    return replace(fine, status=-2, message=message, error_estimate=err)
+    return replace(fine, status=STATUS_ACCURACY_NOT_MET, message=message, error_estimate=err)
 
 
 def check_energy(m: float, v0: float, e0: float) -> None:

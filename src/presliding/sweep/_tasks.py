@@ -93,7 +93,7 @@ def _by_simulation(task: SweepTask, p: dict[str, np.ndarray]) -> tuple[np.ndarra
         t_end=mo.t_end,
         t_eval=[0.0, mo.t_end],
     )
-    stopped = np.isfinite(res.stop_time) & (res.status == 0)
+    stopped = np.isfinite(res.stop_time) & (res.member_status == "success")
     value = {
         "reversals": res.n_reversals.astype(np.float64),
         "rest_position": res.final_position,
