@@ -46,6 +46,7 @@ from presliding.analysis._walks import (
 from presliding.friction._parts import density_of, elements
 from presliding.friction.pi_friction import PIFriction
 from presliding.hysteresis import _general_pi as gk
+from presliding.hysteresis._results import ResultMixin
 from presliding.hysteresis.general_pi import MemoryState
 from presliding.hysteresis.operators import PIState
 
@@ -180,7 +181,7 @@ def stops_at_turning_point(model: PIFriction) -> bool:
 
 
 @dataclass(frozen=True, eq=False)
-class TurningPoints:
+class TurningPoints(ResultMixin):
     """Turning points of a free motion (eq. 12), from the work-energy balance.
 
     Attributes
@@ -223,6 +224,7 @@ class TurningPoints:
     mass: float = 1.0
     model: PIFriction | None = field(default=None, repr=False)
     initial_state: PIState | MemoryState | None = field(default=None, repr=False)
+    _rows, _rows_are_index = "positions", False  # to_pandas: a row per turning point
 
     @property
     def success(self) -> bool:

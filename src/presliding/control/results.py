@@ -22,7 +22,13 @@ __all__ = ["LoopBatch", "LoopResult", "MeasuredCycle", "measure_limit_cycle"]
 
 
 class MeasuredCycle(NamedTuple):
-    """An oscillation measured from turning points (`measure_limit_cycle`)."""
+    """An oscillation measured from turning points (`measure_limit_cycle`).
+
+    A named tuple (amplitude, frequency, cycles, trend) that also follows the
+    result convention: ``success`` is True when cycles were measured; ``status``
+    is "steady" (swing changing by less than 2 %), "changing" (growing or
+    decaying) or "none" (fewer than two full cycles in the window).
+    """
 
     amplitude: float  #: half the mean swing between consecutive turning points [m]
     frequency: float  #: 2π over the mean time between every second turning point [rad/s]
@@ -33,6 +39,53 @@ class MeasuredCycle(NamedTuple):
     def steady(self) -> bool:
         """At least two cycles whose swing changes by less than 2 % over the window."""
         return self.cycles >= 2 and abs(self.trend) < 0.02
+
+    @property
+    def success(self) -> bool:
+        """True when at least one full cycle was measured."""
+        return self.cycles > 0
+
+    @property
+    def status(self) -> str:
+        """One of "steady", "changing" or "none"."""
+        return "none" if not self.cycles else ("steady" if self.steady else "changing")
+
+    @property
+    def message(self) -> str:
+        """The measured cycle in words."""
+        if not self.cycles:
+            return "fewer than two full cycles after the start of the window"
+        return (f"{self.cycles} cycles of amplitude {self.amplitude:.6g} m at "
+                f"{self.frequency:.6g} rad/s, swing changing by {self.trend:+.1%}")  # fmt: skip
+
+    def report(self) -> str:
+        """A one-line summary."""
+        return f"Measured oscillation: {self.status} ({self.message})"
+
+    def to_dict(self) -> dict[str, Any]:
+        """The figures and the status as plain values."""
+        return {**self._asdict(), "status": self.status, "success": self.success,
+                "message": self.message}  # fmt: skip
+
+    def to_pandas(self) -> Any:
+        """A one-row DataFrame of the figures and the status."""
+        import pandas as pd
+
+        frame = pd.DataFrame([self.to_dict()])
+        frame.attrs.update(success=self.success, status=self.status, message=self.message)
+        return frame
+
+    def plot(self, ax: Axes | None = None) -> Axes:
+        """The measured cycle as its first harmonic A·sin(ωt) over the cycles measured."""
+        from presliding.plotting import new_axes
+
+        ax = new_axes(ax)
+        if self.cycles:
+            t = np.linspace(0.0, 2.0 * np.pi * self.cycles / self.frequency, 200 * self.cycles)
+            ax.plot(t, self.amplitude * np.sin(self.frequency * t), color="C0", lw=1.2)
+        ax.set(xlabel="time from the window's start [s]", ylabel="position [m]",
+               title=f"measured oscillation: {self.status}")  # fmt: skip
+        return ax
 
 
 def measure_limit_cycle(
@@ -80,6 +133,9 @@ class LoopResult(MotionResult):
     feedforward : ndarray, shape (K + 1,)
         u_ff,k [N] (zeros when none was given).
     controller : PID or DiscreteController
+    status : str
+        As for `MotionResult`: "success" or "event_limit" (the event limit
+        `max_events` was reached; the samples stop there).
     """
 
     control_time: FloatArray

@@ -92,7 +92,8 @@ class MasingCheck:
 
     def to_dict(self) -> dict[str, Any]:
         """The figures as plain values."""
-        return {"status": self.status, "message": self.message, "passed": self.passed,
+        return {"status": self.status, "success": self.success, "message": self.message,
+                "passed": self.passed,
                 "discrepancy": self.discrepancy, "tolerance": self.tolerance,
                 "branch_discrepancy": self.branch_discrepancy.tolist()}  # fmt: skip
 

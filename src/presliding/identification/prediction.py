@@ -149,7 +149,7 @@ class Prediction:
             "nrmse": self.nrmse, "measured_reversals": self.measured_reversals,
             "predicted_reversals": self.predicted_reversals, "measured_rest": self.measured_rest,
             "predicted_rest": self.predicted_rest, "parameters": dict(self.parameters),
-            "status": self.status, "message": self.message,
+            "status": self.status, "success": self.success, "message": self.message,
         }  # fmt: skip
 
     def to_pandas(self) -> Any:

@@ -92,6 +92,7 @@ class QuasiStaticResponse:
             elastic_force=self.elastic_force,
             status=self.status,
             message=self.message,
+            success=self.success,
         )
         return out
 
