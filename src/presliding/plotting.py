@@ -4,7 +4,7 @@ and changes no global style; matplotlib is imported only when a plot is drawn.""
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -13,6 +13,7 @@ from presliding._validation import check_type
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
+    from matplotlib.ticker import MaxNLocator
 
 __all__ = [
     "new_axes", "place_legend", "plot_batch", "plot_density", "plot_fit", "plot_forces",
@@ -51,7 +52,8 @@ def plot_hysteresis(
     """
     ax = new_axes(ax)
     y = np.asarray(displacement, dtype=float)
-    forces = [force] if np.ndim(force) == 1 else list(force)
+    curves: Any = force  # one curve, or a sequence of curves (possibly of several lengths)
+    forces = [curves] if np.ndim(curves) == 1 else list(curves)
     for i, f in enumerate(forces):
         label = None if labels is None else labels[i]
         ax.plot(y, np.asarray(f, dtype=float), lw=1.6, label=label)
@@ -71,21 +73,20 @@ def plot_hysteresis(
 
 
 def place_legend(ax: Axes, **kwargs: Any) -> Any:
-    """A legend off the data: ``loc="best"``, or right of the axes if that still covers a point."""
+    """A legend off the data: ``loc="best"``, or right of the axes if that still covers data
+    (lines in data coordinates, segment by segment, and scattered points; not axhline/axvline)."""
     leg = ax.legend(frameon=False, loc="best", **kwargs)
-    fig = ax.get_figure()
-    if not hasattr(fig.canvas, "get_renderer"):
+    if not hasattr((fig := ax.figure.figure).canvas, "get_renderer"):  # the root figure
         fig.draw_without_rendering()
     box = leg.get_window_extent().padded(2.0)
-    for line in ax.get_lines():
-        xy = line.get_transform().transform(np.asarray(line.get_xydata(), dtype=float))
-        if np.any(
-            (xy[:, 0] >= box.x0)
-            & (xy[:, 0] <= box.x1)
-            & (xy[:, 1] >= box.y0)
-            & (xy[:, 1] <= box.y1)
-        ):
-            return ax.legend(frameon=False, loc="upper left", bbox_to_anchor=(1.01, 1.0), **kwargs)
+    paths = [ln.get_transform().transform_path(ln.get_path()) for ln in ax.get_lines()
+             if ln.get_transform() is ax.transData]  # fmt: skip
+    points = [c.get_offset_transform().transform(np.reshape(c.get_offsets(), (-1, 2)))
+              for c in ax.collections]  # fmt: skip
+    if any(p.intersects_bbox(box, filled=False) for p in paths) or any(
+        box.count_contains(xy) > 0 for xy in points if xy.size
+    ):
+        return ax.legend(frameon=False, loc="upper left", bbox_to_anchor=(1.01, 1.0), **kwargs)
     return leg
 
 
@@ -268,8 +269,7 @@ def plot_turning_points(
         ax.plot([result.rest_position], [result.elastic_forces[-1]], "s", ms=6, color="C3",
                 label="rest")  # fmt: skip
     ax.axhline(0.0, color="0.8", lw=0.8, zorder=0)
-    ax.set_xlabel("position y [m]")
-    ax.set_ylabel("elastic force F_el [N]")
+    ax.set(xlabel="position y [m]", ylabel="elastic force F_el [N]")
     ax.set_title(f"{result.n_reversals} reversal(s); {result.status}")
     ax.grid(True, alpha=0.3)
     place_legend(ax)
@@ -320,7 +320,7 @@ def plot_reversal_counts(
                 label="simulated (exact event method)")  # fmt: skip
     ax.set_xlabel(xlabel)
     ax.set_ylabel("reversals before the stop")
-    ax.yaxis.get_major_locator().set_params(integer=True)
+    cast("MaxNLocator", ax.yaxis.get_major_locator()).set_params(integer=True)
     ax.grid(True, alpha=0.3)
     place_legend(ax)
     return ax

@@ -22,6 +22,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from presliding._validation import as_choice
+from presliding.identification._fit_progress import reporting
 from presliding.identification.fit_result import FitResult
 from presliding.identification.prediction import Prediction
 
@@ -45,6 +46,12 @@ class CrossValidation:
         The fit on every record, with this table attached.
     labels : tuple of str
         A name per record (``record 1``, ... unless given).
+    success : bool
+        True when every fold was fitted and predicted.
+    status : str
+        "success", or "failed" when a fold's fit or prediction failed.
+    message : str
+        How many folds failed, and the first failure's message.
     """
 
     predictions: tuple[Prediction, ...]
@@ -72,7 +79,17 @@ class CrossValidation:
 
     @property
     def status(self) -> str:
+        """Either "success" or "failed" (a fold's fit or prediction failed)."""
         return "success" if self.success else "failed"
+
+    @property
+    def message(self) -> str:
+        """How many folds failed, with the first failure's message."""
+        bad = [p.message for p in self.predictions if not p.success]
+        bad += [f.message for f in self.fits if f.status == "failed"]
+        if not bad:
+            return f"{len(self.predictions)} held-out records predicted"
+        return f"{len(bad)} of {len(self.predictions)} folds failed; first: {bad[0]}"
 
     def table(self) -> list[list[str]]:
         """Rows: record, fit status, NRMSE, reversals measured/predicted, rest positions."""
@@ -111,6 +128,10 @@ class CrossValidation:
             "predictions": [p.to_dict() for p in self.predictions],
             "median_nrmse": float(np.median(self.nrmse)),
             "reversals_exact": self.reversals_exact,
+            "nrmse": self.nrmse,
+            "status": self.status,
+            "success": self.success,
+            "message": self.message,
         }
 
     def to_pandas(self) -> Any:
@@ -121,7 +142,9 @@ class CrossValidation:
             {"record": label, "fit_status": f.status, **p.to_dict()}
             for label, f, p in zip(self.labels, self.fits, self.predictions, strict=True)
         ]
-        return pd.DataFrame(rows).drop(columns=["parameters"]).set_index("record")  # fmt: skip
+        frame = pd.DataFrame(rows).drop(columns=["parameters"]).set_index("record")
+        frame.attrs.update(success=self.success, status=self.status, message=self.message)
+        return frame
 
     def plot(self, ax: Axes | None = None) -> Axes:
         """NRMSE of each held-out record (bars); returns the axes."""
@@ -167,7 +190,8 @@ def cross_validate(
         How the held-out record's own initial conditions are set (see
         `FitResult.predict`).
     **options
-        Passed to every fit.
+        Passed to every fit. ``progress`` (as in `fit_response`) also names
+        each left-out record as its fit begins.
 
     Returns
     -------
@@ -194,16 +218,21 @@ def cross_validate(
     if len(names) != len(recs):
         raise ValueError(f"`labels` must name each of the {len(recs)} records; got {len(names)}.")
     initial = as_choice("initial", initial, ("fit", "measured"))
-    full = fit(recs, **options)
-    fits, predictions = [], []
-    for i, held in enumerate(recs):
-        others = recs[:i] + recs[i + 1 :]
-        part = fit(others, **options)
-        fits.append(part)
-        if part.model is None or part.status == "failed":
-            predictions.append(_failed(held, part))
-            continue
-        predictions.append(part.predict(held, initial=initial))
+    given = options.pop("progress", None)  # passed on only when given (any fit works)
+    with reporting(False if given is None else given, "cross_validate") as shown:
+        extra: dict[str, Any] = {} if given is None else {"progress": shown}
+        shown.stage(f"fit of all {len(recs)} records")
+        full = fit(recs, **options, **extra)
+        fits, predictions = [], []
+        for i, held in enumerate(recs):
+            shown.stage(f"cross-validation: {names[i]} left out ({i + 1} of {len(recs)})")
+            others = recs[:i] + recs[i + 1 :]
+            part = fit(others, **options, **extra)
+            fits.append(part)
+            if part.model is None or part.status == "failed":
+                predictions.append(_failed(held, part))
+                continue
+            predictions.append(part.predict(held, initial=initial))
     cv = CrossValidation(tuple(predictions), tuple(fits), full, names)
     result = replace(full, cross_validation=cv)
     return replace(cv, result=result)
