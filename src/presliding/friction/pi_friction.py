@@ -295,8 +295,7 @@ class PIFriction:
         """
         if not isinstance(elastic_only, (bool, np.bool_)):
             raise TypeError(f"`elastic_only` must be True or False; got {fmt(elastic_only)}.")
-        y = as_real_array("displacement", displacement)
-        scalar = y.ndim == 0
+        scalar = (y := as_real_array("displacement", displacement)).ndim == 0
         y = as_signal("displacement", np.atleast_1d(y))
         ay = np.abs(y)
         if self.stiffness is None or self.threshold is None:  # a continuous density
