@@ -494,4 +494,4 @@ def test_simulate_a_continuous_density(tmp_path, capsys):
     assert data[-1, 2] == 0.0  # at rest, exactly
     assert data[-1, 1] == pytest.approx(pred.rest_position, rel=5e-4)
     assert main(["simulate", str(path), "--step", "-1", "-o", str(out)]) == 2
-    one_error_line(capsys, "dens.toml", "step")
+    one_error_line(capsys, "`--step` must be positive")  # the option, checked on parsing

@@ -65,8 +65,11 @@ def test_quasi_static_and_virgin_kinds(tmp_path):
     ("extra", "needle"),
     [
         (["--kind", "presliding"], "takes one data file"),
-        (["--kind", "response", "--max-evaluations", "0"], "--max-evaluations must be 1"),
-        (["--kind", "response", "--bootstrap", "-1"], "--bootstrap must be 0"),
+        (
+            ["--kind", "response", "--max-evaluations", "0"],
+            "`--max-evaluations` must be a positive integer; got 0",
+        ),
+        (["--kind", "response", "--bootstrap", "-1"], "`--bootstrap` must be nonnegative; got -1"),
     ],
 )
 def test_user_errors(tmp_path, capsys, extra, needle):

@@ -302,7 +302,7 @@ def test_missing_file_and_bad_options(tmp_path, capsys):
     one_error_line(capsys, "nope.toml: no such file")
     spec = _write(tmp_path, TWO_AXES)
     assert main(["sweep", str(spec), "--workers", "0", "-o", str(tmp_path / "o")]) == 2
-    one_error_line(capsys, "--workers must be a whole number >= 1; got 0")
+    one_error_line(capsys, "`--workers` must be a positive integer; got 0")
     args = ["sweep", str(spec), "--workers", "2", "--scheduler", "tcp://127.0.0.1:1"]
     assert main(args) == 2
     one_error_line(capsys, "give one of the two")

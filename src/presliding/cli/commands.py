@@ -18,6 +18,7 @@ import argparse
 import sys
 from collections.abc import Sequence
 from pathlib import Path
+from typing import NoReturn
 
 from presliding._version import __version__
 from presliding.cli.common import UserError, checked
@@ -66,8 +67,17 @@ column, unit or parameter), 130 interrupted.
 """
 
 
+class _Parser(argparse.ArgumentParser):
+    """A value refused by the shared validation (`common.checked`) is one line, no usage."""
+
+    def error(self, message: str) -> NoReturn:
+        if message.startswith("argument ") and "`" in message:
+            self.exit(2, f"{self.prog}: error: {message}\n")
+        super().error(message)
+
+
 def _build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
+    parser = _Parser(
         prog="presliding",
         description="Dry friction with presliding hysteresis (Prandtl–Ishlinskii operators): "
         "simulation with exact stiction, stop analysis and identification.",
