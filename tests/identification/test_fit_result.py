@@ -88,7 +88,7 @@ def test_insensitive_model_is_a_failure():
 @pytest.mark.parametrize(
     ("kwargs", "message"),
     [
-        ({"fixed": {"z": 1.0}}, "unknown parameter 'z'"),
+        ({"fixed": {"z": 1.0}}, "`fixed` must name parameters of the fit"),
         ({"tied": {"a": "z"}}, "target of 'a'"),
         ({"tied": {"a": "b", "b": "a"}}, "cycle"),
         ({"fixed": {"a": 1.0}, "tied": {"a": "b"}}, "both fixed and tied"),

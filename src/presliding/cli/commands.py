@@ -91,7 +91,7 @@ def _build_parser() -> argparse.ArgumentParser:
     )
     # The same two options after the subcommand name (`presliding demo --quiet`);
     # SUPPRESS keeps a value given before it.
-    common = argparse.ArgumentParser(add_help=False)
+    common = _Parser(add_help=False)
     common.add_argument(
         "--debug", action="store_true", default=argparse.SUPPRESS, help="show tracebacks for errors"
     )
@@ -101,7 +101,7 @@ def _build_parser() -> argparse.ArgumentParser:
         default=argparse.SUPPRESS,
         help="print nothing but errors (no progress bars)",
     )
-    writes = argparse.ArgumentParser(add_help=False)
+    writes = _Parser(add_help=False)
     writes.add_argument(
         "--overwrite",
         action="store_true",
