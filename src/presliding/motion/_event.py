@@ -125,10 +125,12 @@ def run_events(  # pragma: no cover - compiled
     vis = 0.0
     work = 0.0
     rest_start = np.nan
+    frozen = False  # at rest in floating point: the state repeats until u changes
     status = STATUS_OK
     while True:
         while iu + 1 < n_u and u_t[iu + 1] <= t:  # an event exactly at a change of u
             iu += 1
+            frozen = False
         u = u_val[iu]
         t_u = u_t[iu + 1] if iu + 1 < n_u else np.inf
         fel = 0.0
@@ -139,7 +141,7 @@ def run_events(  # pragma: no cover - compiled
         s = 1.0 if v > 0.0 else (-1.0 if v < 0.0 else 0.0)
         if s == 0.0:
             g = u - fel
-            if abs(g) <= c1:  # sticks: exactly at rest until u changes
+            if abs(g) <= c1 or frozen:  # sticks: exactly at rest until u changes
                 if np.isnan(rest_start):
                     rest_start = t
                 t1 = min(t_u, t_end)
@@ -160,6 +162,7 @@ def run_events(  # pragma: no cover - compiled
                     break
                 t = t_u
                 iu += 1
+                frozen = False
                 continue
             s = 1.0 if g > 0.0 else -1.0
             if last_dir != 0.0 and s != last_dir:
@@ -168,6 +171,7 @@ def run_events(  # pragma: no cover - compiled
                     rev_y[n_rev] = y
                 n_rev += 1
             last_dir = s
+        rest_before = rest_start
         rest_start = np.nan
         if piece is not None:
             piece[0] = t
@@ -200,6 +204,13 @@ def run_events(  # pragma: no cover - compiled
             a0 = (u - c1 * s - fel) / m
             w = math.sqrt(kk / m)
             ap = s * a0
+            if vp == 0.0 and not ap > 0.0:
+                # a start from rest: |u − F_el| > c1 was decided above, but u − c1·s − F_el
+                # rounds to <= 0 (an order of operations the stick test does not use), which
+                # would give a piece of zero length and no progress; take the net force as
+                # the stick test computed it, > 0 in floating point
+                ap = (abs(u - fel) - c1) / m
+                a0 = s * ap
             dmax = reach(vp, ap, w)
             kind = 0  # 0: element, 1: rest, 2: change of u, 3: end
             if dmin < dmax:
@@ -266,13 +277,21 @@ def run_events(  # pragma: no cover - compiled
         if s * v <= 0.0:
             v = 0.0
         hit = kind == 0 or (kind == 1 and dmin == dmax)
+        # a piece from rest back to rest that moved neither y nor any deformation in
+        # floating point leaves the state as it found it: every later piece under this u
+        # would repeat it, so the mass stays at rest until u changes
+        same = vp == 0.0 and kind == 1 and y + d == y
         for j in range(n):
             if s * f[j] < r[j]:
                 fj = f[j] + d
                 # an element reaching its threshold is set exactly (rounding only)
                 if s * fj >= r[j] or (hit and r[j] - s * f[j] == dmin):
                     fj = s * r[j]
+                same = same and fj == f[j]
                 f[j] = fj
+        if same:
+            frozen = True
+            rest_start = rest_before if not np.isnan(rest_before) else t
         y += d
         dis += dfric * s * d
         work += u * d
