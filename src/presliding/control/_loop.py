@@ -100,7 +100,8 @@ def plant_period(m, c1, sigma, k, r, f, y, v, last_dir, u, t0, t1, max_events): 
     none = np.empty(0)
     rev = np.empty(REVERSALS_PER_PERIOD)
     res = run_events(m, c1, k, r, f, y, v, last_dir, u_t, u_val, none, t1, max_events,
-                     none, none, none, none, none, none, none, none, rev, rev, sigma)  # fmt: skip
+                     none, none, none, none, none, none, none, none, rev, rev, sigma, none,
+                     none)  # fmt: skip
     return res[0], res[4], res[5], res[6], res[7]
 
 
@@ -125,6 +126,7 @@ def run_loop(  # pragma: no cover - compiled
     u_t = np.empty(1)
     u_val = np.empty(1)
     te = np.empty(sub)
+    none = np.empty(0)  # no piece record
     n_rev = 0
     n_ev = 0
     dis = 0.0
@@ -150,7 +152,7 @@ def run_loop(  # pragma: no cover - compiled
         res = run_events(m, c1, k, r, f, y, v, last_dir, u_t, u_val, te, tk + dt,
                          max_events - n_ev, o_y[i0:], o_v[i0:], o_a[i0:], o_fel[i0:],
                          o_u[i0:], o_eel[i0:], o_dis[i0:], o_work[i0:], rt, ry, sigma,
-                         o_vis[i0:])  # fmt: skip
+                         o_vis[i0:], none)  # fmt: skip
         st, n_s, nr, stop, y, v, last_dir, ne, dd, ww, _, vv = res
         for j in range(n_s):
             o_dis[i0 + j] += dis
@@ -242,7 +244,7 @@ def run_loop_batch(  # pragma: no cover - compiled
             u_val[0] = u
             res = run_events(m, c1, k, r, f, y, v, last_dir, u_t, u_val, none, tk + dt,
                              max_events - ne_all, none, none, none, none, none, none, none,
-                             none, rt, rt, sigma)  # fmt: skip
+                             none, rt, rt, sigma, none, none)  # fmt: skip
             st = res[0]
             nr_all += res[2]
             y, v, last_dir = res[4], res[5], res[6]

@@ -30,13 +30,14 @@ def free_kernel(
     o_v = np.empty(n_samples)
     scratch = np.empty((6, n_samples))
     rev = np.empty((2, 64))
+    none = np.empty(0)  # no viscous record, no piece record
     f = f0.copy()
     u_t = np.zeros(1)
     u_val = np.full(1, u)
     res = run_events(
         m, c1, k, r, f, y0, v0, last_dir, u_t, u_val, t_eval, t_end, max_events,
         o_y, o_v, scratch[0], scratch[1], scratch[2], scratch[3], scratch[4], scratch[5],
-        rev[0], rev[1], sigma,
+        rev[0], rev[1], sigma, none, none,
     )  # fmt: skip
     return o_y, o_v, res[0], res[3], res[2], res[1], res[10]
 
@@ -51,12 +52,13 @@ def batch_events(  # pragma: no cover - compiled
     n_t = t_eval.shape[0]
     for b in nb.prange(n_batch):
         scratch = np.empty((6, n_t))
+        none = np.empty(0)  # no viscous record, no piece record
         rev = np.empty((2, 64))
         f = f0[b].copy()
         res = run_events(
             m[b], c1[b], k[b], r[b], f, y0[b], v0[b], last_dir[b], u_t, u_val, t_eval, t_end,
             max_events, o_y[b], o_v[b], scratch[0], scratch[1], scratch[2], scratch[3],
-            scratch[4], scratch[5], rev[0], rev[1], sigma[b],
+            scratch[4], scratch[5], rev[0], rev[1], sigma[b], none, none,
         )  # fmt: skip
         status[b] = res[0]
         n_rev[b] = res[2]

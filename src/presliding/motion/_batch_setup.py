@@ -19,6 +19,7 @@ from presliding._validation import (
     fmt,
 )
 from presliding.friction.pi_friction import PIFriction
+from presliding.motion._event import kernel_array
 from presliding.motion._run import check_model, saturation_direction
 
 FloatArray = NDArray[np.float64]
@@ -159,6 +160,10 @@ def run_batch(m, c1, sigma, k, r, f0, y0, v0, last_dir, u_t, u_val, times, t_end
     from presliding.motion.results import MotionBatch
 
     n_b, n_t = m.shape[0], times.shape[0]
+    # C-contiguous writable float64 throughout: the kernels compile once for every call
+    m, c1, sigma, k, r, f0, y0, v0, last_dir, u_t, u_val, times = (
+        kernel_array(a) for a in (m, c1, sigma, k, r, f0, y0, v0, last_dir, u_t, u_val, times)
+    )
     o_y = np.full((n_b, n_t), np.nan)
     o_v = np.full((n_b, n_t), np.nan)
     stop = np.empty(n_b)
