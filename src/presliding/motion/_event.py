@@ -57,6 +57,7 @@ def kernel_array(a: np.ndarray) -> np.ndarray:
         return a
     return np.array(a, dtype=np.float64, order="C")
 
+
 _JIT = {"cache": True, "error_model": "numpy"}
 
 

@@ -22,8 +22,7 @@ from presliding._validation import (
 from presliding.friction.pi_friction import PIFriction
 from presliding.motion import _batch_events as _batch
 from presliding.motion import _batch_setup as _setup
-from presliding.motion import _event
-from presliding.motion import _run
+from presliding.motion import _event, _run
 from presliding.motion._forcing import as_forcing
 from presliding.motion.results import FreeResponse, MotionBatch
 
