@@ -1,7 +1,9 @@
 """Compiled batches of exact motions: many parameter sets or initial velocities at once.
 
-Each member runs the exact event kernel (`presliding.motion._event.run_events`) on its
-own thread (``prange``); `free_kernel` is the single-run form used inside
+Each member runs the exact event kernel (`presliding.motion._event.run_events`);
+`batch_events` runs a range of members with the GIL released, and the caller
+spreads ranges over threads (a serial loop compiles in a fraction of the time of
+a ``prange`` loop, which matters on a cold cache); `free_kernel` is the single-run form used inside
 least-squares losses: it samples position and velocity on a uniform time grid
 with no Python work per call beyond argument checks.
 """
@@ -42,18 +44,18 @@ def free_kernel(
     return o_y, o_v, res[0], res[3], res[2], res[1], res[10]
 
 
-@nb.njit(cache=True, parallel=True)
+@nb.njit(cache=True, nogil=True)
 def batch_events(  # pragma: no cover - compiled
-    m, c1, sigma, k, r, f0, y0, v0, last_dir, u_t, u_val, t_eval, t_end, max_events,
+    b0, b1, m, c1, sigma, k, r, f0, y0, v0, last_dir, u_t, u_val, t_eval, t_end, max_events,
     o_y, o_v, stop, n_rev, status, y_end, v_end,
 ):  # fmt: skip
-    """Run member b with m[b], c1[b], sigma[b], k[b], r[b], f0[b], y0[b], v0[b], last_dir[b]."""
-    n_batch = m.shape[0]
+    """Run members b0 <= b < b1, member b with m[b], c1[b], sigma[b], k[b], r[b], f0[b],
+    y0[b], v0[b], last_dir[b]; releases the GIL (threads run disjoint ranges)."""
     n_t = t_eval.shape[0]
-    for b in nb.prange(n_batch):
-        scratch = np.empty((6, n_t))
-        none = np.empty(0)  # no viscous record, no piece record
-        rev = np.empty((2, 64))
+    scratch = np.empty((6, n_t))  # samples nobody reads
+    none = np.empty(0)  # no viscous record, no piece record
+    rev = np.empty((2, 64))
+    for b in range(b0, b1):
         f = f0[b].copy()
         res = run_events(
             m[b], c1[b], k[b], r[b], f, y0[b], v0[b], last_dir[b], u_t, u_val, t_eval, t_end,
