@@ -24,7 +24,8 @@ that a busy machine moves both sides alike:
    and with a new output array each call), against the straightforward
    kernel and a register-resident C reference (the five states in local
    variables);
-7. the pooled fit of the identification issue (slot).
+7. the pooled fit of the identification issue (`bench_pooled_fit.py`), wall
+   seconds against its absolute 5 s target.
 
 The C references are written from the string `C_SOURCE` into a temporary
 folder at run time and built with the system C compiler (``$CC``, else ``cc``)
@@ -412,8 +413,29 @@ def figure_small_bank(ctx: Context) -> list[Row]:
 
 
 def figure_pooled_fit(ctx: Context) -> list[Row]:
-    """7. The pooled fit of the identification issue (evaluations per second)."""
-    return [Row("7. pooled fit", "not measured here yet")]
+    """7. The pooled fit of the identification issue (`bench_pooled_fit.py`): 20 records ×
+    1000 samples, 67 parameters, default options; wall seconds against its 5 s target (an
+    absolute figure for the 2-core machine: there is no same-run reference for a whole fit).
+    """
+    import sys
+
+    sys.path.insert(0, str(Path(__file__).resolve().parent))
+    from _stops import stop_records
+
+    from presliding import fit_response
+
+    records = stop_records(0, 20)[0]
+    fit_response(records[:2], signal="both", initial_state="preload", max_evaluations=5)
+    times = []
+    for _ in range(min(3, ctx.repeats)):
+        start = time.perf_counter()
+        fit = fit_response(records, signal="both", initial_state="preload")
+        times.append(time.perf_counter() - start)
+    target = 5.0
+    value = f"{span(times, 1.0)} s wall, {fit.nfev} evals"
+    ok = med(times) <= target
+    return [Row("7. pooled fit, 20 x 1000 samples", value,
+                f"{med(times) / target:.2f}x the target", "<= 5 s", ok)]  # fmt: skip
 
 
 #: figure number -> function; extend by adding a function and listing it here

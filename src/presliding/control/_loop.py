@@ -27,7 +27,7 @@ _JIT = {"cache": True, "error_model": "numpy"}
 REVERSALS_PER_PERIOD = 64
 
 
-@nb.njit(**_JIT)
+@nb.njit(_nrt=False, **_JIT)
 def pid_output(p, s, ref, y, ff):  # pragma: no cover - compiled
     """u_k of the PID at (r_k, y_k) with feedforward ff; updates the state s in place."""
     kp, ki, kd, dt, tf, low, high = p[0], p[1], p[2], p[3], p[4], p[5], p[6]
@@ -50,7 +50,7 @@ def pid_output(p, s, ref, y, ff):  # pragma: no cover - compiled
     return u
 
 
-@nb.njit(**_JIT)
+@nb.njit(_nrt=False, **_JIT)
 def ss_output(a, b, c, d, x, low, high, ref, y, ff, w, tmp):  # pragma: no cover - compiled
     """u_k of the state-space controller; x advanced in place (w, tmp: scratch)."""
     if d.shape[1] == 1:
@@ -117,8 +117,6 @@ def run_loop(  # pragma: no cover - compiled
     failure). Returns (status, n_rev, rest_start, y, v, last_dir, n_events,
     periods done).
     """
-    n_k = ref.shape[0] - 1
-    low, high = (p[5], p[6]) if kind == 0 else (p[0], p[1])
     w = np.empty(2)
     tmp = np.empty(x.shape[0])
     rt = np.empty(REVERSALS_PER_PERIOD)
@@ -127,6 +125,24 @@ def run_loop(  # pragma: no cover - compiled
     u_val = np.empty(1)
     te = np.empty(sub)
     none = np.empty(0)  # no piece record
+    return _loop_body(
+        m, c1, sigma, k, r, f, y, v, last_dir, kind, p, s, a, b, c, d, x, ref, ff, t0, dt, sub,
+        max_events, o_y, o_v, o_a, o_fel, o_u, o_eel, o_dis, o_work, o_vis, o_ctrl, rev_t,
+        rev_y, w, tmp, rt, ry, u_t, u_val, te, none,
+    )  # fmt: skip
+
+
+# Without reference counting (no array is allocated here): the per-period views of the
+# outputs and the calls of the event kernel then cost no atomic operations
+@nb.njit(_nrt=False, **_JIT)
+def _loop_body(  # pragma: no cover - compiled
+    m, c1, sigma, k, r, f, y, v, last_dir, kind, p, s, a, b, c, d, x, ref, ff, t0, dt, sub,
+    max_events, o_y, o_v, o_a, o_fel, o_u, o_eel, o_dis, o_work, o_vis, o_ctrl, rev_t, rev_y,
+    w, tmp, rt, ry, u_t, u_val, te, none,
+):  # fmt: skip
+    """The periods of `run_loop`, with its scratch arrays handed in."""
+    n_k = ref.shape[0] - 1
+    low, high = (p[5], p[6]) if kind == 0 else (p[0], p[1])
     n_rev = 0
     n_ev = 0
     dis = 0.0

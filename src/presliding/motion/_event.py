@@ -103,7 +103,7 @@ def time_to_reach(vp, ap, w, dist):  # pragma: no cover - compiled
     return 2.0 * math.atan(dist * w / den) / w
 
 
-@nb.njit(**_JIT)
+@nb.njit(_nrt=False, **_JIT)
 def run_events(  # pragma: no cover - compiled
     m, c1, k, r, f, y, v, last_dir, u_t, u_val, t_eval, t_end, max_events,
     o_y, o_v, o_a, o_fel, o_u, o_eel, o_dis, o_work, rev_t, rev_y, sigma, o_vis, piece,
