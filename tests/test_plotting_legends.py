@@ -48,3 +48,32 @@ def test_the_loop_fit_legend_is_off_a_loop_that_fills_the_axes():
     plot_loop_fit(y, measured, measured * 0.98, ax=ax)
     fig.draw_without_rendering()
     assert _covered(ax) == 0
+
+
+def test_a_fast_oscillation_crossing_the_legend_between_samples_moves_it_outside():
+    # few samples per period: no sample lies in a corner, but the segments cross it
+    ax = Figure(layout="constrained").subplots()
+    t = np.arange(400) * 0.01
+    ax.plot(t, 10.0 * np.where(np.arange(400) % 2 == 0, 1.0, -1.0), label="hunting")
+    ax.axhline(10.0, ls="--", label="predicted ±A")  # spans the axes: not data to avoid
+    place_legend(ax)
+    ax.get_figure().draw_without_rendering()
+    assert ax.get_legend().get_window_extent().x0 > ax.get_window_extent().x1
+
+
+def test_scattered_points_count_as_data():
+    ax = Figure(layout="constrained").subplots()
+    rng = np.random.default_rng(1)
+    ax.scatter(rng.uniform(size=3000), rng.uniform(size=3000), s=2, label="residual")
+    place_legend(ax)
+    ax.get_figure().draw_without_rendering()
+    assert ax.get_legend().get_window_extent().x0 > ax.get_window_extent().x1
+
+
+def test_reference_lines_alone_keep_the_legend_inside():
+    ax = Figure(layout="constrained").subplots()
+    ax.plot([0.0, 1.0], [0.0, 0.1], label="low line")
+    ax.axhline(0.5, label="reference")
+    place_legend(ax)
+    ax.get_figure().draw_without_rendering()
+    assert ax.get_legend().get_window_extent().x1 <= ax.get_window_extent().x1

@@ -81,21 +81,21 @@ def plot_hysteresis(
 
 
 def place_legend(ax: Axes, **kwargs: Any) -> Any:
-    """A legend off the data: ``loc="best"``, or right of the axes if that still covers a point."""
+    """A legend off the data: ``loc="best"``, or right of the axes if that still covers data
+    (lines in data coordinates, segment by segment, and scattered points; not axhline/axvline)."""
     leg = ax.legend(frameon=False, loc="best", **kwargs)
     fig = ax.get_figure()
     if not hasattr(fig.canvas, "get_renderer"):
         fig.draw_without_rendering()
     box = leg.get_window_extent().padded(2.0)
-    for line in ax.get_lines():
-        xy = line.get_transform().transform(np.asarray(line.get_xydata(), dtype=float))
-        if np.any(
-            (xy[:, 0] >= box.x0)
-            & (xy[:, 0] <= box.x1)
-            & (xy[:, 1] >= box.y0)
-            & (xy[:, 1] <= box.y1)
-        ):
-            return ax.legend(frameon=False, loc="upper left", bbox_to_anchor=(1.01, 1.0), **kwargs)
+    paths = [ln.get_transform().transform_path(ln.get_path()) for ln in ax.get_lines()
+             if ln.get_transform() is ax.transData]  # fmt: skip
+    points = [c.get_offset_transform().transform(np.reshape(c.get_offsets(), (-1, 2)))
+              for c in ax.collections]  # fmt: skip
+    if any(p.intersects_bbox(box, filled=False) for p in paths) or any(
+        box.count_contains(xy) > 0 for xy in points if xy.size
+    ):
+        return ax.legend(frameon=False, loc="upper left", bbox_to_anchor=(1.01, 1.0), **kwargs)
     return leg
 
 

@@ -297,10 +297,16 @@ def tidy_fit_axes(fig: Any, ax: Any, ylabel: str, unit: str) -> None:
     with both y labels aligned clear of the tick labels."""
     residual = fig.axes[-1]
     ax.set_ylabel(f"{ylabel} [{unit}]")
-    residual.set_ylabel(f"residual [{unit}]")
-    residual.ticklabel_format(axis="y", style="sci", scilimits=(-2, 3), useMathText=True)
-    for a in (ax, residual):
-        a.yaxis.set_label_coords(-0.09, 0.5)
+    from matplotlib.ticker import FuncFormatter
+
+    # a power of ten goes into the label, never as an offset text over the panel above
+    top = float(np.max(np.abs(residual.dataLim.intervaly)))
+    power = int(np.floor(np.log10(top))) if np.isfinite(top) and top > 0 else 0
+    power = power if power < -2 or power > 3 else 0
+    scale = f"$10^{{{power}}}$ " if power else ""
+    residual.set_ylabel(f"residual [{scale}{unit}]")
+    residual.yaxis.set_major_formatter(FuncFormatter(lambda v, _: f"{v / 10.0**power:g}"))
+    fig.align_ylabels([ax, residual])
 
 
 def check_options(pairs: Sequence[str] | None, option: str, allowed: Sequence[str]) -> dict:

@@ -11,6 +11,7 @@ import numpy as np
 from presliding.cli._demo_common import _figure, _save
 from presliding.cli.report import Section
 from presliding.friction.pi_friction import PIFriction
+from presliding.plotting import place_legend
 
 #: A bank without the Coulomb element (the mass never rests), a PI position loop whose
 #: linear part is unstable without friction: presliding damping holds it on a cycle.
@@ -47,7 +48,7 @@ def hunting_figure(part: dict[str, Any], out_dir: Path) -> Path:
                        label="predicted ±A" if sign == 1 else None)  # fmt: skip
     ax.set(xlabel="time t [s]", ylabel="position y [µm]",
            title="hunting: the loop settles on the predicted cycle")  # fmt: skip
-    ax.legend(frameon=False, fontsize=8, loc="lower right")
+    place_legend(ax, fontsize=8)
     return _save(fig, out_dir / "hunting.png")
 
 
