@@ -144,3 +144,18 @@ def stop_records(seed: int, n_records: int, model: PIFriction, mass: float = 2.0
         truth.append({"initial_position": y0, "initial_velocity": v0, "preload_fraction": frac * d,
                       "n_reversals": res.n_reversals})  # fmt: skip
     return out, truth
+
+
+def rounding_break_away(c1: float) -> tuple[float, float]:
+    """(u, F_el) with |u − F_el| > c1 while u − c1·s − F_el rounds to <= 0 (s = sign(u − F_el))."""
+    for fel in np.linspace(0.17, 0.93, 4001):
+        for steps in range(1, 6):
+            g = -c1
+            for _ in range(steps):
+                g = np.nextafter(g, -1.0)
+            u = float(fel + g)
+            gg = u - fel
+            s = np.sign(gg)
+            if abs(gg) > c1 and s * ((u - c1 * s) - fel) <= 0.0:
+                return u, float(fel)
+    raise AssertionError("no such pair found")

@@ -8,26 +8,12 @@ import numpy as np
 
 import presliding as ps
 from presliding import PIState
-
-
-def _rounding_break_away(c1: float) -> tuple[float, float]:
-    """(u, F_el) with |u − F_el| > c1 while u − c1·s − F_el rounds to <= 0 (s = sign(u − F_el))."""
-    for fel in np.linspace(0.17, 0.93, 4001):
-        for steps in range(1, 6):
-            g = -c1
-            for _ in range(steps):
-                g = np.nextafter(g, -1.0)
-            u = float(fel + g)
-            gg = u - fel
-            s = np.sign(gg)
-            if abs(gg) > c1 and s * ((u - c1 * s) - fel) <= 0.0:
-                return u, float(fel)
-    raise AssertionError("no such pair found")
+from tests.helpers import rounding_break_away
 
 
 def test_break_away_whose_net_force_rounds_to_zero_moves_on():
     c1 = 0.005
-    u, fel = _rounding_break_away(c1)
+    u, fel = rounding_break_away(c1)
     s = np.sign(u - fel)
     # one element (k = 1 N/m, far from its threshold) preloaded to F_el = fel
     model = ps.PIFriction(c1, stiffness=[1.0], threshold=[10.0])
