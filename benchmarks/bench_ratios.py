@@ -23,7 +23,9 @@ that a busy machine moves both sides alike:
 6. `PIOperator.apply` with N = 5, ns per step (into a given ``out=`` array,
    and with a new output array each call), against the straightforward
    kernel and a register-resident C reference (the five states in local
-   variables);
+   variables); the target (2.2 ns/step where that C took 1.8 on the AMD
+   Zen 4 machine it was set on) is also judged as the ratio >= 1.8/2.2 to C,
+   which carries over to other machines;
 7. the pooled fit of the identification issue (`bench_pooled_fit.py`), wall
    seconds against its absolute 5 s target.
 
@@ -68,6 +70,8 @@ from presliding import PIBatch, PIFriction, PIOperator  # noqa: E402
 from presliding.hysteresis import _kernels  # noqa: E402
 
 MIN_RUN_S = 0.1
+#: the N = 5 target as a ratio to register-resident C: 2.2 ns/step against 1.8 (issue 18)
+C5_RATIO = 1.8 / 2.2
 
 C_SOURCE = r"""
 /* Plain C references of the PI sum (eq. 4), written by benchmarks/bench_ratios.py. */
@@ -405,8 +409,12 @@ def figure_small_bank(ctx: Context) -> list[Row]:
 
         c5 = runs(c_call, ctx.repeats)
         cl = runs(c_loop, ctx.repeats)
+        # the target, 2.2 ns/step where register-resident C took 1.8 (Zen 4), as a ratio
+        # that carries over to other machines: within 1.8/2.2 of C's speed
+        ok = med(c5) / med(a) >= C5_RATIO
         rows.append(Row("6. ... vs C, registers", f"C {span(c5, 1e9 / n_time)} ns/step",
-                        f"{ratio_runs(c5, a)} (>1: faster than C)"))  # fmt: skip
+                        f"{ratio_runs(c5, a)} (>1: faster than C)", f">= {C5_RATIO:.2f}x C",
+                        ok))  # fmt: skip
         rows.append(Row("6. ... vs C, plain loop", f"C {span(cl, 1e9 / n_time)} ns/step",
                         f"{ratio_runs(cl, a)}"))  # fmt: skip
     return rows
