@@ -76,7 +76,7 @@ def remove_stale_temporaries(folder: str | os.PathLike[str]) -> list[Path]:
     Only files named by this host are considered (a process id means nothing
     on another machine sharing the folder). Returns the files removed.
     """
-    removed = []
+    removed: list[Path] = []
     host = _host()
     try:
         names = os.listdir(folder)

@@ -246,12 +246,12 @@ def as_count(name: str, value: Any, *, minimum: int = 0, maximum: int | None = N
     counts that set the length of a loop, so that an absurd value is an error, not a hang."""
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Integral):
         raise TypeError(f"`{name}` must be an integer; got {fmt(value)}.")
-    if value < minimum:
+    if (value := int(value)) < minimum:
         rule = {0: "nonnegative", 1: "a positive integer"}.get(minimum, f"at least {minimum}")
         raise ValueError(f"`{name}` must be {rule}; got {fmt(value)}.")
     if maximum is not None and value > maximum:
         raise ValueError(f"`{name}` must be at most {maximum}; got {fmt(value)}.")
-    return int(value)
+    return value
 
 
 def check_type(name: str, value: Any, expected: type | tuple[type, ...], *, where: str = "") -> Any:

@@ -48,6 +48,7 @@ from typing import Any
 
 from presliding._io import write_text
 from presliding._validation import check_type
+from presliding.friction._parts import density_of, elements
 from presliding.friction.pi_friction import PIFriction
 from presliding.hysteresis.densities import Density, Exponential, PiecewiseConstant, Uniform
 
@@ -256,7 +257,8 @@ def model_from_tables(path: str | Path, data: dict[str, Any]) -> ModelFile:
             f"{path}: `motion.initial_state` must be 'relaxed' or 'saturated'; "
             f"got {mo['initial_state']!r}."
         )
-    settings = MotionSettings(**{k: (int(v) if k == "samples" else v) for k, v in mo.items()})
+    given: dict[str, Any] = {k: (int(v) if k == "samples" else v) for k, v in mo.items()}
+    settings = MotionSettings(**given)
     me = _table(path, data, "measurement", _MEASUREMENT_KEYS)
     offset = me.get("force_offset", 0.0)
     if (
@@ -352,14 +354,15 @@ def model_to_toml(
     lines += [""] if lines else []
     lines += ["[friction]", f"coulomb = {_toml_value(model.coulomb)}  # c1 [N]"]
     if model.is_discrete:
+        k, _, c = elements(model)
         lines += [
-            f"stiffness = {_toml_value(model.stiffness.tolist())}  # k_j [N/m]",
-            f"breakaway = {_toml_value(model.breakaway.tolist())}  # c_j [N]",
+            f"stiffness = {_toml_value(k.tolist())}  # k_j [N/m]",
+            f"breakaway = {_toml_value(c.tolist())}  # c_j [N]",
         ]
     if model.viscous:
         lines.append(f"viscous = {_toml_value(model.viscous)}  # σ [N s/m]")
     if not model.is_discrete:
-        lines += _density_lines(model.density)
+        lines += _density_lines(density_of(model))
     if motion is not None:
         lines += ["", "[motion]"]
         lines += [f"{k} = {_toml_value(getattr(motion, k))}" for k in _MOTION_DEFAULTS]

@@ -4,13 +4,14 @@ and changes no global style; matplotlib is imported only when a plot is drawn.""
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
+    from matplotlib.ticker import MaxNLocator
 
 __all__ = [
     "new_axes",
@@ -61,7 +62,8 @@ def plot_hysteresis(
     """
     ax = new_axes(ax)
     y = np.asarray(displacement, dtype=float)
-    forces = [force] if np.ndim(force) == 1 else list(force)
+    curves: Any = force  # one curve, or a sequence of curves (possibly of several lengths)
+    forces = [curves] if np.ndim(curves) == 1 else list(curves)
     for i, f in enumerate(forces):
         label = None if labels is None else labels[i]
         ax.plot(y, np.asarray(f, dtype=float), lw=1.6, label=label)
@@ -84,8 +86,7 @@ def place_legend(ax: Axes, **kwargs: Any) -> Any:
     """A legend off the data: ``loc="best"``, or right of the axes if that still covers data
     (lines in data coordinates, segment by segment, and scattered points; not axhline/axvline)."""
     leg = ax.legend(frameon=False, loc="best", **kwargs)
-    fig = ax.get_figure()
-    if not hasattr(fig.canvas, "get_renderer"):
+    if not hasattr((fig := ax.figure.figure).canvas, "get_renderer"):  # the root figure
         fig.draw_without_rendering()
     box = leg.get_window_extent().padded(2.0)
     paths = [ln.get_transform().transform_path(ln.get_path()) for ln in ax.get_lines()
@@ -278,8 +279,7 @@ def plot_turning_points(
         ax.plot([result.rest_position], [result.elastic_forces[-1]], "s", ms=6, color="C3",
                 label="rest")  # fmt: skip
     ax.axhline(0.0, color="0.8", lw=0.8, zorder=0)
-    ax.set_xlabel("position y [m]")
-    ax.set_ylabel("elastic force F_el [N]")
+    ax.set(xlabel="position y [m]", ylabel="elastic force F_el [N]")
     ax.set_title(f"{result.n_reversals} reversal(s); {result.status}")
     ax.grid(True, alpha=0.3)
     place_legend(ax)
@@ -330,7 +330,7 @@ def plot_reversal_counts(
                 label="simulated (exact event method)")  # fmt: skip
     ax.set_xlabel(xlabel)
     ax.set_ylabel("reversals before the stop")
-    ax.yaxis.get_major_locator().set_params(integer=True)
+    cast("MaxNLocator", ax.yaxis.get_major_locator()).set_params(integer=True)
     ax.grid(True, alpha=0.3)
     place_legend(ax)
     return ax

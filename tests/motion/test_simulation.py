@@ -230,7 +230,7 @@ def test_batch_and_free_response_equal_simulate():
         assert batch.n_reversals[i] == one.n_reversals
         assert batch.stop_time[i] == (np.inf if one.stop_time is None else one.stop_time)
         free = free_response(1.5, model.coulomb, model.stiffness, model.threshold, v, 1e-3, 2000)
-        assert free.success and free.status == 0
+        assert free.success and free.status == "success"
         np.testing.assert_array_equal(free.time, t)
         np.testing.assert_array_equal(free.position, one.position)
         np.testing.assert_array_equal(free.velocity, one.velocity)
@@ -369,7 +369,7 @@ def test_bad_model_and_batch_inputs():
 def test_event_limit_reports_failure():
     undamped = ps.PIFriction(coulomb=0.0, stiffness=[100.0], breakaway=[10.0])
     res = simulate(undamped, 1.0, initial_velocity=0.1, t_end=100.0, max_events=20)
-    assert res.status == -1 and not res.success
+    assert res.status == "event_limit" and not res.success
     assert "event limit" in res.message
     assert res.time.shape == res.position.shape and res.time[-1] < 100.0
 
@@ -380,7 +380,7 @@ def test_free_response_never_returns_unfilled_samples_at_the_event_limit():
     # event per half-period, so the event limit stops the run long before t = 2000
     res = free_response(1.0, 0.0, [1e10], [1.0], 1.0, 0.01, 200000, initial_state="relaxed",
                         max_events=1000)  # fmt: skip
-    assert res.status == -1 and not res.success
+    assert res.status == "event_limit" and not res.success
     assert "event limit max_events = 1000" in res.message
     assert 0 < res.time.shape[0] < 200000
     assert res.time.shape == res.position.shape == res.velocity.shape
@@ -388,7 +388,7 @@ def test_free_response_never_returns_unfilled_samples_at_the_event_limit():
     np.testing.assert_allclose(res.position, np.sin(w * res.time) / w, rtol=0, atol=1e-9 / w)
     np.testing.assert_allclose(res.velocity, np.cos(w * res.time), rtol=0, atol=1e-9)
     assert res.stop_time is None
-    assert "status -1" in res.report() and "not solved to the end" in res.report()
+    assert "status event_limit" in res.report() and "not solved to the end" in res.report()
 
 
 def test_free_response_result_report_and_plot():
@@ -407,7 +407,7 @@ def test_free_response_result_report_and_plot():
     assert res.plot(ax) is ax and ax.lines
     plt.close(ax.figure)
     with pytest.raises(AttributeError):
-        res.status = 1  # frozen
+        res.status = "success"  # frozen
 
 
 @pytest.mark.parametrize(

@@ -201,7 +201,7 @@ class DensitySwing:
         rho = self._root(work0, d0, c1 + self.m1r, rho_a, math.inf, kinetic)
         return base + s * rho, rho
 
-    def _root(self, work, d0, slope_beyond_r, rho_a, hi, kinetic) -> float:  # type: ignore[no-untyped-def]
+    def _root(self, work, d0, slope_beyond_r, rho_a, hi, kinetic) -> float:
         """Root ρ > ρa of work(ρ) = kinetic on [ρa, hi]; work is convex, work(ρa) = 0.
 
         ``d0`` is work'(ρa); with kinetic = 0 (at rest at a reversal, d0 < 0) the
@@ -245,7 +245,7 @@ class ElementWalk:
         self.position = state.last_input
         self.deform = state.deformation.copy()
         self.direction = state.direction
-        self.min_threshold = model.density.min_threshold  # type: ignore[union-attr]
+        self.min_threshold = model.density.min_threshold
 
     def force(self) -> float:
         return float(self.model.stiffness @ self.deform)
@@ -275,7 +275,7 @@ class DensityWalk:
         self.dens = model.density
         self.head, self.stack = state.working_memory(self.dens)
         self.swinger = DensitySwing(self.dens, model.coulomb)
-        self.min_threshold = self.dens.min_threshold  # type: ignore[union-attr]
+        self.min_threshold = self.dens.min_threshold
 
     @property
     def position(self) -> float:

@@ -34,6 +34,7 @@ from presliding._validation import (
     check_increasing,
     check_same_length,
 )
+from presliding.friction._parts import density_of, elements
 from presliding.friction.pi_friction import PIFriction
 from presliding.hysteresis.general_pi import GeneralPIOperator, MemoryState, run_density
 from presliding.hysteresis.operators import PIState, play, start_memory
@@ -70,14 +71,15 @@ def elastic_energy(model: PIFriction, state: PIState | MemoryState) -> float:
             raise TypeError(
                 f"`state` must be a PIState for a finite-element model; got {type(state).__name__}."
             )
-        state.check_against(model.threshold)
+        k, r, _ = elements(model)
+        state.check_against(r)
         f = state.deformation
-        return float(0.5 * np.sum(model.stiffness * f * f))
+        return float(0.5 * np.sum(k * f * f))
     if not isinstance(state, MemoryState):
         raise TypeError(
             f"`state` must be a MemoryState for a density model; got {type(state).__name__}."
         )
-    return GeneralPIOperator(model.density).elastic_energy(state)
+    return GeneralPIOperator(density_of(model)).elastic_energy(state)
 
 
 def total_energy(
@@ -146,15 +148,16 @@ def dissipated_energy(
     y0 = y[0] if state is None else state.last_input
     coulomb = model.coulomb * np.cumsum(np.abs(np.diff(y, prepend=y0)))
     if model.is_discrete:
-        x0, prev, _ = start_memory(y, model.threshold, state)  # validates the state
+        _, r, c = elements(model)
+        x0, prev, _ = start_memory(y, r, state)  # validates the state
         if model.n_elements == 0:
             return coulomb
         path = np.concatenate([[prev], y])
-        x = play(path, model.threshold, x0)
+        x = play(path, r, x0)
         x = x.reshape(path.shape[0], -1)
-        slip = np.abs(np.diff(x, axis=0)) @ model.breakaway
+        slip = np.abs(np.diff(x, axis=0)) @ c
         return coulomb + np.cumsum(slip)
-    _, stops, _ = run_density(model.density, y, state, dissipation=True)
+    _, stops, _ = run_density(density_of(model), y, state, dissipation=True)
     return coulomb + stops
 
 

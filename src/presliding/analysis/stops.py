@@ -43,8 +43,10 @@ from presliding.analysis._walks import (
     check_reach,
     element_swing,
 )
+from presliding.friction._parts import density_of, elements
 from presliding.friction.pi_friction import PIFriction
 from presliding.hysteresis import _general_pi as gk
+from presliding.hysteresis._results import ResultMixin
 from presliding.hysteresis.general_pi import MemoryState
 from presliding.hysteresis.operators import PIState
 
@@ -140,11 +142,12 @@ def turning_point(model: PIFriction) -> float:
             f"(otherwise the mass sticks at the first turning point); got {fmt(c1)} >= {fmt(fm)}."
         )
     if model.is_discrete:
-        u, _ = element_swing(model.stiffness, model.threshold, c1, -model.threshold, 1.0, 0.0)
+        k, r, _ = elements(model)
+        u, _ = element_swing(k, r, c1, -r, 1.0, 0.0)
         return float(u)
-    state = MemoryState.saturated(0.0, -1.0, model.density.max_threshold)
+    state = MemoryState.saturated(0.0, -1.0, density_of(model).max_threshold)
     head, stack = _start(model, state, 1.0)
-    y, _ = DensitySwing(model.density, c1).swing(head, stack, 1.0, 0.0)
+    y, _ = DensitySwing(density_of(model), c1).swing(head, stack, 1.0, 0.0)
     return float(y)
 
 
@@ -178,7 +181,7 @@ def stops_at_turning_point(model: PIFriction) -> bool:
 
 
 @dataclass(frozen=True, eq=False)
-class TurningPoints:
+class TurningPoints(ResultMixin):
     """Turning points of a free motion (eq. 12), from the work-energy balance.
 
     Attributes
@@ -221,6 +224,7 @@ class TurningPoints:
     mass: float = 1.0
     model: PIFriction | None = field(default=None, repr=False)
     initial_state: PIState | MemoryState | None = field(default=None, repr=False)
+    _rows, _rows_are_index = "positions", False  # to_pandas: a row per turning point
 
     @property
     def success(self) -> bool:
@@ -255,7 +259,7 @@ class TurningPoints:
 
 def _start(model: PIFriction, state: MemoryState, s: float) -> tuple[FloatArray, FloatArray]:
     """Working memory with the motion set to direction s (a reversal pushed if needed)."""
-    d = model.density
+    d = density_of(model)
     head, stack = state.working_memory(d)
     if head[1] != 0.0 and head[1] != s:
         stack = gk._push(head, stack, d._kind, d._par, d._tab)
@@ -368,7 +372,7 @@ def turning_points(
     return _result(walk, positions, forces, n_rev, status, message, y0, v0, m, model, state)
 
 
-def _result(  # type: ignore[no-untyped-def]
+def _result(
     walk, positions, forces, n_rev, status, message, y0, v0, m, model, initial
 ) -> TurningPoints:
     rest = positions[-1] if status == "stopped" else None
@@ -411,5 +415,5 @@ def _initial_state(
             f"{' or '.join(e.__name__ for e in expected)}; got {type(initial_state).__name__}."
         )
     if isinstance(initial_state, PIState):
-        initial_state.check_against(model.threshold, "initial_state")  # type: ignore[union-attr]
-    return initial_state  # type: ignore[return-value]
+        initial_state.check_against(elements(model)[1], "initial_state")
+    return initial_state

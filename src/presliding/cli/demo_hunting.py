@@ -15,7 +15,9 @@ from presliding.plotting import place_legend
 
 #: A bank without the Coulomb element (the mass never rests), a PI position loop whose
 #: linear part is unstable without friction: presliding damping holds it on a cycle.
-HUNTING_MODEL = dict(coulomb=0.0, stiffness=[2e4, 5e3, 1.5e3, 500.0], breakaway=[0.2] * 4)
+HUNTING_MODEL: dict[str, Any] = dict(
+    coulomb=0.0, stiffness=[2e4, 5e3, 1.5e3, 500.0], breakaway=[0.2] * 4
+)
 HUNTING_GAINS = (400.0, 4e4, 0.0)
 HUNTING_DT = 1e-4
 HUNTING_T_END = 4.0

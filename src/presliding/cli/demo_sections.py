@@ -10,14 +10,16 @@ import numpy as np
 from presliding.cli._demo_common import STOP_MASS, STOP_SPEED, _figure, _plural, _save
 from presliding.cli.common import tidy_fit_axes
 from presliding.cli.report import Section
+from presliding.friction._parts import density_of
 from presliding.friction.pi_friction import PIFriction
+from presliding.hysteresis.densities import Exponential
 from presliding.signals import FIGURE3_TURNING_POINTS, piecewise_linear
 
 
 # ---------------------------------------------------------------------- 4. densities
 def density_models() -> dict[str, PIFriction]:
     """Uniform and exponential μ with F_m = 0.7 N and μ([0, R]) = 7000 N/m, c1 = 0.1 N."""
-    from presliding.hysteresis.densities import Exponential, Uniform
+    from presliding.hysteresis.densities import Uniform
 
     return {
         "uniform": PIFriction(0.1, density=Uniform(height=3.5e7, max_threshold=2e-4)),
@@ -41,12 +43,17 @@ def density_part() -> dict[str, Any]:
     y = piecewise_linear(np.asarray(FIGURE3_TURNING_POINTS) * 2e-3, step=2e-6)
     n_cells = 400
     t_eval = np.linspace(0.0, 0.3, 6001)
-    start = {"initial_velocity": STOP_SPEED, "initial_state": "saturated", "t_eval": t_eval}
+    start: dict[str, Any] = {
+        "initial_velocity": STOP_SPEED,
+        "initial_state": "saturated",
+        "t_eval": t_eval,
+    }
     out: dict[str, Any] = {"path": y, "cells": n_cells, "step": DENSITY_STEP}
     for name, model in density_models().items():
         force, _ = model.force(y)
-        dens = model.density
-        big_r = dens.max_threshold if np.isfinite(dens.max_threshold) else 12 * dens.length
+        dens = density_of(model)
+        # an exponential μ has R = inf: cut it at 12 decay lengths
+        big_r = 12 * dens.length if isinstance(dens, Exponential) else dens.max_threshold
         fine = PIFriction(model.coulomb, density=dens.discretize(n_cells, big_r))
         out[name] = {
             "model": model,
@@ -148,7 +155,11 @@ def density_section(part: dict[str, Any], path: Path) -> Section:
 
 # ---------------------------------------------------------------------- 5. identification
 #: The identification model: c1 = 0.5 N and three elements (Figure 3 with k1 = 500 N/m).
-FIT_TRUE = {"coulomb": 0.5, "stiffness": (500.0, 50.0, 4.0), "breakaway": (1.0, 1.0, 1.0)}
+FIT_TRUE: dict[str, Any] = {
+    "coulomb": 0.5,
+    "stiffness": (500.0, 50.0, 4.0),
+    "breakaway": (1.0, 1.0, 1.0),
+}
 FIT_NOISE = 0.02  # N, standard deviation of the force noise
 
 

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import argparse
 import textwrap
+from collections.abc import Callable, Sequence
 from dataclasses import replace
 from pathlib import Path
 from typing import Any
@@ -123,7 +124,7 @@ def _is_mat(path: Path) -> bool:
         return path.suffix.lower() == ".mat" or fh.read(19) == b"MATLAB 5.0 MAT-file"
 
 
-def _locate(signal: str, columns: dict[str, str], names: list[str] | None) -> str | int | None:
+def _locate(signal: str, columns: dict[str, str], names: Sequence[str] | None) -> str | int | None:
     """The column (name or index) of `signal`: from --columns, else by alias; None if absent."""
     if signal in columns:
         spec = columns[signal]
@@ -182,10 +183,11 @@ def read_measurement(args: argparse.Namespace) -> Any:
         raise UserError(_missing(args, ("time",), names, mat))
     if time is not None and rate is not None:
         raise UserError(f"--sample-rate: {args.data} has a time column ({time!r}); drop one.")
-    reader = Measurement.from_mat if mat else Measurement.from_csv
+    reader: Callable[..., Measurement] = Measurement.from_mat if mat else Measurement.from_csv
     meas = reader(args.data, time, sample_rate=rate, units=units or None, scale=scales, **found)
     if time is None and args.sample_rate is None:
         note = "no time column: samples numbered 0, 1, 2, ..."
+        assert meas.source is not None  # a record read from a file knows its source
         meas = replace(meas, source=replace(meas.source, sample_rate=None, notes=(note,)))
     if window is not None:
         try:

@@ -14,6 +14,7 @@ Outputs and exit codes as for the other kinds (`presliding.cli.fit`).
 from __future__ import annotations
 
 import argparse
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -85,12 +86,12 @@ def fit_records(args: argparse.Namespace, records: list[Any]) -> tuple[Any, Any]
         n = options.pop("n_elements")
         fit = fit_virgin_curve(ys, fs, n, loops=loops, reversal_tolerance=None, **options)
         return fit, None
-    fit = fit_response if args.kind == "response" else fit_quasi_static
+    fitter: Callable[..., Any] = fit_response if args.kind == "response" else fit_quasi_static
     pooled: Any = records if len(records) > 1 else records[0]
     if len(records) < 2 or args.no_cross_validation:
-        return fit(pooled, **options), None
+        return fitter(pooled, **options), None
     labels = [Path(p).name for p in args.data]
-    cv = cross_validate(records, fit, labels=labels, **options)
+    cv = cross_validate(records, fitter, labels=labels, **options)
     return cv.result, cv
 
 

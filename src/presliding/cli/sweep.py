@@ -27,6 +27,7 @@ from presliding.cli.common import (
     record_outputs,
 )
 from presliding.cli.sweep_spec import AXES, QUANTITIES, SweepSpec, load_spec
+from presliding.friction._parts import elements
 from presliding.sweep._tasks import evaluate_chunk
 
 #: Files written into the output folder.
@@ -239,8 +240,9 @@ def _describe(spec: SweepSpec) -> str:
     if not swept & {"coulomb", "coulomb_ratio"}:
         parts.append(f"c1 = {model.coulomb:.6g} N")
     if model.is_discrete:
-        k = ", ".join(f"{v:.6g}" for v in model.stiffness)
-        c = ", ".join(f"{v:.6g}" for v in model.breakaway)
+        stiffness, _, breakaway = elements(model)
+        k = ", ".join(f"{v:.6g}" for v in stiffness)
+        c = ", ".join(f"{v:.6g}" for v in breakaway)
         parts.append(f"{model.n_elements} elements with k = [{k}] N/m, c = [{c}] N")
     else:
         parts.append(f"the density {model.density!r}")

@@ -21,13 +21,15 @@ import math
 import numba as nb
 import numpy as np
 
+from presliding.hysteresis._jit import JitFlags, njit
 from presliding.motion._event import run_events
 
-_JIT = {"cache": True, "error_model": "numpy"}
+_JIT: JitFlags = {"cache": True, "error_model": "numpy"}
+_JIT_PARALLEL: JitFlags = {"cache": True, "error_model": "numpy", "parallel": True}
 REVERSALS_PER_PERIOD = 64
 
 
-@nb.njit(_nrt=False, **_JIT)
+@njit(refcount=False, **_JIT)
 def pid_output(p, s, ref, y, ff):  # pragma: no cover - compiled
     """u_k of the PID at (r_k, y_k) with feedforward ff; updates the state s in place."""
     kp, ki, kd, dt, tf, low, high = p[0], p[1], p[2], p[3], p[4], p[5], p[6]
@@ -50,7 +52,7 @@ def pid_output(p, s, ref, y, ff):  # pragma: no cover - compiled
     return u
 
 
-@nb.njit(_nrt=False, **_JIT)
+@njit(refcount=False, **_JIT)
 def ss_output(a, b, c, d, x, low, high, ref, y, ff, w, tmp):  # pragma: no cover - compiled
     """u_k of the state-space controller; x advanced in place (w, tmp: scratch)."""
     if d.shape[1] == 1:
@@ -76,7 +78,7 @@ def ss_output(a, b, c, d, x, low, high, ref, y, ff, w, tmp):  # pragma: no cover
     return min(max(v, low), high)
 
 
-@nb.njit(**_JIT)
+@njit(**_JIT)
 def acceleration(m, c1, sigma, fel, v, u):  # pragma: no cover - compiled
     """ÿ from eq. 17 with the set-valued sign and σ·ẏ (at rest: 0 while |u − F_el| <= c1)."""
     if v > 0.0:
@@ -89,7 +91,7 @@ def acceleration(m, c1, sigma, fel, v, u):  # pragma: no cover - compiled
     return (g - math.copysign(c1, g)) / m
 
 
-@nb.njit(**_JIT)
+@njit(**_JIT)
 def plant_period(m, c1, sigma, k, r, f, y, v, last_dir, u, t0, t1, max_events):  # pragma: no cover
     """The exact motion over [t0, t1] under a constant u (viscous σ); f updated in place.
 
@@ -105,7 +107,7 @@ def plant_period(m, c1, sigma, k, r, f, y, v, last_dir, u, t0, t1, max_events): 
     return res[0], res[4], res[5], res[6], res[7]
 
 
-@nb.njit(**_JIT)
+@njit(**_JIT)
 def run_loop(  # pragma: no cover - compiled
     m, c1, sigma, k, r, f, y, v, last_dir, kind, p, s, a, b, c, d, x, ref, ff, t0, dt, sub,
     max_events, o_y, o_v, o_a, o_fel, o_u, o_eel, o_dis, o_work, o_vis, o_ctrl, rev_t, rev_y,
@@ -134,7 +136,7 @@ def run_loop(  # pragma: no cover - compiled
 
 # Without reference counting (no array is allocated here): the per-period views of the
 # outputs and the calls of the event kernel then cost no atomic operations
-@nb.njit(_nrt=False, **_JIT)
+@njit(refcount=False, **_JIT)
 def _loop_body(  # pragma: no cover - compiled
     m, c1, sigma, k, r, f, y, v, last_dir, kind, p, s, a, b, c, d, x, ref, ff, t0, dt, sub,
     max_events, o_y, o_v, o_a, o_fel, o_u, o_eel, o_dis, o_work, o_vis, o_ctrl, rev_t, rev_y,
@@ -211,7 +213,7 @@ def _loop_body(  # pragma: no cover - compiled
     return status, n_rev, rest, y, v, last_dir, n_ev, done
 
 
-@nb.njit(parallel=True, **_JIT)
+@njit(**_JIT_PARALLEL)
 def run_loop_batch(  # pragma: no cover - compiled
     m, c1, sigma, k, r, f0, y0, v0, d0, p_all, s0, ref, ff, t0, dt, max_events, i_from,
     o_y, o_u, status, n_rev, e_rms, e_max, half_range, y_end, v_end,

@@ -97,8 +97,8 @@ def _density_kinks(density: Any) -> FloatArray:
     for attr in ("breaks", "grid"):
         if hasattr(density, attr):
             pts.extend(np.asarray(getattr(density, attr), dtype=float).tolist())
-    pts = np.asarray(pts)
-    return pts[np.isfinite(pts) & (pts > 0)]
+    kinks = np.asarray(pts)
+    return kinks[np.isfinite(kinks) & (kinks > 0)]
 
 
 def density_df(density: Any, a: FloatArray) -> Any:

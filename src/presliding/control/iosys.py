@@ -297,6 +297,7 @@ def _friction_system(control, model, dt, name, ins, outs) -> Any:
             mod = _model_for(model, params, cache)
             u = np.atleast_1d(u)
             force, st = mod.force(u[:1], PIState(x[0], x[1 : n + 1], x[n + 1]))
+            assert isinstance(st, PIState)  # a finite-element model
             if u.shape[0] > 1:  # the velocity input of a model with a viscous term
                 force = force + mod.viscous * u[1]
             return force, st

@@ -38,6 +38,7 @@ from presliding._validation import as_positive_scalar, as_real_vector, fmt
 from presliding.control.controllers import PID, DiscreteController
 from presliding.control.cycles import LimitCycles
 from presliding.control.describing import describing_function, friction_model
+from presliding.friction._parts import density_of
 
 __all__ = ["predict_limit_cycles"]
 
@@ -217,9 +218,10 @@ def predict_limit_cycles(
         r = np.asarray(fr.threshold)
         a_default = (1e-3 * float(r.min()), 1e3 * float(r.max()))
     elif not fr.is_discrete:
-        big = fr.density.max_threshold
-        big = big if np.isfinite(big) else 40.0 * float(fr.density.M1(np.inf) / max(
-            fr.density.total_stiffness, 1e-300))  # fmt: skip
+        dens = density_of(fr)
+        big = dens.max_threshold
+        big = big if np.isfinite(big) else 40.0 * float(dens.M1(np.inf) / max(
+            dens.total_stiffness, 1e-300))  # fmt: skip
         a_default = (1e-4 * big, 1e4 * big)
     else:
         a_default = (1e-9, 1e3)
@@ -228,7 +230,7 @@ def predict_limit_cycles(
                    points)  # fmt: skip
     n_a = describing_function(fr, amps)
     g_w = g(1j * omegas)
-    found = []
+    found: list[tuple[float, float, bool]] = []  # amplitude, frequency, stable
     for i, j, t, u in _candidates(g_w, -1.0 / n_a):
         w0 = omegas[i] * (omegas[i + 1] / omegas[i]) ** t
         a0 = amps[j] * (amps[j + 1] / amps[j]) ** u

@@ -37,7 +37,7 @@ from presliding.control.results import LoopBatch, LoopResult
 from presliding.friction.pi_friction import PIFriction
 from presliding.hysteresis.operators import PIState
 from presliding.motion import _run
-from presliding.motion.results import MotionEnergy
+from presliding.motion.results import MotionEnergy, member_statuses, motion_status
 
 __all__ = ["simulate_loop", "simulate_loop_batch"]
 
@@ -59,7 +59,9 @@ def as_controller(controller: Any) -> PID | DiscreteController:
     )
 
 
-def _signal(name: str, value: Any, times: FloatArray | None, n: int | None) -> FloatArray:
+def _signal(
+    name: str, value: Any, times: NDArray[np.floating[Any]] | None, n: int | None
+) -> FloatArray:
     """A signal at the sample instants: a constant, samples, or a function of time."""
     if callable(value):
         if times is None:
@@ -174,7 +176,7 @@ def simulate_loop(
         Output samples per period (>= 1): the exact motion between the instants too.
     t_start : float, keyword only
     max_events : int, keyword only
-        Event limit of the whole run (status -1 when reached).
+        Event limit of the whole run (status "event_limit" when reached).
 
     Returns
     -------
@@ -208,9 +210,10 @@ def simulate_loop(
         out = [np.full(n_out, np.nan) for _ in range(9)]
         ctl = np.full(n, np.nan)
         rev = [np.empty(cap), np.empty(cap)]
+        buffers = [*out, ctl, *rev]
         res = _loop.run_loop(m, float(model.coulomb), sigma, k, r, ff_, y0, v0, last_dir, kind,
                              p, s.copy(), a, b, c, d, x.copy(), ref, ff, t0, ctrl.dt, sub,
-                             max_events, *out, ctl, *rev)  # fmt: skip
+                             max_events, *buffers)  # fmt: skip
         status, n_rev, rest, y_end, v_end, d_end, n_ev, done = res
         if n_rev <= cap:
             break
@@ -235,7 +238,8 @@ def simulate_loop(
         reversal_times=rev[0][:n_rev].copy(), reversal_positions=rev[1][:n_rev].copy(),
         stop_time=stop, rest_position=None if stop is None else float(y_end), energy=energy,
         final_state=PIState(float(y_end), float(y_end) - ff_, float(d_end)),
-        final_velocity=float(v_end), status=int(status), message=message, method="event",
+        final_velocity=float(v_end), status=motion_status(int(status)), message=message,
+        method="event",
         n_events=int(n_ev), mass=m, model=model, control_time=times[:n_ctl],
         control=ctl[:n_ctl], reference=ref[:n_ctl], measured=y_o[::sub][:n_ctl],
         feedforward=ff[:n_ctl], controller=ctrl,
@@ -346,5 +350,6 @@ def simulate_loop_batch(
         kp=g["kp"], ki=g["ki"], kd=g["kd"], time=times,
         position=o_y if rows else None, control=o_u if rows else None, error_rms=e_rms,
         error_max=e_max, half_range=half, n_reversals=n_rev, final_position=y_end,
-        final_velocity=v_end, status=status, settle_time=float(times[i_from]), message=message,
+        final_velocity=v_end, member_status=member_statuses(status),
+        settle_time=float(times[i_from]), message=message,
     )  # fmt: skip

@@ -26,7 +26,7 @@ except ImportError:  # pragma: no cover - the control extra is missing
 __all__ = ["FrictionNonlinearity"]
 
 
-class FrictionNonlinearity(_Base):  # type: ignore[misc, valid-type]
+class FrictionNonlinearity(_Base):
     """The friction force of a model as a stateful nonlinearity with an exact describing function.
 
     Parameters

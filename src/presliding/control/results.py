@@ -10,7 +10,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from presliding._validation import as_real_scalar, fmt
-from presliding.motion.results import MotionResult
+from presliding.hysteresis._results import deprecated_code
+from presliding.motion.results import STATUS_SUCCESS, MotionResult, motion_status
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
@@ -21,7 +22,13 @@ __all__ = ["LoopBatch", "LoopResult", "MeasuredCycle", "measure_limit_cycle"]
 
 
 class MeasuredCycle(NamedTuple):
-    """An oscillation measured from turning points (`measure_limit_cycle`)."""
+    """An oscillation measured from turning points (`measure_limit_cycle`).
+
+    A named tuple (amplitude, frequency, cycles, trend) that also follows the
+    result convention: ``success`` is True when cycles were measured; ``status``
+    is "steady" (swing changing by less than 2 %), "changing" (growing or
+    decaying) or "none" (fewer than two full cycles in the window).
+    """
 
     amplitude: float  #: half the mean swing between consecutive turning points [m]
     frequency: float  #: 2π over the mean time between every second turning point [rad/s]
@@ -32,6 +39,53 @@ class MeasuredCycle(NamedTuple):
     def steady(self) -> bool:
         """At least two cycles whose swing changes by less than 2 % over the window."""
         return self.cycles >= 2 and abs(self.trend) < 0.02
+
+    @property
+    def success(self) -> bool:
+        """True when at least one full cycle was measured."""
+        return self.cycles > 0
+
+    @property
+    def status(self) -> str:
+        """One of "steady", "changing" or "none"."""
+        return "none" if not self.cycles else ("steady" if self.steady else "changing")
+
+    @property
+    def message(self) -> str:
+        """The measured cycle in words."""
+        if not self.cycles:
+            return "fewer than two full cycles after the start of the window"
+        return (f"{self.cycles} cycles of amplitude {self.amplitude:.6g} m at "
+                f"{self.frequency:.6g} rad/s, swing changing by {self.trend:+.1%}")  # fmt: skip
+
+    def report(self) -> str:
+        """A one-line summary."""
+        return f"Measured oscillation: {self.status} ({self.message})"
+
+    def to_dict(self) -> dict[str, Any]:
+        """The figures and the status as plain values."""
+        return {**self._asdict(), "status": self.status, "success": self.success,
+                "message": self.message}  # fmt: skip
+
+    def to_pandas(self) -> Any:
+        """A one-row DataFrame of the figures and the status."""
+        import pandas as pd
+
+        frame = pd.DataFrame([self.to_dict()])
+        frame.attrs.update(success=self.success, status=self.status, message=self.message)
+        return frame
+
+    def plot(self, ax: Axes | None = None) -> Axes:
+        """The measured cycle as its first harmonic A·sin(ωt) over the cycles measured."""
+        from presliding.plotting import new_axes
+
+        ax = new_axes(ax)
+        if self.cycles:
+            t = np.linspace(0.0, 2.0 * np.pi * self.cycles / self.frequency, 200 * self.cycles)
+            ax.plot(t, self.amplitude * np.sin(self.frequency * t), color="C0", lw=1.2)
+        ax.set(xlabel="time from the window's start [s]", ylabel="position [m]",
+               title=f"measured oscillation: {self.status}")  # fmt: skip
+        return ax
 
 
 def measure_limit_cycle(
@@ -79,6 +133,9 @@ class LoopResult(MotionResult):
     feedforward : ndarray, shape (K + 1,)
         u_ff,k [N] (zeros when none was given).
     controller : PID or DiscreteController
+    status : str
+        As for `MotionResult`: "success" or "event_limit" (the event limit
+        `max_events` was reached; the samples stop there).
     """
 
     control_time: FloatArray
@@ -159,7 +216,7 @@ class LoopResult(MotionResult):
             "control": self.control, "reference": self.reference, "measured": self.measured,
             "feedforward": self.feedforward, "reversal_times": self.reversal_times,
             "reversal_positions": self.reversal_positions, "stop_time": self.stop_time,
-            "status": self.status, "success": self.success, "message": self.message,
+            "status": str(self.status), "success": self.success, "message": self.message,
             "n_events": self.n_events, "mass": self.mass,
         }  # fmt: skip
 
@@ -167,11 +224,13 @@ class LoopResult(MotionResult):
         """A DataFrame of the controller's samples (time index t_k): r, y, e, u, u_ff."""
         import pandas as pd
 
-        return pd.DataFrame(
+        frame = pd.DataFrame(
             {"reference": self.reference, "position": self.measured, "error": self.error,
              "control": self.control, "feedforward": self.feedforward},
             index=pd.Index(self.control_time, name="time"),
         )  # fmt: skip
+        frame.attrs.update(success=self.success, status=str(self.status), message=self.message)
+        return frame
 
 
 @dataclass(frozen=True, eq=False)
@@ -192,10 +251,15 @@ class LoopBatch:
         `settle_time` on (half_range: the amplitude of a hunting cycle).
     n_reversals : ndarray of int, shape (B,)
     final_position, final_velocity : ndarray, shape (B,)
-    status : ndarray of int, shape (B,)
-        0 ok, -1 the event limit was reached.
+    member_status : ndarray of str, shape (B,)
+        Each member's status: "success" or "event_limit" (the event limit was
+        reached).
     settle_time : float
     message : str
+    status : str
+        "success" when every member succeeded, else the first failed member's
+        status (as `MotionBatch.status`). Formerly the array of integer codes:
+        `status_code` still gives it, deprecated.
     """
 
     kp: FloatArray
@@ -210,14 +274,29 @@ class LoopBatch:
     n_reversals: NDArray[np.int64]
     final_position: FloatArray
     final_velocity: FloatArray
-    status: NDArray[np.int64]
+    member_status: NDArray[np.str_]
     settle_time: float
     message: str
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "member_status", np.asarray(self.member_status, dtype=np.str_))
+
+    @property
+    def status(self) -> str:
+        """The overall status: "success" when every member succeeded, else the first failure's."""
+        failed = self.member_status[self.member_status != STATUS_SUCCESS]
+        return motion_status(str(failed[0]) if failed.size else STATUS_SUCCESS)
 
     @property
     def success(self) -> bool:
         """True when every member succeeded."""
-        return bool(np.all(self.status == 0))
+        return bool(np.all(self.member_status == STATUS_SUCCESS))
+
+    @property
+    def status_code(self) -> NDArray[np.int64]:
+        """Deprecated: the integer status of each member (0 or -1); use `member_status`."""
+        codes = np.where(self.member_status == STATUS_SUCCESS, 0, -1).astype(np.int64)
+        return deprecated_code(codes, "'success' or 'event_limit'")
 
     def plot(self, ax: Axes | None = None, *, kind: str = "error_rms") -> Axes:
         """A summary ("error_rms", "error_max", "half_range") against the member index, or
@@ -260,8 +339,9 @@ class LoopBatch:
             "position": self.position, "control": self.control, "error_rms": self.error_rms,
             "error_max": self.error_max, "half_range": self.half_range,
             "n_reversals": self.n_reversals, "final_position": self.final_position,
-            "final_velocity": self.final_velocity, "status": self.status,
-            "settle_time": self.settle_time, "success": self.success, "message": self.message,
+            "final_velocity": self.final_velocity, "member_status": self.member_status,
+            "status": str(self.status), "settle_time": self.settle_time, "success": self.success,
+            "message": self.message,
         }  # fmt: skip
 
     def to_pandas(self) -> Any:
@@ -269,5 +349,7 @@ class LoopBatch:
         import pandas as pd
 
         cols = ("kp", "ki", "kd", "error_rms", "error_max", "half_range", "n_reversals",
-                "final_position", "final_velocity", "status")  # fmt: skip
-        return pd.DataFrame({c: getattr(self, c) for c in cols})
+                "final_position", "final_velocity", "member_status")  # fmt: skip
+        frame = pd.DataFrame({c: getattr(self, c) for c in cols})
+        frame.attrs.update(success=self.success, status=str(self.status), message=self.message)
+        return frame

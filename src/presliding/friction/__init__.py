@@ -8,6 +8,7 @@ comparison.py         `compare`: several models on one displacement path, as a `
 preload.py            `preloaded_state`: a memory with a given elastic force (a record's preload)
 batch.py              `friction_batch`: B finite-element models on one path as a `PIBatch`
 _baseline_kernels.py  compiled time loops of the Dahl and LuGre models
+_parts.py             a model's elements or its density, typed (`elements`, `density_of`)
 
 May import: `presliding.hysteresis` and the package root's shared modules.
 """

@@ -11,10 +11,10 @@ from __future__ import annotations
 
 import math
 
-import numba as nb
+from presliding.hysteresis._jit import njit
 
 
-@nb.njit(cache=True)
+@njit(cache=True)
 def dahl_force(y, coulomb, stiffness, exponent, prev_y, force0, out):  # pragma: no cover
     """Dahl force along ``y`` from (prev_y, force0); returns the force after the last sample.
 
@@ -54,7 +54,7 @@ def dahl_force(y, coulomb, stiffness, exponent, prev_y, force0, out):  # pragma:
     return f
 
 
-@nb.njit(cache=True)
+@njit(cache=True)
 def lugre_force(
     y,
     time,

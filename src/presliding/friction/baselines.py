@@ -82,7 +82,9 @@ class CoulombFriction:
         self, displacement: ArrayLike, state: PIState | None = None
     ) -> tuple[FloatArray, PIState]:
         """F_c·sign(last increment) along a displacement; state as for `PIFriction.force`."""
-        return self.as_pi_friction.force(displacement, state)
+        force, final = self.as_pi_friction.force(displacement, state)
+        assert isinstance(final, PIState)  # a model without a density
+        return force, final
 
 
 @dataclass(frozen=True)

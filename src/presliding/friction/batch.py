@@ -13,6 +13,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from presliding.friction._parts import elements
 from presliding.friction.pi_friction import PIFriction
 from presliding.hysteresis.batch import PIBatch
 
@@ -62,7 +63,7 @@ def friction_batch(models: Sequence[PIFriction]) -> PIBatch:
                 f"`models` must all have {n} elements; got {m.n_elements} at index {i}."
             )
     return PIBatch(
-        np.stack([m.threshold for m in models]).reshape(len(models), n),
-        np.stack([m.stiffness for m in models]).reshape(len(models), n),
+        np.stack([elements(m)[1] for m in models]).reshape(len(models), n),
+        np.stack([elements(m)[0] for m in models]).reshape(len(models), n),
         coulomb=np.array([m.coulomb for m in models]),
     )

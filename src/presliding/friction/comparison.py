@@ -19,6 +19,7 @@ from numpy.typing import ArrayLike, NDArray
 from presliding._validation import as_signal, check_increasing, check_same_length, check_type
 from presliding.friction.baselines import CoulombFriction, DahlFriction, LuGreFriction
 from presliding.friction.pi_friction import PIFriction
+from presliding.hysteresis._results import ResultMixin
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
@@ -29,7 +30,7 @@ FloatArray = NDArray[np.float64]
 
 
 @dataclass(frozen=True, eq=False)
-class Comparison:
+class Comparison(ResultMixin):
     """Forces of several friction models along one displacement path.
 
     Attributes
@@ -45,7 +46,12 @@ class Comparison:
         Root mean square of F − F_first, by label (0 for the first model).
     status, message : str
         Always "ok" (a model that cannot run raises on entry).
+
+    ``to_pandas()`` has a row per sample: displacement, time (if given) and
+    ``forces_<label>`` for each model.
     """
+
+    _rows, _rows_are_index = "displacement", False
 
     displacement: FloatArray
     time: FloatArray | None

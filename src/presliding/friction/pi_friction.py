@@ -15,16 +15,15 @@ With ``density=`` the elements form a continuum with distribution μ (section
 exactly by `GeneralPIOperator` with a `MemoryState`.
 
 The viscous coefficient σ >= 0 [N·s/m] (``viscous``) defaults to 0, the paper's
-assumption (i) ("no viscous friction effects are included"). It is the only
-rate-dependent term: the displacement-driven methods (`PIFriction.force`,
-`elastic_force`, `virgin_curve`) return the rate-independent part, and
-`viscous_force` gives σ·ẏ for a velocity; `presliding.simulate` includes σ in
-the motion (eq. 17 with σ·ẏ).
+assumption (i) ("no viscous friction effects"), and is the only rate-dependent term:
+`PIFriction.force`, `elastic_force` and `virgin_curve` return the rate-independent
+part, `viscous_force` gives σ·ẏ, and `presliding.simulate` includes σ (eq. 17).
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, cast
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -83,10 +82,9 @@ class PIFriction:
 
     Notes
     -----
-    With no elements (``stiffness=[]``) the model is classical Coulomb friction
-    with F_c = c1. With c1 = 0 it is the PI operator of eq. 4. Very stiff
-    elements approach F_c·sign(ẏ). At steady sliding with velocity v the
-    friction force is F_c·sign(v) + σ·v (`steady_force`).
+    With no elements (``stiffness=[]``) the model is classical Coulomb friction with
+    F_c = c1; with c1 = 0 it is the PI operator of eq. 4. Very stiff elements approach
+    F_c·sign(ẏ). Steady sliding at velocity v costs F_c·sign(v) + σ·v (`steady_force`).
 
     Examples
     --------
@@ -109,13 +107,19 @@ class PIFriction:
     density: Density | None = field(default=None, kw_only=True)
     viscous: float = field(default=0.0, kw_only=True)
 
+    if TYPE_CHECKING:  # the constructor takes array_like; the fields hold float64 arrays
+
+        def __init__(self, coulomb: float, stiffness: ArrayLike = ..., breakaway: ArrayLike | None
+                     = None, *, threshold: ArrayLike | None = None, density: Density | None =
+                     None, viscous: float = 0.0) -> None: ...  # fmt: skip
+
     def __post_init__(self) -> None:
         c1 = as_nonnegative_scalar("coulomb", self.coulomb)
         object.__setattr__(self, "viscous", as_nonnegative_scalar("viscous", self.viscous))
         if self.density is not None and _take_density(self, c1):
             check_finite_derived(
                 "Coulomb level F_c = c1 + F_m (eq. 9)",
-                c1 + self.density.max_elastic_force,  # type: ignore[union-attr]
+                c1 + self.density.max_elastic_force,
                 ("coulomb", "density"),
             )
             return
@@ -171,7 +175,7 @@ class PIFriction:
     def max_elastic_force(self) -> float:
         """F_m = Σ c_j = ∫ r dμ(r), the largest force the elastic elements can carry."""
         if self.breakaway is None:
-            return self.density.max_elastic_force  # type: ignore[union-attr]
+            return cast(Density, self.density).max_elastic_force
         return float(np.sum(self.breakaway))
 
     @property
@@ -187,15 +191,15 @@ class PIFriction:
         r = 0 would give inf: an infinitely stiff start).
         """
         if self.stiffness is None:
-            return self.density.total_stiffness  # type: ignore[union-attr]
+            return cast(Density, self.density).total_stiffness
         return float(np.sum(self.stiffness))
 
     @property
     def operator(self) -> PIOperator | GeneralPIOperator:
         """The elastic part: a PI operator (eq. 4) with weights k_j, or the general one."""
         if self.stiffness is None:
-            return GeneralPIOperator(self.density)  # type: ignore[arg-type]
-        return PIOperator(self.threshold, self.stiffness)
+            return GeneralPIOperator(cast(Density, self.density))
+        return PIOperator(cast(FloatArray, self.threshold), self.stiffness)
 
     def __eq__(self, other: object) -> bool:
         if not isinstance(other, PIFriction):
@@ -204,18 +208,16 @@ class PIFriction:
             return False
         if not (self.is_discrete and other.is_discrete):
             return self.coulomb == other.coulomb and self.density == other.density
-        return (
-            self.coulomb == other.coulomb
-            and np.array_equal(self.stiffness, other.stiffness)
-            and np.array_equal(self.threshold, other.threshold)
-            and np.array_equal(self.breakaway, other.breakaway)
+        return self.coulomb == other.coulomb and all(
+            np.array_equal(getattr(self, a), getattr(other, a))
+            for a in ("stiffness", "threshold", "breakaway")
         )
 
     __hash__ = None  # type: ignore[assignment]
 
     def __repr__(self) -> str:
         visc = f", viscous={self.viscous!r}" if self.viscous else ""
-        if not self.is_discrete:
+        if self.stiffness is None or self.breakaway is None:  # a continuous density
             return f"PIFriction(coulomb={self.coulomb!r}, density={self.density!r}{visc})"
         return (
             f"PIFriction(coulomb={self.coulomb!r}, stiffness={self.stiffness.tolist()!r}, "
@@ -271,8 +273,10 @@ class PIFriction:
     ) -> PIState | MemoryState:
         """Every element sliding after motion in `direction`: elastic force direction·F_m."""
         if not self.is_discrete:
-            return MemoryState.saturated(position, direction, self.density.max_threshold)
-        return PIState.saturated(position, self.threshold, direction)
+            return MemoryState.saturated(
+                position, direction, cast(Density, self.density).max_threshold
+            )
+        return PIState.saturated(position, cast(FloatArray, self.threshold), direction)
 
     # ------------------------------------------------------------------ curves
     def virgin_curve(self, displacement: ArrayLike, *, elastic_only: bool = False) -> FloatArray:
@@ -294,8 +298,8 @@ class PIFriction:
         scalar = np.ndim(displacement) == 0
         y = as_signal("displacement", np.atleast_1d(displacement))
         ay = np.abs(y)
-        if not self.is_discrete:
-            elastic = self.density.virgin_curve(ay)  # type: ignore[union-attr]
+        if self.stiffness is None or self.threshold is None:  # a continuous density
+            elastic = cast(Density, self.density).virgin_curve(ay)
         else:
             elastic = np.minimum(ay[:, None], self.threshold[None, :]) @ self.stiffness
         out = np.sign(y) * (elastic if elastic_only else elastic + self.coulomb)
@@ -378,8 +382,8 @@ class PIFriction:
     ) -> tuple[FloatArray, PIState | MemoryState, float, float]:
         """Elastic force (plus ``coulomb``·sign(ẏ) for finite elements), final memory, and
         the input and direction before the first sample."""
-        if not self.is_discrete:
-            elastic, _, final = run_density(self.density, y, state)  # type: ignore[arg-type]
+        if self.stiffness is None or self.threshold is None:  # a continuous density
+            elastic, _, final = run_density(cast(Density, self.density), y, state)
             prev, d0 = (float(y[0]), 0.0) if state is None else (state.last_input, state.direction)
             return elastic, final, prev, d0
         x, prev, d0 = start_memory(y, self.threshold, state)

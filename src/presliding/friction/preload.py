@@ -22,11 +22,11 @@ from __future__ import annotations
 
 import math
 
-import numba as nb
 import numpy as np
 
 from presliding._validation import as_choice, as_real_scalar, fmt
 from presliding.friction.pi_friction import PIFriction
+from presliding.hysteresis._jit import njit
 from presliding.hysteresis.general_pi import MemoryState
 from presliding.hysteresis.operators import PIState
 
@@ -35,7 +35,7 @@ __all__ = ["preload_deformation", "preloaded_state"]
 PATHS = ("branch", "virgin")
 
 
-@nb.njit(cache=True)
+@njit(cache=True)
 def preload_deformation(k, r, fraction, direction, branch, out):  # pragma: no cover - compiled
     """Deformations f_j of a bank whose elastic force is fraction·F_m (|fraction| <= 1).
 

@@ -15,6 +15,8 @@ _kernels.py, _fused.py  compiled play/stop loops, time-blocked and batched
 _batch_kernels.py       the compiled loop of `PIBatch` (batch as the SIMD axis, full output)
 _general_pi.py          compiled kernels of the general operator (closed-form pieces)
 _density_base.py, _density_primitives.py, _tabulated.py   the density classes and their primitives
+_jit.py                 the typed `njit` decorator every compiled kernel uses (cache=True)
+_results.py             the result convention shared by every layer: string `Status`, `ResultMixin`
 
 May import: numpy, scipy, numba and the package root's shared modules only.
 """

@@ -19,12 +19,17 @@ sign of the last nonzero increment of y, shared by every member.
 
 from __future__ import annotations
 
-import numba as nb
 import numpy as np
 
 from presliding.hysteresis._fused import _FASTMATH, BATCH_CHUNK, BLOCK, _step_direction
+from presliding.hysteresis._jit import JitFlags, njit
 
-_JIT = {"cache": True, "fastmath": _FASTMATH, "error_model": "numpy", "boundscheck": False}
+_JIT: JitFlags = {
+    "cache": True,
+    "fastmath": _FASTMATH,
+    "error_model": "numpy",
+    "boundscheck": False,
+}
 
 
 #: time steps per tile: every chunk of the batch runs one tile before the next
@@ -33,7 +38,7 @@ _JIT = {"cache": True, "fastmath": _FASTMATH, "error_model": "numpy", "boundsche
 TILE = 64
 
 
-@nb.njit(**_JIT)
+@njit(**_JIT)
 def _load_chunk(y_first, threshold, weight, linear, coulomb, x, b0, buf):  # pragma: no cover
     """Copy members b0 <= b < b0 + BATCH_CHUNK into ``buf`` and clamp their states at y_first.
 
@@ -58,7 +63,7 @@ def _load_chunk(y_first, threshold, weight, linear, coulomb, x, b0, buf):  # pra
             buf[2 * n_el + j, i] = min(max(buf[2 * n_el + j, i], y_first - rj), y_first + rj)
 
 
-@nb.njit(**_JIT)
+@njit(**_JIT)
 def _run_tile(y, t_start, t_stop, up_prev, prev, d, buf, n_el, out, b0):  # pragma: no cover
     """Steps t_start <= t < t_stop of one chunk; returns the direction after them.
 
@@ -117,7 +122,7 @@ def _run_tile(y, t_start, t_stop, up_prev, prev, d, buf, n_el, out, b0):  # prag
     return d
 
 
-@nb.njit(**_JIT)
+@njit(**_JIT)
 def batch_apply(
     y, threshold, weight, linear, coulomb, x, prev, direction, out
 ):  # pragma: no cover - compiled

@@ -11,7 +11,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, fields, is_dataclass
-from typing import Any, ClassVar
+from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -43,6 +43,12 @@ class Density:
     #: The subclasses by name, filled as each is defined, so that the base can
     #: build a `Tabulated` (`from_function`) without importing its module.
     _registry: ClassVar[dict[str, type[Density]]] = {}
+
+    if TYPE_CHECKING:  # every density has R: a field or a property of the subclass
+
+        @property
+        def max_threshold(self) -> float:
+            """R, the end of the support (inf for an unbounded one)."""
 
     def __init_subclass__(cls, **kwargs: Any) -> None:
         super().__init_subclass__(**kwargs)

@@ -34,18 +34,19 @@ from __future__ import annotations
 
 import math
 
-import numba as nb
 import numpy as np
+
+from presliding.hysteresis._jit import JitFlags, njit
 
 DISCRETE, UNIFORM, EXPONENTIAL, PIECEWISE, TABULATED = 0, 1, 2, 3, 4
 # Flags and small integer arguments of compiled helpers are passed as
 # np.bool_(...) / np.int64(...) rather than literal constants: numba compiles one
 # specialisation per literal value, which costs seconds on a cold cache.
-_JIT = {"cache": True, "nogil": True}
+_JIT: JitFlags = {"cache": True, "nogil": True}
 
 
 # ---------------------------------------------------------------------- primitives
-@nb.njit(**_JIT)
+@njit(**_JIT)
 def _gamma_lower(s, x, e):  # pragma: no cover - compiled
     """γ(s, x) = ∫_0^x t^(s−1) e^(−t) dt for s = 2, 3, accurate for small x; e = exp(−x)."""
     if x > 700.0:
@@ -64,7 +65,7 @@ def _gamma_lower(s, x, e):  # pragma: no cover - compiled
     return 2.0 - e * (2.0 + x * (2.0 + x))
 
 
-@nb.njit(**_JIT)
+@njit(**_JIT)
 def _search(tab, row, n, r):  # pragma: no cover - compiled
     """Number of entries of the sorted tab[row, :n] that are <= r."""
     lo, hi = 0, n
@@ -77,7 +78,7 @@ def _search(tab, row, n, r):  # pragma: no cover - compiled
     return lo
 
 
-@nb.njit(**_JIT)
+@njit(**_JIT)
 def _unpack(par):  # pragma: no cover - compiled
     """(R, p1, p2): the density parameters as scalars (0.0 where a kind has none)."""
     p1 = par[1] if par.shape[0] > 1 else 0.0
@@ -85,7 +86,7 @@ def _unpack(par):  # pragma: no cover - compiled
     return par[0], p1, p2
 
 
-@nb.njit(**_JIT)
+@njit(**_JIT)
 def _prim(kind, big_r, p1, p2, tab, r, want_m2):  # pragma: no cover - compiled
     """(M1(r), M2(r), T(r)) from the scalar parameters of `_unpack` and the table.
 
@@ -142,14 +143,14 @@ def _prim(kind, big_r, p1, p2, tab, r, want_m2):  # pragma: no cover - compiled
     return m1, m2, tt
 
 
-@nb.njit(**_JIT)
+@njit(**_JIT)
 def primitives(kind, par, tab, r):  # pragma: no cover - compiled
     """(M1(r), M2(r), T(r)) = (∫_0^r s dμ, ∫_0^r s² dμ, μ((r, R]))."""
     big_r, p1, p2 = _unpack(par)
     return _prim(kind, big_r, p1, p2, tab, r, np.bool_(True))
 
 
-@nb.njit(**_JIT)
+@njit(**_JIT)
 def evaluate(kind, par, tab, r, which, out):  # pragma: no cover - compiled
     """Vectorised primitive: which = 1 (M1), 2 (M2) or 3 (T) at every r."""
     big_r, p1, p2 = _unpack(par)

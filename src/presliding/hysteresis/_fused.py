@@ -50,11 +50,18 @@ from __future__ import annotations
 import numba as nb
 import numpy as np
 
+from presliding.hysteresis._jit import JitFlags, njit
+
 # Sums may be reassociated/contracted; 'nnan'/'ninf' (inputs are validated on
 # entry) let min/max compile to single vector instructions. The play update
 # is min/max only, which no flag changes.
 _FASTMATH = {"reassoc", "contract", "nnan", "ninf", "nsz"}
-_JIT = {"cache": True, "fastmath": _FASTMATH, "error_model": "numpy", "boundscheck": False}
+_JIT: JitFlags = {
+    "cache": True,
+    "fastmath": _FASTMATH,
+    "error_model": "numpy",
+    "boundscheck": False,
+}
 
 #: time steps per pass over the elements
 BLOCK = 4
@@ -62,7 +69,7 @@ BLOCK = 4
 BATCH_CHUNK = 32
 
 
-@nb.njit(**_JIT)
+@njit(**_JIT)
 def _step_direction(yt, before, d):  # pragma: no cover - compiled
     """Sign of the increment yt − before, or the previous direction d when it is zero."""
     if yt > before:
@@ -72,7 +79,7 @@ def _step_direction(yt, before, d):  # pragma: no cover - compiled
     return d
 
 
-@nb.njit(**_JIT)
+@njit(**_JIT)
 def stop_sum_blocked(
     y, threshold, weight, x, out, linear, coulomb, prev, direction
 ):  # pragma: no cover - compiled
@@ -124,7 +131,7 @@ def stop_sum_blocked(
     return d
 
 
-@nb.njit(**_JIT)
+@njit(**_JIT)
 def stop_sum_one_sided(
     y, threshold, weight, x, out, linear, coulomb, prev, direction
 ):  # pragma: no cover - compiled
@@ -185,7 +192,7 @@ def stop_sum_one_sided(
     return d
 
 
-@nb.njit(**_JIT)
+@njit(**_JIT)
 def _loss_chunk(
     y, design, target, threshold, weight, linear, offset, x, loss, b0
 ):  # pragma: no cover
@@ -274,7 +281,7 @@ def _loss_chunk(
             x[j, b0 + i] = buf[2 * n_el + j, i]
 
 
-@nb.njit(**_JIT)
+@njit(**_JIT)
 def batch_loss(y, design, target, threshold, weight, linear, offset, x, loss):  # pragma: no cover
     """Identification loss of B PI operators on one input, fused into the time loop.
 
@@ -287,7 +294,7 @@ def batch_loss(y, design, target, threshold, weight, linear, offset, x, loss):  
         _loss_chunk(y, design, target, threshold, weight, linear, offset, x, loss, b0)
 
 
-@nb.njit(cache=True, fastmath=_FASTMATH, error_model="numpy", boundscheck=False, parallel=True)
+@njit(cache=True, fastmath=_FASTMATH, error_model="numpy", boundscheck=False, parallel=True)
 def batch_loss_parallel(
     y, design, target, threshold, weight, linear, offset, x, loss
 ):  # pragma: no cover

@@ -58,16 +58,16 @@ from __future__ import annotations
 
 import math
 
-import numba as nb
 import numpy as np
 
 from presliding.hysteresis._density_primitives import _prim, _unpack, primitives
+from presliding.hysteresis._jit import JitFlags, njit
 
-_JIT = {"cache": True, "nogil": True}
+_JIT: JitFlags = {"cache": True, "nogil": True}
 
 
 # ---------------------------------------------------------------------- memory
-@nb.njit(**_JIT)
+@njit(**_JIT)
 def _q(rho, m1r, m2r, kind, big_r, p1, p2, tab):  # pragma: no cover - compiled
     """Q(ρ) = ρ·M1(ρ) − M2(ρ) = ∫_0^ρ M1 (M1 constant beyond R); m1r, m2r = M1(R), M2(R)."""
     if rho >= big_r:
@@ -76,7 +76,7 @@ def _q(rho, m1r, m2r, kind, big_r, p1, p2, tab):  # pragma: no cover - compiled
     return rho * m1 - m2
 
 
-@nb.njit(**_JIT)
+@njit(**_JIT)
 def _reversal_level(last, d, base, n, stack, kind, big_r, p1, p2, tab):  # pragma: no cover
     """The level a reversal at `last` (after motion in direction d) opens.
 
@@ -104,7 +104,7 @@ def _reversal_level(last, d, base, n, stack, kind, big_r, p1, p2, tab):  # pragm
     return base, n, rho, m1, force - d * m1
 
 
-@nb.njit(**_JIT)
+@njit(**_JIT)
 def _grow(stack):  # pragma: no cover - compiled
     new = np.empty((2 * stack.shape[0] + 8, 4))
     # an element loop, not a slice assignment: the latter compiles numba's
@@ -121,7 +121,7 @@ def _grow(stack):  # pragma: no cover - compiled
 _RUN, _ONE, _TRIAL = 0, 1, 2
 
 
-@nb.njit(**_JIT)
+@njit(**_JIT)
 def _walk(y, y_one, head, stack, kind, par, tab, out, dissipated, mode):  # pragma: no cover
     """The one sample update, as a flat loop with the memory in local variables.
 
@@ -228,7 +228,7 @@ def _walk(y, y_one, head, stack, kind, par, tab, out, dissipated, mode):  # prag
     return force, slope, acc, stack
 
 
-@nb.njit(**_JIT)
+@njit(**_JIT)
 def _push(head, stack, kind, par, tab):  # pragma: no cover - compiled
     """Reversal at the last input: push it as a new level; returns the (grown) stack."""
     if int(head[3]) >= stack.shape[0]:
@@ -247,34 +247,34 @@ def _push(head, stack, kind, par, tab):  # pragma: no cover - compiled
     return stack
 
 
-@nb.njit(**_JIT)
+@njit(**_JIT)
 def advance(y, head, stack, kind, par, tab):  # pragma: no cover - compiled
     """Commit the sample y; return (force, stack)."""
     force, _, _, stack = _walk(head, y, head, stack, kind, par, tab, head, head, np.int64(_ONE))
     return force, stack
 
 
-@nb.njit(**_JIT)
+@njit(**_JIT)
 def advance_dissipating(y, head, stack, kind, par, tab):  # pragma: no cover - compiled
     """Commit the sample y; return (force, slope, dissipated energy, stack)."""
     return _walk(head, y, head, stack, kind, par, tab, head, head, np.int64(_ONE))
 
 
-@nb.njit(**_JIT)
+@njit(**_JIT)
 def force_at(y, head, stack, kind, par, tab):  # pragma: no cover - compiled
     """(force, slope dF/dy) at a trial input y; head and stack are left untouched."""
     force, slope, _, _ = _walk(head, y, head, stack, kind, par, tab, head, head, np.int64(_TRIAL))
     return force, slope
 
 
-@nb.njit(**_JIT)
+@njit(**_JIT)
 def run(y, head, stack, kind, par, tab, out, dissipated):  # pragma: no cover - compiled
     """Time loop: out[t] = F(y[t]); cumulative dissipation when len(dissipated) > 0."""
     return _walk(y, 0.0, head, stack, kind, par, tab, out, dissipated, np.int64(_RUN))[3]
 
 
 # ---------------------------------------------------------------------- energy
-@nb.njit(**_JIT)
+@njit(**_JIT)
 def _square_integral(alpha, beta, lo, hi, kind, par, tab):  # pragma: no cover
     """∫_(lo, hi] (α + β r)² dμ(r), zero where the interval lies beyond R."""
     big_r = par[0]
@@ -285,7 +285,7 @@ def _square_integral(alpha, beta, lo, hi, kind, par, tab):  # pragma: no cover
     return alpha * alpha * (ta - tb) + 2.0 * alpha * beta * (m1b - m1a) + beta * beta * (m2b - m2a)
 
 
-@nb.njit(**_JIT)
+@njit(**_JIT)
 def elastic_energy(head, stack, kind, par, tab):  # pragma: no cover - compiled
     """Stored elastic energy ½∫ f(r)² dμ(r) of the memory (eq. after 12)."""
     y, d, base, n = head[0], head[1], head[2], int(head[3])
@@ -304,7 +304,7 @@ def elastic_energy(head, stack, kind, par, tab):  # pragma: no cover - compiled
     return 0.5 * acc
 
 
-@nb.njit(**_JIT)
+@njit(**_JIT)
 def relaxed_memory(position, capacity):  # pragma: no cover - compiled
     """Virgin memory at `position`: f = 0 for every threshold."""
     head = np.empty(4)
@@ -312,7 +312,7 @@ def relaxed_memory(position, capacity):  # pragma: no cover - compiled
     return head, np.empty((max(capacity, 4), 4))
 
 
-@nb.njit(**_JIT)
+@njit(**_JIT)
 def saturated_memory(position, direction, big_r, capacity):  # pragma: no cover
     """Every stop saturated after motion in `direction`: f = direction·r on [0, R]."""
     head = np.empty(4)
@@ -321,7 +321,7 @@ def saturated_memory(position, direction, big_r, capacity):  # pragma: no cover
     return head, np.empty((max(capacity, 4), 4))
 
 
-@nb.njit(**_JIT)
+@njit(**_JIT)
 def replay(last, direction, base, turning, kind, par, tab):  # pragma: no cover
     """Working memory of a profile given by its base and turning inputs.
 

@@ -26,10 +26,10 @@ play states, sums within 1e-12 of F_m).
 
 from __future__ import annotations
 
-import numba as nb
 import numpy as np
 
 from presliding.hysteresis._fused import stop_sum_blocked, stop_sum_one_sided
+from presliding.hysteresis._jit import njit
 
 # Only the sum may be reordered/contracted; no NaN or inf reaches a kernel
 # (inputs are validated on entry), so 'nnan'/'ninf' let min/max compile to
@@ -37,7 +37,7 @@ from presliding.hysteresis._fused import stop_sum_blocked, stop_sum_one_sided
 _FASTMATH = {"reassoc", "contract", "nnan", "ninf", "nsz"}
 
 
-@nb.njit(cache=True, fastmath=_FASTMATH)
+@njit(cache=True, fastmath=_FASTMATH)
 def play_outputs(y, threshold, x, out):  # pragma: no cover - compiled
     """Write the play states x_j(t) into ``out`` (T, N); ``x`` holds the prior state."""
     n_time = y.shape[0]
@@ -50,7 +50,7 @@ def play_outputs(y, threshold, x, out):  # pragma: no cover - compiled
             out[t, j] = xj
 
 
-@nb.njit(cache=True, fastmath=_FASTMATH, error_model="numpy", boundscheck=False)
+@njit(cache=True, fastmath=_FASTMATH, error_model="numpy", boundscheck=False)
 def peak(y):  # pragma: no cover - compiled
     """max_t |y[t]| in one pass (y finite: checked by the caller); 0 for an empty y.
 
@@ -96,8 +96,8 @@ def _stop_sum(y, threshold, weight, x, out):  # pragma: no cover - compiled
 # The straightforward loop, compiled with two flag sets: the reference that the
 # blocked kernel behind `stop_sum` is tested and benchmarked against (same play
 # states bit for bit, sums within 1e-12).
-_stop_sum_short = nb.njit(cache=True, fastmath=_FASTMATH)(_stop_sum)
-_stop_sum_long = nb.njit(cache=True, fastmath=True)(_stop_sum)
+_stop_sum_short = njit(cache=True, fastmath=_FASTMATH)(_stop_sum)
+_stop_sum_long = njit(cache=True, fastmath=True)(_stop_sum)
 
 
 #: banks are padded to a multiple of this many elements (two AVX2 vectors of
@@ -144,7 +144,7 @@ def stop_sum(
     return d
 
 
-@nb.njit(cache=True)
+@njit(cache=True)
 def motion_direction(y, previous_input, previous_direction, out):  # pragma: no cover
     """Sign of the last nonzero increment of ``y`` (0 before any motion).
 
@@ -163,7 +163,7 @@ def motion_direction(y, previous_input, previous_direction, out):  # pragma: no 
     return d
 
 
-@nb.njit(cache=True)
+@njit(cache=True)
 def last_direction(y, previous_input, previous_direction):  # pragma: no cover
     """Only the direction after the last sample: scans back to the last nonzero increment."""
     for t in range(y.shape[0] - 1, -1, -1):

@@ -140,8 +140,8 @@ class PIBatch:
 
     threshold: FloatArray
     weight: FloatArray
-    linear: FloatArray = field(default=0.0, kw_only=True)  # type: ignore[assignment]
-    coulomb: FloatArray = field(default=0.0, kw_only=True)  # type: ignore[assignment]
+    linear: FloatArray = field(default_factory=lambda: np.zeros(()), kw_only=True)  # 0.0
+    coulomb: FloatArray = field(default_factory=lambda: np.zeros(()), kw_only=True)  # 0.0
     _kernel_bank: tuple[FloatArray, ...] = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:

@@ -59,7 +59,7 @@ class Uniform(Density):
     """
 
     height: float
-    max_threshold: float  # type: ignore[misc]
+    max_threshold: float
     _kind: ClassVar[int] = UNIFORM
 
     def __post_init__(self) -> None:
@@ -89,7 +89,7 @@ class Exponential(Density):
 
     height: float
     length: float
-    max_threshold: float = math.inf  # type: ignore[misc]
+    max_threshold: float = math.inf
     _kind: ClassVar[int] = EXPONENTIAL
 
     def __post_init__(self) -> None:

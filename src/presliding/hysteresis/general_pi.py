@@ -355,7 +355,9 @@ class GeneralPIOperator:
 
 
 def _memory(
-    density: Density, state: MemoryState | None, y0: float
+    density: Density,
+    state: object,
+    y0: float,  # a MemoryState or None; else TypeError
 ) -> tuple[FloatArray, FloatArray]:
     if state is None:
         return gk.relaxed_memory(y0, 8)
@@ -370,7 +372,7 @@ def _memory(
 def run_density(
     density: Density,
     y: FloatArray,
-    state: MemoryState | None,
+    state: object,  # a MemoryState or None (anything else raises TypeError)
     *,
     dissipation: bool = False,
 ) -> tuple[FloatArray, FloatArray, MemoryState]:

@@ -402,7 +402,9 @@ def check_inverse_parameters(
 
 
 def start_memory(
-    y: FloatArray, threshold: FloatArray, state: PIState | None
+    y: FloatArray,
+    threshold: FloatArray,
+    state: object,  # a PIState or None; else TypeError
 ) -> tuple[FloatArray, float, float]:
     """Play vector (a fresh copy), previous input and direction to start a kernel from."""
     if state is None:

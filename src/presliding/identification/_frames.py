@@ -32,7 +32,7 @@ def dataframe_columns(
         ) from None
     if not isinstance(df, pd.DataFrame):
         raise TypeError(f"`df` must be a pandas DataFrame; got {type(df).__name__}.")
-    raw = {}
+    raw: dict[str, tuple[str, FloatArray, str | None]] = {}
     for sig, col in wanted.items():
         if sig == "time" and isinstance(col, str) and col == "index" and "index" not in df.columns:
             series, label = df.index.to_series(), str(df.index.name or "index")

@@ -20,11 +20,11 @@ from __future__ import annotations
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 
-import numba as nb
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from presliding.hysteresis._fused import batch_loss, batch_loss_parallel
+from presliding.hysteresis._jit import njit
 from presliding.identification.fit_result import Solution, Tie, solve_least_squares
 
 FloatArray = NDArray[np.float64]
@@ -32,7 +32,7 @@ Basis = Callable[[FloatArray], tuple[FloatArray, FloatArray]]
 DEFAULT_GRID = 48
 
 
-@nb.njit(cache=True)
+@njit(cache=True)
 def _stop_sensitivity(y, threshold, f_out, s_out):  # pragma: no cover - compiled
     """Stop outputs f_j = y − x_j (relaxed at y[0]) and their derivatives ∂f_j/∂r_j.
 
@@ -60,7 +60,7 @@ def _stop_sensitivity(y, threshold, f_out, s_out):  # pragma: no cover - compile
             s_out[t, j] = side[j]
 
 
-@nb.njit(cache=True)
+@njit(cache=True)
 def reversal_indices(y, tol):  # pragma: no cover - compiled
     """Indices of the turning points of y: extremes left by more than `tol`.
 
@@ -236,7 +236,7 @@ def fit_separable(
     n_elements: int,
     *,
     grid: FloatArray,
-    thresholds: FloatArray | None = None,
+    thresholds: ArrayLike | None = None,
     refine_thresholds: bool = True,
     used: NDArray[np.bool_] | None = None,
     fixed: Mapping[str, float] | None = None,

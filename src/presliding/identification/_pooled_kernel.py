@@ -19,6 +19,7 @@ import numba as nb
 import numpy as np
 
 from presliding.friction.preload import preload_deformation
+from presliding.hysteresis._jit import njit
 from presliding.motion._event import run_events
 
 RELAXED, BRANCH, VIRGIN = 0, 1, 2
@@ -83,9 +84,9 @@ def _assemble(o_y, o_v, index, w_v, w_y, data, out):  # pragma: no cover - compi
 
 # Parallel forms for batches of parameter sets (a Jacobian); serial forms for one
 # set, where a parallel region costs more than it saves on a busy machine.
-pooled_responses_parallel = nb.njit(cache=True, parallel=True)(_pooled_responses)
-pooled_responses_serial = nb.njit(cache=True)(_pooled_responses)
-assemble = nb.njit(cache=True)(_assemble)  # memory bound: serial is as fast
+pooled_responses_parallel = njit(cache=True, parallel=True)(_pooled_responses)
+pooled_responses_serial = njit(cache=True)(_pooled_responses)
+assemble = njit(cache=True)(_assemble)  # memory bound: serial is as fast
 
 
 def pooled_responses(mass, *args):

@@ -55,7 +55,7 @@ class Record:
 def as_record(m: Measurement) -> Record:
     """The record of a measurement (velocity or position must be present)."""
     t = m.time
-    v = m.velocity if m.velocity is not None else np.gradient(m.position, t)
+    v = m.velocity if m.velocity is not None else np.gradient(m.require("position")[0], t)
     y = m.position if m.position is not None else rt.integral(t, v)
     u = m.applied_force if m.applied_force is not None else np.zeros_like(t)
     return Record(t, y, v, u, bool(np.any(u)), rt.initial_direction(v, u))
@@ -205,7 +205,7 @@ class PooledProblem:
         for p, (_, k, r) in enumerate(banks):
             k_arr[p, : k.shape[0]], r_arr[p, : r.shape[0]] = k, r
             r_arr[p, k.shape[0] :] = r.max() if r.shape[0] else 1.0
-        c1 = np.array([b[0] for b in banks])
+        c1_all = np.array([b[0] for b in banks])
         col = self.index
         mass = np.maximum(sets[:, col["mass"]], TINY)
         offset = sets[:, col["offset"]] if "offset" in col else np.zeros(n_par)
@@ -217,7 +217,7 @@ class PooledProblem:
             frac = np.clip(sets[:, per + 2], -1.0, 1.0)
         else:
             frac = np.ones((n_par, self.n_rec))
-        return mass, c1, sigma, k_arr, r_arr, offset, y0, v0, np.ascontiguousarray(frac)
+        return mass, c1_all, sigma, k_arr, r_arr, offset, y0, v0, np.ascontiguousarray(frac)
 
     def simulate(self, sets: FloatArray, rigid: bool = False) -> tuple:
         """Positions, velocities (P, S), status and reversal counts (P, R)."""

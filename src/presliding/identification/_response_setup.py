@@ -74,9 +74,9 @@ def check_quasi_static_records(records: Any) -> list[pp.Record]:
     for i, m in enumerate(found):
         if not isinstance(m, Measurement):
             raise TypeError(f"`records[{i}]` must be a Measurement; got {type(m).__name__}.")
-        m.require("position", "applied_force", purpose="fit_quasi_static")
-        check_varies("position", m.position)
-        check_varies("applied_force", m.applied_force)
+        position, force = m.require("position", "applied_force", purpose="fit_quasi_static")
+        check_varies("position", position)
+        check_varies("applied_force", force)
     return [pp.as_record(m) for m in found]
 
 
@@ -186,7 +186,7 @@ def prune_elements(problem: pp.PooledProblem, sol: Solution, spec: Any) -> Pruni
     for j in range(spec.n):
         if k[j] <= 1e-9 * total:
             reasons[j] = "k → 0"
-        elif j in springs and j != keep:
+        elif keep is not None and j in springs and j != keep:  # springs ⇒ keep is set
             reasons[j] = f"2·r beyond the largest swing: a spring there, merged into {keep + 1}"
     reachable = c1 + float(np.sum(k * np.minimum(r, half)))
     return Pruning(sorted(reasons), swing, reachable, spec.n - len(reasons), reasons, keep)
@@ -308,7 +308,7 @@ def nuisance_only(sol: Solution, problem: pp.PooledProblem, fixed: Mapping) -> S
     loose = [x for x, se in sol.standard_error.items() if np.isinf(se) and x not in fixed]
     if not loose or any(problem.record_of.get(x) is None for x in loose):
         return sol
-    records = sorted({problem.record_of[x] + 1 for x in loose})
+    records = sorted({i + 1 for x in loose if (i := problem.record_of.get(x)) is not None})
     message = (
         f"converged; the data do not determine the own parameters of record(s) "
         f"{', '.join(map(str, records))} (infinite intervals); the shared parameters are "

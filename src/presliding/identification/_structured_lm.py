@@ -45,7 +45,7 @@ class LMResult:
 
 def levenberg_marquardt(
     fun: Callable[[FloatArray], FloatArray],
-    jac: Callable[[FloatArray], FloatArray],
+    jac: Callable[[FloatArray], Any],  # a dense array or a scipy.sparse matrix
     x0: FloatArray,
     lower: FloatArray,
     upper: FloatArray,
@@ -174,7 +174,8 @@ def _normal(J: Any, r: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
         A[np.ix_(others, full)] = A[np.ix_(full, others)].T
         g[others] = sub.T @ r
         return A, g, np.sqrt(np.maximum(np.diag(A), 0.0))
-    for cols in blocks.values():
+    for block in blocks.values():
+        cols = np.array(block)
         rows = idx[ptr[cols[0]] : ptr[cols[0] + 1]]
         P = np.column_stack([val[ptr[j] : ptr[j + 1]] for j in cols])
         A[np.ix_(cols, cols)] = P.T @ P

@@ -45,6 +45,12 @@ class CrossValidation:
         The fit on every record, with this table attached.
     labels : tuple of str
         A name per record (``record 1``, ... unless given).
+    success : bool
+        True when every fold was fitted and predicted.
+    status : str
+        "success", or "failed" when a fold's fit or prediction failed.
+    message : str
+        How many folds failed, and the first failure's message.
     """
 
     predictions: tuple[Prediction, ...]
@@ -72,7 +78,17 @@ class CrossValidation:
 
     @property
     def status(self) -> str:
+        """Either "success" or "failed" (a fold's fit or prediction failed)."""
         return "success" if self.success else "failed"
+
+    @property
+    def message(self) -> str:
+        """How many folds failed, with the first failure's message."""
+        bad = [p.message for p in self.predictions if not p.success]
+        bad += [f.message for f in self.fits if f.status == "failed"]
+        if not bad:
+            return f"{len(self.predictions)} held-out records predicted"
+        return f"{len(bad)} of {len(self.predictions)} folds failed; first: {bad[0]}"
 
     def table(self) -> list[list[str]]:
         """Rows: record, fit status, NRMSE, reversals measured/predicted, rest positions."""
@@ -111,6 +127,10 @@ class CrossValidation:
             "predictions": [p.to_dict() for p in self.predictions],
             "median_nrmse": float(np.median(self.nrmse)),
             "reversals_exact": self.reversals_exact,
+            "nrmse": self.nrmse,
+            "status": self.status,
+            "success": self.success,
+            "message": self.message,
         }
 
     def to_pandas(self) -> Any:
@@ -121,7 +141,9 @@ class CrossValidation:
             {"record": label, "fit_status": f.status, **p.to_dict()}
             for label, f, p in zip(self.labels, self.fits, self.predictions, strict=True)
         ]
-        return pd.DataFrame(rows).drop(columns=["parameters"]).set_index("record")  # fmt: skip
+        frame = pd.DataFrame(rows).drop(columns=["parameters"]).set_index("record")
+        frame.attrs.update(success=self.success, status=self.status, message=self.message)
+        return frame
 
     def plot(self, ax: Axes | None = None) -> Axes:
         """NRMSE of each held-out record (bars); returns the axes."""

@@ -45,10 +45,11 @@ _NONNEGATIVE = (0.0, np.inf)
 
 
 def _design(m: Measurement, viscous: bool, offset: bool) -> tuple[FloatArray, tuple[str, ...]]:
-    columns = [m.acceleration, np.sign(m.velocity)]
+    velocity, acceleration = m.require("velocity", "acceleration")
+    columns = [acceleration, np.sign(velocity)]
     names = ["mass", "coulomb"]
     if viscous:
-        columns.append(m.velocity)
+        columns.append(velocity)
         names.append("viscous")
     if offset:
         columns.append(np.ones(m.n_samples))
@@ -111,7 +112,7 @@ def fit_motion(
     """
     if not isinstance(measurement, Measurement):
         raise TypeError(f"`measurement` must be a Measurement; got {type(measurement).__name__}.")
-    measurement.require(
+    position, velocity, _, u = measurement.require(
         "position", "velocity", "acceleration", "applied_force", purpose="fit_motion"
     )
     n = element_count(n_elements, thresholds, 0)
@@ -120,22 +121,21 @@ def fit_motion(
         fixed, tied, level, grid_size, max_evaluations, tolerance
     )
     m = measurement
-    u = m.applied_force
     if not np.any(u) and "mass" not in fixed:
         raise ValueError(
             "`applied_force` is zero throughout: mass and forces are then determined only up to "
             "a common factor; fix the mass (fixed={'mass': ...}) or use fit_response."
         )
-    check_varies("position", m.position)
-    check_varies("velocity", m.velocity)
-    used = np.abs(m.velocity) > min_speed
-    signs = np.sign(m.velocity[used])
+    check_varies("position", position)
+    check_varies("velocity", velocity)
+    used = np.abs(velocity) > min_speed
+    signs = np.sign(velocity[used])
     if offset and not (np.any(signs > 0) and np.any(signs < 0)):
         raise ValueError(
             "`velocity` must change sign (among the samples used) to separate the Coulomb force "
             "from the offset; it keeps one sign."
         )
-    if n and pr.reversal_indices(m.position, 0.0).shape[0] == 0:
+    if n and pr.reversal_indices(position, 0.0).shape[0] == 0:
         raise ValueError(
             "`position` must reverse at least once to identify presliding elements; got a "
             "monotone path."
@@ -144,7 +144,7 @@ def fit_motion(
     check_enough(int(used.sum()), len(names) + 2 * n)
     fit = pr.fit_separable(
         u, design, names, {k: _NONNEGATIVE for k in ("mass", "coulomb", "viscous") if k in names},
-        pr.stop_basis(m.position), n, grid=pr.threshold_grid(m.position, grid_size),
+        pr.stop_basis(position), n, grid=pr.threshold_grid(position, grid_size),
         thresholds=thresholds, refine_thresholds=refine_thresholds, used=used, fixed=fixed,
         tied=tied, level=level, max_evaluations=max_evaluations, tolerance=tolerance,
     )  # fmt: skip
@@ -159,7 +159,7 @@ def fit_motion(
         kind="motion equation (eq. 17)", abscissa_label="time [s]",
         signal_label="applied force", signal_unit="N m" if rotary else "N",
         derived=derived_quantities(model),
-        hint=sign_hint(u, np.sign(m.velocity), "applied force"),
+        hint=sign_hint(u, np.sign(velocity), "applied force"),
         rotary=rotary,
     )  # fmt: skip
 
@@ -190,15 +190,14 @@ def predict_motion_force(result: FitResult, measurement: Measurement) -> FloatAr
         raise TypeError(f"`result` must be a FitResult of fit_motion; got {what}.")
     if not isinstance(measurement, Measurement):
         raise TypeError(f"`measurement` must be a Measurement; got {type(measurement).__name__}.")
-    measurement.require("position", "velocity", "acceleration", purpose="the prediction")
+    y, v, a = measurement.require("position", "velocity", "acceleration", purpose="the prediction")
     p = result.parameters
-    m = measurement
-    force = p["mass"] * m.acceleration + p["coulomb"] * np.sign(m.velocity)
-    force = force + p.get("viscous", 0.0) * m.velocity + p.get("offset", 0.0)
+    force = p["mass"] * a + p["coulomb"] * np.sign(v)
+    force = force + p.get("viscous", 0.0) * v + p.get("offset", 0.0)
     n = sum(1 for k in p if k.startswith("stiffness_"))
     if n:
         k_names, r_names = pr.element_names(n)
         k = np.array([p[x] for x in k_names])
         r = np.array([p[x] for x in r_names])
-        force = force + pr.stop_basis(m.position)(r)[0] @ k
+        force = force + pr.stop_basis(y)(r)[0] @ k
     return force

@@ -234,7 +234,7 @@ def fit_presliding(
     design = np.column_stack(columns) if columns else np.empty((y.shape[0], 0))
     grid = pr.threshold_grid(y, grid_size)
 
-    def separable(start: FloatArray | None) -> pr.SeparableFit:
+    def separable(start: ArrayLike | None) -> pr.SeparableFit:
         return pr.fit_separable(
             f, design, tuple(names), {"coulomb": (0.0, np.inf)}, pr.stop_basis(y), n,
             grid=grid, thresholds=start, refine_thresholds=refine_thresholds, used=used,

@@ -73,9 +73,9 @@ def quasi_static_start(recs: list, spec: ModelSpec, offset: bool) -> dict[str, f
     for r in recs:
         y, u = r.position, r.applied_force
         turns = pr.reversal_indices(np.ascontiguousarray(y), 2.0 * quantum)
-        start = int(turns[0]) if turns.size else 0
+        first_turn = int(turns[0]) if turns.size else 0
         dy = np.diff(y, prepend=y[0])
-        moving = (np.abs(dy) > 0) & (np.arange(y.shape[0]) > start)
+        moving = (np.abs(dy) > 0) & (np.arange(y.shape[0]) > first_turn)
         cols = [np.sign(dy), *pr.stop_basis(y)(grid)[0].T] + ([np.ones_like(y)] if offset else [])
         rows.append(np.column_stack(cols)[moving])
         rhs.append(u[moving])
@@ -196,8 +196,9 @@ def fit_quasi_static(
     problem.set_typical(start)
     if max_evaluations is None:
         max_evaluations = 50 * len(names)
-    options = {"bounds": box, "tied": tied, "level": level, "max_evaluations": max_evaluations,
-               "tolerance": tolerance, "gradient_tolerance": max(tolerance**2, 1e-15)}  # fmt: skip
+    options: dict[str, Any] = {"bounds": box, "tied": tied, "level": level,
+                               "max_evaluations": max_evaluations, "tolerance": tolerance,
+                               "gradient_tolerance": max(tolerance**2, 1e-15)}  # fmt: skip
     evaluations = [0]
 
     def solve(begin: dict[str, float], limit: int | None = None) -> Any:

@@ -35,6 +35,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from dataclasses import replace
+from typing import Any
 
 import numpy as np
 
@@ -330,13 +331,13 @@ def fit_response(
     notes = [PER_UNIT_MASS] if per_unit_mass else []
     pruned = prune_elements(problem, sol, spec)
     if prune and pruned.dead and density is None and spec.n - len(pruned.dead) >= 0:
-        kw = dict(n_elements=spec.n - len(pruned.dead), equal_breakaway=equal_breakaway, mass=mass,
-                  coulomb_level=coulomb_level, min_coulomb_level=min_coulomb_level, offset=offset,
-                  viscous=viscous,
-                  signal=signal, weights=weights, initial_state=initial_state,
-                  fit_initial=fit_initial, level=level, max_evaluations=max_evaluations,
-                  tolerance=tolerance, multistart=multistart, bootstrap=bootstrap, seed=seed,
-                  initial=pruned.start(sol.values, problem))  # fmt: skip
+        kw: dict[str, Any] = dict(
+            n_elements=spec.n - len(pruned.dead), equal_breakaway=equal_breakaway, mass=mass,
+            coulomb_level=coulomb_level, min_coulomb_level=min_coulomb_level, offset=offset,
+            viscous=viscous, signal=signal, weights=weights, initial_state=initial_state,
+            fit_initial=fit_initial, level=level, max_evaluations=max_evaluations,
+            tolerance=tolerance, multistart=multistart, bootstrap=bootstrap, seed=seed,
+            initial=pruned.start(sol.values, problem))  # fmt: skip
         refit = fit_response(records, **kw)
         note = pruned.note(spec) + "; refitted without them"
         return replace(refit, notes=(*refit.notes, note), n_evaluations=refit.n_evaluations

@@ -237,7 +237,7 @@ def fit_virgin_curve(
     lo = max(4.0 * float(s[0]), float(np.quantile(s, 0.01)))
     grid = pr.geometric_grid(lo, float(s[-1]), float(s[-1]), grid_size)
 
-    def separable(target: FloatArray, start: FloatArray | None) -> pr.SeparableFit:
+    def separable(target: FloatArray, start: ArrayLike | None) -> pr.SeparableFit:
         return pr.fit_separable(
             target, np.ones((s.shape[0], 1)), ("coulomb",), {"coulomb": (0.0, np.inf)},
             pr.virgin_basis(s), n, grid=grid, thresholds=start, fixed=fixed, tied=tied,

@@ -92,7 +92,8 @@ class MasingCheck:
 
     def to_dict(self) -> dict[str, Any]:
         """The figures as plain values."""
-        return {"status": self.status, "message": self.message, "passed": self.passed,
+        return {"status": self.status, "success": self.success, "message": self.message,
+                "passed": self.passed,
                 "discrepancy": self.discrepancy, "tolerance": self.tolerance,
                 "branch_discrepancy": self.branch_discrepancy.tolist()}  # fmt: skip
 
@@ -199,7 +200,7 @@ def masing_check(
     tol = as_positive_scalar("tolerance", tolerance)
     if reversal_tolerance is not None:
         reversal_tolerance = as_nonnegative_scalar("reversal_tolerance", reversal_tolerance)
-    ys, ms, ps, per = [], [], [], []
+    ys, ms, ps = [], [], []
     force_range = 0.0
     for y, f in _loop_records(loops):
         rt = auto_tolerance(y) if reversal_tolerance is None else reversal_tolerance

@@ -139,8 +139,8 @@ class Measurement(MeasurementReaders):
         """The signals that are present, by name (time not included)."""
         return {n: getattr(self, n) for n in SIGNALS if getattr(self, n) is not None}
 
-    def require(self, *names: str, purpose: str = "this") -> None:
-        """Raise a clear error unless every named signal is present.
+    def require(self, *names: str, purpose: str = "this") -> tuple[FloatArray, ...]:
+        """The named signals, in order; a clear error unless every one is present.
 
         Parameters
         ----------
@@ -149,6 +149,11 @@ class Measurement(MeasurementReaders):
             'acceleration', 'applied_force', 'friction_force').
         purpose : str
             What the signals are needed for, quoted in the error message.
+
+        Returns
+        -------
+        tuple of ndarray
+            The signals, in the order named.
 
         Raises
         ------
@@ -163,6 +168,7 @@ class Measurement(MeasurementReaders):
                 f"`measurement` must hold {', '.join(f'`{n}`' for n in missing)} for {purpose}; "
                 f"it holds {', '.join(f'`{n}`' for n in self.signals())}."
             )
+        return tuple(getattr(self, n) for n in names)
 
     # ------------------------------------------------------------------ transformations
     def window(self, start: float | None = None, end: float | None = None) -> Measurement:
@@ -257,12 +263,12 @@ class Measurement(MeasurementReaders):
             Position and (unless `filter_forces`) forces as before; velocity and
             acceleration estimated.
         """
-        self.require("position", purpose="differentiation")
+        (position,) = self.require("position", purpose="differentiation")
         self._require_uniform("differentiate")
-        v, a = estimate_derivatives(self.time, self.position, cutoff, method=method, order=order)
+        v, a = estimate_derivatives(self.time, position, cutoff, method=method, order=order)
         out = replace(self, velocity=v, acceleration=a)
         if filter_forces:
-            filtered = {
+            filtered: dict[str, Any] = {
                 n: lowpass(self.time, getattr(self, n), cutoff, method=method, order=order)
                 for n in _FORCES
                 if getattr(self, n) is not None

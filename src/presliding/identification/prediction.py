@@ -137,7 +137,7 @@ class Prediction:
     ) -> Prediction:
         """A prediction with its NRMSE computed."""
         _, nrmse, _ = fit_statistics(measured, predicted)
-        defaults = {"measured_reversals": None, "predicted_reversals": None,
+        defaults: dict[str, Any] = {"measured_reversals": None, "predicted_reversals": None,
                     "measured_rest": None, "predicted_rest": None, "parameters": {}}  # fmt: skip
         return cls(np.asarray(abscissa, float), np.asarray(measured, float),
                    np.asarray(predicted, float), labels[0], labels[1], nrmse,
@@ -149,7 +149,7 @@ class Prediction:
             "nrmse": self.nrmse, "measured_reversals": self.measured_reversals,
             "predicted_reversals": self.predicted_reversals, "measured_rest": self.measured_rest,
             "predicted_rest": self.predicted_rest, "parameters": dict(self.parameters),
-            "status": self.status, "message": self.message,
+            "status": self.status, "success": self.success, "message": self.message,
         }  # fmt: skip
 
     def to_pandas(self) -> Any:

@@ -10,13 +10,13 @@ with no Python work per call beyond argument checks.
 
 from __future__ import annotations
 
-import numba as nb
 import numpy as np
 
+from presliding.hysteresis._jit import njit
 from presliding.motion._event import run_events
 
 
-@nb.njit(cache=True)
+@njit(cache=True)
 def free_kernel(
     m, c1, sigma, k, r, f0, y0, v0, last_dir, u, dt, n_samples, max_events
 ):  # pragma: no cover
@@ -44,7 +44,7 @@ def free_kernel(
     return o_y, o_v, res[0], res[3], res[2], res[1], res[10]
 
 
-@nb.njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True)
 def batch_events(  # pragma: no cover - compiled
     b0, b1, m, c1, sigma, k, r, f0, y0, v0, last_dir, u_t, u_val, t_eval, t_end, max_events,
     o_y, o_v, stop, n_rev, status, y_end, v_end,

@@ -66,7 +66,7 @@ def stack_models(models: Any) -> tuple[FloatArray, FloatArray, FloatArray, Float
 
 def stack_parameters(
     coulomb: Any, stiffness: Any, breakaway: Any, threshold: Any, viscous: Any = 0.0
-):
+) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray, str, dict[str, int]]:
     """Validated parameter arrays of a batch, before broadcasting to the batch size.
 
     Returns c1 (Bc,), σ (Bv,), k (Bk, N), the given `breakaway` or `threshold`
@@ -160,7 +160,7 @@ def batch_deformation(initial_state: Any, r: FloatArray, v0: FloatArray, u0: flo
 def run_batch(m, c1, sigma, k, r, f0, y0, v0, last_dir, u_t, u_val, times, t_end, max_events):
     """Run the batch kernel on ranges of members in threads and wrap the outputs."""
     from presliding.motion._batch_events import batch_events
-    from presliding.motion.results import MotionBatch
+    from presliding.motion.results import MotionBatch, member_statuses
 
     n_b, n_t = m.shape[0], times.shape[0]
     # C-contiguous writable float64 throughout: the kernels compile once for every call
@@ -193,4 +193,5 @@ def run_batch(m, c1, sigma, k, r, f0, y0, v0, last_dir, u_t, u_val, times, t_end
         if not failed
         else (f"{failed} of {n_b} motions reached the event limit max_events = {max_events}")
     )
-    return MotionBatch(times, o_y, o_v, stop, n_rev, y_end, v_end, status, message)
+    member = member_statuses(status)
+    return MotionBatch(times, o_y, o_v, stop, n_rev, y_end, v_end, member, message)

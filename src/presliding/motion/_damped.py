@@ -42,10 +42,11 @@ from __future__ import annotations
 
 import math
 
-import numba as nb
 import numpy as np
 
-_JIT = {"cache": True, "error_model": "numpy"}
+from presliding.hysteresis._jit import JitFlags, njit
+
+_JIT: JitFlags = {"cache": True, "error_model": "numpy"}
 _EPS = 2.220446049250313e-16
 _MAX_TERMS = 60
 _MAX_ITER = 200
@@ -55,7 +56,7 @@ _INV_FACT = np.array([1.0 / math.factorial(n) for n in range(64)])
 _SERIES_TERMS = 20  # at most, of the near-critical series of ∫v²
 
 
-@nb.njit(**_JIT)
+@njit(**_JIT)
 def _psi(lam, t):  # pragma: no cover - compiled
     """(e^{λt} − 1)/λ (t when λ = 0)."""
     if lam == 0.0:
@@ -63,7 +64,7 @@ def _psi(lam, t):  # pragma: no cover - compiled
     return math.expm1(lam * t) / lam
 
 
-@nb.njit(**_JIT)
+@njit(**_JIT)
 def basis(gam, w0sq, t):  # pragma: no cover - compiled
     """g(t), c(t), Q(t) of m·d̈ + σ·ḋ + K·d (γ = σ/(2m) > 0, ω0² = K/m >= 0), t >= 0."""
     if t <= 0.0:
@@ -134,7 +135,7 @@ def basis(gam, w0sq, t):  # pragma: no cover - compiled
     return g, c, (p1 - p2) / (2.0 * wh)
 
 
-@nb.njit(**_JIT)
+@njit(**_JIT)
 def state(v0, a0, gam, w0sq, t):  # pragma: no cover - compiled
     """Displacement, velocity and acceleration after time t of one damped piece."""
     g, c, q = basis(gam, w0sq, t)
@@ -144,7 +145,7 @@ def state(v0, a0, gam, w0sq, t):  # pragma: no cover - compiled
     return d, v, a
 
 
-@nb.njit(**_JIT)
+@njit(**_JIT)
 def rest_time(vp, fp, gam, w0sq):  # pragma: no cover - compiled
     """Time until the velocity vanishes (mirrored: vp >= 0), inf if never.
 
@@ -166,7 +167,7 @@ def rest_time(vp, fp, gam, w0sq):  # pragma: no cover - compiled
     return math.log1p(2.0 * vp * wh / den) / (2.0 * wh)
 
 
-@nb.njit(**_JIT)
+@njit(**_JIT)
 def time_to_distance(vp, ap, gam, w0sq, dist, hi):  # pragma: no cover - compiled
     """Root t in (0, hi] of d(t) = dist (mirrored; d increasing on [0, hi], d(hi) >= dist)."""
     lo = 0.0
@@ -192,7 +193,7 @@ def time_to_distance(vp, ap, gam, w0sq, dist, hi):  # pragma: no cover - compile
     return t
 
 
-@nb.njit(**_JIT)
+@njit(**_JIT)
 def _square_series(v0, b, gam, eta, h):  # pragma: no cover - compiled
     """∫_0^h v² with v = e^{−γs}·(v0·C(s) + b·S(s)), C, S entire in η = γ² − ω0² (real).
 
@@ -257,7 +258,7 @@ def _square_series(v0, b, gam, eta, h):  # pragma: no cover - compiled
     return h * (v0 * v0 * cc + h * (2.0 * v0 * b * cs + 2.0 * b * b * h * ss))
 
 
-@nb.njit(**_JIT)
+@njit(**_JIT)
 def square_integral(v0, a0, gam, w0sq, h):  # pragma: no cover - compiled
     """∫_0^h v(s)² ds of one damped piece with v(0) = v0, v'(0) = a0, in closed form.
 
@@ -310,7 +311,7 @@ def square_integral(v0, a0, gam, w0sq, h):  # pragma: no cover - compiled
     return v0 * v0 * p0 + 2.0 * v0 * w * d01 + 2.0 * w * w * d012
 
 
-@nb.njit(**_JIT)
+@njit(**_JIT)
 def state_square(v0, a0, gam, w0sq, t):  # pragma: no cover - compiled
     """`state` and `square_integral` at once: (d, v, a, ∫_0^t v²).
 
@@ -353,7 +354,7 @@ def state_square(v0, a0, gam, w0sq, t):  # pragma: no cover - compiled
     return d, v, a, square_integral(v0, a0, gam, w0sq, t)
 
 
-@nb.njit(**_JIT)
+@njit(**_JIT)
 def velocity_square_integral(v0, a0, gam, w0sq, ta, tb):  # pragma: no cover - compiled
     """∫_ta^tb v(s)² ds of one damped piece (times since its start), in closed form.
 

@@ -26,20 +26,20 @@ from __future__ import annotations
 
 import math
 
-import numba as nb
 import numpy as np
 
 from presliding.hysteresis import _general_pi as gk
 from presliding.hysteresis._density_primitives import _prim, _unpack
+from presliding.hysteresis._jit import JitFlags, njit
 from presliding.motion._implicit_loop import BLOCK, fill_applied
 
-_JIT = {"cache": True, "nogil": True}
-_INLINE = {"cache": True, "nogil": True, "inline": "always"}
+_JIT: JitFlags = {"cache": True, "nogil": True}
+_INLINE: JitFlags = {"cache": True, "nogil": True, "inline": "always"}
 _EPS = 2.220446049250313e-16
 _MAX_ITER = 200
 
 
-@nb.njit(**_INLINE)
+@njit(**_INLINE)
 def _trial(yv, s, last, base_t, n_t, pend, p_out, p_m1, p_p, stack, kind, big_r, p1, p2, tab):
     """(F_el, dF/dy, outer) at the trial input yv reached from `last` in direction s; pure.
 
@@ -80,7 +80,7 @@ def _trial(yv, s, last, base_t, n_t, pend, p_out, p_m1, p_p, stack, kind, big_r,
     return force, slope, e, outer
 
 
-@nb.njit(**_INLINE)
+@njit(**_INLINE)
 def _q_of(rho, m1, m2, m1r, m2r, big_r):  # pragma: no cover - compiled
     """Q(ρ) = ρ·M1(ρ) − M2(ρ) from the primitives at ρ (as `_general_pi._q`)."""
     if rho >= big_r:
@@ -88,7 +88,7 @@ def _q_of(rho, m1, m2, m1r, m2r, big_r):  # pragma: no cover - compiled
     return rho * m1 - m2
 
 
-@nb.njit(**_INLINE)
+@njit(**_INLINE)
 def _commit(yv, s, last, base, n, base_t, n_t, pend, p_out, p_m1, p_p, q_front, stack, kind,
             big_r, p1, p2, tab, m1r, m2r):  # fmt: skip  # pragma: no cover - compiled
     """Commit yv: returns (force, slope, dissipation, n, Q at the new front).
@@ -146,7 +146,7 @@ def _commit(yv, s, last, base, n, base_t, n_t, pend, p_out, p_m1, p_p, q_front, 
     return force, slope, diss, top, q_rho
 
 
-@nb.njit(**_JIT)
+@njit(**_JIT)
 def run_fused(  # pragma: no cover - compiled
     m, c1, sigma, head, stack, kind, par, tab, mu_max, v, last_dir, t0, t_end, n_steps,
     u_kind, u_t, u_val, u_mid, t_eval,
@@ -338,7 +338,7 @@ def run_fused(  # pragma: no cover - compiled
     return stack, n_rev, rest_start, v, last_dir, dis, work, vis
 
 
-@nb.njit(**_JIT)
+@njit(**_JIT)
 def _anchor(last, base, n, stack, dis_s, kind, big_r, p1, p2, tab, m1r, m2r):  # pragma: no cover
     """(dissipation, factor, Q, y) of an anchor at the front of the top level: factor 2 on a
     level, 1 on the virgin branch, 0 on a saturated branch of an unbounded density (linear)."""
@@ -351,7 +351,7 @@ def _anchor(last, base, n, stack, dis_s, kind, big_r, p1, p2, tab, m1r, m2r):  #
     return dis_s, 1.0, gk._q(front, m1r, m2r, kind, big_r, p1, p2, tab), last
 
 
-@nb.njit(**_JIT)
+@njit(**_JIT)
 def _stops(last, base, n, stack, dis_s, anc_f, q_anc, anc_y, kind, big_r, p1, p2, tab, m1r,
            m2r):  # fmt: skip  # pragma: no cover - compiled
     """The stops' dissipation up to `last`, from the anchor on the top level."""
@@ -361,7 +361,7 @@ def _stops(last, base, n, stack, dis_s, anc_f, q_anc, anc_y, kind, big_r, p1, p2
     return dis_s + anc_f * (gk._q(front, m1r, m2r, kind, big_r, p1, p2, tab) - q_anc)
 
 
-@nb.njit(**_JIT)
+@njit(**_JIT)
 def _energy(last, d, base, n, stack, kind, par, tab):  # pragma: no cover - compiled
     """½∫ f² dμ of the memory held in the loop's local variables."""
     hd = np.empty(4)
@@ -369,7 +369,7 @@ def _energy(last, d, base, n, stack, kind, par, tab):  # pragma: no cover - comp
     return gk.elastic_energy(hd, stack, kind, par, tab)
 
 
-@nb.njit(**_JIT)
+@njit(**_JIT)
 def _partial(last, d, base, n, stack, kind, par, tab, fel, s, x):  # pragma: no cover
     """F_el, ½∫ f² dμ and the stops' dissipation after moving x in direction s (a copy)."""
     if x == 0.0:
@@ -381,7 +381,7 @@ def _partial(last, d, base, n, stack, kind, par, tab, fel, s, x):  # pragma: no 
     return force, gk.elastic_energy(hd, st, kind, par, tab), diss
 
 
-@nb.njit(**_JIT)
+@njit(**_JIT)
 def _sample(ie, y, v, fel, eel, dis, vis, work, o_y, o_v, o_fel, o_eel, o_dis, o_vis,
             o_work):  # fmt: skip  # pragma: no cover - compiled
     o_y[ie] = y

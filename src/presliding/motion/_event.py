@@ -38,9 +38,9 @@ from __future__ import annotations
 
 import math
 
-import numba as nb
 import numpy as np
 
+from presliding.hysteresis._jit import JitFlags, njit
 from presliding.motion import _damped
 
 STATUS_OK = 0
@@ -58,10 +58,10 @@ def kernel_array(a: np.ndarray) -> np.ndarray:
     return np.array(a, dtype=np.float64, order="C")
 
 
-_JIT = {"cache": True, "error_model": "numpy"}
+_JIT: JitFlags = {"cache": True, "error_model": "numpy"}
 
 
-@nb.njit(**_JIT)
+@njit(**_JIT)
 def closed_form(v0, a0, w, t):  # pragma: no cover - compiled
     """Displacement, velocity and acceleration after time t of one piece."""
     if w == 0.0:
@@ -74,7 +74,7 @@ def closed_form(v0, a0, w, t):  # pragma: no cover - compiled
     return v0 * s1 + a0 * 2.0 * sh * sh, v0 * cs + a0 * s1, a0 * cs - v0 * w * sn
 
 
-@nb.njit(**_JIT)
+@njit(**_JIT)
 def reach(vp, ap, w):  # pragma: no cover - compiled
     """Displacement until the velocity vanishes (mirrored: vp >= 0), inf if never."""
     if w == 0.0:
@@ -85,7 +85,7 @@ def reach(vp, ap, w):  # pragma: no cover - compiled
     return (ap + q) / (w * w)
 
 
-@nb.njit(**_JIT)
+@njit(**_JIT)
 def time_to_rest(vp, ap, w):  # pragma: no cover - compiled
     """Time until the velocity vanishes (mirrored: vp >= 0), inf if never."""
     if w == 0.0:
@@ -93,7 +93,7 @@ def time_to_rest(vp, ap, w):  # pragma: no cover - compiled
     return math.atan2(vp * w, -ap) / w
 
 
-@nb.njit(**_JIT)
+@njit(**_JIT)
 def time_to_reach(vp, ap, w, dist):  # pragma: no cover - compiled
     """Time to travel `dist` (0 < dist <= reach) from velocity vp, acceleration ap."""
     disc = vp * vp + 2.0 * ap * dist - w * w * dist * dist
@@ -103,7 +103,7 @@ def time_to_reach(vp, ap, w, dist):  # pragma: no cover - compiled
     return 2.0 * math.atan(dist * w / den) / w
 
 
-@nb.njit(_nrt=False, **_JIT)
+@njit(refcount=False, **_JIT)
 def run_events(  # pragma: no cover - compiled
     m, c1, k, r, f, y, v, last_dir, u_t, u_val, t_eval, t_end, max_events,
     o_y, o_v, o_a, o_fel, o_u, o_eel, o_dis, o_work, rev_t, rev_y, sigma, o_vis, piece,
@@ -322,7 +322,7 @@ def run_events(  # pragma: no cover - compiled
     return status, ie, n_rev, stop, y, v, last_dir, n_ev, dis, work, t, vis
 
 
-@nb.njit(**_JIT)
+@njit(**_JIT)
 def _damped_event(vp, ap, fp, gam, w0sq, dmin, t_cap):  # pragma: no cover - compiled
     """Next event of a damped piece (mirrored: vp >= 0, acceleration ap, fp = F0/m).
 

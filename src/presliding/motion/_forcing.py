@@ -13,7 +13,7 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from presliding._validation import (
     as_choice,
@@ -37,7 +37,7 @@ class Forcing:
     hold: str
     times: FloatArray
     values: FloatArray
-    func: Callable[[FloatArray], Any] | None = None
+    func: Callable[[Any], Any] | None = None  # u(t): on an array, or on one time
 
     @property
     def piecewise_constant(self) -> bool:
@@ -85,7 +85,7 @@ class Forcing:
         mid = t0 + (np.arange(n_steps) + 0.5) * h
         return 3, empty, empty, self(mid)
 
-    def __call__(self, t: FloatArray) -> FloatArray:
+    def __call__(self, t: ArrayLike) -> FloatArray:
         """u at the times t (an array)."""
         t = np.asarray(t, dtype=np.float64)
         if self.kind == "constant":
@@ -95,10 +95,11 @@ class Forcing:
                 return np.interp(t, self.times, self.values)
             idx = np.searchsorted(self.times, t, side="right") - 1
             return self.values[np.maximum(idx, 0)]
+        assert self.func is not None  # kind "callable"
         return _call_user(self.func, t)
 
 
-def _call_user(func: Callable[[FloatArray], Any], t: FloatArray) -> FloatArray:
+def _call_user(func: Callable[[Any], Any], t: FloatArray) -> FloatArray:
     """Evaluate a user u(t) on an array, vectorising a scalar function if needed."""
     try:
         out = _real_values(func(t), t.shape)

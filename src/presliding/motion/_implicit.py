@@ -31,13 +31,14 @@ viscous dissipation of a step is σ·v'²·h.
 
 from __future__ import annotations
 
-import numba as nb
 import numpy as np
 
-_JIT = {"cache": True, "error_model": "numpy", "fastmath": {"nsz", "arcp", "contract"}}
+from presliding.hysteresis._jit import JitFlags, njit
+
+_JIT: JitFlags = {"cache": True, "error_model": "numpy", "fastmath": {"nsz", "arcp", "contract"}}
 
 
-@nb.njit(**_JIT)
+@njit(**_JIT)
 def _trial_increment(k, r, f, s, d):  # pragma: no cover - compiled
     """Mirrored elastic increment s·(F_el(y + s·d) − F_el(y)) and its slope, d >= 0."""
     val = 0.0
@@ -52,7 +53,7 @@ def _trial_increment(k, r, f, s, d):  # pragma: no cover - compiled
     return val, stiff
 
 
-@nb.njit(**_JIT)
+@njit(**_JIT)
 def _newton_walk(mh2, k, r, f, s, b, slope, d):  # pragma: no cover - compiled
     """Continue Newton's method for mh2·d + s·(F_el(y + s·d) − F_el(y)) = b from d.
 
@@ -69,7 +70,7 @@ def _newton_walk(mh2, k, r, f, s, b, slope, d):  # pragma: no cover - compiled
     return d
 
 
-@nb.njit(**_JIT)
+@njit(**_JIT)
 def _commit(k, r, f, delta):  # pragma: no cover - compiled
     """Apply the increment to the deformations.
 
@@ -101,7 +102,7 @@ def _commit(k, r, f, delta):  # pragma: no cover - compiled
     return fel, kpos, kneg, dis, dpos, dneg
 
 
-@nb.njit(**_JIT)
+@njit(**_JIT)
 def run_implicit(  # pragma: no cover - compiled
     m, c1, k, r, f, y, v, last_dir, t_grid, u_mid, out_idx,
     o_y, o_v, o_a, o_fric, o_fel, o_eel, o_dis, o_work, rev_t, rev_y, sigma=0.0, o_vis=None,
@@ -228,7 +229,7 @@ def run_implicit(  # pragma: no cover - compiled
     return n_rev, rest_start, y, v, last_dir, dis, work, vis
 
 
-@nb.njit(**_JIT)
+@njit(**_JIT)
 def _record(i, k, f, y, v, out_idx, q, dis, work, o_y, o_v, o_fel, o_eel, o_dis, o_work):
     """Write the samples that fall on grid point i; returns the next sample index."""
     eel = 0.0

@@ -142,7 +142,7 @@ def run(
         stack, n_rev, stop, v, d, _, _, _ = run_fused(
             m, c1, sigma, head, stack, kind, par, tab, density_bound(density), v0, last_dir, t0,
             t_end, n_steps,
-            u_kind, u_t, u_val, u_mid, times, *o, rev[0], rev[1],
+            u_kind, u_t, u_val, u_mid, times, *o, *rev,
         )  # fmt: skip
         if n_rev <= cap:
             break

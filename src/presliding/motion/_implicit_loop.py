@@ -21,16 +21,16 @@ inclusion, Newton's method on the piecewise-linear elastic force).
 
 from __future__ import annotations
 
-import numba as nb
 import numpy as np
 
+from presliding.hysteresis._jit import njit
 from presliding.motion._implicit import _JIT, _newton_walk
 
 U_CONSTANT, U_ZOH, U_LINEAR, U_ARRAY = 0, 1, 2, 3
 BLOCK = 256  # steps per block of applied-force values
 
 
-@nb.njit(**_JIT)
+@njit(**_JIT)
 def fill_applied(buf, i0, count, u_kind, u_t, u_val, u_mid, t0, h, ptr):  # pragma: no cover
     """buf[j] = u at the midpoint t0 + (i0 + j + 0.5)·h of step i0 + j, j < count.
 
@@ -62,7 +62,7 @@ def fill_applied(buf, i0, count, u_kind, u_t, u_val, u_mid, t0, h, ptr):  # prag
     return ptr
 
 
-@nb.njit(**_JIT)
+@njit(**_JIT)
 def bank_sums(k, r, f):  # pragma: no cover - compiled
     """F_el, Σk saturated at ±r, their counts and the nearest distances to ±r; f untouched.
 
@@ -90,7 +90,7 @@ def bank_sums(k, r, f):  # pragma: no cover - compiled
     return fel, kpos, kneg, npos, nneg, dpos, dneg
 
 
-@nb.njit(**_JIT)
+@njit(**_JIT)
 def _partial(k, r, f, delta):  # pragma: no cover - compiled
     """F_el, ½Σk f², plastic dissipation after the partial increment delta (f untouched)."""
     fel = eel = dpl = 0.0
@@ -108,7 +108,7 @@ def _partial(k, r, f, delta):  # pragma: no cover - compiled
     return fel, 0.5 * eel, dpl
 
 
-@nb.njit(**_JIT)
+@njit(**_JIT)
 def run_uniform(  # pragma: no cover - compiled
     m, c1, sigma, k, r, f, y, v, last_dir, t0, t_end, n_steps,
     u_kind, u_t, u_val, u_mid, t_eval,
@@ -240,7 +240,7 @@ def run_uniform(  # pragma: no cover - compiled
     return n_rev, rest_start, y, v, last_dir, dis, work, vis
 
 
-@nb.njit(**_JIT)
+@njit(**_JIT)
 def _energy(k, f):  # pragma: no cover - compiled
     eel = 0.0
     for j in range(k.shape[0]):
@@ -248,7 +248,7 @@ def _energy(k, f):  # pragma: no cover - compiled
     return 0.5 * eel
 
 
-@nb.njit(**_JIT)
+@njit(**_JIT)
 def _grid_sample(k, f, y, v, dis, vis, work, ie, t, t_eval, o_y, o_v, o_fel, o_eel, o_dis,
                  o_vis, o_work):  # fmt: skip  # pragma: no cover - compiled
     """Write the samples at grid time t (the state after it); returns the next index."""
@@ -268,7 +268,7 @@ def _grid_sample(k, f, y, v, dis, vis, work, ie, t, t_eval, o_y, o_v, o_fel, o_e
     return ie
 
 
-@nb.njit(cache=True)
+@njit(cache=True)
 def energy_terms(m, e0, y, v, e_el, dis, vis, work):  # pragma: no cover - compiled
     """Kinetic energy ½·m·v² and the balance residual kinetic + elastic + dissipated +
     viscous − work − e0 of the samples, in one pass; and whether the positions,
@@ -283,7 +283,7 @@ def energy_terms(m, e0, y, v, e_el, dis, vis, work):  # pragma: no cover - compi
     return kinetic, residual, finite
 
 
-@nb.njit(cache=True)
+@njit(cache=True)
 def applied_at_times(u_kind, u_t, u_val, t, out):  # pragma: no cover - compiled
     """out[i] = u(t[i]) for a constant or sampled u (t increasing), as `Forcing.__call__`."""
     ptr = 0

@@ -14,11 +14,13 @@ from presliding._validation import (
     check_increasing,
     fmt,
 )
+from presliding.friction._parts import elements
 from presliding.friction.pi_friction import PIFriction
 from presliding.hysteresis.operators import PIState
 from presliding.motion import _event
 from presliding.motion import _implicit_loop as _loop
 from presliding.motion._forcing import Forcing
+from presliding.motion.results import STATUS_ACCURACY_NOT_MET
 
 FloatArray = NDArray[np.float64]
 REVERSAL_CAPACITY = 1024
@@ -50,6 +52,7 @@ def time_grid(t0: float, t_end: Any, t_eval: Any) -> tuple[float, FloatArray]:
         times = as_signal("t_eval", t_eval)
         check_increasing("t_eval", times)
     if t_end is None:
+        assert times is not None  # one of the two is given (checked above)
         t_end = float(times[-1])
     t_end = as_real_scalar("t_end", t_end)
     if not t_end > t0:
@@ -86,8 +89,8 @@ class Continuation(NamedTuple):
 
 
 def model_key(model: PIFriction, m: float) -> tuple:
-    return (m, float(model.coulomb), float(model.viscous), model.stiffness.tobytes(),
-            model.threshold.tobytes())  # fmt: skip
+    k, r, _ = elements(model)
+    return (m, float(model.coulomb), float(model.viscous), k.tobytes(), r.tobytes())
 
 
 def continuation_of(state: Any, model: PIFriction, m: float, y0: float, v0: float, t0: float):
@@ -229,7 +232,7 @@ def refine(run: Any, t0: float, t_end: float, n_steps: int, rtol: float, atol: f
         return replace(fine, message=message, error_estimate=err)
     message = (f"the accuracy target was not met within {MAX_STEPS:.0e} steps: {n_steps} "
                f"steps of {h:.3g}")  # fmt: skip
-    return replace(fine, status=-2, message=message, error_estimate=err)
+    return replace(fine, status=STATUS_ACCURACY_NOT_MET, message=message, error_estimate=err)
 
 
 def check_energy(m: float, v0: float, e0: float) -> None:
@@ -291,9 +294,9 @@ def run_event(
         o = _buffers(n_out, 9)
         rev = _buffers(cap, 2)
         p_out = np.empty(5 + k.shape[0])
+        tail = [*o[:7], o[8], *rev, sigma, o[7], p_out]  # output buffers, σ, the piece
         res = _event.run_events(m, c1, k, r, f, y_start, v_start, last_dir, u_t, u_val,
-                                t_eval, t_end, max_events, *o[:7], o[8], *rev, sigma, o[7],
-                                p_out)  # fmt: skip
+                                t_eval, t_end, max_events, *tail)  # fmt: skip
         status, n, n_rev, stop, y, v, d, n_ev, _, _, t_last, _ = res
         if n_rev <= cap:
             break

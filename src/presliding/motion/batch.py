@@ -24,7 +24,7 @@ from presliding.motion import _batch_events as _batch
 from presliding.motion import _batch_setup as _setup
 from presliding.motion import _event, _run
 from presliding.motion._forcing import as_forcing
-from presliding.motion.results import FreeResponse, MotionBatch
+from presliding.motion.results import FreeResponse, MotionBatch, motion_status
 
 
 def simulate_batch(
@@ -87,14 +87,15 @@ def simulate_batch(
     t_start : float, keyword only
         Start time [s] (default 0).
     max_events : int, keyword only
-        Event limit per member (status -1 for a member that reaches it).
+        Event limit per member (a member that reaches it has the member status
+        "event_limit").
 
     Returns
     -------
     MotionBatch
         Positions and velocities (B, T), stop times, reversal counts (sign
-        changes of the velocity; a start from rest is not one) and a status
-        per member.
+        changes of the velocity; a start from rest is not one), a status per
+        member (``member_status``) and an overall ``status``.
 
     Examples
     --------
@@ -200,8 +201,8 @@ def free_response(
     viscous : float, keyword only
         σ >= 0 [N·s/m], the viscous term σ·ẏ (default 0).
     max_events : int, keyword only
-        Event limit; when it is reached the result has status -1 and holds only
-        the samples computed before it.
+        Event limit; when it is reached the result has status "event_limit" and
+        holds only the samples computed before it.
 
     Returns
     -------
@@ -247,6 +248,6 @@ def free_response(
         velocity=v[:n],
         stop_time=None if np.isnan(stop) or status != 0 else float(stop),
         n_reversals=int(n_rev),
-        status=int(status),
+        status=motion_status(int(status)),
         message=message,
     )

@@ -27,9 +27,10 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from presliding._validation import as_signal, check_increasing, check_same_length
+from presliding.friction._parts import elements
 from presliding.friction.pi_friction import PIFriction
 from presliding.hysteresis.inverse import PIInverse
-from presliding.hysteresis.operators import PIState
+from presliding.hysteresis.operators import PIOperator, PIState
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
@@ -91,6 +92,7 @@ class QuasiStaticResponse:
             elastic_force=self.elastic_force,
             status=self.status,
             message=self.message,
+            success=self.success,
         )
         return out
 
@@ -144,7 +146,8 @@ def friction_inverse(model: PIFriction) -> PIInverse:
             "`model` must have elasto-plastic elements for a quasi-static inverse (the "
             f"displacement is determined by the elastic force only); got {what}."
         )
-    return PIInverse(model.operator, coulomb=model.coulomb)
+    stiffness, threshold, _ = elements(model)
+    return PIInverse(PIOperator(threshold, stiffness), coulomb=model.coulomb)
 
 
 def quasi_static_response(
@@ -212,7 +215,7 @@ def quasi_static_response(
             f"`initial_state` must be a PIState, 'relaxed' or None; "
             f"got {type(initial_state).__name__}."
         )
-    start = initial_state if initial_state is not None else model.relaxed_state(0.0)
+    start = initial_state if initial_state is not None else PIState.relaxed(0.0, model.n_elements)
     fel = inverse.elastic_force(u, start)
     y, final = inverse.apply(u, start)
     return QuasiStaticResponse(t, u, y, fel, final, model)

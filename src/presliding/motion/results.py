@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
+from presliding.hysteresis._results import ResultMixin, Status, deprecated_code
 from presliding.hysteresis.general_pi import MemoryState
 from presliding.hysteresis.operators import PIState
 
@@ -16,6 +17,38 @@ if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
 
 FloatArray = NDArray[np.float64]
+
+#: The statuses of a motion (`MotionResult`, `FreeResponse`, a `MotionBatch` member).
+STATUS_SUCCESS = "success"
+#: The event limit (`max_events`) was reached; the samples stop where the run stopped.
+STATUS_EVENT_LIMIT = "event_limit"
+#: The accuracy target `rtol`/`atol` was not met within the step limit.
+STATUS_ACCURACY_NOT_MET = "accuracy_not_met"
+#: Each status by its integer code of earlier releases (0 success, negative failure).
+STATUSES = {0: STATUS_SUCCESS, -1: STATUS_EVENT_LIMIT, -2: STATUS_ACCURACY_NOT_MET}
+_CODES = {name: code for code, name in STATUSES.items()}
+_NAMES = "'success', 'event_limit' or 'accuracy_not_met'"
+
+
+def motion_status(status: int | str) -> Status:
+    """The string status of a motion from its integer code (or its name)."""
+    if isinstance(status, str):
+        if status not in _CODES:
+            raise ValueError(f"`status` must be one of {_NAMES}; got {status!r}.")
+        return Status(status, _CODES[status])
+    return Status(STATUSES[int(status)], int(status))
+
+
+def member_statuses(codes: NDArray[Any]) -> NDArray[np.str_]:
+    """The string statuses of a batch's members from their integer codes."""
+    return np.array([STATUSES[int(c)] for c in np.ravel(codes)], dtype=np.str_)
+
+
+def _codes(statuses: NDArray[np.str_]) -> NDArray[np.int64]:
+    """The integer codes of an array of motion statuses."""
+    return np.array([_CODES[str(s)] for s in np.ravel(statuses)], dtype=np.int64).reshape(
+        np.shape(statuses)
+    )
 
 
 @dataclass(frozen=True, eq=False)
@@ -38,11 +71,19 @@ class MotionEnergy:
     work: FloatArray
     residual: FloatArray
     initial: float
-    viscous: FloatArray | None = None
+    viscous: FloatArray = field(default_factory=lambda: np.empty(0))  # zeros when not given
 
     def __post_init__(self) -> None:
-        if self.viscous is None:
+        if self.viscous is None or (self.viscous.size == 0 < self.dissipated.size):
             object.__setattr__(self, "viscous", np.zeros_like(self.dissipated))
+
+    def to_dict(self) -> dict[str, Any]:
+        """The energy terms by name (arrays), ``initial`` and ``total_dissipated``."""
+        return {
+            "kinetic": self.kinetic, "elastic": self.elastic, "dissipated": self.dissipated,
+            "viscous": self.viscous, "total_dissipated": self.total_dissipated,
+            "work": self.work, "residual": self.residual, "initial": self.initial,
+        }  # fmt: skip
 
     @property
     def total_dissipated(self) -> FloatArray:
@@ -59,7 +100,7 @@ class MotionEnergy:
 
 
 @dataclass(frozen=True, eq=False)
-class MotionResult:
+class MotionResult(ResultMixin):
     """A simulated motion of a mass with PI friction (eq. 17), sampled at ``time``.
 
     Attributes
@@ -87,10 +128,14 @@ class MotionResult:
         The friction memory at the end (pass it on to continue); a MemoryState
         for a model with a continuous density.
     final_velocity : float
-    status : int
-        0 on success, negative on failure (-1: event limit reached; the samples
-        stop where the simulation stopped; -2: the accuracy target `rtol`/`atol`
-        was not met within the step limit).
+    success : bool
+        True when `status` is "success".
+    status : str
+        "success"; "event_limit" (`max_events` reached: the samples stop where the
+        simulation stopped); "accuracy_not_met" (the accuracy target `rtol`/`atol`
+        was not met within the step limit). Module constants `STATUS_SUCCESS`,
+        `STATUS_EVENT_LIMIT`, `STATUS_ACCURACY_NOT_MET`. Formerly an int
+        (0, -1, -2): `status_code` still gives it, deprecated.
     message : str
     method : str
         "event" or "implicit".
@@ -116,7 +161,7 @@ class MotionResult:
     energy: MotionEnergy
     final_state: PIState | MemoryState
     final_velocity: float
-    status: int
+    status: str
     message: str
     method: str
     n_events: int
@@ -124,10 +169,18 @@ class MotionResult:
     model: Any
     error_estimate: float | None = field(default=None, kw_only=True)
 
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "status", motion_status(self.status))
+
     @property
     def success(self) -> bool:
-        """True when status is 0."""
-        return self.status == 0
+        """True when `status` is "success"."""
+        return str(self.status) == STATUS_SUCCESS
+
+    @property
+    def status_code(self) -> int:
+        """Deprecated: the integer status of earlier releases (0, -1, -2); use `status`."""
+        return int(deprecated_code(_CODES[str(self.status)], _NAMES))
 
     @property
     def n_reversals(self) -> int:
@@ -173,7 +226,7 @@ class MotionResult:
 
 
 @dataclass(frozen=True, eq=False)
-class MotionBatch:
+class MotionBatch(ResultMixin):
     """Many exact motions on one time grid (`presliding.motion.simulate_batch`).
 
     Attributes
@@ -184,11 +237,22 @@ class MotionBatch:
         Start of the final rest; ``inf`` where the member still moves at the end.
     n_reversals : ndarray of int, shape (B,)
     final_position, final_velocity : ndarray, shape (B,)
-    status : ndarray of int, shape (B,)
-        0 ok, -1 event limit reached (that member's samples after the limit are
-        not computed and hold ``nan``).
+    member_status : ndarray of str, shape (B,)
+        Each member's status: "success" or "event_limit" (that member's samples
+        after the limit are not computed and hold ``nan``).
     message : str
+    status : str
+        "success" when every member succeeded, else the status of the first
+        member that did not (a str, like `MotionResult.status`; ``success`` is
+        True exactly when it is "success"). Formerly `status` was the array
+        of integer codes: `status_code` still gives it, deprecated.
+
+    ``to_pandas()`` has one row per member (stop time, reversals, final
+    position and velocity, status).
     """
+
+    _rows = "stop_time"
+    _rows_are_index = False
 
     time: FloatArray
     position: FloatArray
@@ -197,13 +261,30 @@ class MotionBatch:
     n_reversals: NDArray[np.int64]
     final_position: FloatArray
     final_velocity: FloatArray
-    status: NDArray[np.int64]
+    member_status: NDArray[np.str_]
     message: str
+
+    def __post_init__(self) -> None:
+        member = np.asarray(self.member_status)
+        if member.dtype.kind in "iu":  # integer codes
+            member = member_statuses(member)
+        object.__setattr__(self, "member_status", member.astype(np.str_))
+
+    @property
+    def status(self) -> str:
+        """The overall status: "success" when every member succeeded, else the first failure's."""
+        failed = self.member_status[self.member_status != STATUS_SUCCESS]
+        return motion_status(str(failed[0]) if failed.size else STATUS_SUCCESS)
 
     @property
     def success(self) -> bool:
         """True when every member succeeded."""
-        return bool(np.all(self.status == 0))
+        return bool(np.all(self.member_status == STATUS_SUCCESS))
+
+    @property
+    def status_code(self) -> NDArray[np.int64]:
+        """Deprecated: the integer status of each member (0 or -1); use `member_status`."""
+        return deprecated_code(_codes(self.member_status), _NAMES)
 
     @property
     def stopped(self) -> NDArray[np.bool_]:
@@ -231,20 +312,21 @@ class MotionBatch:
 
 
 @dataclass(frozen=True, eq=False)
-class FreeResponse:
+class FreeResponse(ResultMixin):
     """Exact samples of one motion at t = i·time_step (`presliding.motion.free_response`).
 
     Attributes
     ----------
     time, position, velocity : ndarray, shape (T,)
         Samples [s, m, m/s]; T = n_samples on success. When the event limit is
-        reached (status -1) only the samples before it are computed, and the
+        reached (status "event_limit") only the samples before it are computed, and the
         arrays end there (T < n_samples).
     stop_time : float or None
         Start of the final rest; None if the mass moves at the end.
     n_reversals : int
-    status : int
-        0 on success, -1: the event limit was reached.
+    status : str
+        "success" or "event_limit" (the event limit was reached). Formerly an
+        int (0, -1): `status_code` still gives it, deprecated.
     message : str
     """
 
@@ -253,13 +335,21 @@ class FreeResponse:
     velocity: FloatArray
     stop_time: float | None
     n_reversals: int
-    status: int
+    status: str
     message: str
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "status", motion_status(self.status))
 
     @property
     def success(self) -> bool:
-        """True when status is 0."""
-        return self.status == 0
+        """True when `status` is "success"."""
+        return str(self.status) == STATUS_SUCCESS
+
+    @property
+    def status_code(self) -> int:
+        """Deprecated: the integer status of earlier releases (0, -1); use `status`."""
+        return int(deprecated_code(_CODES[str(self.status)], _NAMES))
 
     def plot(self, ax: Axes | None = None) -> Axes:
         """Velocity over time, the stop marked."""

@@ -69,7 +69,13 @@ from presliding.motion import _implicit_loop as _loop
 from presliding.motion import _run
 from presliding.motion._forcing import as_forcing
 from presliding.motion.batch import free_response, simulate_batch
-from presliding.motion.results import FreeResponse, MotionBatch, MotionEnergy, MotionResult
+from presliding.motion.results import (
+    FreeResponse,
+    MotionBatch,
+    MotionEnergy,
+    MotionResult,
+    motion_status,
+)
 
 __all__ = [
     "FreeResponse",
@@ -142,7 +148,7 @@ def simulate(
         motion is solved on [t_start, t_end] and a sampled `applied_force` must
         start at or before it.
     max_events : int, keyword only
-        Event limit of the event method (status -1 when reached).
+        Event limit of the event method (status "event_limit" when reached).
     rtol, atol : float, keyword only
         Accuracy target of the implicit method: when `rtol` is given (or `atol`
         > 0) the step is halved, from `step` (default (t_end − t_start)/10⁴),
@@ -199,7 +205,7 @@ def simulate(
         )
     n_steps = _run.step_count(t0, t_end, step) if method == "implicit" else 0
     if target is not None and method == "implicit":
-        kw = dict(applied_force=applied_force, initial_position=initial_position,
+        kw: dict[str, Any] = dict(applied_force=applied_force, initial_position=initial_position,
                   initial_velocity=initial_velocity, initial_state=initial_state, t_end=t_end,
                   t_eval=times, method="implicit", hold=hold, t_start=t_start)  # fmt: skip
         return _run.refine(lambda h: simulate(model, mass, step=h, **kw), t0, t_end, n_steps,
@@ -280,7 +286,7 @@ def _result(out: dict, m: float, e0: float, final_state: Any, method: str, model
         energy=energy,
         final_state=final_state,
         final_velocity=float(out["v"]),
-        status=int(out["status"]),
+        status=motion_status(int(out["status"])),
         message=out["message"],
         method=method,
         n_events=int(out["count"]),

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from presliding.friction._parts import elements
 from presliding.friction.pi_friction import PIFriction
 from presliding.model_io import MotionSettings
 
@@ -76,8 +77,9 @@ def _by_simulation(task: SweepTask, p: dict[str, np.ndarray]) -> tuple[np.ndarra
         numba.set_num_threads(1)
     model, mo = task.model, task.motion
     n = p["coulomb"].shape[0]
-    k = np.broadcast_to(model.stiffness, (n, model.n_elements))
-    r = np.broadcast_to(model.threshold, (n, model.n_elements))
+    stiffness, threshold, _ = elements(model)
+    k = np.broadcast_to(stiffness, (n, model.n_elements))
+    r = np.broadcast_to(threshold, (n, model.n_elements))
     res = simulate_batch(
         coulomb=p["coulomb"],
         stiffness=k,
@@ -91,7 +93,7 @@ def _by_simulation(task: SweepTask, p: dict[str, np.ndarray]) -> tuple[np.ndarra
         t_end=mo.t_end,
         t_eval=[0.0, mo.t_end],
     )
-    stopped = np.isfinite(res.stop_time) & (res.status == 0)
+    stopped = np.isfinite(res.stop_time) & (res.member_status == "success")
     value = {
         "reversals": res.n_reversals.astype(np.float64),
         "rest_position": res.final_position,

@@ -175,6 +175,15 @@ class SweepResult:
                 )
         return {name: flat[:, j] for j, name in enumerate(names)}
 
+    def to_dict(self) -> dict[str, Any]:
+        """The grid, values, failed points and the run's summary as plain values."""
+        return {
+            "grid": dict(self.grid), "values": self.values, "failed": self.failed,
+            "kind": self.kind, "shape": self.shape, "status": self.status,
+            "success": self.success, "message": self.message, "backend": self.backend,
+            "n_workers": self.n_workers, "n_chunks": self.n_chunks, "elapsed": self.elapsed,
+        }  # fmt: skip
+
     def _attrs(self) -> dict[str, Any]:
         return {
             "status": self.status,

@@ -1,0 +1,193 @@
+"""Every public result follows one convention.
+
+A result has named arrays, ``success`` (bool), ``status`` (a str from the set its
+class documents), ``message`` (str), ``plot(ax=None)`` returning the axes,
+``report()`` returning a str, ``to_dict()`` and ``to_pandas()``. Each public
+class of ``presliding.__all__`` is either built here (cheaply) and checked, or
+listed as not a result, so a new result type that breaks the convention fails.
+The integer status of motions and loops stays reachable for one release, with a
+DeprecationWarning.
+"""
+
+from __future__ import annotations
+
+import functools
+import inspect
+import pickle
+import warnings
+
+import matplotlib
+import numpy as np
+import pytest
+
+import presliding as ps
+
+matplotlib.use("Agg")
+
+#: public classes that are not results: models, memory states, densities, data
+NOT_RESULTS = {
+    "PID", "DiscreteController", "FrictionNonlinearity", "PIFriction", "CoulombFriction",
+    "DahlFriction", "DahlState", "LuGreFriction", "LuGreState", "Density", "Discrete",
+    "Exponential", "Uniform", "PiecewiseConstant", "Tabulated", "GeneralPIOperator",
+    "MemoryState", "PIOperator", "PIState", "PIInverse", "PIBatch", "PIBatchState",
+    "Measurement",
+    "MotionEnergy",  # a part of MotionResult (its `energy`), with its own to_dict
+}  # fmt: skip
+
+MODEL = ps.PIFriction(0.3, [100.0, 40.0], breakaway=[0.32, 0.34])
+UNDAMPED = ps.PIFriction(coulomb=0.0, stiffness=[100.0], breakaway=[10.0])
+PATH = ps.signals.piecewise_linear([0.0, 0.01, -0.008, 0.006], 2e-4)
+
+
+def _fit():
+    return ps.fit_presliding(PATH, MODEL.force(PATH)[0], 2)
+
+
+def _measurement():
+    t = np.arange(400) * 1e-3
+    res = ps.simulate(MODEL, 1.0, initial_velocity=0.05, t_eval=t)
+    return ps.Measurement(t, position=res.position, velocity=res.velocity,
+                          applied_force=np.zeros_like(t))  # fmt: skip
+
+
+def _loop(**kw):
+    pid = ps.PID(300.0, 1000.0, 10.0, dt=1e-3)
+    return ps.simulate_loop(MODEL, 1.0, pid, 1e-3, t_end=0.2, **kw)
+
+
+def _cycles():
+    pytest.importorskip("control")
+    import control
+
+    s = control.tf("s")
+    return ps.predict_limit_cycles(2.0, ps.PIFriction(0.3), 800.0 + 2e4 / s + 10.0 * s)
+
+
+@functools.cache
+def _cross_validation():
+    return ps.cross_validate([_measurement(), _measurement()], fit="response")
+
+
+def _sweep():
+    return ps.sweep(lambda a, b: a * b, {"a": [1.0, 2.0], "b": [3.0, 4.0, 5.0]}, n_workers=1)
+
+
+BUILDERS = {
+    "MotionResult": lambda: ps.simulate(MODEL, 1.0, initial_velocity=0.05, t_end=0.5),
+    "MotionBatch": lambda: ps.simulate_batch(MODEL, 1.0, [0.02, 0.05], t_end=0.5),
+    "FreeResponse": lambda: ps.free_response(1.0, 0.3, [100.0], [0.003], 0.05, 1e-3, 500),
+    "QuasiStaticResponse": lambda: ps.quasi_static_response(MODEL, 0.2 * np.sin(PATH * 300)),
+    "TurningPoints": lambda: ps.turning_points(MODEL, 1.0, 0.05),
+    "Comparison": lambda: ps.compare([MODEL, ps.CoulombFriction(0.3)], PATH),
+    "FitResult": _fit,
+    "Prediction": lambda: _cross_validation().predictions[0],
+    "MasingCheck": lambda: ps.masing_check(MODEL, (PATH, MODEL.force(PATH)[0])),
+    "CrossValidation": _cross_validation,
+    "LoopResult": _loop,
+    "LoopBatch": lambda: ps.simulate_loop_batch(
+        MODEL, 1.0, ps.PID(300.0, 1000.0, 10.0, dt=1e-3), 1e-3, kp=[200.0, 300.0], t_end=0.2
+    ),
+    "MeasuredCycle": lambda: _loop(initial_velocity=0.0).limit_cycle(after=0.0),
+    "LimitCycles": _cycles,
+    "SweepResult": _sweep,
+}
+
+#: failures that are cheap to provoke: (type, builder, expected status)
+FAILURES = {
+    "MotionResult": lambda: ps.simulate(
+        UNDAMPED, 1.0, initial_velocity=0.1, t_end=100.0, max_events=20
+    ),
+    "MotionBatch": lambda: ps.simulate_batch(UNDAMPED, 1.0, [0.1, 0.2], t_end=100.0, max_events=20),
+    "FreeResponse": lambda: ps.free_response(
+        1.0, 0.0, [1e10], [1.0], 1.0, 0.01, 2000, initial_state="relaxed", max_events=100
+    ),
+    "LoopResult": lambda: _loop(max_events=3),
+}
+
+
+def test_every_public_class_is_a_checked_result_or_listed_as_not_one():
+    classes = {n for n in ps.__all__ if inspect.isclass(getattr(ps, n))}
+    assert classes - NOT_RESULTS - set(BUILDERS) == set(), "classify the new public class"
+    assert set(BUILDERS) | NOT_RESULTS >= classes
+    assert (set(BUILDERS) | NOT_RESULTS) - classes == set(), "a listed class is not public"
+
+
+def _documented_statuses(cls) -> str:
+    """The class docstring, where the set of statuses is documented."""
+    return inspect.getdoc(cls) or ""
+
+
+def _check(name, res, plt):
+    cls = getattr(ps, name)
+    assert isinstance(res, cls)
+    assert type(res.success) is bool
+    assert isinstance(res.status, str) and res.status
+    doc = _documented_statuses(cls)
+    assert f'"{res.status}"' in doc or f"'{res.status}'" in doc, (name, res.status)
+    assert isinstance(res.message, str)
+    d = res.to_dict()
+    assert isinstance(d, dict)
+    assert type(d["status"]) is str and d["status"] == res.status
+    assert d["success"] is res.success and d["message"] == res.message
+    fields = getattr(res, "__dataclass_fields__", {})
+    arrays = [f for f in fields if isinstance(getattr(res, f), np.ndarray)]
+    arrays += [k for k, v in d.items() if isinstance(v, np.ndarray | list)]
+    assert arrays or name == "MeasuredCycle", f"{name} has no named array"
+    text = res.report()
+    assert isinstance(text, str) and text.strip()
+    ax = res.plot()
+    assert ax.__class__.__name__.endswith("Axes")
+    plt.close(ax.figure)
+    _, given = plt.subplots()
+    assert res.plot(ax=given) is given
+    plt.close(given.figure)
+    pd = pytest.importorskip("pandas")
+    frame = res.to_pandas()
+    assert isinstance(frame, pd.DataFrame) and frame.shape[0] > 0
+    assert frame.attrs.get("status", res.status) == res.status
+    assert pickle.loads(pickle.dumps(res.status)) == res.status
+
+
+@pytest.mark.parametrize("name", sorted(BUILDERS))
+def test_result_follows_the_convention(name):
+    import matplotlib.pyplot as plt
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", DeprecationWarning)  # the API never uses int statuses
+        res = BUILDERS[name]()
+        _check(name, res, plt)
+
+
+@pytest.mark.parametrize("name", sorted(FAILURES))
+def test_failed_result_follows_the_convention(name):
+    import matplotlib.pyplot as plt
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", DeprecationWarning)
+        res = FAILURES[name]()
+        assert res.success is False and res.status == "event_limit"
+        assert "event limit" in res.message
+        _check(name, res, plt)
+
+
+def test_integer_status_is_deprecated_but_still_compares():
+    ok = BUILDERS["MotionResult"]()
+    failed = FAILURES["MotionResult"]()
+    with pytest.warns(DeprecationWarning, match="`status` is a string"):
+        assert ok.status == 0
+    with pytest.warns(DeprecationWarning):
+        assert failed.status == -1 and failed.status != 0
+    with pytest.warns(DeprecationWarning, match="status codes are deprecated"):
+        assert ok.status_code == 0 and failed.status_code == -1
+    batch = FAILURES["MotionBatch"]()
+    assert batch.member_status.tolist() == ["event_limit", "event_limit"]
+    with pytest.warns(DeprecationWarning):
+        np.testing.assert_array_equal(batch.status_code, [-1, -1])
+    loops = BUILDERS["LoopBatch"]()
+    assert loops.status == "success" and loops.member_status.tolist() == ["success"] * 2
+    with pytest.warns(DeprecationWarning):
+        np.testing.assert_array_equal(loops.status_code, [0, 0])
+    # the string compares, hashes and pickles as a plain str
+    assert ok.status == "success" and {ok.status: 1}["success"] == 1
+    assert pickle.loads(pickle.dumps(failed)).status == "event_limit"
+    assert type(ok.to_dict()["status"]) is str
