@@ -38,10 +38,37 @@ def _blocks(page: Path) -> list[str]:
 
 def test_the_user_guide_has_its_pages():
     names = {p.stem for p in GUIDE}
-    assert {"quickstart", "equations", "identification", "control", "dask"} <= names
+    pages = ("quickstart", "equations", "operators", "measurements", "identification",
+             "pooled_fits", "control", "dask", "command_line", "citing")  # fmt: skip
+    assert set(pages) <= names
     index = (DOCS / "index.rst").read_text(encoding="utf-8")
     for name in names:
         assert f"user_guide/{name}" in index
+
+
+#: Public names of this release that the user guide shows (not only the API reference).
+GUIDED = (
+    "Measurement.from_csv", "Measurement.from_mat", "Measurement.from_dataframe",
+    "Measurement.join", "window(", "sample_rate", "viscous=", "fit_response(records",
+    "initial_state=\"preload\"", "covariance", "fit_quasi_static", "fit_virgin_curve",
+    "PIInverse", "friction_inverse", "quasi_static_response", "preloaded_state", "masing_check",
+    "cross_validate", "PIBatch", "friction_batch", "simulate_loop", "PID(",
+    "describing_function", "predict_limit_cycles", "FrictionNonlinearity", "retries=",
+    "dask worker", "NUMBA_CACHE_DIR", "--units", "--window", "--sample-rate", ".mat",
+    "Exit status", ".presliding.lock", "progress=True", "CITATION.cff",
+)  # fmt: skip
+
+
+def test_the_user_guide_shows_every_public_name_of_this_release():
+    text = "\n".join(p.read_text(encoding="utf-8") for p in GUIDE)
+    assert [name for name in GUIDED if name not in text] == []
+
+
+@pytest.mark.parametrize("page", GUIDE, ids=lambda p: p.stem)
+def test_every_user_guide_page_has_code_that_runs_here(page):
+    blocks = _blocks(page)
+    assert blocks, f"{page.name} has no Python code block"
+    assert any(not b.startswith("# needs:") for b in blocks), f"{page.name}: all need data"
 
 
 @pytest.mark.parametrize("page", GUIDE, ids=lambda p: p.stem)

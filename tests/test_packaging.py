@@ -79,6 +79,20 @@ def test_changelog_keeps_an_unreleased_section():
     assert text.index("## [Unreleased]") < text.index("### Added")
 
 
+def test_changelog_lists_breaking_changes_first_and_the_release_s_work():
+    text = (ROOT / "CHANGELOG.md").read_text(encoding="utf-8")
+    release = text.split("## [Unreleased]", 1)[1].split("\n## [", 1)[0]
+    assert release.index("### Breaking changes") < release.index("### Added")
+    breaking = release.split("### Breaking changes", 1)[1].split("\n### ", 1)[0]
+    assert "`displacement`" in breaking and "deformations" in breaking  # to_iosys
+    for name in ("PIBatch", "friction_batch", "fit_quasi_static", "fit_virgin_curve",
+                 "masing_check", "cross_validate", "PIInverse", "quasi_static_response",
+                 "preloaded_state", "simulate_loop", "describing_function", "predict_limit_cycles",
+                 "Measurement.join", "from_dataframe", "viscous", "--window", "--sample-rate",
+                 "retries", "progress=", "ARCHITECTURE.md", "CITATION.cff"):  # fmt: skip
+        assert name in release, name
+
+
 def test_the_sdist_carries_what_its_tests_need(tmp_path):
     """Build the sdist (setuptools, offline) and list what it holds."""
     from importlib.metadata import PackageNotFoundError, version

@@ -90,3 +90,46 @@ def test_compiling_is_said_on_a_cold_cache_only(tmp_path):
     first, second = (run.stdout.splitlines() for run in runs)
     assert first[:2] == ["probe: [1/1] force", f"probe: {COMPILING}"] and int(first[-1]) > 0
     assert second == ["probe: [1/1] force", "0"]
+
+
+def test_a_delayed_part_line_comes_first_once_the_delay_has_passed():
+    import time
+
+    stream, bar = _plain(total=2, delay=0.05, compile_note=False)
+    with bar:
+        bar.part("reading")  # before the delay: held back
+        bar.part("fitting")  # replaces it
+        time.sleep(0.06)
+        bar.note("a note after the delay")
+        bar.part("writing")
+    assert stream.getvalue().splitlines() == [
+        "presliding cmd: [2/2] fitting",
+        "presliding cmd: a note after the delay",
+        "presliding cmd: [3/2] writing",
+    ]
+
+
+def test_a_delayed_bar_draws_nothing_before_the_delay_and_notes_after_it():
+    import time
+
+    stream = io.StringIO()
+    with Progress("presliding cmd", total=2, stream=stream, interactive=True,
+                  compile_note=False, delay=0.2) as bar:  # fmt: skip
+        bar.part("reading")
+        bar.note("early note")
+        assert stream.getvalue() == ""  # a quick command shows nothing
+        time.sleep(0.25)
+        bar.note("late note")
+        assert "presliding cmd: reading" in stream.getvalue()
+        assert "late note" in stream.getvalue()
+
+
+def test_a_delayed_bar_appears_when_the_delay_ends_without_an_update():
+    import time
+
+    stream = io.StringIO()
+    with Progress("presliding cmd", total=2, stream=stream, interactive=True,
+                  compile_note=False, delay=0.1) as bar:  # fmt: skip
+        bar.part("fitting")
+        time.sleep(0.4)  # a long step with no update or note: the timer draws the bar
+        assert "presliding cmd: fitting" in stream.getvalue()

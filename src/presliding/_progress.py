@@ -18,21 +18,15 @@ one of presliding's kernels, through numba's event API (``"numba:compile"``,
 sent only on cache misses).
 
 **Progress.** `Progress` is what a command uses for work that can take more than
-about two seconds (the demo, sweeps, fits)::
-
-    from presliding._progress import Progress
-
-    with Progress("presliding fit", total=3, unit="stage", quiet=args.quiet) as bar:
-        bar.part("start values")      # a named part begins
-        ...
-        bar.update()                  # one more unit done
-
-It writes to stderr: on a terminal a tqdm bar named after the current part,
-with the latest note after it; elsewhere (a log file, a pipe, CI) plain lines,
-one per part, one per distinct note within a part and, for counted work without
-parts, one per tenth of the total (``presliding demo: [2/6] free motion to a
-stop``); nothing with ``quiet=True`` (``--quiet``). While it is open it says
-"compiling (first run only)" whenever numba compiles a kernel (a cold cache).
+about two seconds (the demo, sweeps, fits): ``with Progress("presliding fit",
+total=3, unit="stage", quiet=args.quiet) as bar:``, then ``bar.part(name)`` as a
+named part begins, ``bar.note(text)`` and ``bar.update()`` per unit done. It
+writes to stderr: on a terminal a tqdm bar named after the current part, with
+the latest note after it; elsewhere (a log file, a pipe, CI) plain lines, one per
+part, one per distinct note within a part and, for counted work without parts,
+one per tenth of the total (``presliding demo: [2/6] free motion to a stop``);
+nothing with ``quiet=True`` (``--quiet``). While it is open it says "compiling
+(first run only)" whenever numba compiles a kernel (a cold cache).
 `progress` and `progress_enabled` are the older bar-only helpers (a tqdm bar on
 a terminal, nothing elsewhere) for short steps such as writing a CSV file.
 """
@@ -44,6 +38,7 @@ import os
 import stat
 import sys
 import tempfile
+import threading
 import time
 from collections.abc import Callable, Iterator
 from pathlib import Path
@@ -227,14 +222,9 @@ def progress(total: float | None, desc: str, *, quiet: bool = False, unit: str =
     from tqdm import tqdm
 
     return tqdm(
-        total=total,
-        desc=desc,
-        unit=unit,
-        disable=not progress_enabled(quiet),
-        file=sys.stderr,
-        leave=False,
-        dynamic_ncols=True,
-    )
+        total=total, desc=desc, unit=unit, disable=not progress_enabled(quiet), file=sys.stderr,
+        leave=False, dynamic_ncols=True,
+    )  # fmt: skip
 
 
 class Progress:
@@ -259,7 +249,8 @@ class Progress:
         Say "compiling (first run only)" while numba compiles presliding's kernels.
     delay : float
         Show nothing before this many seconds have passed [s]: short work stays
-        silent (the bar appears, or plain lines start, once it runs longer).
+        silent (the bar appears, or plain lines start, once it runs longer; the
+        line of the part in progress then comes first).
 
     Use it as a context manager (or call `close`). Every method is cheap and
     does nothing when quiet.
@@ -291,8 +282,10 @@ class Progress:
         self._note: str | None = None
         self._notes_said: set[str] = set()
         self._tenths_said = 0
+        self._pending: str | None = None  # a part's line held back by `delay`
         self._t0 = time.perf_counter()
         self._bar: Any = None
+        self._timer: threading.Timer | None = None
         self._listening: Any = None
         if quiet:
             return
@@ -303,6 +296,10 @@ class Progress:
                 total=total, desc=desc, unit=unit, file=self.stream, leave=False,
                 dynamic_ncols=True, mininterval=0.2, delay=self.delay,
             )  # fmt: skip
+            if self.delay > 0:  # drawn when the delay ends, even if no update comes then
+                self._timer = threading.Timer(self.delay, self._draw)
+                self._timer.daemon = True
+                self._timer.start()
         if compile_note:
             self._listening = compiling(self._on_compile)
             self._listening.__enter__()
@@ -316,12 +313,12 @@ class Progress:
         self._n_parts += 1
         self._note = None
         self._notes_said.clear()  # a note is said again in a later part
-        if self._bar is not None:
+        if self._bar is not None:  # drawn now only once `delay` has passed (as tqdm's updates)
             self._bar.set_description_str(f"{self.desc}: {name}", refresh=False)
-            self._bar.set_postfix_str("", refresh=True)
+            self._bar.set_postfix_str("", refresh=self._due())
         else:
             count = f"[{self._n_parts}/{self.total}] " if self.total else ""
-            self._line(f"{count}{name}")
+            self._line(f"{count}{name}", part=True)
 
     def update(self, n: int = 1) -> None:
         """`n` more units of work are done."""
@@ -343,13 +340,15 @@ class Progress:
             return
         self._note = text
         if self._bar is not None:
-            self._bar.set_postfix_str(text, refresh=True)
+            self._bar.set_postfix_str(text, refresh=self._due())
         elif text not in self._notes_said:
             self._notes_said.add(text)
             self._line(text)
 
     def close(self) -> None:
         """Remove the bar (terminal) and stop listening for compilation."""
+        if self._timer is not None:
+            self._timer.cancel()
         if self._listening is not None:
             listening, self._listening = self._listening, None
             listening.__exit__(None, None, None)
@@ -374,6 +373,13 @@ class Progress:
         self.close()
 
     # ---------------------------------------------------------------- private
+    def _draw(self) -> None:  # the timer's: a closed bar or stream is never worth an error
+        with contextlib.suppress(OSError, ValueError, AttributeError):
+            self._bar.refresh()
+
+    def _due(self) -> bool:
+        return not self.delay or self.elapsed >= self.delay
+
     def _on_compile(self, kernel: str) -> None:
         self.n_compiled += 1
         if self._bar is not None:
@@ -382,12 +388,17 @@ class Progress:
         else:
             self.note(COMPILING)
 
-    def _line(self, text: str) -> None:
+    def _line(self, text: str, *, part: bool = False) -> None:
         if self.delay and self.elapsed < self.delay:
+            if part:  # said before the first line of the part that comes after the delay
+                self._pending = text
             return
+        pending, self._pending = self._pending, None
+        lines = [text] if part or pending is None else [pending, text]
         # a closed stream: progress is never worth an error
         with contextlib.suppress(OSError, ValueError):
-            print(f"{self.desc}: {text}", file=self.stream, flush=True)
+            for line in lines:
+                print(f"{self.desc}: {line}", file=self.stream, flush=True)
 
 
 configure()

@@ -177,3 +177,34 @@ def test_analyze_says_when_it_replaces_a_zero_initial_velocity(tmp_path, capsys)
     path.write_text("[friction]\ncoulomb = 0.3\nstiffness = [2e4]\nbreakaway = [0.7]\n")
     assert main(["analyze", str(path)]) == 0
     assert "initial_velocity is 0, so the free motion starts at 1 m/s" in capsys.readouterr().out
+
+
+def test_progress_on_a_terminal_unless_quiet_and_the_same_model(tmp_path, capsys, monkeypatch):
+    """Off a terminal a fit prints no progress; on one (stderr taken for a terminal here, so
+    the progress comes as plain lines) it shows its parts, stages and the global search from
+    the start; --quiet prints nothing; the fitted model does not depend on it."""
+    t, y, f = _loops()
+    path = tmp_path / "loops.csv"
+    np.savetxt(path, np.column_stack([t, y, f]), delimiter=",", comments="",
+               header="time,position,friction_force")  # fmt: skip
+    options = ("--search", "global", "--seed", "3")
+    monkeypatch.setattr("presliding.cli.fit.PROGRESS_DELAY", 0.0)
+    assert _fit(tmp_path, path, *options, out="piped") == 0
+    assert capsys.readouterr().err == ""
+    monkeypatch.setattr("presliding.cli.fit.progress_enabled", lambda quiet=False: not quiet)
+    assert _fit(tmp_path, path, *options, out="loud") == 0
+    lines = capsys.readouterr().err.splitlines()
+    assert lines[0] == "presliding fit: [1/3] reading loops.csv"
+    assert f"presliding fit: [2/3] fitting (--kind presliding, {t.shape[0]} samples)" in lines
+    assert "presliding fit: linear start on a grid of 48 thresholds" in lines
+    assert any(ln.startswith("presliding fit: global search: generation") for ln in lines)
+    assert lines[-1] == f"presliding fit: [3/3] writing {tmp_path / 'loud'}"
+    assert _fit(tmp_path, path, *options, "--quiet", out="quiet") == 0
+    captured = capsys.readouterr()
+    assert captured.out == "" and captured.err == ""
+    loud, quiet = (
+        (tmp_path / name / "model.toml").read_text().split("[friction]")[1]
+        for name in ("loud", "quiet")
+    )
+    assert loud == quiet
+    assert (tmp_path / "piped" / "model.toml").read_text().split("[friction]")[1] == loud

@@ -73,3 +73,19 @@ def test_user_errors(tmp_path, capsys, extra, needle):
     paths = _stop_files(tmp_path, 2)
     assert main(["fit", *paths, *extra, "-o", str(tmp_path / "o")]) == 2
     assert needle in capsys.readouterr().err
+
+
+def test_pooled_fits_show_each_left_out_record(tmp_path, capsys, monkeypatch):
+    monkeypatch.setattr("presliding.cli.fit.PROGRESS_DELAY", 0.0)
+    monkeypatch.setattr("presliding.cli.fit.progress_enabled", lambda quiet=False: not quiet)
+    paths = _stop_files(tmp_path, 2)
+    args = ["fit", *paths, "--kind", "response", "--elements", "2"]
+    code = main([*args, "-o", str(tmp_path / "a")])  # two short stops: 0 or 1 (see the report)
+    err = capsys.readouterr().err
+    assert "presliding fit: [2/3] fitting (--kind response, 2 record(s))" in err
+    assert "presliding fit: least squares: 2 record(s)" in err
+    assert "presliding fit: cross-validation: stop2.csv left out (2 of 2)" in err
+    assert main([*args, "--quiet", "-o", str(tmp_path / "b")]) == code
+    assert capsys.readouterr().err == ""
+    a, b = ((tmp_path / x / "model.toml").read_text().split("[friction]")[1] for x in "ab")
+    assert a == b

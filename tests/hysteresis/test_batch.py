@@ -87,7 +87,10 @@ def test_play_states_bit_identical_and_sums_within_tolerance(n_batch, n, n_time,
         )
         assert_bit_identical(final.play[b], x_ref)
         f_m = np.abs(batch.weight[b]) @ batch.threshold[b] + batch.coulomb[b]
-        bound = 1e-12 * max(f_m, 1.0) + (
+        # at an offset the terms w_j·y and linear·y are large: the kernel and the
+        # reference each round them within about an ulp of that size, so the two
+        # may differ by a few ulps (a difference of two approximations)
+        bound = 1e-12 * max(f_m, 1.0) + 4.0 * (
             np.abs(batch.weight[b]).sum() + abs(batch.linear[b])
         ) * np.spacing(abs(offset) + 1)
         assert np.max(np.abs(force[:, b] - ref)) <= bound

@@ -25,7 +25,7 @@ from typing import Any
 
 import numpy as np
 
-from presliding._progress import progress
+from presliding._progress import Progress, progress_enabled
 from presliding.cli.common import (
     UserError,
     check_folder,
@@ -96,6 +96,18 @@ FIT_EPILOG = (
     "--initial-state preload -o fit/\n"
     "  presliding fit loop*.csv --kind quasi-static --elements 3 -o fit/"
 )
+#: Seconds before a fit shows progress: a quick fit (or a user error) prints nothing but its
+#: results; a longer one shows its parts, stages and solver evaluations on stderr.
+PROGRESS_DELAY = 1.0
+
+
+def fit_progress(quiet: bool) -> Progress:
+    """The fit command's progress: a bar on a terminal after `PROGRESS_DELAY`, silent when
+    stderr is not a terminal (a log, a pipe) or with ``--quiet``."""
+    return Progress("presliding fit", total=3, unit="stage", delay=PROGRESS_DELAY,
+                    quiet=not progress_enabled(quiet))  # fmt: skip
+
+
 #: A threshold beyond this many times the measured travel is not a model value.
 ABSURD_TRAVEL = 100.0
 
@@ -213,8 +225,11 @@ def _missing(args: argparse.Namespace, group: tuple[str, ...], names: Any, mat: 
     )
 
 
-def fit(args: argparse.Namespace, meas: Any) -> tuple[Any, Any]:
-    """Run the fit of `args.kind`; returns the FitResult and the measurement it used."""
+def fit(args: argparse.Namespace, meas: Any, bar: Any = False) -> tuple[Any, Any]:
+    """Run the fit of `args.kind`; returns the FitResult and the measurement it used.
+
+    `bar` (a `Progress`, or False) shows the fit's stages and evaluations.
+    """
     n = DEFAULT_ELEMENTS[args.kind] if args.elements is None else args.elements
     if n < 0:
         raise UserError(f"--elements must be 0 or more; got {n}.")
@@ -223,7 +238,7 @@ def fit(args: argparse.Namespace, meas: Any) -> tuple[Any, Any]:
 
         return fit_presliding(
             meas.position, meas.friction_force, n, offset=args.offset, search=args.search,
-            seed=args.seed,
+            seed=args.seed, progress=bar,
         ), meas  # fmt: skip
     fixed = None if args.mass is None else {"mass": args.mass}
     if args.kind == "motion":
@@ -233,11 +248,12 @@ def fit(args: argparse.Namespace, meas: Any) -> tuple[Any, Any]:
             meas = meas.resample(meas.sampling_step) if not meas.is_uniform else meas
             cutoff = 0.1 / meas.sampling_step if args.cutoff is None else args.cutoff
             meas = meas.differentiate(cutoff)
-        return fit_motion(meas, n, viscous=args.viscous, offset=args.offset, fixed=fixed), meas
+        return fit_motion(meas, n, viscous=args.viscous, offset=args.offset, fixed=fixed,
+                          progress=bar), meas  # fmt: skip
     from presliding.identification.fit_response import fit_response
 
     signal = "velocity" if meas.velocity is not None else "position"
-    return fit_response(meas, n, mass=args.mass, signal=signal), meas
+    return fit_response(meas, n, mass=args.mass, signal=signal, progress=bar), meas
 
 
 def _motion_settings(args: argparse.Namespace, meas: Any, result: Any) -> Any:
@@ -324,14 +340,17 @@ def run(args: argparse.Namespace) -> int:
         "html": folder / "report.html",
     }
     check_outputs(paths.values(), (args.data,), overwrite=args.overwrite)
-    with progress(3, f"fit ({args.kind})", quiet=args.quiet, unit="stage") as bar:
+    with fit_progress(args.quiet) as bar:
+        bar.part(f"reading {args.data.name}")
         meas = read_measurement(args)
         bar.update()
+        bar.part(f"fitting (--kind {args.kind}, {meas.time.shape[0]} samples)")
         try:
-            result, meas = fit(args, meas)
+            result, meas = fit(args, meas, bar)
         except (TypeError, ValueError) as exc:
             raise UserError(f"{args.data}: cannot fit: {exc}") from None
         bar.update()
+        bar.part(f"writing {folder}")
         record_outputs(paths.values())
         save_fit_figure(args, meas, result, paths["figure"])
         written = [paths["figure"]]
@@ -372,7 +391,9 @@ __all__ = [
     "ALIASES",
     "FIT_DESCRIPTION",
     "FIT_EPILOG",
+    "PROGRESS_DELAY",
     "fit",
+    "fit_progress",
     "model_problem",
     "parse_window",
     "read_measurement",

@@ -20,7 +20,6 @@ from typing import Any
 
 import numpy as np
 
-from presliding._progress import progress
 from presliding.cli.common import UserError, check_folder, check_outputs, record_outputs
 
 __all__ = ["fit_records", "run_pooled"]
@@ -65,8 +64,11 @@ def _options(args: argparse.Namespace, records: list[Any]) -> dict[str, Any]:
     return out
 
 
-def fit_records(args: argparse.Namespace, records: list[Any]) -> tuple[Any, Any]:
-    """The pooled fit of `args.kind`, and its cross-validation (or None)."""
+def fit_records(args: argparse.Namespace, records: list[Any], bar: Any = False) -> tuple[Any, Any]:
+    """The pooled fit of `args.kind`, and its cross-validation (or None).
+
+    `bar` (a `Progress`, or False) shows the fits' stages and evaluations.
+    """
     from presliding.identification import (
         cross_validate,
         fit_quasi_static,
@@ -76,7 +78,7 @@ def fit_records(args: argparse.Namespace, records: list[Any]) -> tuple[Any, Any]
     from presliding.identification._pi_regression import reversal_indices
     from presliding.identification.prediction import reversal_tolerance
 
-    options = _options(args, records)
+    options = {**_options(args, records), "progress": bar}
     if args.kind == "virgin":
         ys = [np.asarray(m.position) for m in records]
         fs = [np.asarray(m.friction_force if m.friction_force is not None else m.applied_force)
@@ -97,7 +99,7 @@ def fit_records(args: argparse.Namespace, records: list[Any]) -> tuple[Any, Any]
 
 def run_pooled(args: argparse.Namespace) -> int:
     """Read every file, fit them together, write model.toml, fit.png and the report."""
-    from presliding.cli.fit import _header, _motion_settings, model_problem
+    from presliding.cli.fit import _header, _motion_settings, fit_progress, model_problem
     from presliding.cli.fit_figure import save_fit_figure
     from presliding.cli.report import Section, write_report
     from presliding.model_io import MeasurementTerms, save_model
@@ -107,14 +109,17 @@ def run_pooled(args: argparse.Namespace) -> int:
              "md": folder / "report.md", "html": folder / "report.html"}  # fmt: skip
     check_outputs(paths.values(), tuple(args.data), overwrite=args.overwrite)
     names = ", ".join(Path(p).name for p in args.data)
-    with progress(3, f"fit ({args.kind})", quiet=args.quiet, unit="stage") as bar:
+    with fit_progress(args.quiet) as bar:
+        bar.part(f"reading {len(args.data)} file(s)")
         records = _read_all(args)
         bar.update()
+        bar.part(f"fitting (--kind {args.kind}, {len(records)} record(s))")
         try:
-            result, cv = fit_records(args, records)
+            result, cv = fit_records(args, records, bar)
         except (TypeError, ValueError) as exc:
             raise UserError(f"{names}: cannot fit: {exc}") from None
         bar.update()
+        bar.part(f"writing {folder}")
         record_outputs(paths.values())
         first = argparse.Namespace(**{**vars(args), "data": Path(args.data[0])})
         save_fit_figure(first, records[0], result, paths["figure"])

@@ -23,6 +23,7 @@ cross_validation.py `cross_validate`, `CrossValidation`: leave-one-record-out ta
 uncertainty.py      HAC (Newey–West) covariance, correlations
 _least_squares.py   the solver around scipy.optimize.least_squares (bounds, ties, statistics)
 _fit_options.py     the options every fit shares (level, evaluations, fixed, tied), checked
+_fit_progress.py    what a fit shows while it runs (`progress=`): stages, evaluations, generations
 _structured_lm.py   Levenberg–Marquardt on structured normal equations (large pooled fits)
 _model_spec.py      the fitted models as named parameters (elements, densities)
 _pooled_kernel.py   compiled batched responses of many records and parameter sets

@@ -15,6 +15,8 @@ usual least-squares stage, which gives the final values and their errors.
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 from numpy.typing import NDArray
 
@@ -38,8 +40,12 @@ def search_thresholds(
     skip: int,
     seed: int | None,
     max_generations: int,
+    progress: Any = None,
 ) -> tuple[FloatArray, str]:
-    """Thresholds (sorted) of the best model found, and a sentence saying how."""
+    """Thresholds (sorted) of the best model found, and a sentence saying how.
+
+    `progress` (a `FitProgress`) is told each generation (it does not change the search).
+    """
     from scipy.optimize import differential_evolution
 
     span = float(np.ptp(force))
@@ -59,13 +65,23 @@ def search_thresholds(
         o = p[int(coulomb)] if offset else np.zeros(m)
         c = p[n_linear : n_linear + n_elements].T
         r = np.exp(p[n_linear + n_elements :].T)
-        return batch_stop_loss(
+        loss = batch_stop_loss(
             y, force, r, c / r, c1, design=direction, offset=o, skip=skip, parallel=True
         )
+        lowest[0] = min(lowest[0], float(np.min(loss)))
+        return loss
+
+    generations, lowest = [0], [np.inf]
+
+    def callback(xk: FloatArray, convergence: float = 0.0) -> None:
+        generations[0] += 1
+        if progress is not None:
+            progress.generation(generations[0], max_generations, lowest[0])
 
     res = differential_evolution(
         objective, bounds, popsize=POPULATION, maxiter=max_generations, seed=seed,
         vectorized=True, updating="deferred", polish=False, tol=1e-10,
+        callback=callback if progress is not None and progress.active else None,
     )  # fmt: skip
     r = np.sort(np.exp(res.x[n_linear + n_elements :]))
     how = (

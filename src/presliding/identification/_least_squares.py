@@ -164,6 +164,7 @@ def solve_least_squares(
     residual_size: int = 0,
     step_limit: Callable[[FloatArray], FloatArray] | None = None,
     method: str = "auto",
+    progress: Any = None,
 ) -> Solution:
     """Minimise ‖residual(p)‖² over named parameters, some fixed or tied.
 
@@ -206,6 +207,9 @@ def solve_least_squares(
         covariance is then the HAC sandwich of `presliding.identification.uncertainty`
         instead of s²·(JᵀJ)⁻¹; `clusters` (the record of each block) adds the
         record-level sandwich (`hac_covariance`).
+    progress : FitProgress, optional
+        Counts the residual evaluations and shows them with the cost
+        (`presliding.identification._fit_progress`); it does not change the result.
 
     Returns
     -------
@@ -250,9 +254,10 @@ def solve_least_squares(
     x0 = np.clip(x0, lo, hi)  # start values of the caller's default guesses only
     evaluations = 0
     if pm.free:
+        evaluate = residual if progress is None else progress.counting(residual)
 
         def fun(x: FloatArray) -> FloatArray:
-            return residual(pm.full(x))
+            return evaluate(pm.full(x))
 
         jac: Any = difference
         if jacobian is not None:

@@ -19,6 +19,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -245,12 +246,14 @@ def fit_separable(
     max_evaluations: int | None = None,
     tolerance: float = 1e-8,
     smallest_threshold: float | None = None,
+    progress: Any = None,
 ) -> SeparableFit:
     """Two-stage fit of target ≈ design·θ + Σ k_j g(r_j) on the `used` samples.
 
     Thresholds are kept >= `smallest_threshold` (default: a quarter of the
     smallest grid threshold): below the resolution of the data an element is
-    indistinguishable from the Coulomb element.
+    indistinguishable from the Coulomb element. `progress` (a `FitProgress`)
+    names the stages and counts the nonlinear stage's evaluations.
     """
     from scipy.optimize import lsq_linear
 
@@ -285,6 +288,8 @@ def fit_separable(
         r0 = np.asarray(thresholds, dtype=float)
         theta = linear_stage(r0)
     else:
+        if progress is not None:
+            progress.stage(f"linear start on a grid of {grid.shape[0]} thresholds")
         coarse = linear_stage(grid)
         r0, _ = merge_grid(grid, coarse[p:], n_elements)
         theta = linear_stage(r0)
@@ -313,7 +318,7 @@ def fit_separable(
 
     sol = solve_least_squares(
         residual, initial, jacobian=jacobian, bounds=bounds, fixed=fixed, tied=tied,
-        level=level, max_evaluations=max_evaluations, tolerance=tolerance,
+        level=level, max_evaluations=max_evaluations, tolerance=tolerance, progress=progress,
     )  # fmt: skip
     q = np.array(list(sol.values.values()))
     th, k, r = unpack(q)

@@ -206,7 +206,10 @@ def record_bootstrap(
     fixed, tied, box = settings["fixed"], settings["tied"], settings["bounds"]
     shared_free = [x for x in problem.shared if x not in fixed and x not in tied]
     draws, count = [], 0
-    for _ in range(n_resamples):
+    shown = settings.get("progress")
+    for b in range(n_resamples):
+        if shown is not None:
+            shown.stage(f"bootstrap: resample {b + 1} of {n_resamples}")
         idx = rng.integers(0, problem.n_rec, problem.n_rec)
         recs = [problem.records[i] for i in idx]
         sub = problem.subset(recs)
@@ -224,7 +227,7 @@ def record_bootstrap(
             free_jacobian=sub.free_jacobian(), residual_size=sub.n_res, level=settings["level"],
             step_limit=sub.step_limit, method="lm",
             max_evaluations=settings["max_evaluations"], tolerance=settings["tolerance"],
-            gradient_tolerance=settings["gradient_tolerance"],
+            gradient_tolerance=settings["gradient_tolerance"], progress=shown,
         )  # fmt: skip
         count += out.n_evaluations
         if out.status in ("converged", "not_identifiable", "max_evaluations"):

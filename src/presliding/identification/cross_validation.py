@@ -22,6 +22,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from presliding._validation import as_choice
+from presliding.identification._fit_progress import reporting
 from presliding.identification.fit_result import FitResult
 from presliding.identification.prediction import Prediction
 
@@ -189,7 +190,8 @@ def cross_validate(
         How the held-out record's own initial conditions are set (see
         `FitResult.predict`).
     **options
-        Passed to every fit.
+        Passed to every fit. ``progress`` (as in `fit_response`) also names
+        each left-out record as its fit begins.
 
     Returns
     -------
@@ -216,16 +218,21 @@ def cross_validate(
     if len(names) != len(recs):
         raise ValueError(f"`labels` must name each of the {len(recs)} records; got {len(names)}.")
     initial = as_choice("initial", initial, ("fit", "measured"))
-    full = fit(recs, **options)
-    fits, predictions = [], []
-    for i, held in enumerate(recs):
-        others = recs[:i] + recs[i + 1 :]
-        part = fit(others, **options)
-        fits.append(part)
-        if part.model is None or part.status == "failed":
-            predictions.append(_failed(held, part))
-            continue
-        predictions.append(part.predict(held, initial=initial))
+    given = options.pop("progress", None)  # passed on only when given (any fit works)
+    with reporting(False if given is None else given, "cross_validate") as shown:
+        extra: dict[str, Any] = {} if given is None else {"progress": shown}
+        shown.stage(f"fit of all {len(recs)} records")
+        full = fit(recs, **options, **extra)
+        fits, predictions = [], []
+        for i, held in enumerate(recs):
+            shown.stage(f"cross-validation: {names[i]} left out ({i + 1} of {len(recs)})")
+            others = recs[:i] + recs[i + 1 :]
+            part = fit(others, **options, **extra)
+            fits.append(part)
+            if part.model is None or part.status == "failed":
+                predictions.append(_failed(held, part))
+                continue
+            predictions.append(part.predict(held, initial=initial))
     cv = CrossValidation(tuple(predictions), tuple(fits), full, names)
     result = replace(full, cross_validation=cv)
     return replace(cv, result=result)

@@ -22,9 +22,11 @@ from collections.abc import Mapping
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from presliding._progress import Progress
 from presliding._validation import as_nonnegative_scalar, fmt
 from presliding.friction.pi_friction import PIFriction
 from presliding.identification import _pi_regression as pr
+from presliding.identification._fit_progress import FitProgress, as_reporter, shows_progress
 from presliding.identification._status import sign_hint
 from presliding.identification.fit_presliding import (
     _with_note,
@@ -57,6 +59,7 @@ def _design(m: Measurement, viscous: bool, offset: bool) -> tuple[FloatArray, tu
     return np.column_stack(columns), tuple(names)
 
 
+@shows_progress("fit_motion")
 def fit_motion(
     measurement: Measurement,
     n_elements: int | None = None,
@@ -72,6 +75,7 @@ def fit_motion(
     grid_size: int = pr.DEFAULT_GRID,
     max_evaluations: int | None = None,
     tolerance: float = 1e-8,
+    progress: bool | Progress | FitProgress = False,
 ) -> FitResult:
     """Fit mass and friction parameters of eq. 17 by (separable) least squares.
 
@@ -101,6 +105,8 @@ def fit_motion(
     level, grid_size, max_evaluations, tolerance : as in `fit_presliding`
         Confidence level in (0, 1), grid size >= 2, evaluation limit >= 1 (or
         None) and a positive tolerance.
+    progress : bool or presliding._progress.Progress
+        As in `fit_presliding`.
 
     Returns
     -------
@@ -147,6 +153,7 @@ def fit_motion(
         pr.stop_basis(position), n, grid=pr.threshold_grid(position, grid_size),
         thresholds=thresholds, refine_thresholds=refine_thresholds, used=used, fixed=fixed,
         tied=tied, level=level, max_evaluations=max_evaluations, tolerance=tolerance,
+        progress=as_reporter(progress),
     )  # fmt: skip
     sol = fit.solution
     model, note = pi_model(sol.values, n, sol.values["coulomb"])

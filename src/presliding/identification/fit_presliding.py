@@ -24,6 +24,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from presliding._progress import Progress
 from presliding._validation import (
     as_choice,
     as_count,
@@ -34,6 +35,7 @@ from presliding._validation import (
 )
 from presliding.friction.pi_friction import PIFriction
 from presliding.identification import _pi_regression as pr
+from presliding.identification._fit_progress import FitProgress, reporting
 from presliding.identification._global_search import search_thresholds
 from presliding.identification._least_squares import (
     check_budget,
@@ -141,6 +143,7 @@ def fit_presliding(
     search: str = "grid",
     seed: int | None = None,
     max_generations: int = 300,
+    progress: bool | Progress = False,
 ) -> FitResult:
     """Fit the PI friction model of eq. 8 to force measured along a displacement path.
 
@@ -190,6 +193,11 @@ def fit_presliding(
         Seed of the global search (a nonnegative integer; reproducible results).
     max_generations : int
         Most generations of the global search (an integer >= 1).
+    progress : bool or presliding._progress.Progress
+        Show the stages, the global search's generations and the solver's
+        evaluations: True draws a tqdm bar when stderr is a terminal (nothing
+        otherwise); a given `Progress` is used as configured; default False.
+        The result does not depend on it.
 
     Returns
     -------
@@ -234,26 +242,29 @@ def fit_presliding(
     design = np.column_stack(columns) if columns else np.empty((y.shape[0], 0))
     grid = pr.threshold_grid(y, grid_size)
 
-    def separable(start: ArrayLike | None) -> pr.SeparableFit:
+    def separable(start: ArrayLike | None, shown: FitProgress) -> pr.SeparableFit:
         return pr.fit_separable(
             f, design, tuple(names), {"coulomb": (0.0, np.inf)}, pr.stop_basis(y), n,
             grid=grid, thresholds=start, refine_thresholds=refine_thresholds, used=used,
             fixed=fixed, tied=tied, level=level, max_evaluations=max_evaluations,
-            tolerance=tolerance,
+            tolerance=tolerance, progress=shown,
         )  # fmt: skip
 
-    fit, how = separable(thresholds), ""
-    if search == "global" and n > 0:
-        found, how = search_thresholds(
-            y, f, _direction(y), n, grid, coulomb=coulomb, offset=offset, skip=burn_in,
-            seed=seed, max_generations=max_generations,
-        )  # fmt: skip
-        other = separable(found)
-        if _cost(other) < _cost(fit):
-            how += ": kept, it fits better than the grid start"
-            fit = other
-        else:
-            how += ": the grid start fits at least as well and is kept"
+    with reporting(progress, "fit_presliding") as shown:
+        fit, how = separable(thresholds, shown), ""
+        if search == "global" and n > 0:
+            shown.stage(f"global search over {n} elements (differential evolution)")
+            found, how = search_thresholds(
+                y, f, _direction(y), n, grid, coulomb=coulomb, offset=offset, skip=burn_in,
+                seed=seed, max_generations=max_generations, progress=shown,
+            )  # fmt: skip
+            shown.stage("least squares from the global search's thresholds")
+            other = separable(found, shown)
+            if _cost(other) < _cost(fit):
+                how += ": kept, it fits better than the grid start"
+                fit = other
+            else:
+                how += ": the grid start fits at least as well and is kept"
     sol = fit.solution
     model, note = pi_model(sol.values, n, sol.values.get("coulomb", 0.0))
     sol = _with_note(sol, note + (f"; {how}" if how else ""))

@@ -32,8 +32,10 @@ from typing import Any
 
 import numpy as np
 
+from presliding._progress import Progress
 from presliding._validation import as_choice, as_count, as_positive_scalar, fmt
 from presliding.identification import _pi_regression as pr
+from presliding.identification._fit_progress import FitProgress, as_reporter, shows_progress
 from presliding.identification._least_squares import check_constraints, check_options
 from presliding.identification._model_spec import DENSITIES, ModelSpec
 from presliding.identification._quasi_static_problem import QuasiStaticProblem
@@ -107,6 +109,7 @@ def quasi_static_start(recs: list, spec: ModelSpec, offset: bool) -> dict[str, f
     return start
 
 
+@shows_progress("fit_quasi_static")
 def fit_quasi_static(
     records: Measurement | Sequence[Measurement],
     n_elements: int = 3,
@@ -125,6 +128,7 @@ def fit_quasi_static(
     level: float = 0.95,
     max_evaluations: int | None = None,
     tolerance: float = 1e-8,
+    progress: bool | Progress | FitProgress = False,
 ) -> FitResult:
     """Fit the quasi-static response y = Γ[u] (c1 included) to measured positions.
 
@@ -142,7 +146,7 @@ def fit_quasi_static(
         The memory each record starts with: a fitted preload
         (``preload_fraction``; the record reverses at it), a branch its first
         motion continues (module notes), or relaxed.
-    initial, fixed, tied, bootstrap, seed, level, max_evaluations, tolerance
+    initial, fixed, tied, bootstrap, seed, level, max_evaluations, tolerance, progress
         As in `fit_response`.
 
     Returns
@@ -198,7 +202,8 @@ def fit_quasi_static(
         max_evaluations = 50 * len(names)
     options: dict[str, Any] = {"bounds": box, "tied": tied, "level": level,
                                "max_evaluations": max_evaluations, "tolerance": tolerance,
-                               "gradient_tolerance": max(tolerance**2, 1e-15)}  # fmt: skip
+                               "gradient_tolerance": max(tolerance**2, 1e-15),
+                               "progress": as_reporter(progress)}  # fmt: skip
     evaluations = [0]
 
     def solve(begin: dict[str, float], limit: int | None = None) -> Any:

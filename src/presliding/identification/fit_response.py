@@ -39,8 +39,10 @@ from typing import Any
 
 import numpy as np
 
+from presliding._progress import Progress
 from presliding._validation import as_choice, as_count, as_positive_scalar, fmt
 from presliding.identification import _pooled_problem as pp
+from presliding.identification._fit_progress import FitProgress, as_reporter, shows_progress
 from presliding.identification._least_squares import (
     LARGE_PROBLEM,
     check_constraints,
@@ -93,6 +95,7 @@ RIGID_EVALUATIONS = 30
 STATES = ("saturated", "preload", "relaxed")
 
 
+@shows_progress("fit_response")
 def fit_response(
     records: Measurement | Sequence[Measurement],
     n_elements: int = 4,
@@ -120,6 +123,7 @@ def fit_response(
     max_evaluations: int | None = None,
     tolerance: float = 1e-8,
     multistart: bool = True,
+    progress: bool | Progress | FitProgress = False,
 ) -> FitResult:
     """Fit eq. 17 to one or many records by matching simulated to measured motion.
 
@@ -191,6 +195,11 @@ def fit_response(
     multistart : bool, keyword only
         Also try the spread start and test the rigid limit of the stiffest
         element (equal break-away forces; c1 and stiffnesses not fixed or tied).
+    progress : bool or presliding._progress.Progress, keyword only
+        Show the stages (starts, checks, bootstrap resamples) and the solver's
+        evaluations with the cost: True draws a tqdm bar when stderr is a
+        terminal (nothing otherwise); a given `Progress` is used as configured;
+        default False. The result does not depend on it.
 
     Returns
     -------
@@ -200,6 +209,7 @@ def fit_response(
         bootstrap when it ran, and `predict` for other records.
     """
     single = isinstance(records, Measurement)
+    shown = as_reporter(progress)
     recs = check_records(records, signal, SIGNALS)
     signal = as_choice("signal", signal, SIGNALS)
     initial_state = as_choice("initial_state", initial_state, STATES)
@@ -283,8 +293,11 @@ def fit_response(
     if max_evaluations is None:
         max_evaluations = 50 * len(names)
     options = {"bounds": box, "tied": tied, "level": level, "max_evaluations": max_evaluations,
-               "tolerance": tolerance, "gradient_tolerance": max(tolerance**2, 1e-15)}  # fmt: skip
+               "tolerance": tolerance, "gradient_tolerance": max(tolerance**2, 1e-15),
+               "progress": shown}  # fmt: skip
     evaluations = [0]
+    free = len(names) - len(fixed)
+    shown.stage(f"least squares: {problem.n_rec} record(s), {free} free parameters")
 
     def solve(begin, rigid=False, extra=None, **kw):
         fun, jac = with_penalty(problem, rigid, penalty)
@@ -312,6 +325,7 @@ def fit_response(
     else:
         sol = min((solve(s) for s in starts), key=cost)
     if search and discrete_equal:
+        shown.stage("checks: a rigid stiffest element, coalesced elements")
         sol = escape_corner(sol, solve, spec.k_names)
         sol = split_coalesced(sol, solve, spec.k_names)
     if single:
@@ -322,6 +336,7 @@ def fit_response(
     elif density is None and not equal_breakaway and not labelled and sol.status != "failed":
         sol = smallest_threshold_first(sol, spec.k_names, spec.c_names)
     if search and sol.status == "converged":
+        shown.stage("check: the rigid limit of the smallest-threshold element")
         capped = (lambda *a, **k: solve(*a, max_evaluations=RIGID_EVALUATIONS, **k)) if large \
             else solve  # fmt: skip
         sol = rigid_check(sol, capped, problem, names, fixed, tied, level,
@@ -337,7 +352,9 @@ def fit_response(
             viscous=viscous, signal=signal, weights=weights, initial_state=initial_state,
             fit_initial=fit_initial, level=level, max_evaluations=max_evaluations,
             tolerance=tolerance, multistart=multistart, bootstrap=bootstrap, seed=seed,
-            initial=pruned.start(sol.values, problem))  # fmt: skip
+            initial=pruned.start(sol.values, problem), progress=shown,
+        )  # fmt: skip
+        shown.stage(f"refit without {len(pruned.dead)} element(s) that never slide")
         refit = fit_response(records, **kw)
         note = pruned.note(spec) + "; refitted without them"
         return replace(refit, notes=(*refit.notes, note), n_evaluations=refit.n_evaluations

@@ -34,8 +34,10 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from presliding._progress import Progress
 from presliding._validation import as_nonnegative_scalar, as_signal, check_same_length, fmt
 from presliding.identification import _pi_regression as pr
+from presliding.identification._fit_progress import FitProgress, as_reporter, shows_progress
 from presliding.identification.fit_presliding import (
     check_enough,
     check_fit_options,
@@ -171,6 +173,7 @@ def _cost(fit: pr.SeparableFit) -> float:
     return float(sol.residual @ sol.residual) if sol.status != "failed" else np.inf
 
 
+@shows_progress("fit_virgin_curve")
 def fit_virgin_curve(
     displacement: ArrayLike | Sequence[ArrayLike],
     force: ArrayLike | Sequence[ArrayLike],
@@ -186,6 +189,7 @@ def fit_virgin_curve(
     grid_size: int = pr.DEFAULT_GRID,
     max_evaluations: int | None = None,
     tolerance: float = 1e-8,
+    progress: bool | Progress | FitProgress = False,
 ) -> FitResult:
     """Fit the virgin (initial loading) curve F_v(s) = c1 + Σ_j k_j·min(s, r_j), s > 0.
 
@@ -204,7 +208,7 @@ def fit_virgin_curve(
     envelope : bool
         Also start from the thresholds fitted to the monotone envelope of the
         pooled samples (module notes), keeping the better fit to the samples.
-    fixed, tied, level, grid_size, max_evaluations, tolerance : as in `fit_presliding`
+    fixed, tied, level, grid_size, max_evaluations, tolerance, progress : as in `fit_presliding`
 
     Returns
     -------
@@ -242,11 +246,12 @@ def fit_virgin_curve(
             target, np.ones((s.shape[0], 1)), ("coulomb",), {"coulomb": (0.0, np.inf)},
             pr.virgin_basis(s), n, grid=grid, thresholds=start, fixed=fixed, tied=tied,
             level=level, max_evaluations=max_evaluations, tolerance=tolerance,
-            smallest_threshold=float(s[0]),
+            smallest_threshold=float(s[0]), progress=as_reporter(progress),
         )  # fmt: skip
 
     fit = separable(fv, thresholds)
     if envelope and thresholds is None and n:
+        as_reporter(progress).stage("start thresholds from the monotone envelope")
         shaped = separable(isotonic_regression(fv, increasing=True).x, None)
         r_names = pr.element_names(n)[1]
         start = np.array([shaped.solution.values[x] for x in r_names])
