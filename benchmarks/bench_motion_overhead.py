@@ -238,11 +238,11 @@ def _events(n, sigma, energy, t_eval, k, r):  # pragma: no cover - compiled
         if energy:
             res = _event.run_events(1.5, 0.02, k, r, f, 0.0, 0.8, 1.0, u, u, t_eval, t_eval[-1],
                                     10_000_000, o[0], o[1], o[2], o[3], o[4], o[5], o[6], o[8],
-                                    rev[0], rev[1], sigma, o[7])  # fmt: skip
+                                    rev[0], rev[1], sigma, o[7], u[:0])  # fmt: skip
         else:
             res = _event.run_events(1.5, 0.02, k, r, f, 0.0, 0.8, 1.0, u, u, t_eval, t_eval[-1],
                                     10_000_000, o[0], o[1], o[2], o[3], o[4], o[5], o[6], o[8],
-                                    rev[0], rev[1], sigma)  # fmt: skip
+                                    rev[0], rev[1], sigma, u[:0], u[:0])  # fmt: skip
         total += res[4]
     return total
 

@@ -4,9 +4,15 @@ Every figure is timed against a reference measured in the same process, so
 that a busy machine moves both sides alike:
 
 1. a batch of B = 64 PI operators with N = 5 and the full output F[T, B]
-   (`PIBatch.apply`), against a plain C reference compiled here (the same
-   B×N play updates and sums, element-major layout, ``cc -O3 -march=native``)
-   and against B calls of `PIOperator.apply`;
+   (`PIBatch.apply`), against two C references compiled here
+   (``cc -O3 -march=native``): the plain per-member loop that the target
+   refers to (the scalar PI loop of one operator run for each member in turn,
+   i.e. what B calls of `apply` cost in C, each writing its own contiguous
+   row, so F comes out as (B, T) without a transpose; the ">= 1.5x C"
+   verdict), and a
+   vectorised batch loop (the same B×N play updates and sums, element-major
+   layout, the batch as the SIMD axis; printed without a target); and against
+   B calls of `PIOperator.apply`;
 2. `simulate` against its own compiled loop (from `bench_motion_overhead.py`);
 3. `PIFriction.force` against `PIOperator.apply` on the same bank, N = 5
    (both writing into a given ``out=`` array);
@@ -17,8 +23,11 @@ that a busy machine moves both sides alike:
 6. `PIOperator.apply` with N = 5, ns per step (into a given ``out=`` array,
    and with a new output array each call), against the straightforward
    kernel and a register-resident C reference (the five states in local
-   variables);
-7. the pooled fit of the identification issue (slot).
+   variables); the target (2.2 ns/step where that C took 1.8 on the AMD
+   Zen 4 machine it was set on) is also judged as the ratio >= 1.8/2.2 to C,
+   which carries over to other machines;
+7. the pooled fit of the identification issue (`bench_pooled_fit.py`), wall
+   seconds against its absolute 5 s target.
 
 The C references are written from the string `C_SOURCE` into a temporary
 folder at run time and built with the system C compiler (``$CC``, else ``cc``)
@@ -61,6 +70,8 @@ from presliding import PIBatch, PIFriction, PIOperator  # noqa: E402
 from presliding.hysteresis import _kernels  # noqa: E402
 
 MIN_RUN_S = 0.1
+#: the N = 5 target as a ratio to register-resident C: 2.2 ns/step against 1.8 (issue 18)
+C5_RATIO = 1.8 / 2.2
 
 C_SOURCE = r"""
 /* Plain C references of the PI sum (eq. 4), written by benchmarks/bench_ratios.py. */
@@ -102,6 +113,27 @@ void pi_sum5(const double *restrict y, long n_time, const double *restrict r,
                  + w4 * (yt - x4);
     }
     x[0] = x0; x[1] = x1; x[2] = x2; x[3] = x3; x[4] = x4;
+}
+
+/* B members one after the other, each by the scalar loop of pi_sum (what B calls of
+   a one-operator apply cost in C): member b has r[b*N + j] and writes its own
+   contiguous row out[b*T + t] (F as B rows of T, no transpose: the cheaper layout) */
+void pi_members(const double *restrict y, long n_time, long n, long nb,
+                const double *restrict r, const double *restrict w, double *restrict x,
+                double *restrict out) {
+    for (long b = 0; b < nb; b++) {
+        const double *rb = r + b * n, *wb = w + b * n;
+        double *xb = x + b * n;
+        for (long t = 0; t < n_time; t++) {
+            double yt = y[t], acc = 0.0;
+            for (long j = 0; j < n; j++) {
+                double xj = clamp(xb[j], yt - rb[j], yt + rb[j]);
+                xb[j] = xj;
+                acc += wb[j] * (yt - xj);
+            }
+            out[b * n_time + t] = acc;
+        }
+    }
 }
 
 /* B operators of N elements, element-major r[j*B + b]; out[t*B + b] */
@@ -205,6 +237,7 @@ def build_c() -> tuple[ctypes.CDLL | None, str]:
     dll.pi_sum.argtypes = [p, n, n, p, p, p, p]
     dll.pi_sum5.argtypes = [p, n, p, p, p, p]
     dll.pi_batch.argtypes = [p, n, n, n, p, p, p, p]
+    dll.pi_members.argtypes = [p, n, n, n, p, p, p, p]
     version = subprocess.run([cc, "--version"], capture_output=True, text=True).stdout
     return dll, f"C reference: {version.splitlines()[0]} {' '.join(flags[:2])}"
 
@@ -238,10 +271,23 @@ def figure_batch(ctx: Context) -> list[Row]:
                 x[:] = y[0]
                 ctx.c_lib.pi_batch(ptr(y), n_time, n, n_batch, ptr(rt), ptr(wt), ptr(x), ptr(out))
 
+            xm = np.empty((n_batch, n))
+            rows_out = np.empty((n_batch, n_time))
+
+            def c_members(r=r, w=w, xm=xm, y=y, out=rows_out, n_time=n_time) -> None:
+                xm[:] = y[0]
+                ctx.c_lib.pi_members(ptr(y), n_time, n, n_batch, ptr(r), ptr(w), ptr(xm),
+                                     ptr(out))  # fmt: skip
+
+            cm = runs(c_members, ctx.repeats)
             c = runs(c_call, ctx.repeats)
-            ok = med(c) / med(fast) >= 1.5
-            rows.append(Row(f"{label} vs C", f"C {span([upd / s for s in c], 1e-9)} e9 upd/s",
-                            ratio_runs(c, fast), ">= 1.5x C", ok))  # fmt: skip
+            ok = med(cm) / med(fast) >= 1.5
+            rows.append(Row(f"{label} vs C per member",
+                            f"C {span([upd / s for s in cm], 1e-9)} e9 upd/s",
+                            ratio_runs(cm, fast), ">= 1.5x C", ok))  # fmt: skip
+            rows.append(Row(f"{label} vs C vectorised",
+                            f"C {span([upd / s for s in c], 1e-9)} e9 upd/s",
+                            f"{ratio_runs(c, fast)} (no target)"))  # fmt: skip
     return rows
 
 
@@ -363,16 +409,41 @@ def figure_small_bank(ctx: Context) -> list[Row]:
 
         c5 = runs(c_call, ctx.repeats)
         cl = runs(c_loop, ctx.repeats)
+        # the target, 2.2 ns/step where register-resident C took 1.8 (Zen 4), as a ratio
+        # that carries over to other machines: within 1.8/2.2 of C's speed
+        ok = med(c5) / med(a) >= C5_RATIO
         rows.append(Row("6. ... vs C, registers", f"C {span(c5, 1e9 / n_time)} ns/step",
-                        f"{ratio_runs(c5, a)} (>1: faster than C)"))  # fmt: skip
+                        f"{ratio_runs(c5, a)} (>1: faster than C)", f">= {C5_RATIO:.2f}x C",
+                        ok))  # fmt: skip
         rows.append(Row("6. ... vs C, plain loop", f"C {span(cl, 1e9 / n_time)} ns/step",
                         f"{ratio_runs(cl, a)}"))  # fmt: skip
     return rows
 
 
 def figure_pooled_fit(ctx: Context) -> list[Row]:
-    """7. The pooled fit of the identification issue (evaluations per second)."""
-    return [Row("7. pooled fit", "not measured here yet")]
+    """7. The pooled fit of the identification issue (`bench_pooled_fit.py`): 20 records ×
+    1000 samples, 67 parameters, default options; wall seconds against its 5 s target (an
+    absolute figure for the 2-core machine: there is no same-run reference for a whole fit).
+    """
+    import sys
+
+    sys.path.insert(0, str(Path(__file__).resolve().parent))
+    from _stops import stop_records
+
+    from presliding import fit_response
+
+    records = stop_records(0, 20)[0]
+    fit_response(records[:2], signal="both", initial_state="preload", max_evaluations=5)
+    times = []
+    for _ in range(min(3, ctx.repeats)):
+        start = time.perf_counter()
+        fit = fit_response(records, signal="both", initial_state="preload")
+        times.append(time.perf_counter() - start)
+    target = 5.0
+    value = f"{span(times, 1.0)} s wall, {fit.nfev} evals"
+    ok = med(times) <= target
+    return [Row("7. pooled fit, 20 x 1000 samples", value,
+                f"{med(times) / target:.2f}x the target", "<= 5 s", ok)]  # fmt: skip
 
 
 #: figure number -> function; extend by adding a function and listing it here
@@ -429,7 +500,7 @@ def main() -> int:
     for key in only:
         for row in FIGURES[key](ctx):
             verdict = "" if row.met is None else ("met" if row.met else "MISSED")
-            print(f"{row.figure:36s} {row.value:44s} {row.ratio:36s} {row.target} {verdict}")
+            print(f"{row.figure:42s} {row.value:44s} {row.ratio:36s} {row.target} {verdict}")
             if row.met is False:
                 missed.append(row.figure)
     print(f"\nload average after: {load()}")

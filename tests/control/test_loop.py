@@ -4,7 +4,7 @@ saturation and anti-windup, batches equal to single runs, validation."""
 import numpy as np
 import pytest
 
-from presliding import PIFriction
+from presliding import PIFriction, PIState
 from presliding.control import (
     PID,
     DiscreteController,
@@ -13,6 +13,7 @@ from presliding.control import (
     simulate_loop_batch,
 )
 from presliding.motion import simulate
+from tests.helpers import rounding_break_away
 
 MODEL = PIFriction(coulomb=0.2, stiffness=[400.0, 60.0], breakaway=[0.3, 0.4])
 
@@ -168,3 +169,23 @@ def test_viscous_term_in_the_loop():
     # the friction force carries σ·ẏ while the mass slides
     moving = res.velocity != 0
     assert np.any(np.abs(res.friction_force[moving] - res.elastic_force[moving]) > 0.2 + 1e-9)
+
+
+def test_loop_at_the_edge_of_the_stick_band_does_not_stall():
+    """A PI loop (c1 = 0.005, kp, ki = 400, 4e4) at rest with its preload and the
+    feedforward one rounding step outside the stick band: the net force u − c1·s − F_el
+    rounds to zero in the order of operations of the piece, although the stick test
+    says the mass breaks away. The kernel used to repeat zero-length pieces until
+    `max_events` (here after 0 periods); it must move off and finish every period."""
+    c1 = 0.005
+    u, fel = rounding_break_away(c1)
+    model = PIFriction(c1, stiffness=[1.0], threshold=[10.0])
+    pid = PID(400.0, 4e4, 0.0, dt=1e-3)
+    res = simulate_loop(model, 1.0, pid, 0.0, feedforward=np.full(11, u),
+                        initial_state=PIState(0.0, np.array([-fel])), max_events=1000)  # fmt: skip
+    assert res.success, res.message
+    assert res.n_events <= 20
+    np.testing.assert_array_equal(res.control[0], u)
+    # it breaks away in the direction of u − F_el, by the rounding unit of F_el at first
+    s = np.sign(u - fel)
+    assert s * res.position[1] > 0.0 and abs(res.position[1]) < 1e-15

@@ -329,3 +329,15 @@ def test_stepper_is_bit_identical_to_the_straightforward_step(n, amplitude):
     assert np.max(np.abs(o[6][1:] - dis_ref)) <= 1e-12 * max(dis_ref[-1], 1e-300)
     if amplitude == 3.0 and n:
         assert np.any(np.abs(f) == r)  # the gross-sliding short cut was exercised
+
+
+@pytest.mark.parametrize("n", [0, 1, 7, 8, 9, 17, 1000])
+def test_peak_is_the_largest_magnitude(n):
+    """`peak` (one pass, eight partial maxima) equals max |y|, wherever the extreme sits."""
+    rng = np.random.default_rng(n)
+    y = rng.normal(0.0, 1.0, n)
+    assert _kernels.peak(y) == (float(np.abs(y).max()) if n else 0.0)
+    for i in range(n):  # the extreme in every lane and in the remainder
+        z = y.copy()
+        z[i] = -1e3 if i % 2 else 1e3
+        assert _kernels.peak(z) == 1e3

@@ -29,7 +29,7 @@ _JIT_PARALLEL: JitFlags = {"cache": True, "error_model": "numpy", "parallel": Tr
 REVERSALS_PER_PERIOD = 64
 
 
-@njit(**_JIT)
+@njit(refcount=False, **_JIT)
 def pid_output(p, s, ref, y, ff):  # pragma: no cover - compiled
     """u_k of the PID at (r_k, y_k) with feedforward ff; updates the state s in place."""
     kp, ki, kd, dt, tf, low, high = p[0], p[1], p[2], p[3], p[4], p[5], p[6]
@@ -52,7 +52,7 @@ def pid_output(p, s, ref, y, ff):  # pragma: no cover - compiled
     return u
 
 
-@njit(**_JIT)
+@njit(refcount=False, **_JIT)
 def ss_output(a, b, c, d, x, low, high, ref, y, ff, w, tmp):  # pragma: no cover - compiled
     """u_k of the state-space controller; x advanced in place (w, tmp: scratch)."""
     if d.shape[1] == 1:
@@ -102,7 +102,8 @@ def plant_period(m, c1, sigma, k, r, f, y, v, last_dir, u, t0, t1, max_events): 
     none = np.empty(0)
     rev = np.empty(REVERSALS_PER_PERIOD)
     res = run_events(m, c1, k, r, f, y, v, last_dir, u_t, u_val, none, t1, max_events,
-                     none, none, none, none, none, none, none, none, rev, rev, sigma)  # fmt: skip
+                     none, none, none, none, none, none, none, none, rev, rev, sigma, none,
+                     none)  # fmt: skip
     return res[0], res[4], res[5], res[6], res[7]
 
 
@@ -118,8 +119,6 @@ def run_loop(  # pragma: no cover - compiled
     failure). Returns (status, n_rev, rest_start, y, v, last_dir, n_events,
     periods done).
     """
-    n_k = ref.shape[0] - 1
-    low, high = (p[5], p[6]) if kind == 0 else (p[0], p[1])
     w = np.empty(2)
     tmp = np.empty(x.shape[0])
     rt = np.empty(REVERSALS_PER_PERIOD)
@@ -127,6 +126,25 @@ def run_loop(  # pragma: no cover - compiled
     u_t = np.empty(1)
     u_val = np.empty(1)
     te = np.empty(sub)
+    none = np.empty(0)  # no piece record
+    return _loop_body(
+        m, c1, sigma, k, r, f, y, v, last_dir, kind, p, s, a, b, c, d, x, ref, ff, t0, dt, sub,
+        max_events, o_y, o_v, o_a, o_fel, o_u, o_eel, o_dis, o_work, o_vis, o_ctrl, rev_t,
+        rev_y, w, tmp, rt, ry, u_t, u_val, te, none,
+    )  # fmt: skip
+
+
+# Without reference counting (no array is allocated here): the per-period views of the
+# outputs and the calls of the event kernel then cost no atomic operations
+@njit(refcount=False, **_JIT)
+def _loop_body(  # pragma: no cover - compiled
+    m, c1, sigma, k, r, f, y, v, last_dir, kind, p, s, a, b, c, d, x, ref, ff, t0, dt, sub,
+    max_events, o_y, o_v, o_a, o_fel, o_u, o_eel, o_dis, o_work, o_vis, o_ctrl, rev_t, rev_y,
+    w, tmp, rt, ry, u_t, u_val, te, none,
+):  # fmt: skip
+    """The periods of `run_loop`, with its scratch arrays handed in."""
+    n_k = ref.shape[0] - 1
+    low, high = (p[5], p[6]) if kind == 0 else (p[0], p[1])
     n_rev = 0
     n_ev = 0
     dis = 0.0
@@ -152,7 +170,7 @@ def run_loop(  # pragma: no cover - compiled
         res = run_events(m, c1, k, r, f, y, v, last_dir, u_t, u_val, te, tk + dt,
                          max_events - n_ev, o_y[i0:], o_v[i0:], o_a[i0:], o_fel[i0:],
                          o_u[i0:], o_eel[i0:], o_dis[i0:], o_work[i0:], rt, ry, sigma,
-                         o_vis[i0:])  # fmt: skip
+                         o_vis[i0:], none)  # fmt: skip
         st, n_s, nr, stop, y, v, last_dir, ne, dd, ww, _, vv = res
         for j in range(n_s):
             o_dis[i0 + j] += dis
@@ -244,7 +262,7 @@ def run_loop_batch(  # pragma: no cover - compiled
             u_val[0] = u
             res = run_events(m, c1, k, r, f, y, v, last_dir, u_t, u_val, none, tk + dt,
                              max_events - ne_all, none, none, none, none, none, none, none,
-                             none, rt, rt, sigma)  # fmt: skip
+                             none, rt, rt, sigma, none, none)  # fmt: skip
             st = res[0]
             nr_all += res[2]
             y, v, last_dir = res[4], res[5], res[6]

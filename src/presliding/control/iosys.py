@@ -323,8 +323,8 @@ def _mass_system(control, model: PIFriction, mass: float, dt: float, name, ins, 
         mod = _model_for(model, params, cache)
         m = as_positive_scalar("mass", params.get("mass", mass))
         f = np.array(x[2 : n + 2], dtype=np.float64)
-        k = np.ascontiguousarray(mod.stiffness, dtype=np.float64)
-        r = np.ascontiguousarray(mod.threshold, dtype=np.float64)
+        k = np.array(mod.stiffness, dtype=np.float64)  # writable: one kernel type
+        r = np.array(mod.threshold, dtype=np.float64)
         t0 = float(t)
         st, y, v, d, _ = _loop.plant_period(m, float(mod.coulomb), float(mod.viscous), k, r, f,
                                             float(x[0]),

@@ -123,8 +123,8 @@ def _setup(model, mass, controller, reference, feedforward, t_end, t_start, y0, 
     ref = _signal("reference", reference, times, n)
     ff = np.zeros(n) if feedforward is None else _signal("feedforward", feedforward, times, n)
     f, last_dir = _run.initial_deformation(model, state, y0, v0, float(ref[0] - y0))
-    k = np.ascontiguousarray(model.stiffness, dtype=np.float64)
-    r = np.ascontiguousarray(model.threshold, dtype=np.float64)
+    k = np.array(model.stiffness, dtype=np.float64)  # writable: one kernel type
+    r = np.array(model.threshold, dtype=np.float64)
     return m, ctrl, t0, y0, v0, times, ref, ff, f, last_dir, k, r
 
 

@@ -35,11 +35,15 @@ class JitFlags(TypedDict, total=False):
     inline: Literal["never", "always"]
 
 
-def njit(**flags: Unpack[JitFlags]) -> Callable[[_Kernel], _Kernel]:
+def njit(*, refcount: bool = True, **flags: Unpack[JitFlags]) -> Callable[[_Kernel], _Kernel]:
     """`numba.njit` with `flags`, returning the compiled dispatcher typed as the function.
 
     Parameters
     ----------
+    refcount : bool, keyword only
+        False compiles without numba's reference counting (its ``_nrt=False``), for
+        kernels that allocate no array: their calls and array views then cost no
+        atomic operations (a kernel called once per period of a loop).
     **flags
         Passed to `numba.njit` unchanged (``cache=True``, ``fastmath``, ...).
 
@@ -50,7 +54,8 @@ def njit(**flags: Unpack[JitFlags]) -> Callable[[_Kernel], _Kernel]:
     """
 
     def compile_kernel(function: _Kernel) -> _Kernel:
-        dispatcher: Any = nb.njit(**flags)(function)
+        extra: dict[str, Any] = {} if refcount else {"_nrt": False}
+        dispatcher: Any = nb.njit(**flags, **extra)(function)
         return dispatcher  # type-checked as `function`: a dispatcher is called like it
 
     return compile_kernel

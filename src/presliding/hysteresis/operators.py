@@ -213,7 +213,7 @@ def check_input_range(
     """
     if y.shape[0] == 0:
         return
-    peak = max(float(y.max()), -float(y.min()))
+    peak = float(_kernels.peak(y))  # one compiled pass (max and min would take two)
     with np.errstate(over="ignore"):
         reach = peak + (float(threshold.max()) if threshold.shape[0] else 0.0)
         bound = abs(linear) * peak + float(np.abs(weight) @ threshold)

@@ -57,11 +57,13 @@ def _pooled_responses(  # pragma: no cover - compiled
             last_dir = direction[i]
         n_t = b - a
         scratch = np.empty((6, n_t))
+        none = np.empty(0)  # no viscous record, no piece record
         rev = np.empty((2, 8))
         res = run_events(
             mass[p], c1[p], k[p], r[p], f, y0[p, i], v0[p, i], last_dir, u_t, u_val, t_eval,
             t_eval[n_t - 1], max_events, o_y[p, a:b], o_v[p, a:b], scratch[0], scratch[1],
             scratch[2], scratch[3], scratch[4], scratch[5], rev[0], rev[1], sigma[p],
+            none, none,
         )  # fmt: skip
         filled = res[1]
         for j in range(filled, n_t):  # only after an event limit: hold the last values

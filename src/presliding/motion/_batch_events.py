@@ -1,14 +1,15 @@
 """Compiled batches of exact motions: many parameter sets or initial velocities at once.
 
-Each member runs the exact event kernel (`presliding.motion._event.run_events`) on its
-own thread (``prange``); `free_kernel` is the single-run form used inside
+Each member runs the exact event kernel (`presliding.motion._event.run_events`);
+`batch_events` runs a range of members with the GIL released, and the caller
+spreads ranges over threads (a serial loop compiles in a fraction of the time of
+a ``prange`` loop, which matters on a cold cache); `free_kernel` is the single-run form used inside
 least-squares losses: it samples position and velocity on a uniform time grid
 with no Python work per call beyond argument checks.
 """
 
 from __future__ import annotations
 
-import numba as nb
 import numpy as np
 
 from presliding.hysteresis._jit import njit
@@ -31,33 +32,35 @@ def free_kernel(
     o_v = np.empty(n_samples)
     scratch = np.empty((6, n_samples))
     rev = np.empty((2, 64))
+    none = np.empty(0)  # no viscous record, no piece record
     f = f0.copy()
     u_t = np.zeros(1)
     u_val = np.full(1, u)
     res = run_events(
         m, c1, k, r, f, y0, v0, last_dir, u_t, u_val, t_eval, t_end, max_events,
         o_y, o_v, scratch[0], scratch[1], scratch[2], scratch[3], scratch[4], scratch[5],
-        rev[0], rev[1], sigma,
+        rev[0], rev[1], sigma, none, none,
     )  # fmt: skip
     return o_y, o_v, res[0], res[3], res[2], res[1], res[10]
 
 
-@njit(cache=True, parallel=True)
+@njit(cache=True, nogil=True)
 def batch_events(  # pragma: no cover - compiled
-    m, c1, sigma, k, r, f0, y0, v0, last_dir, u_t, u_val, t_eval, t_end, max_events,
+    b0, b1, m, c1, sigma, k, r, f0, y0, v0, last_dir, u_t, u_val, t_eval, t_end, max_events,
     o_y, o_v, stop, n_rev, status, y_end, v_end,
 ):  # fmt: skip
-    """Run member b with m[b], c1[b], sigma[b], k[b], r[b], f0[b], y0[b], v0[b], last_dir[b]."""
-    n_batch = m.shape[0]
+    """Run members b0 <= b < b1, member b with m[b], c1[b], sigma[b], k[b], r[b], f0[b],
+    y0[b], v0[b], last_dir[b]; releases the GIL (threads run disjoint ranges)."""
     n_t = t_eval.shape[0]
-    for b in nb.prange(n_batch):
-        scratch = np.empty((6, n_t))
-        rev = np.empty((2, 64))
+    scratch = np.empty((6, n_t))  # samples nobody reads
+    none = np.empty(0)  # no viscous record, no piece record
+    rev = np.empty((2, 64))
+    for b in range(b0, b1):
         f = f0[b].copy()
         res = run_events(
             m[b], c1[b], k[b], r[b], f, y0[b], v0[b], last_dir[b], u_t, u_val, t_eval, t_end,
             max_events, o_y[b], o_v[b], scratch[0], scratch[1], scratch[2], scratch[3],
-            scratch[4], scratch[5], rev[0], rev[1], sigma[b],
+            scratch[4], scratch[5], rev[0], rev[1], sigma[b], none, none,
         )  # fmt: skip
         status[b] = res[0]
         n_rev[b] = res[2]

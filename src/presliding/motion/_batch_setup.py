@@ -1,10 +1,13 @@
 """Set-up of batches of exact motions (`simulate_batch`, `free_response`): parameters,
-broadcasting, initial deformations, the parallel kernel call."""
+broadcasting, initial deformations, the kernel call on threads."""
 
 from __future__ import annotations
 
+import itertools
+from concurrent.futures import ThreadPoolExecutor
 from typing import Any
 
+import numba
 import numpy as np
 from numpy.typing import NDArray
 
@@ -20,6 +23,7 @@ from presliding._validation import (
     fmt,
 )
 from presliding.friction.pi_friction import PIFriction
+from presliding.motion._event import kernel_array
 from presliding.motion._run import check_model, saturation_direction
 
 FloatArray = NDArray[np.float64]
@@ -155,11 +159,15 @@ def batch_deformation(initial_state: Any, r: FloatArray, v0: FloatArray, u0: flo
 
 
 def run_batch(m, c1, sigma, k, r, f0, y0, v0, last_dir, u_t, u_val, times, t_end, max_events):
-    """Run the parallel batch kernel and wrap the outputs."""
+    """Run the batch kernel on ranges of members in threads and wrap the outputs."""
     from presliding.motion._batch_events import batch_events
     from presliding.motion.results import MotionBatch, member_statuses
 
     n_b, n_t = m.shape[0], times.shape[0]
+    # C-contiguous writable float64 throughout: the kernels compile once for every call
+    m, c1, sigma, k, r, f0, y0, v0, last_dir, u_t, u_val, times = (
+        kernel_array(a) for a in (m, c1, sigma, k, r, f0, y0, v0, last_dir, u_t, u_val, times)
+    )
     o_y = np.full((n_b, n_t), np.nan)
     o_v = np.full((n_b, n_t), np.nan)
     stop = np.empty(n_b)
@@ -167,8 +175,18 @@ def run_batch(m, c1, sigma, k, r, f0, y0, v0, last_dir, u_t, u_val, times, t_end
     status = np.empty(n_b, dtype=np.int64)
     y_end = np.empty(n_b)
     v_end = np.empty(n_b)
-    batch_events(m, c1, sigma, k, r, f0, y0, v0, last_dir, u_t, u_val, times, t_end, max_events,
-                 o_y, o_v, stop, n_rev, status, y_end, v_end)  # fmt: skip
+    args = (m, c1, sigma, k, r, f0, y0, v0, last_dir, u_t, u_val, times, float(t_end),
+            int(max_events), o_y, o_v, stop, n_rev, status, y_end, v_end)  # fmt: skip
+    n_threads = min(n_b, numba.get_num_threads())
+    if n_threads <= 1:
+        batch_events(0, n_b, *args)
+    else:  # a few ranges per thread: members differ in cost
+        edges = np.linspace(0, n_b, min(n_b, 4 * n_threads) + 1).astype(np.int64)
+        with ThreadPoolExecutor(n_threads) as pool:
+            done = [pool.submit(batch_events, a, b, *args)
+                    for a, b in itertools.pairwise(edges.tolist()) if b > a]  # fmt: skip
+            for job in done:
+                job.result()
     stop = np.where(np.isnan(stop), np.inf, stop)
     failed = int(np.sum(status != 0))
     message = (

@@ -46,6 +46,18 @@ from presliding.motion import _damped
 STATUS_OK = 0
 STATUS_EVENT_LIMIT = -1
 
+
+def kernel_array(a: np.ndarray) -> np.ndarray:
+    """`a` as the kernels take it (C-contiguous, writable float64), copied only if needed.
+
+    One type for every call keeps `run_events` to a single compiled version
+    (a read-only array is a type of its own in numba).
+    """
+    if a.dtype == np.float64 and a.flags.c_contiguous and a.flags.writeable:
+        return a
+    return np.array(a, dtype=np.float64, order="C")
+
+
 _JIT: JitFlags = {"cache": True, "error_model": "numpy"}
 
 
@@ -91,11 +103,10 @@ def time_to_reach(vp, ap, w, dist):  # pragma: no cover - compiled
     return 2.0 * math.atan(dist * w / den) / w
 
 
-@njit(**_JIT)
+@njit(refcount=False, **_JIT)
 def run_events(  # pragma: no cover - compiled
     m, c1, k, r, f, y, v, last_dir, u_t, u_val, t_eval, t_end, max_events,
-    o_y, o_v, o_a, o_fel, o_u, o_eel, o_dis, o_work, rev_t, rev_y, sigma=0.0, o_vis=None,
-    piece=None,
+    o_y, o_v, o_a, o_fel, o_u, o_eel, o_dis, o_work, rev_t, rev_y, sigma, o_vis, piece,
 ):  # fmt: skip
     """Event-driven exact motion from time u_t[0]; samples written at t_eval.
 
@@ -104,11 +115,16 @@ def run_events(  # pragma: no cover - compiled
     [u_t[i], u_t[i+1]), the last value held forever. ``last_dir`` is the
     direction of the trajectory's last motion (0: none; a reversal is a change
     of the sign of the velocity, so a start from rest is never one). Reversals
-    beyond the capacity of rev_t/rev_y are counted but not recorded. ``o_vis``,
-    when given, receives the viscous dissipation σ·∫v² (None skips it).
-    ``piece``, when given (shape (5 + N,)), receives the start of the last
-    closed-form piece: [t, y, v, last_dir, u, f_1..f_N] (a continuation that
-    resumes it reproduces this run bit for bit).
+    beyond the capacity of rev_t/rev_y are counted but not recorded. ``o_vis``
+    receives the viscous dissipation σ·∫v² at the samples (an empty array
+    skips it: then the returned viscous dissipation is 0). ``piece`` (shape
+    (5 + N,), or empty to skip it) receives the start of the last closed-form
+    piece: [t, y, v, last_dir, u, f_1..f_N] (a continuation that resumes it
+    reproduces this run bit for bit).
+
+    Every caller passes the same argument types (C-contiguous, writable
+    float64 arrays; empty arrays rather than None), so that this kernel is
+    compiled once.
 
     Returns (status, n_samples, n_rev, stop_time (nan if moving at the end),
     y, v, last_dir, n_events, dissipated, work, t, viscous dissipation).
@@ -125,10 +141,14 @@ def run_events(  # pragma: no cover - compiled
     vis = 0.0
     work = 0.0
     rest_start = np.nan
+    frozen = False  # at rest in floating point: the state repeats until u changes
+    record_vis = o_vis.shape[0] > 0
+    record_piece = piece.shape[0] > 0
     status = STATUS_OK
     while True:
         while iu + 1 < n_u and u_t[iu + 1] <= t:  # an event exactly at a change of u
             iu += 1
+            frozen = False
         u = u_val[iu]
         t_u = u_t[iu + 1] if iu + 1 < n_u else np.inf
         fel = 0.0
@@ -139,7 +159,7 @@ def run_events(  # pragma: no cover - compiled
         s = 1.0 if v > 0.0 else (-1.0 if v < 0.0 else 0.0)
         if s == 0.0:
             g = u - fel
-            if abs(g) <= c1:  # sticks: exactly at rest until u changes
+            if abs(g) <= c1 or frozen:  # sticks: exactly at rest until u changes
                 if np.isnan(rest_start):
                     rest_start = t
                 t1 = min(t_u, t_end)
@@ -151,7 +171,7 @@ def run_events(  # pragma: no cover - compiled
                     o_u[ie] = u
                     o_eel[ie] = 0.5 * eel
                     o_dis[ie] = dis
-                    if o_vis is not None:
+                    if record_vis:
                         o_vis[ie] = vis
                     o_work[ie] = work
                     ie += 1
@@ -160,6 +180,7 @@ def run_events(  # pragma: no cover - compiled
                     break
                 t = t_u
                 iu += 1
+                frozen = False
                 continue
             s = 1.0 if g > 0.0 else -1.0
             if last_dir != 0.0 and s != last_dir:
@@ -168,8 +189,9 @@ def run_events(  # pragma: no cover - compiled
                     rev_y[n_rev] = y
                 n_rev += 1
             last_dir = s
+        rest_before = rest_start
         rest_start = np.nan
-        if piece is not None:
+        if record_piece:
             piece[0] = t
             piece[1] = y
             piece[2] = v
@@ -200,6 +222,13 @@ def run_events(  # pragma: no cover - compiled
             a0 = (u - c1 * s - fel) / m
             w = math.sqrt(kk / m)
             ap = s * a0
+            if vp == 0.0 and not ap > 0.0:
+                # a start from rest: |u − F_el| > c1 was decided above, but u − c1·s − F_el
+                # rounds to <= 0 (an order of operations the stick test does not use), which
+                # would give a piece of zero length and no progress; take the net force as
+                # the stick test computed it, > 0 in floating point
+                ap = (abs(u - fel) - c1) / m
+                a0 = s * ap
             dmax = reach(vp, ap, w)
             kind = 0  # 0: element, 1: rest, 2: change of u, 3: end
             if dmin < dmax:
@@ -229,7 +258,7 @@ def run_events(  # pragma: no cover - compiled
             sq = 0.0
             if sigma == 0.0:
                 d, vv, aa = closed_form(v, a0, w, tau)
-            elif o_vis is None:
+            elif not record_vis:
                 d, vv, aa = _damped.state(v, a0, gam, w, tau)
             else:  # with σ·∫v² since the start of the piece, in closed form
                 d, vv, aa, sq = _damped.state_square(v, a0, gam, w, tau)
@@ -240,11 +269,11 @@ def run_events(  # pragma: no cover - compiled
             o_u[ie] = u
             o_eel[ie] = 0.5 * (eel + 2.0 * d * pel + kk * d * d)
             o_dis[ie] = dis + dfric * s * d
-            if o_vis is not None:
+            if record_vis:
                 o_vis[ie] = vis + sigma * sq
             o_work[ie] = work + u * d
             ie += 1
-        if o_vis is not None and sigma > 0.0:
+        if record_vis and sigma > 0.0:
             vis += sigma * _damped.square_integral(v, a0, gam, w, t1 - t)
         if sigma == 0.0:
             if kind == 0:
@@ -266,13 +295,21 @@ def run_events(  # pragma: no cover - compiled
         if s * v <= 0.0:
             v = 0.0
         hit = kind == 0 or (kind == 1 and dmin == dmax)
+        # a piece from rest back to rest that moved neither y nor any deformation in
+        # floating point leaves the state as it found it: every later piece under this u
+        # would repeat it, so the mass stays at rest until u changes
+        same = vp == 0.0 and kind == 1 and y + d == y
         for j in range(n):
             if s * f[j] < r[j]:
                 fj = f[j] + d
                 # an element reaching its threshold is set exactly (rounding only)
                 if s * fj >= r[j] or (hit and r[j] - s * f[j] == dmin):
                     fj = s * r[j]
+                same = same and fj == f[j]
                 f[j] = fj
+        if same:
+            frozen = True
+            rest_start = rest_before if not np.isnan(rest_before) else t
         y += d
         dis += dfric * s * d
         work += u * d

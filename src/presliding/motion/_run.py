@@ -282,6 +282,7 @@ def run_event(
     else:
         piece = None
     n_out = t_eval.shape[0]
+    k, r, u_t, u_val, t_eval = (_event.kernel_array(a) for a in (k, r, u_t, u_val, t_eval))
     # room for a reversal per piece of u (pages are touched only when written); more
     # reversals than that run the kernel again with room for all of them (rare)
     cap = max(REVERSAL_CAPACITY, 2 * u_t.shape[0])

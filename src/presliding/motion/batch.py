@@ -24,7 +24,7 @@ from presliding._validation import (
 from presliding.friction.pi_friction import PIFriction
 from presliding.motion import _batch_events as _batch
 from presliding.motion import _batch_setup as _setup
-from presliding.motion import _run
+from presliding.motion import _event, _run
 from presliding.motion._forcing import as_forcing
 from presliding.motion.results import FreeResponse, MotionBatch, motion_status
 
@@ -242,8 +242,9 @@ def free_response(
     check_finite_derived("kinetic energy ½·m·v0²", rates[2], ("mass", "initial_velocity"))
     limit = as_count("max_events", max_events, minimum=1)
     f0, last_dir = _setup.batch_deformation(initial_state, r[None, :], np.array([v0]), u)
+    k, r, f0 = (_event.kernel_array(a) for a in (k, r, f0[0]))  # one compiled type
     y, v, status, stop, n_rev, n, t_last = _batch.free_kernel(
-        m, c1, sigma, k, r, f0[0], y0, v0, float(last_dir[0]), u, dt, n_t, limit
+        m, c1, sigma, k, r, f0, y0, v0, float(last_dir[0]), u, dt, n_t, limit
     )
     if status == 0:
         message = "the motion was solved exactly"
