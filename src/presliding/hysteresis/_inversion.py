@@ -48,7 +48,7 @@ def inverse_parameters(
         k = int(np.argmax(~(slope > 0)))
         where = f"below threshold {fmt(r[k])}" if k < r.shape[0] else f"beyond {fmt(r[-1])}"
         raise ValueError(
-            "`operator` must have an increasing initial loading curve to be invertible "
+            "`linear` and `weight` must give an increasing initial loading curve to be invertible "
             f"(every slope a + Σ_(r_j >= r) w_j > 0); got slope {fmt(slope[k])} {where}."
         )
     # ρ_k = φ(r_k) = a r_k + Σ_j w_j min(r_k, r_j), exact sums of the merged bank.

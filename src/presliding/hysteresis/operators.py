@@ -86,9 +86,8 @@ class PIState:
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "last_input", as_real_scalar("last_input", self.last_input))
-        scalar_play = np.ndim(self.play) == 0
-        play = as_real_vector("play", self.play, allow_empty=True)  # types first
-        if scalar_play:
+        play = as_real_vector("play", self.play, allow_empty=True)  # types (and ragged) first
+        if np.ndim(self.play) == 0:
             raise ValueError(
                 f"`play` must be one-dimensional (shape (N,)); got shape {np.shape(self.play)}."
             )
@@ -198,8 +197,8 @@ def _initial_play(y0: float, threshold: FloatArray, initial: ArrayLike | None) -
 
 def _thresholds(threshold: ArrayLike) -> tuple[FloatArray, bool]:
     """Thresholds r_j >= 0 (r = 0 is the identity play, x = y) and whether one was a scalar."""
-    scalar = np.ndim(threshold) == 0
-    return as_parameter_vector("threshold", threshold, positive=False), scalar
+    r = as_parameter_vector("threshold", threshold, positive=False)  # types (and ragged) first
+    return r, np.ndim(threshold) == 0
 
 
 def check_input_range(
