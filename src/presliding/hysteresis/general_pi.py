@@ -22,6 +22,7 @@ from presliding._validation import (
     as_real_scalar,
     as_real_vector,
     as_signal,
+    check_finite_derived,
     check_type,
     fmt,
 )
@@ -79,7 +80,13 @@ class MemoryState:
         if isinstance(d, bool) or d not in (-1, 0, 1):
             raise ValueError(f"`direction` must be -1, 0 or 1; got {fmt(d)}.")
         n = e.shape[0]
-        steps = np.diff(np.concatenate([[base], e, [y]]))  # s_1 .. s_(n+1); s_1 = ±inf if base is
+        with np.errstate(over="ignore", invalid="ignore"):  # s_1 .. s_(n+1); s_1 = ±inf if base is
+            steps = np.diff(np.concatenate([[base], e, [y]]))
+        check_finite_derived(
+            "swing e_k − e_(k−1) between inputs",
+            steps if math.isfinite(base) else np.append(0.0, steps[1:]),
+            ("base", "turning", "last_input"),
+        )
         sgn = np.sign(steps)
         if n and (np.any(sgn[:n] == 0) or np.any(sgn[1:] != -sgn[:-1])):
             raise ValueError(
@@ -98,7 +105,8 @@ class MemoryState:
         if sgn[-1] != 0 and d != sgn[-1]:
             ref = "turning[-1]" if n else "base"
             raise ValueError(
-                f"`direction` must be the sign of last_input − {ref} ({sgn[-1]!r}); got {d!r}."
+                f"`direction` must be the sign of `last_input` − `{ref}` ({fmt(sgn[-1])}); "
+                f"got {fmt(d)}."
             )
         e.setflags(write=False)
         object.__setattr__(self, "last_input", y)
@@ -177,9 +185,10 @@ class MemoryState:
         float or ndarray
             Deformations f(r) [m], same shape as `threshold`.
         """
-        r = as_real_array("threshold", threshold, finite=False)
-        if r.size == 0 or np.any(r < 0):
-            raise ValueError(f"`threshold` must be nonempty with r >= 0; got {fmt(threshold)}.")
+        r = as_real_array("threshold", threshold)
+        if r.ndim > 1 or r.size == 0 or np.any(r < 0):
+            rule = "a nonempty scalar or 1-D array of thresholds r >= 0"
+            raise ValueError(f"`threshold` must be {rule}; got {fmt(r)}.")
         y, e, d, prev = self.last_input, self.turning, self.direction, self.base
         out = np.full(r.shape, y - prev if math.isfinite(prev) else 0.0)
         for k in range(e.shape[0]):
@@ -350,6 +359,7 @@ class GeneralPIOperator:
             dF/dy at `y` [N/m]: μ((ρ, R]), the stiffness of the stops that
             still stick (ρ the front at `y`).
         """
+        check_type("state", state, MemoryState)
         head, stack = _memory(self.density, state, as_real_scalar("y", y))
         d = self.density
         f, s = gk.force_at(float(y), head, stack, d._kind, d._par, d._tab)
