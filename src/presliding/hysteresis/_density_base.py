@@ -24,6 +24,8 @@ from presliding._validation import (
     check_finite_derived,
     check_same_length,
     check_size,
+    fmt,
+    renamed,
 )
 from presliding.hysteresis._density_primitives import DISCRETE, evaluate
 
@@ -61,6 +63,9 @@ class Density:
         rv = np.ascontiguousarray(np.atleast_1d(rv))
         if rv.ndim != 1:
             raise ValueError(f"`{name}` must be a scalar or one-dimensional; got shape {rv.shape}.")
+        if (rv < 0).any():
+            i = int(np.argmax(rv < 0))
+            raise ValueError(f"`{name}` must be nonnegative; got {fmt(rv[i])} at index {i}.")
         out = np.empty(rv.shape[0])
         evaluate(self._kind, self._par, self._tab, rv, which, out)
         return float(out[0]) if scalar else out
@@ -165,6 +170,9 @@ class Density:
     def virgin_curve(self, displacement: ArrayLike) -> Any:
         """Elastic initial loading curve sign(y)·(M1(|y|) + |y|·T(|y|)) from the relaxed state."""
         y = as_real_array("displacement", displacement)
+        if y.ndim > 1 or y.size == 0:
+            rule = "a scalar or a nonempty one-dimensional array"
+            raise ValueError(f"`displacement` must be {rule}; got shape {y.shape}.")
         a = np.abs(y)
         out = np.sign(y) * (self.M1(a) + np.where(a < self._big_r, a, 0.0) * self.tail(a))
         return float(out) if np.ndim(out) == 0 else out
@@ -196,9 +204,10 @@ class Density:
         edges = np.linspace(0.0, big_r, int(n) + 1)
         t = self.tail(edges)
         k = t[:-1] - t[1:]
-        mid = 0.5 * (edges[:-1] + edges[1:])
+        mid = 0.5 * edges[:-1] + 0.5 * edges[1:]  # no overflow of the sum near the float range
         keep = k > 0
-        return Discrete(k[keep], mid[keep])
+        with renamed(stiffness="n", threshold="max_threshold"):  # the cells they set
+            return Discrete(k[keep], mid[keep])
 
     @staticmethod
     def from_function(

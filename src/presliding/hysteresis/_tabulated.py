@@ -29,6 +29,8 @@ from presliding.hysteresis._density_base import Density
 from presliding.hysteresis._density_primitives import TABULATED
 
 FloatArray = NDArray[np.float64]
+#: R such that the finest grid (32768 cells) and the squares r² of the moments stay normal.
+_R_RANGE = (32768 * np.finfo(np.float64).tiny, math.sqrt(np.finfo(np.float64).max))
 
 
 @dataclass(frozen=True, eq=False)
@@ -96,9 +98,20 @@ class Tabulated(Density):
             raise TypeError(f"`function` must be callable; got {fmt(function)}.")
         big_r = as_positive_scalar("max_threshold", max_threshold)
         rtol = as_positive_scalar("rtol", rtol)
+        if not _R_RANGE[0] <= big_r <= _R_RANGE[1]:
+            raise ValueError(
+                f"`max_threshold` must lie in [{_R_RANGE[0]:.3g}, {_R_RANGE[1]:.3g}] (the grid and "
+                f"the moments' r² stay normal floating-point numbers); got {fmt(big_r)}."
+            )
 
         def f(r: float) -> float:
-            val = float(function(r))
+            try:
+                val = float(function(r))
+            except (ArithmeticError, TypeError, ValueError) as exc:
+                raise ValueError(
+                    f"`function` must return a real number on [0, max_threshold]; got "
+                    f"{type(exc).__name__} ({exc}) at r={r!r}."
+                ) from exc
             if not (math.isfinite(val) and val >= 0):
                 raise ValueError(
                     f"`function` must return finite nonnegative values; got {fmt(val)} at r={r!r}."
