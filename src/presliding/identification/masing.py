@@ -231,6 +231,11 @@ def masing_check(
             ys.append(seg_y[ok])
             ms.append(seg_f[ok])
             ps.append(pred)
+    if not ys and reversal_tolerance is not None:
+        raise ValueError(
+            "`loops` and `reversal_tolerance` must give at least one branch from a second turning "
+            f"point on (reversals beyond the tolerance); got none at {fmt(reversal_tolerance)}."
+        )
     if not ys:
         raise ValueError(
             "`loops` must hold at least one branch from a second turning point on; got none "
