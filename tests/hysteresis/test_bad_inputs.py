@@ -90,7 +90,7 @@ ENTRIES = {
     "PIState": Entry(
         lambda **a: PIState(**a),
         {"last_input": 0.0, "play": [0.0, 0.0], "direction": 0.0},
-        {"last_input": "real", "play": "real_vector", "direction": "real"},
+        {"last_input": "real", "play": "real_vector*", "direction": "real"},
         [("direction-2", {"direction": 2.0}, "direction", False)],
     ),
     "PIState.relaxed": Entry(
@@ -101,7 +101,7 @@ ENTRIES = {
     "PIState.saturated": Entry(
         lambda **a: PIState.saturated(**a),
         {"position": 0.0, "threshold": [0.1, 0.2], "direction": 1.0},
-        {"position": "real", "threshold": "nonnegative_vector", "direction": "real"},
+        {"position": "real", "threshold": "nonnegative_vector*", "direction": "real"},
         [("direction-0.5", {"direction": 0.5}, "direction", False)],
     ),
     "PIState.check_against": Entry(
@@ -155,7 +155,7 @@ ENTRIES = {
     "PIBatchState": Entry(
         lambda **a: PIBatchState(**a),
         {"last_input": 0.0, "play": [[0.0, 0.0]], "direction": 0.0},
-        {"last_input": "real", "play": "real_vector", "direction": "real"},
+        {"last_input": "real", "play": "matrix", "direction": "real"},
     ),
     "PIBatchState.member": Entry(
         lambda **a: BATCH_STATE.member(**a),
@@ -200,7 +200,7 @@ ENTRIES = {
     "MemoryState": Entry(
         lambda **a: MemoryState(**a),
         {"last_input": 0.0, "turning": [], "base": 0.0, "direction": 0.0},
-        {"last_input": "real", "turning": "real_vector", "direction": "real"},
+        {"last_input": "real", "turning": "real_vector*", "direction": "real"},
     ),
     "MemoryState.relaxed": Entry(
         lambda **a: MemoryState.relaxed(**a), {"position": 0.0}, {"position": "real"}
@@ -208,7 +208,7 @@ ENTRIES = {
     "MemoryState.saturated": Entry(
         lambda **a: MemoryState.saturated(**a),
         {"position": 0.0, "direction": 1.0, "max_threshold": 1.0},
-        {"position": "real", "direction": "real", "max_threshold": "positive"},
+        {"position": "real", "direction": "real", "max_threshold": "positive~"},
     ),
     "MemoryState.deformation": Entry(
         lambda **a: MEMORY.deformation(**a),
@@ -234,7 +234,7 @@ ENTRIES = {
     "Exponential": Entry(
         lambda **a: Exponential(**a),
         {"height": 2.0, "length": 0.1, "max_threshold": 1.0},
-        {"height": "positive", "length": "positive", "max_threshold": "positive"},
+        {"height": "positive", "length": "positive", "max_threshold": "positive~"},
     ),
     "PiecewiseConstant": Entry(
         lambda **a: PiecewiseConstant(**a),
@@ -288,7 +288,7 @@ ENTRIES = {
     "Density.virgin_curve": Entry(
         lambda **a: DENSITY.virgin_curve(**a), {"displacement": Y}, {"displacement": "signal"}
     ),
-    "Density.M1": Entry(lambda **a: DENSITY.M1(**a), {"r": [0.1]}, {"r": "nonnegative_vector"}),
+    "Density.M1": Entry(lambda **a: DENSITY.M1(**a), {"r": [0.1]}, {"r": "nonnegative_vector*~"}),
     "PIInverse": Entry(
         lambda **a: PIInverse(**a),
         {"operator": OP, "coulomb": 0.5},
@@ -322,36 +322,7 @@ ENTRIES = {
 
 #: Open gaps of the review (issue 16), each a strict expected failure: fixing one makes its
 #: test fail until its id is taken out of this list.
-KNOWN = frozenset(
-    {
-        "Density.M1-r-empty",
-        "Density.M1-r-inf",
-        "Density.M1-r-negative",
-        "Density.discretize-max_threshold-huge",
-        "Density.from_function-function-raises",
-        "Density.from_function-max_threshold-huge",
-        "Density.from_function-max_threshold-tiny",
-        "Density.virgin_curve-displacement-2d",
-        "Density.virgin_curve-displacement-empty",
-        "Exponential-max_threshold-inf",
-        "GeneralPIOperator.force_at-state-None",
-        "MemoryState-last_input-huge",
-        "MemoryState-turning-empty",
-        "MemoryState-turning-huge",
-        "MemoryState.deformation-threshold-2d",
-        "MemoryState.deformation-threshold-inf",
-        "MemoryState.play-threshold-2d",
-        "MemoryState.play-threshold-inf",
-        "MemoryState.saturated-max_threshold-inf",
-        "PIBatchState-play-2d",
-        "PIOperator.inverse-linear-negative",
-        "PIState-play-empty",
-        "PIState-play-ragged",
-        "PIState.saturated-threshold-empty",
-        "play-threshold-ragged",
-        "stop-threshold-ragged",
-    }
-)
+KNOWN: frozenset[str] = frozenset()
 
 
 @pytest.mark.parametrize(("entry", "overrides", "needle", "legal"), bad_input_cases(ENTRIES, KNOWN))

@@ -359,11 +359,7 @@ def test_the_table_starts_from_good_calls(name, tmp_path):
 
 #: Open gaps of the review (issue 16), each a strict expected failure: fixing one makes its
 #: test fail until its id is taken out of this list.
-KNOWN = frozenset(
-    {
-        "masing_check-reversal_tolerance-huge",
-    }
-)
+KNOWN: frozenset[str] = frozenset()
 
 
 @pytest.mark.parametrize(("entry", "overrides", "needle", "legal"), bad_input_cases(ENTRIES, KNOWN))
