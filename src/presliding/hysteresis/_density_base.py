@@ -80,7 +80,7 @@ class Density:
         Parameters
         ----------
         r : float or array_like, shape (n,)
-            Thresholds [m] (no NaN; values beyond R give M1(R)).
+            Thresholds r >= 0 [m] (no NaN; values beyond R give M1(R)).
 
         Returns
         -------
@@ -98,7 +98,7 @@ class Density:
         Parameters
         ----------
         r : float or array_like, shape (n,)
-            Thresholds [m] (no NaN; values beyond R give M2(R)).
+            Thresholds r >= 0 [m] (no NaN; values beyond R give M2(R)).
 
         Returns
         -------
@@ -117,7 +117,7 @@ class Density:
         Parameters
         ----------
         r : float or array_like, shape (n,)
-            Thresholds [m] (no NaN; 0 at and beyond R).
+            Thresholds r >= 0 [m] (no NaN; 0 at and beyond R).
 
         Returns
         -------
@@ -137,7 +137,7 @@ class Density:
         Parameters
         ----------
         r : float or array_like, shape (n,)
-            Thresholds [m] (no NaN).
+            Thresholds r >= 0 [m] (no NaN).
 
         Returns
         -------
@@ -228,7 +228,8 @@ class Density:
         function : callable
             f(r) >= 0 [N/m²], the density dμ/dr, called with a float.
         max_threshold : float
-            R > 0 [m], the end of the support.
+            R > 0 [m], the end of the support, within about [7.3e-304, 1.3e154]
+            (the grid and the squares r² of the moments stay normal numbers).
         rtol : float
             Relative accuracy asked of the interpolant (> 0).
 

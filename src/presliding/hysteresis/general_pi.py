@@ -177,8 +177,8 @@ class MemoryState:
 
         Parameters
         ----------
-        threshold : float or array_like
-            Thresholds r >= 0 [m].
+        threshold : float or array_like, shape (n,)
+            Finite thresholds r >= 0 [m].
 
         Returns
         -------
@@ -202,8 +202,8 @@ class MemoryState:
 
         Parameters
         ----------
-        threshold : float or array_like
-            Thresholds r >= 0 [m].
+        threshold : float or array_like, shape (n,)
+            Finite thresholds r >= 0 [m].
 
         Returns
         -------
