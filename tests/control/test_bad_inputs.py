@@ -115,7 +115,7 @@ ENTRIES = {
     "describing_function": Entry(
         lambda **a: describing_function(**a),
         {"model": MODEL, "amplitude": [1e-6, 1e-5]},
-        {"model": "object", "amplitude": "positive_vector"},
+        {"model": "object", "amplitude": "positive_array"},
     ),
     "predict_limit_cycles": Entry(
         lambda **a: predict_limit_cycles(**a),
@@ -191,18 +191,7 @@ KNOWN = frozenset(
     {
         "DiscreteController-A-1d",
         "DiscreteController-A-empty",
-        "FrictionNonlinearity-state-dict",
-        "FrictionNonlinearity-state-float",
-        "FrictionNonlinearity-state-object",
-        "FrictionNonlinearity-state-str",
-        "FrictionNonlinearity.describing_function-amplitude-array",
-        "FrictionNonlinearity.describing_function-amplitude-huge",
-        "FrictionNonlinearity.describing_function-amplitude-tiny",
         "LoopResult.limit_cycle-after-huge",
-        "describing_function-amplitude-2d",
-        "describing_function-amplitude-empty",
-        "describing_function-amplitude-huge",
-        "describing_function-amplitude-tiny",
         "measure_limit_cycle-after-huge",
         "predict_limit_cycles-amplitudes-nan",
         "predict_limit_cycles-frequencies-negative",
