@@ -189,8 +189,6 @@ def test_the_table_starts_from_good_calls(name, tmp_path):
 #: test fail until its id is taken out of this list.
 KNOWN = frozenset(
     {
-        "LoopResult.limit_cycle-after-huge",
-        "measure_limit_cycle-after-huge",
         "predict_limit_cycles-amplitudes-nan",
         "predict_limit_cycles-frequencies-negative",
         "predict_limit_cycles-points-1e12",

@@ -120,6 +120,13 @@ def test_measured_limit_cycle():
     assert cyc.amplitude == pytest.approx(1e-3) and cyc.frequency == pytest.approx(2 * np.pi)
     assert cyc.steady and cyc.cycles == 9
     assert measure_limit_cycle(t[:3], y[:3], 0.0).cycles == 0
+    assert measure_limit_cycle(t, y, 8.0).status == "none"  # 3 turning points: too few
+    with pytest.raises(ValueError, match=r"^`after` must not lie after the last turning point"):
+        measure_limit_cycle(t, y, 9.6)
+    res = simulate_loop(MODEL, 1.0, PID(150.0, 0.0, 1.0, dt=2e-3), 0.05, t_end=0.2)
+    assert res.limit_cycle(0.2).status == "none"  # a window at the very end: no cycles
+    with pytest.raises(ValueError, match=r"^`after` must not lie after the end of the run"):
+        res.limit_cycle(0.3)
 
 
 def test_errors():
