@@ -219,6 +219,9 @@ KINDS: dict[str, tuple[tuple[str, Any, bool], ...]] = {
     "choice": _kind(
         (("unknown", "nope"), ("None", None), ("int", 3), ("list", ["a"]), ("empty", ""))
     ),
+    "name": _kind(  # a free name: any non-empty string
+        (("None", None), ("int", 3), ("list", ["a"]), ("empty", "")), (("free", "nope"),)
+    ),
     "object": _kind(_OBJECTS),
     "callable": _kind(tuple((lab, v) for lab, v in _OBJECTS if lab != "dict")),
     "mapping": _kind((("str", "nope"), ("list", [1.0, 2.0]), ("float", 3.0))),

@@ -144,7 +144,7 @@ ENTRIES = {
     "to_iosys": Entry(
         lambda **a: to_iosys(**a),
         {"model": MODEL, "mass": 1.0},
-        {"model": "object", "mass": "positive?", "name": "choice?"},
+        {"model": "object", "mass": "positive?", "name": "name?"},
         [
             ("dt-negative", {"dt": -1.0}, "dt", False),
             ("dt-str", {"dt": "x"}, "dt", False),
@@ -194,9 +194,6 @@ KNOWN = frozenset(
         "simulate_loop-reference-callable-str",
         "simulate_loop_batch-mass-tiny",
         "simulate_loop_batch-settle_time-negative",
-        "to_iosys-inputs-int",
-        "to_iosys-name-empty",
-        "to_iosys-name-unknown",
     }
 )
 
