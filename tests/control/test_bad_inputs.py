@@ -187,15 +187,7 @@ def test_the_table_starts_from_good_calls(name, tmp_path):
 
 #: Open gaps of the review (issue 16), each a strict expected failure: fixing one makes its
 #: test fail until its id is taken out of this list.
-KNOWN = frozenset(
-    {
-        "simulate_loop-initial_velocity-huge",
-        "simulate_loop-mass-tiny",
-        "simulate_loop-reference-callable-str",
-        "simulate_loop_batch-mass-tiny",
-        "simulate_loop_batch-settle_time-negative",
-    }
-)
+KNOWN: frozenset[str] = frozenset()
 
 
 @pytest.mark.parametrize(("entry", "overrides", "needle", "legal"), bad_input_cases(ENTRIES, KNOWN))
