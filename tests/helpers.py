@@ -197,6 +197,19 @@ KINDS: dict[str, tuple[tuple[str, Any, bool], ...]] = {
         (*_VECTOR, ("negative", [1.0, -3.0])),
         (("huge", [1e308, 1e308]), ("tiny", [1e-320, 1e-320])),
     ),
+    "positive_array": _kind(  # element by element, any shape (empty and 2-d are legal)
+        (
+            *((lab, v) for lab, v in _VECTOR if lab not in ("empty", "2d")),
+            ("negative", [1.0, -3.0]),
+            ("zero", [1.0, 0.0]),
+        ),
+        (
+            ("huge", [1e308, 1e308]),
+            ("tiny", [1e-320, 1e-320]),
+            ("empty", []),
+            ("2d", [[1e-6, 2e-6], [3e-6, 4e-6]]),
+        ),
+    ),
     "real_vector": _kind(_VECTOR, (("huge", [1e308, -1e308]),)),
     "real_array": _kind(
         tuple((lab, v) for lab, v in _VECTOR if lab not in ("empty", "2d")),
@@ -205,6 +218,9 @@ KINDS: dict[str, tuple[tuple[str, Any, bool], ...]] = {
     "matrix": _kind((*_VEC, ("1d", [1.0, 2.0]), ("3d", [[[1.0]]]))),
     "choice": _kind(
         (("unknown", "nope"), ("None", None), ("int", 3), ("list", ["a"]), ("empty", ""))
+    ),
+    "name": _kind(  # a free name: any non-empty string
+        (("None", None), ("int", 3), ("list", ["a"]), ("empty", "")), (("free", "nope"),)
     ),
     "object": _kind(_OBJECTS),
     "callable": _kind(tuple((lab, v) for lab, v in _OBJECTS if lab != "dict")),

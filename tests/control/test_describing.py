@@ -167,3 +167,10 @@ def test_errors():
     with pytest.raises(TypeError, match=r"^`model` must be a PIFriction or CoulombFriction"):
         describing_function("model", 1.0)
     assert describing_function(MODEL, [[1e-3, 2e-3]]).shape == (1, 2)
+    assert describing_function(MODEL, []).shape == (0,)  # element by element, as a ufunc
+    # the largest amplitudes give N -> 0 without overflow; a subnormal one overflows 4c1/(πA)
+    level = MODEL.coulomb + float(np.sum(MODEL.breakaway))  # F_c (eq. 9): all elements slide
+    big = describing_function(MODEL, 1e308)
+    assert big.imag == pytest.approx(4.0 * level / np.pi / 1e308, rel=1e-6, abs=0.0)
+    with pytest.raises(ValueError, match=r"^`amplitude` must give a finite quadrature part"):
+        describing_function(MODEL, [1e-3, 1e-320])

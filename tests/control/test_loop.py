@@ -120,6 +120,13 @@ def test_measured_limit_cycle():
     assert cyc.amplitude == pytest.approx(1e-3) and cyc.frequency == pytest.approx(2 * np.pi)
     assert cyc.steady and cyc.cycles == 9
     assert measure_limit_cycle(t[:3], y[:3], 0.0).cycles == 0
+    assert measure_limit_cycle(t, y, 8.0).status == "none"  # 3 turning points: too few
+    with pytest.raises(ValueError, match=r"^`after` must not lie after the last turning point"):
+        measure_limit_cycle(t, y, 9.6)
+    res = simulate_loop(MODEL, 1.0, PID(150.0, 0.0, 1.0, dt=2e-3), 0.05, t_end=0.2)
+    assert res.limit_cycle(0.2).status == "none"  # a window at the very end: no cycles
+    with pytest.raises(ValueError, match=r"^`after` must not lie after the end of the run"):
+        res.limit_cycle(0.3)
 
 
 def test_errors():
@@ -148,6 +155,22 @@ def test_errors():
         simulate_loop_batch(MODEL, 1.0, pid, 0.0, kp=np.ones(200_000), t_end=1.0)
     with pytest.raises(ValueError, match=r"^`kp` must be nonnegative; got -1\.0 at index 1"):
         simulate_loop_batch(MODEL, 1.0, pid, 0.0, kp=[1.0, -1.0], t_end=1.0)
+    with pytest.raises(TypeError, match=r"^`reference` must be a real number or array"):
+        simulate_loop(MODEL, 1.0, pid, lambda t: "step", t_end=0.01)
+    with pytest.raises(ValueError, match=r"^`settle_time` must lie within the run \[0\.0, 1\.0\]"):
+        simulate_loop_batch(MODEL, 1.0, pid, 0.0, kp=[1.0, 2.0], t_end=1.0, settle_time=-0.5)
+    with pytest.raises(ValueError, match=r"^`model` and `mass` must give a finite frequency"):
+        simulate_loop_batch(MODEL, 1e-320, pid, 0.0, kp=[1.0, 2.0], t_end=1.0)
+    with pytest.raises(ValueError, match=r"^`mass` and `initial_velocity` must give a finite"):
+        simulate_loop(MODEL, 1.0, pid, 0.0, t_end=0.01, initial_velocity=1e200)
+    # a sampled loop far beyond its stable gains diverges: an error at the time it overflows,
+    # not inf and NaN in the result
+    with pytest.raises(
+        ValueError,
+        match=r"^`mass` and `controller` must keep the loop in the "
+        r"floating-point range; got mass = 1\.0: the motion overflows at t = ",
+    ):
+        simulate_loop(MODEL, 1.0, PID(1e12, dt=1e-3), 1e-3, t_end=1.0)
     from presliding import Uniform
 
     with pytest.raises(TypeError, match="continuous density"):

@@ -188,11 +188,20 @@ class DiscreteController:
             if arr.ndim != 2:
                 raise ValueError(f"`{name}` must be a matrix; got shape {arr.shape}.")
             mats[name] = np.ascontiguousarray(arr)
-        n = mats["A"].shape[0] if mats["A"].size else 0
-        a = mats["A"].reshape(n, n) if n else np.zeros((0, 0))
+        a = mats["A"] if mats["A"].size else np.zeros((0, 0))  # [] or [[]]: no states
+        if a.shape[0] != a.shape[1]:
+            raise ValueError(f"`A` must be a square matrix (n, n); got shape {a.shape}.")
+        n = a.shape[0]
         p = mats["D"].shape[1]
-        b = mats["B"].reshape(n, -1) if n else np.zeros((0, p))
-        c = mats["C"].reshape(1, n) if n else np.zeros((1, 0))
+
+        # B (n, p) and C (1, n) may be given flat; with n = 0 they must be empty
+        b, c = mats["B"], mats["C"]
+        if n == 0:
+            b = np.zeros((0, p)) if b.size == 0 else b
+            c = np.zeros((1, 0)) if c.size == 0 else c
+        else:
+            b = b.reshape(n, -1) if b.size % n == 0 else b
+            c = c.reshape(1, n) if c.size == n else c
         want = {"A": (n, n), "B": (n, p), "C": (1, n), "D": (1, p)}
         for name, arr in (("A", a), ("B", b), ("C", c), ("D", mats["D"])):
             if arr.shape != want[name]:

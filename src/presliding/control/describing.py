@@ -41,7 +41,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from presliding._validation import as_real_array
+from presliding._validation import as_real_array, check_finite_derived
 from presliding.friction.baselines import CoulombFriction
 from presliding.friction.pi_friction import PIFriction
 
@@ -63,6 +63,7 @@ def friction_model(model: Any) -> PIFriction:
 
 
 def _amplitudes(amplitude: ArrayLike) -> FloatArray:
+    """A > 0, finite, of any shape (N(A) is evaluated element by element, as a ufunc)."""
     a = as_real_array("amplitude", amplitude)
     bad = ~(a > 0)
     if bad.any():
@@ -148,9 +149,14 @@ def describing_function(model: PIFriction | CoulombFriction, amplitude: ArrayLik
     """
     model = friction_model(model)
     a = _amplitudes(amplitude)
-    if model.is_discrete:
-        el = elements_df(np.asarray(model.stiffness), np.asarray(model.threshold), a)
-    else:
-        el = density_df(model.density, a)
-    out = el + 1j * (4.0 * model.coulomb / (np.pi * a))
+    with np.errstate(over="ignore", divide="ignore", invalid="ignore", under="ignore"):
+        if model.is_discrete:
+            el = elements_df(np.asarray(model.stiffness), np.asarray(model.threshold), a)
+        else:
+            el = density_df(model.density, a)
+        im = np.imag(el) + (4.0 / np.pi) * model.coulomb / a  # π·A overflows for A ~ 1e308
+    # a subnormal A (1e-320) makes 4·c1/(π·A) overflow: an error, not inf
+    check_finite_derived("quadrature part Im N(A) (energy per cycle/(π·A²))", im, "amplitude")
+    check_finite_derived("equivalent stiffness Re N(A)", np.real(el), "amplitude")
+    out = np.real(el) + 1j * im
     return complex(out) if np.ndim(out) == 0 else out

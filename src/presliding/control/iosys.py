@@ -54,7 +54,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from presliding._validation import as_positive_scalar, as_real_scalar, fmt
+from presliding._validation import as_list, as_positive_scalar, as_real_scalar, fmt
 from presliding.control import _loop
 from presliding.control._optional import python_control as _control
 from presliding.control.controllers import PID, DiscreteController
@@ -172,14 +172,16 @@ def _name(name: Any, kind: str) -> str:
         return f"{kind}[{next(_COUNTER)}]"
     if not isinstance(name, str):
         raise TypeError(f"`name` must be a string or None; got {fmt(name)}.")
+    if not name.strip():  # python-control refers to signals as "name.signal"
+        raise ValueError(f"`name` must be a non-empty string or None; got {fmt(name)}.")
     return name
 
 
 def _signals(arg: str, value: Any, default: list[str]) -> list[str]:
     if value is None:
         return default
-    names = [value] if isinstance(value, str) else list(value)
-    if len(names) != len(default) or not all(isinstance(n, str) for n in names):
+    names = [value] if isinstance(value, str) else as_list(arg, value)
+    if len(names) != len(default) or not all(isinstance(n, str) and n.strip() for n in names):
         raise ValueError(f"`{arg}` must be {len(default)} signal name(s) like {default!r}; got "
                          f"{fmt(value)}.")  # fmt: skip
     return names

@@ -34,7 +34,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.optimize import root
 
-from presliding._validation import as_positive_scalar, as_real_vector, fmt
+from presliding._validation import as_positive_scalar, as_real_vector, check_size, fmt
 from presliding.control.controllers import PID, DiscreteController
 from presliding.control.cycles import LimitCycles
 from presliding.control.describing import describing_function, friction_model
@@ -142,15 +142,19 @@ def _candidates(za: Any, zb: Any) -> list[tuple[int, int, float, float]]:
     return out
 
 
-def _grid(name: str, value: Any, default: tuple[float, float], num: int) -> FloatArray:
+def _range(name: str, value: Any) -> tuple[float, float] | None:
+    """A searched range (low, high) with 0 < low < high, checked on entry (None: default)."""
     if value is None:
-        lo, hi = default
-    else:
-        pair = as_real_vector(name, value)
-        if pair.shape[0] != 2 or not 0 < pair[0] < pair[1]:
-            raise ValueError(f"`{name}` must be a range (low, high) with 0 < low < high; got "
-                             f"{fmt(pair)}.")  # fmt: skip
-        lo, hi = float(pair[0]), float(pair[1])
+        return None
+    pair = as_real_vector(name, value)
+    if pair.shape[0] != 2 or not 0 < pair[0] < pair[1]:
+        raise ValueError(f"`{name}` must be a range (low, high) with 0 < low < high; got "
+                         f"{fmt(pair)}.")  # fmt: skip
+    return float(pair[0]), float(pair[1])
+
+
+def _grid(given: tuple[float, float] | None, default: tuple[float, float], num: int) -> FloatArray:
+    lo, hi = default if given is None else given
     return np.geomspace(lo, hi, num)
 
 
@@ -213,6 +217,9 @@ def predict_limit_cycles(
     fr = friction_model(model)
     if isinstance(points, bool) or not isinstance(points, int) or points < 20:
         raise ValueError(f"`points` must be an integer >= 20; got {fmt(points)}.")
+    # the crossings are searched among all pairs of segments: about 12 arrays points × points
+    check_size("points", points, points**2, what="pairs of curve points", item_bytes=12 * 8)
+    a_range, w_range = _range("amplitudes", amplitudes), _range("frequencies", frequencies)
     g = linear_part(plant_or_loop, controller, float(getattr(fr, "viscous", 0.0) or 0.0))
     if fr.is_discrete and fr.n_elements:
         r = np.asarray(fr.threshold)
@@ -225,9 +232,8 @@ def predict_limit_cycles(
         a_default = (1e-4 * big, 1e4 * big)
     else:
         a_default = (1e-9, 1e3)
-    amps = _grid("amplitudes", amplitudes, a_default, points)
-    omegas = _grid("frequencies", frequencies, _default_frequencies(g, plant_or_loop, controller),
-                   points)  # fmt: skip
+    amps = _grid(a_range, a_default, points)
+    omegas = _grid(w_range, _default_frequencies(g, plant_or_loop, controller), points)
     n_a = describing_function(fr, amps)
     g_w = g(1j * omegas)
     found: list[tuple[float, float, bool]] = []  # amplitude, frequency, stable

@@ -26,9 +26,11 @@ from presliding._validation import (
     as_choice,
     as_count,
     as_positive_scalar,
+    as_real_array,
     as_real_scalar,
     as_real_vector,
     as_signal,
+    check_finite_derived,
     check_size,
     check_time_span,
     fmt,
@@ -71,7 +73,7 @@ def _signal(
                 f"`t_end` must be given when `{name}` is a function (it sets the number of "
                 "samples); got None."
             )
-        out = np.asarray(value(times), dtype=np.float64)
+        out = as_real_array(name, value(times))  # a function returning text is refused
         if out.ndim == 0:
             out = np.full(times.shape, float(out))
         return as_signal(name, out.reshape(-1) if out.shape == times.shape else out)
@@ -125,6 +127,11 @@ def _setup(model, mass, controller, reference, feedforward, t_end, t_start, y0, 
     f, last_dir = _run.initial_deformation(model, state, y0, v0, float(ref[0] - y0))
     k = np.array(model.stiffness, dtype=np.float64)  # writable: one kernel type
     r = np.array(model.threshold, dtype=np.float64)
+    with np.errstate(over="ignore"):  # the exact pieces' rates (σ/2m)², Σk/m and ½·m·v0²
+        rates = (np.float64(0.5 * model.viscous / m) ** 2, np.sum(k) / m, 0.5 * m * v0 * v0)
+    check_finite_derived("damping rate (σ/2m)²", rates[0], ("model", "mass"))
+    check_finite_derived("frequency² Σk/m", rates[1], ("model", "mass"))
+    check_finite_derived("kinetic energy ½·m·v0²", rates[2], ("mass", "initial_velocity"))
     return m, ctrl, t0, y0, v0, times, ref, ff, f, last_dir, k, r
 
 
@@ -137,6 +144,20 @@ def _controller_arrays(ctrl: PID | DiscreteController):
     return (1, np.array([low, high]), np.zeros(4), np.ascontiguousarray(ctrl.A),
             np.ascontiguousarray(ctrl.B), np.ascontiguousarray(ctrl.C),
             np.ascontiguousarray(ctrl.D), np.zeros(ctrl.n_states))  # fmt: skip
+
+
+def _check_range(t: FloatArray, arrays: tuple[FloatArray, ...], m: float) -> None:
+    """Raise when the loop left the floating-point range (an unstable loop, or extreme
+    values): name the arguments that set it and the time it happened."""
+    bad = np.zeros(t.shape[0], dtype=bool)
+    for arr in arrays:
+        bad |= ~np.isfinite(arr)
+    if bad.any():
+        raise ValueError(
+            f"`mass` and `controller` must keep the loop in the floating-point range; got mass "
+            f"= {fmt(m)}: the motion overflows at t = {fmt(t[int(np.argmax(bad))])} s (an "
+            "unstable loop: lower gains, a shorter `t_end`, or units that keep values moderate)."
+        )
 
 
 def simulate_loop(
@@ -225,8 +246,12 @@ def simulate_loop(
     n_keep = n_out if status == 0 else done * sub
     n_ctl = n if status == 0 else done
     y_o, v_o, a_o, fel_o, u_o, eel_o, dis_o, work_o, vis_o = (o[:n_keep] for o in out)
-    kinetic = 0.5 * m * v_o**2
-    residual = kinetic + eel_o + dis_o + vis_o - work_o - e0
+    with np.errstate(over="ignore", invalid="ignore"):
+        kinetic = 0.5 * (m * v_o) * v_o  # m·v first: a light mass moving fast stays finite
+        residual = kinetic + eel_o + dis_o + vis_o - work_o - e0
+        friction = u_o - m * a_o
+    _check_range(t0 + np.arange(n_keep) * (ctrl.dt / sub),
+                 (y_o, v_o, a_o, u_o, friction, kinetic, residual), m)  # fmt: skip
     energy = MotionEnergy(kinetic, eel_o, dis_o, work_o, residual, e0, viscous=vis_o)
     stop = None if (status != 0 or math.isnan(rest)) else float(rest)
     t_out = t0 + np.arange(n_keep) * (ctrl.dt / sub)
@@ -238,7 +263,7 @@ def simulate_loop(
     )
     return LoopResult(
         time=t_out, position=y_o, velocity=v_o, acceleration=a_o,
-        friction_force=u_o - m * a_o, elastic_force=fel_o, applied_force=u_o,
+        friction_force=friction, elastic_force=fel_o, applied_force=u_o,
         reversal_times=rev[0][:n_rev].copy(), reversal_positions=rev[1][:n_rev].copy(),
         stop_time=stop, rest_position=None if stop is None else float(y_end), energy=energy,
         final_state=PIState(float(y_end), float(y_end) - ff_, float(d_end)),
@@ -319,10 +344,10 @@ def simulate_loop_batch(
     n = times.shape[0]
     settle = 0.5 * (times[0] + times[-1]) if settle_time is None else as_real_scalar(
         "settle_time", settle_time)  # fmt: skip
+    if not times[0] <= settle <= times[-1]:
+        raise ValueError(f"`settle_time` must lie within the run [{fmt(times[0])}, "
+                         f"{fmt(times[-1])}] s; got {fmt(settle)}.")  # fmt: skip
     i_from = int(np.searchsorted(times, settle, side="left"))
-    if i_from >= n:
-        raise ValueError(f"`settle_time` must not lie after the last instant {fmt(times[-1])}; "
-                         f"got {fmt(settle)}.")  # fmt: skip
     if outputs == "full" and n_b * n > MAX_BATCH_SAMPLES:
         raise ValueError(
             f"`outputs` 'full' would keep {n_b} × {n} samples of y and u (more than "

@@ -15,8 +15,10 @@ from typing import Any
 
 import numpy as np
 
-from presliding._validation import as_real_scalar
+from presliding._validation import as_positive_scalar, as_real_scalar
 from presliding.control.describing import describing_function, friction_model
+from presliding.hysteresis.general_pi import MemoryState
+from presliding.hysteresis.operators import PIState
 
 try:  # the base class when python-control is there; a plain object otherwise
     from control import DescribingFunctionNonlinearity as _Base
@@ -46,7 +48,19 @@ class FrictionNonlinearity(_Base):
 
     def __init__(self, model: Any, state: Any = None) -> None:
         self.model = friction_model(model)
-        self.state = self.model.relaxed_state(0.0) if state is None else state
+        self.state = self._checked(state)
+
+    def _checked(self, state: Any) -> Any:
+        """`state`, checked on entry by the model itself (type and size: a PIState for
+        elements, a MemoryState for a density), or the relaxed memory at 0 for None."""
+        if state is None:
+            return self.model.relaxed_state(0.0)
+        if not isinstance(state, (PIState, MemoryState)):
+            raise TypeError(
+                f"`state` must be a PIState, a MemoryState or None; got {type(state).__name__}."
+            )
+        self.model.force(np.array([float(state.last_input)]), state)  # raises naming `state`
+        return state
 
     def __call__(self, position: float) -> float:
         """The friction force at the next input sample (the memory moves on)."""
@@ -56,11 +70,12 @@ class FrictionNonlinearity(_Base):
 
     def reset(self, state: Any = None) -> None:
         """Start again from `state` (default relaxed at 0)."""
-        self.state = self.model.relaxed_state(0.0) if state is None else state
+        self.state = self._checked(state)
 
     def describing_function(self, amplitude: float) -> complex:
-        """N(A), exact (`presliding.control.describing_function`)."""
-        return complex(describing_function(self.model, amplitude))
+        """N(A), exact (`presliding.control.describing_function`), for one amplitude A > 0
+        (``control.describing_function`` passes them one at a time)."""
+        return complex(describing_function(self.model, as_positive_scalar("amplitude", amplitude)))
 
     def _isstatic(self) -> bool:
         return False

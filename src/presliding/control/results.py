@@ -96,12 +96,23 @@ def measure_limit_cycle(
     From the exact turning points: the amplitude is half the mean distance between
     consecutive turning points, the period the mean time between every second one,
     the trend the relative change of the swing from the first to the last pair of
-    turning points. NaN (0 cycles) when fewer than two full cycles follow `after`.
+    turning points. NaN (0 cycles, status "none") when fewer than two full cycles
+    follow `after`; a window that starts after the last turning point given is an error.
     """
     t_all = as_real_vector("reversal_times", reversal_times, allow_empty=True)
     y_all = as_real_vector("reversal_positions", reversal_positions, allow_empty=True)
     check_same_length(reversal_times=t_all, reversal_positions=y_all)
-    keep = t_all >= as_real_scalar("after", after)
+    start = as_real_scalar("after", after)
+    if t_all.shape[0] and start > t_all.max():
+        raise ValueError(
+            f"`after` must not lie after the last turning point t = {fmt(t_all.max())} s (the "
+            f"window would hold none); got {fmt(start)}."
+        )
+    return _measure(t_all, y_all, start)
+
+
+def _measure(t_all: FloatArray, y_all: FloatArray, after: float) -> MeasuredCycle:
+    keep = t_all >= after
     t, y = t_all[keep], y_all[keep]
     if t.shape[0] < 5:
         return MeasuredCycle(float("nan"), float("nan"), 0, float("nan"))
@@ -156,7 +167,11 @@ class LoopResult(MotionResult):
         [m], angular frequency [rad/s], cycles and trend (see `measure_limit_cycle`)."""
         t0, t1 = float(self.time[0]), float(self.time[-1])
         start = 0.5 * (t0 + t1) if after is None else as_real_scalar("after", after)
-        return measure_limit_cycle(self.reversal_times, self.reversal_positions, start)
+        if start > t1:
+            raise ValueError(
+                f"`after` must not lie after the end of the run t = {fmt(t1)} s; got {fmt(start)}."
+            )
+        return _measure(self.reversal_times, self.reversal_positions, start)
 
     def plot(self, ax: Axes | None = None, *, kind: str = "tracking") -> Axes:
         """Position and reference over time ("tracking"), the error ("error"), the control
