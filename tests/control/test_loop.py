@@ -212,3 +212,16 @@ def test_loop_at_the_edge_of_the_stick_band_does_not_stall():
     # it breaks away in the direction of u − F_el, by the rounding unit of F_el at first
     s = np.sign(u - fel)
     assert s * res.position[1] > 0.0 and abs(res.position[1]) < 1e-15
+
+
+def test_a_batch_member_whose_loop_diverges_is_an_overflow_not_an_event_limit():
+    # kp = 1e7 on 1 kg sampled at 1 ms is unstable: the loop leaves the floating-point range
+    model = PIFriction(0.0, [1e4, 3e3], breakaway=[0.1, 0.1])
+    pid = PID(kp=400.0, ki=4e4, dt=1e-3)
+    res = simulate_loop_batch(model, 1.0, pid, 0.0, kp=[400.0, 1e7], ki=[4e4, 4e4],
+                                 t_end=2.0, initial_velocity=1e-3)  # fmt: skip
+    assert list(res.member_status) == ["success", "overflow"]
+    assert res.status == "overflow" and not res.success
+    assert "1 of 2 loops left the floating-point range" in res.message
+    assert "event limit" not in res.message
+    assert np.isfinite(res.error_rms[0]) and np.isnan(res.error_rms[1])

@@ -369,12 +369,17 @@ def simulate_loop_batch(
                          last_dir, p_all,
                          np.zeros(4), ref, ff, t0, ctrl.dt, max_events, i_from, o_y, o_u,
                          status, n_rev, e_rms, e_max, half, y_end, v_end)  # fmt: skip
-    failed = int(np.sum(status != 0))
-    message = (
-        "all loops solved exactly"
-        if not failed
-        else f"{failed} of {n_b} loops reached the event limit max_events = {max_events}"
-    )
+    # a loop that left the floating-point range (unstable gains) is not an event-limit failure
+    diverged = ~(np.isfinite(e_rms) & np.isfinite(e_max) & np.isfinite(y_end) & np.isfinite(v_end))
+    status[diverged] = -3
+    notes = []
+    if np.any(status == -1):
+        notes.append(f"{int(np.sum(status == -1))} of {n_b} loops reached the event limit "
+                     f"max_events = {max_events}")  # fmt: skip
+    if np.any(diverged):
+        notes.append(f"{int(np.sum(diverged))} of {n_b} loops left the floating-point range "
+                     "(unstable gains; their summaries are NaN)")  # fmt: skip
+    message = "; ".join(notes) or "all loops solved exactly"
     return LoopBatch(
         kp=g["kp"], ki=g["ki"], kd=g["kd"], time=times,
         position=o_y if rows else None, control=o_u if rows else None, error_rms=e_rms,

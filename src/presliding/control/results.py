@@ -268,8 +268,9 @@ class LoopBatch:
     n_reversals : ndarray of int, shape (B,)
     final_position, final_velocity : ndarray, shape (B,)
     member_status : ndarray of str, shape (B,)
-        Each member's status: "success" or "event_limit" (the event limit was
-        reached).
+        Each member's status: "success", "event_limit" (the event limit was
+        reached) or "overflow" (the loop left the floating-point range: unstable
+        gains; its summaries are NaN).
     settle_time : float
     message : str
     status : str

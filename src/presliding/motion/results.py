@@ -24,10 +24,13 @@ STATUS_SUCCESS = "success"
 STATUS_EVENT_LIMIT = "event_limit"
 #: The accuracy target `rtol`/`atol` was not met within the step limit.
 STATUS_ACCURACY_NOT_MET = "accuracy_not_met"
+#: A member of a closed-loop batch left the floating-point range (an unstable loop).
+STATUS_OVERFLOW = "overflow"
 #: Each status by its integer code of earlier releases (0 success, negative failure).
-STATUSES = {0: STATUS_SUCCESS, -1: STATUS_EVENT_LIMIT, -2: STATUS_ACCURACY_NOT_MET}
+STATUSES = {0: STATUS_SUCCESS, -1: STATUS_EVENT_LIMIT, -2: STATUS_ACCURACY_NOT_MET,
+            -3: STATUS_OVERFLOW}  # fmt: skip
 _CODES = {name: code for code, name in STATUSES.items()}
-_NAMES = "'success', 'event_limit' or 'accuracy_not_met'"
+_NAMES = "'success', 'event_limit', 'accuracy_not_met' or 'overflow'"
 
 
 def motion_status(status: int | str) -> Status:
