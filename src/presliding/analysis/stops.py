@@ -83,7 +83,7 @@ def _undamped(model: PIFriction, what: str) -> PIFriction:
 
 def sticks(model: PIFriction, elastic_force: float) -> bool:
     """A mass at rest sticks when |F_el| <= c1 (equality sticks, within rounding)."""
-    return abs(elastic_force) <= model.coulomb + _SLACK * model.coulomb_level
+    return bool(abs(elastic_force) <= model.coulomb + _SLACK * model.coulomb_level)
 
 
 def phi(model: PIFriction, displacement: ArrayLike) -> FloatArray | float:

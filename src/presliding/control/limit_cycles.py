@@ -155,7 +155,7 @@ def _range(name: str, value: Any) -> tuple[float, float] | None:
 
 def _grid(given: tuple[float, float] | None, default: tuple[float, float], num: int) -> FloatArray:
     lo, hi = default if given is None else given
-    return np.geomspace(lo, hi, num)
+    return np.geomspace(lo, hi, num, dtype=np.float64)
 
 
 def _default_frequencies(g: Callable[[Any], Any], plant_or_loop: Any, controller: Any):

@@ -119,9 +119,9 @@ class Tabulated(Density):
             return val
 
         n = 64
-        cells = _cell_moments(f, np.linspace(0.0, big_r, n + 1))
+        cells = _cell_moments(f, np.linspace(0.0, big_r, n + 1, dtype=np.float64))
         while True:
-            fine = _cell_moments(f, np.linspace(0.0, big_r, 2 * n + 1))
+            fine = _cell_moments(f, np.linspace(0.0, big_r, 2 * n + 1, dtype=np.float64))
             coarse = _tabulate(f, big_r, n, cells)
             exact = _tabulate(f, big_r, 2 * n, fine)
             mids = exact.grid[1::2]
@@ -155,7 +155,7 @@ def _cell_moments(f: Callable[[float], float], edges: FloatArray) -> FloatArray:
 def _tabulate(
     f: Callable[[float], float], big_r: float, n: int, cells: FloatArray, err: float = 0.0
 ) -> Tabulated:
-    grid = np.linspace(0.0, big_r, n + 1)
+    grid = np.linspace(0.0, big_r, n + 1, dtype=np.float64)
     values = np.array([f(r) for r in grid])
     mom = np.zeros((3, n + 1))
     mom[0, 1:] = np.cumsum(cells[1])

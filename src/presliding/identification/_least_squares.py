@@ -96,7 +96,7 @@ def _parameter_map(
         if n in fixed:
             return np.zeros(len(free)), float(fixed[n])
         if n not in tied:
-            row = np.zeros(len(free))
+            row: FloatArray = np.zeros(len(free))
             row[col[n]] = 1.0
             return row, 0.0
         spec = tied[n]

@@ -121,7 +121,7 @@ class ModelSpec:
         heights = np.array([max(q[x], 0.0) for x in self.h_names])
         if not np.any(heights > 0):
             heights[:] = TINY
-        breaks = np.linspace(0.0, pos["max_threshold"], self.n + 1)
+        breaks = np.linspace(0.0, pos["max_threshold"], self.n + 1, dtype=np.float64)
         return PiecewiseConstant(breaks, heights)
 
     def bank(self, q: Mapping[str, float]) -> tuple[float, FloatArray, FloatArray]:
@@ -131,6 +131,7 @@ class ModelSpec:
             k, r = centroid_bank(self.friction_density(q), self.cells)
             return c1, k, r
         k = np.maximum([q[x] for x in self.k_names], TINY)
+        c: FloatArray
         if self.equal:
             c = np.full(self.n, max((q["coulomb_level"] - c1) / max(self.n, 1), TINY))
         else:

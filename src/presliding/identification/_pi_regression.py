@@ -179,7 +179,7 @@ def geometric_grid(lo: float, hi: float, span: float, size: int = DEFAULT_GRID) 
     lo = max(lo, span * 1e-5)
     if not hi > lo:
         lo = hi / 100.0
-    return np.geomspace(lo, hi, size)
+    return np.geomspace(lo, hi, size, dtype=np.float64)
 
 
 def merge_grid(grid: FloatArray, weight: FloatArray, n: int) -> tuple[FloatArray, FloatArray]:
@@ -282,7 +282,7 @@ def fit_separable(
         return out
 
     if n_elements == 0:
-        r0 = np.empty(0)
+        r0: FloatArray = np.empty(0)
         theta = linear_stage(r0)
     elif thresholds is not None:
         r0 = np.asarray(thresholds, dtype=float)

@@ -181,10 +181,10 @@ def run_batch(m, c1, sigma, k, r, f0, y0, v0, last_dir, u_t, u_val, times, t_end
     if n_threads <= 1:
         batch_events(0, n_b, *args)
     else:  # a few ranges per thread: members differ in cost
-        edges = np.linspace(0, n_b, min(n_b, 4 * n_threads) + 1).astype(np.int64)
+        edges = [int(e) for e in np.linspace(0, n_b, min(n_b, 4 * n_threads) + 1)]
         with ThreadPoolExecutor(n_threads) as pool:
             done = [pool.submit(batch_events, a, b, *args)
-                    for a, b in itertools.pairwise(edges.tolist()) if b > a]  # fmt: skip
+                    for a, b in itertools.pairwise(edges) if b > a]  # fmt: skip
             for job in done:
                 job.result()
     stop = np.where(np.isnan(stop), np.inf, stop)

@@ -101,9 +101,13 @@ class Forcing:
 
 def _call_user(func: Callable[[Any], Any], t: FloatArray) -> FloatArray:
     """Evaluate a user u(t) on an array, vectorising a scalar function if needed."""
-    try:
-        out = _real_values(func(t), t.shape)
-    except (TypeError, ValueError):
+    import warnings
+
+    try:  # numpy < 2.5 only warns when a scalar function converts a size-1 array
+        with warnings.catch_warnings():
+            warnings.simplefilter("error", DeprecationWarning)
+            out = _real_values(func(t), t.shape)
+    except (TypeError, ValueError, DeprecationWarning):
         out = None
     if out is None:
         out = np.empty(t.shape)
