@@ -63,7 +63,7 @@ def _first_bad(arr: np.ndarray, bad: np.ndarray) -> str:
 def _check_finite(name: str, arr: np.ndarray) -> None:
     # a sum is finite only if every term is (no O(size) temporary); else search in pieces
     with np.errstate(over="ignore", invalid="ignore"):
-        if math.isfinite(np.add.reduce(arr, axis=None)):
+        if math.isfinite(np.sum(arr)):
             return
     flat = arr.reshape(-1)
     for start in range(0, flat.shape[0], 1 << 16):

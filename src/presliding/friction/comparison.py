@@ -89,7 +89,7 @@ class Comparison(ResultMixin):
         width = max(len(label) for label in self.forces)
         for label, f in self.forces.items():
             lines.append(
-                f"  {label:<{width}}  F in [{f.min():.6g}, {f.max():.6g}] N, "
+                f"  {label:<{width}}  F in [{np.min(f):.6g}, {np.max(f):.6g}] N, "
                 f"∫F dy = {self.work[label]:.6g} J, RMS difference to {first}: "
                 f"{self.rms_difference[label]:.6g} N"
             )

@@ -311,7 +311,7 @@ class Discrete(Density):
     @property
     def min_threshold(self) -> float:
         """The smallest threshold min r_j; inf without elements (no stop ever slides)."""
-        return float(self.threshold.min()) if self.threshold.shape[0] else math.inf
+        return float(np.min(self.threshold)) if self.threshold.shape[0] else math.inf
 
     def __eq__(self, other: object) -> bool:
         return self._same(other, "stiffness", "threshold")

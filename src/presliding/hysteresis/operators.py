@@ -214,7 +214,7 @@ def check_input_range(
         return
     peak = float(_kernels.peak(y))  # one compiled pass (max and min would take two)
     with np.errstate(over="ignore"):
-        reach = peak + (float(threshold.max()) if threshold.shape[0] else 0.0)
+        reach = peak + (float(np.max(threshold)) if threshold.shape[0] else 0.0)
         bound = abs(linear) * peak + float(np.abs(weight) @ threshold)
     check_finite_derived("reach max|y| + max r_j of the play operators", reach, ("y", "threshold"))
     check_finite_derived("output bound |a|·max|y| + Σ |w_j|·r_j", bound, ("y", "linear"))

@@ -204,7 +204,7 @@ class PooledProblem:
         r_arr = np.ones((n_par, n_el))
         for p, (_, k, r) in enumerate(banks):
             k_arr[p, : k.shape[0]], r_arr[p, : r.shape[0]] = k, r
-            r_arr[p, k.shape[0] :] = r.max() if r.shape[0] else 1.0
+            r_arr[p, k.shape[0] :] = np.max(r) if r.shape[0] else 1.0
         c1_all = np.array([b[0] for b in banks])
         col = self.index
         mass = np.maximum(sets[:, col["mass"]], TINY)

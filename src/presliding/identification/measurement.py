@@ -291,8 +291,8 @@ class Measurement(MeasurementReaders):
         if not self.is_uniform:
             steps = np.diff(self.time)
             raise ValueError(
-                f"`{what}` needs uniform sampling; steps range from {fmt(float(steps.min()))} "
-                f"to {fmt(float(steps.max()))} s. Call `resample(step)` first."
+                f"`{what}` needs uniform sampling; steps range from {fmt(float(np.min(steps)))} "
+                f"to {fmt(float(np.max(steps)))} s. Call `resample(step)` first."
             )
 
     def _map(self, fn: Any, time: FloatArray) -> Measurement:

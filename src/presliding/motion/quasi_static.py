@@ -122,9 +122,9 @@ class QuasiStaticResponse:
             [
                 f"Quasi-static response of {self.model!r}",
                 f"  {u.shape[0]} samples; status {self.status} ({self.message})",
-                f"  applied force {u.min():.6g} .. {u.max():.6g} N "
+                f"  applied force {np.min(u):.6g} .. {np.max(u):.6g} N "
                 f"(F_c = {self.model.coulomb_level:.6g} N)",
-                f"  position {y.min():.6g} .. {y.max():.6g} m; final {y[-1]:.12g} m",
+                f"  position {np.min(y):.6g} .. {np.max(y):.6g} m; final {y[-1]:.12g} m",
             ]
         )
 

@@ -309,8 +309,10 @@ class MotionBatch(ResultMixin):
             f"  at rest at the end: {int(self.stopped.sum())} of {n}",
         ]
         if st.size:
-            lines.append(f"  stop times: {st.min():.6g} .. {st.max():.6g}")
-        lines.append(f"  reversals: {int(self.n_reversals.min())} .. {int(self.n_reversals.max())}")
+            lines.append(f"  stop times: {np.min(st):.6g} .. {np.max(st):.6g}")
+        lines.append(
+            f"  reversals: {int(np.min(self.n_reversals))} .. {int(np.max(self.n_reversals))}"
+        )
         return "\n".join(lines)
 
 

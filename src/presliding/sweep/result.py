@@ -200,7 +200,7 @@ class SweepResult:
         """A readable summary of the grid, the run and the values."""
         lines = [f"sweep: {self.status} ({self.message})"]
         for name, arr in self.grid.items():
-            lines.append(f"  {name}: {arr.size} values in [{arr.min():.6g}, {arr.max():.6g}]")
+            lines.append(f"  {name}: {arr.size} values in [{np.min(arr):.6g}, {np.max(arr):.6g}]")
         n = int(np.prod(self.shape))
         lines.append(
             f"  {n} points ({self.kind}) in {self.n_chunks} chunks "
