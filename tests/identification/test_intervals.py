@@ -27,9 +27,18 @@ def test_an_interval_never_leaves_a_lower_bound(value, half):
 
 @given(VALUES, HALVES)
 def test_where_it_is_moved_off_the_bound_it_reaches_at_least_as_far_up(value, half):
-    """lo + d·exp(half/d) >= value + half: the interval is moved, never made shorter above."""
+    """lo + d·exp(half/d) >= value + half: never shorter above than the Wald interval."""
     hi = bounded_interval(value, half, 0.0, math.inf)[1]
     assert hi >= (value + half) * (1 - 1e-12)
+
+
+@given(VALUES, HALVES)
+def test_where_the_wald_interval_crosses_the_bound_the_interval_reaches_it(value, half):
+    """A Wald test cannot exclude the bound there, so neither may the interval: it holds the
+    clipped Wald interval [0, value + half] (and so covers the truth at least as often)."""
+    lo, hi = bounded_interval(value, half, 0.0, math.inf)
+    if value - half < 0.0:
+        assert lo == 0.0 and hi >= (value + half) * (1 - 1e-12)
 
 
 @given(st.floats(-10.0, 10.0), HALVES)

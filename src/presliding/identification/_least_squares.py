@@ -10,8 +10,9 @@ J of the residuals with respect to the free parameters, n residuals and p free
 parameters, the covariance is s²·(JᵀJ)⁻¹ with s² = ‖r‖²/(n − p); tied
 parameters inherit it through their factor, fixed ones have zero error. The
 confidence interval is value ± t_{n−p}·SE (Student t at the chosen level); where it would
-cross a bound of the parameter (a nonnegative one below 0), it is taken on a log scale from
-that bound instead (`bounded_interval`), so it never leaves the parameter's range. It
+cross a bound of the parameter (a nonnegative one below 0), the data do not exclude the
+bound: the interval reaches it, and its far end is taken on a log scale from the bound
+(`bounded_interval`), so it never leaves the parameter's range. It
 is exact for parameters that enter linearly and Gaussian independent noise, a
 first-order approximation otherwise. A direction of parameter space that the
 data do not determine (a singular JᵀJ) makes the affected errors infinite and
@@ -368,22 +369,19 @@ def solve_least_squares(
 
 
 def bounded_interval(value: float, half: float, lo: float, hi: float) -> tuple[float, float]:
-    """value ± half (Wald), unless that interval crosses a bound of the parameter: then on a
-    log scale from that bound, lo + d·exp(±half/d) with d = value − lo (mirrored for hi), which
-    agrees with the Wald interval to first order in half/d and never leaves [lo, hi]. A value on
-    its bound, or an infinite error, reaches out to the bound itself (the bound is reported)."""
+    """value ± half (Wald), unless that interval crosses a bound of the parameter: the data then
+    do not exclude the bound, so the interval reaches it, and its far end is taken on a log
+    scale from the bound, lo + d·exp(half/d) with d = value − lo (mirrored for hi), which agrees
+    with the Wald end to first order in half/d and lies beyond it. It never leaves [lo, hi]; a
+    value on its bound, or an infinite error, reaches out to the bound itself."""
     a, b = value - half, value + half
     with np.errstate(over="ignore", divide="ignore", invalid="ignore"):
         if a < lo:
             d = value - lo
-            a, b = (lo + d * np.exp(-half / d), lo + d * np.exp(half / d)) if d > 0 else (lo, b)
+            a, b = lo, (lo + d * np.exp(half / d) if d > 0 else b)
         if b > hi:
             d = hi - value
-            a, b = (
-                (min(a, hi - d * np.exp(half / d)), hi - d * np.exp(-half / d))
-                if d > 0
-                else (a, hi)
-            )
+            a, b = (min(a, hi - d * np.exp(half / d)) if d > 0 else a), hi
     a, b = float(max(a, lo)), float(min(b, hi))
     return (a if np.isfinite(half) else float(lo), b if np.isfinite(half) else float(hi))
 

@@ -10,8 +10,9 @@ J of the residuals with respect to the free parameters, n residuals and p free
 parameters, the covariance is s²·(JᵀJ)⁻¹ with s² = ‖r‖²/(n − p); tied
 parameters inherit it through their factor, fixed ones have zero error. The
 confidence interval is value ± t_{n−p}·SE (Student t at the chosen level); where it would
-cross a bound of the parameter (a nonnegative one below 0), it is taken on a log scale from
-that bound instead, so it never leaves the parameter's range. It
+cross a bound of the parameter (a nonnegative one below 0), the data do not exclude the
+bound: the interval reaches it, and its far end is taken on a log scale from the bound, so it
+never leaves the parameter's range. It
 is exact for parameters that enter linearly and Gaussian independent noise, a
 first-order approximation otherwise. A direction of parameter space that the
 data do not determine (a singular JᵀJ) makes the affected errors infinite and
