@@ -10,7 +10,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from presliding._validation import as_real_scalar, as_real_vector, check_same_length, fmt
-from presliding.motion.results import MemberStatus, MotionResult
+from presliding.hysteresis._results import deprecated_code
+from presliding.motion.results import STATUS_SUCCESS, MotionResult, motion_status
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
@@ -249,7 +250,7 @@ class LoopResult(MotionResult):
 
 
 @dataclass(frozen=True, eq=False)
-class LoopBatch(MemberStatus):
+class LoopBatch:
     """Closed loops of many gain sets (`simulate_loop_batch`), e.g. for a tuning map.
 
     Attributes
@@ -296,6 +297,23 @@ class LoopBatch(MemberStatus):
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "member_status", np.asarray(self.member_status, dtype=np.str_))
+
+    @property
+    def status(self) -> str:
+        """The overall status: "success" when every member succeeded, else the first failure's."""
+        failed = self.member_status[self.member_status != STATUS_SUCCESS]
+        return motion_status(str(failed[0]) if failed.size else STATUS_SUCCESS)
+
+    @property
+    def success(self) -> bool:
+        """True when every member succeeded."""
+        return bool(np.all(self.member_status == STATUS_SUCCESS))
+
+    @property
+    def status_code(self) -> NDArray[np.int64]:
+        """Deprecated: the integer status of each member (0 or -1); use `member_status`."""
+        codes = np.where(self.member_status == STATUS_SUCCESS, 0, -1).astype(np.int64)
+        return deprecated_code(codes, "'success' or 'event_limit'")
 
     def plot(self, ax: Axes | None = None, *, kind: str = "error_rms") -> Axes:
         """A summary ("error_rms", "error_max", "half_range") against the member index, or

@@ -228,30 +228,8 @@ class MotionResult(ResultMixin):
         return "\n".join(lines)
 
 
-class MemberStatus:
-    """`status`, `success` and the deprecated `status_code` of a batch from its `member_status`."""
-
-    member_status: NDArray[np.str_]
-
-    @property
-    def status(self) -> str:
-        """The overall status: "success" when every member succeeded, else the first failure's."""
-        failed = self.member_status[self.member_status != STATUS_SUCCESS]
-        return motion_status(str(failed[0]) if failed.size else STATUS_SUCCESS)
-
-    @property
-    def success(self) -> bool:
-        """True when every member succeeded."""
-        return bool(np.all(self.member_status == STATUS_SUCCESS))
-
-    @property
-    def status_code(self) -> NDArray[np.int64]:
-        """Deprecated: the integer status of each member (0, -1, ...); use `member_status`."""
-        return deprecated_code(_codes(self.member_status), _NAMES)
-
-
 @dataclass(frozen=True, eq=False)
-class MotionBatch(MemberStatus, ResultMixin):
+class MotionBatch(ResultMixin):
     """Many exact motions on one time grid (`presliding.motion.simulate_batch`).
 
     Attributes
@@ -294,6 +272,22 @@ class MotionBatch(MemberStatus, ResultMixin):
         if member.dtype.kind in "iu":  # integer codes
             member = member_statuses(member)
         object.__setattr__(self, "member_status", member.astype(np.str_))
+
+    @property
+    def status(self) -> str:
+        """The overall status: "success" when every member succeeded, else the first failure's."""
+        failed = self.member_status[self.member_status != STATUS_SUCCESS]
+        return motion_status(str(failed[0]) if failed.size else STATUS_SUCCESS)
+
+    @property
+    def success(self) -> bool:
+        """True when every member succeeded."""
+        return bool(np.all(self.member_status == STATUS_SUCCESS))
+
+    @property
+    def status_code(self) -> NDArray[np.int64]:
+        """Deprecated: the integer status of each member (0 or -1); use `member_status`."""
+        return deprecated_code(_codes(self.member_status), _NAMES)
 
     @property
     def stopped(self) -> NDArray[np.bool_]:
