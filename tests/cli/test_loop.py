@@ -74,3 +74,28 @@ def test_bad_specification_is_one_line_exit_2(tmp_path, capsys, edit, needle):
     assert main(["loop", str(spec), "-o", str(tmp_path / "o")]) == 2
     err = capsys.readouterr().err
     assert needle in err and err.count("\n") == 1 and str(spec) in err
+
+
+@pytest.mark.parametrize("module", ["control", "pandas"])
+def test_a_missing_package_is_one_line_and_exit_2(tmp_path, capsys, monkeypatch, module):
+    """python-control is core, but a partial install (or a missing extra) is one line, exit 2."""
+    import sys
+
+    from presliding.cli import commands
+
+    spec = tmp_path / "spec.toml"
+    spec.write_text(SPEC)
+
+    def needs_it(args):
+        __import__(module)
+
+    monkeypatch.setitem(sys.modules, module, None)
+    if module == "control":
+        argv = ["loop", str(spec), "-o", str(tmp_path / "o"), "--quiet"]
+    else:
+        monkeypatch.setattr(commands, "_cmd_loop", needs_it)
+        argv = ["loop", str(spec), "-o", str(tmp_path / "o")]
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert len(err.strip().splitlines()) == 1 and "Traceback" not in err
+    assert f'pip install "presliding[{module}]"' in err

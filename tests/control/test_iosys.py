@@ -245,7 +245,7 @@ def test_errors():
 
 def test_missing_control_names_the_extra(monkeypatch):
     monkeypatch.setitem(sys.modules, "control", None)
-    with pytest.raises(ImportError, match=r"pip install presliding\[control\]"):
+    with pytest.raises(ImportError, match=r'pip install "presliding\[control\]"'):
         to_iosys(MODEL)
 
 

@@ -337,6 +337,13 @@ def main(argv: Sequence[str] | None = None) -> int:
     except KeyboardInterrupt:
         print(f"presliding {args.command}: interrupted", file=sys.stderr)
         return 130
+    except ImportError as exc:  # an optional package that is not installed: one line
+        if args.debug:
+            raise
+        from presliding._extras import missing_extra
+
+        print(f"presliding {args.command}: error: {missing_extra(exc)}", file=sys.stderr)
+        return 2
     except (UserError, ValueError, TypeError, OSError) as exc:
         if args.debug:
             raise

@@ -1,17 +1,15 @@
-"""python-control, imported only when used (the ``control`` extra)."""
+"""python-control, imported only when used (it is heavy: about a second to import)."""
 
 from __future__ import annotations
 
 from typing import Any
 
+from presliding._extras import require
+
 
 def python_control() -> Any:
-    """The ``control`` module, or an ImportError naming the extra to install."""
-    try:
-        import control
-    except ImportError as exc:
-        raise ImportError(
-            "this needs the optional `control` package (python-control); "
-            "install it with `pip install presliding[control]`."
-        ) from exc
-    return control
+    """The ``control`` module, or an ImportError naming the package to install.
+
+    python-control is a core dependency; it is missing only from a partial install.
+    """
+    return require("control", "this part of presliding.control (python-control systems)")

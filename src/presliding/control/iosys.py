@@ -43,7 +43,7 @@ State vectors (``X0``; see `iosys_state`; zeros: relaxed at rest at 0):
   f_j = y − x_j (kept as such, so that no rounding of y − x_j enters);
 * PID: ``[I, D, s_prev, started]``; DiscreteController: its state x.
 
-python-control is an optional dependency: ``pip install presliding[control]``.
+python-control is a core dependency, imported only when one of these is called.
 """
 
 from __future__ import annotations
