@@ -19,7 +19,7 @@ from pathlib import Path
 import pytest
 
 import presliding
-from presliding import _progress as _numba_cache
+from presliding import _numba_cache
 
 PACKAGE = Path(presliding.__file__).resolve().parent
 
@@ -27,7 +27,7 @@ PACKAGE = Path(presliding.__file__).resolve().parent
 PROBE = """
 import sys
 import presliding as ps
-from presliding import _progress as cache
+from presliding import _numba_cache as cache
 compiled = []
 with cache.compiling(compiled.append):
     model = ps.PIFriction(0.5, [500.0, 10.0, 4.0], [1.0, 1.0, 1.0])

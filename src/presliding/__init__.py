@@ -9,9 +9,9 @@ Series 811, 2017).
 import importlib as _importlib
 import sys as _sys
 
-# `_progress` comes first: importing it finds a folder numba can cache the
+# `_numba_cache` comes first: importing it finds a folder numba can cache the
 # compiled kernels in, before any kernel module is imported.
-from presliding import _progress, signals  # noqa: F401  (_progress: for that effect)
+from presliding import _numba_cache, signals  # noqa: F401  (_numba_cache: for that effect)
 from presliding._version import __version__
 from presliding.analysis import (
     TurningPoints,
