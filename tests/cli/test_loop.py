@@ -66,6 +66,10 @@ def test_help_prints_the_schema(capsys):
         (("dt = 1e-4", "dt = 1e-4\ngain = 3"), "unknown key `controller.gain`"),
         (("[reference]", "[references]"), "unknown table `references`"),
         (("kp = 400.0", 'kp = "big"'), "`controller.kp` must be a finite number"),
+        (('kind = "step"', 'kind = "sine"'), "a sine reference needs `reference.frequency`"),
+        (("value = 0.0", "value = 0.0\nfrequency = 2.0"), "applies to kind = 'sine' only"),
+        # 1e10 periods: refused before anything is allocated, not a MemoryError
+        (("t_end = 1.0", "t_end = 1e6"), "`t_end` must ask for at most"),
     ],
 )
 def test_bad_specification_is_one_line_exit_2(tmp_path, capsys, edit, needle):

@@ -225,3 +225,30 @@ def test_a_batch_member_whose_loop_diverges_is_an_overflow_not_an_event_limit():
     assert "1 of 2 loops left the floating-point range" in res.message
     assert "event limit" not in res.message
     assert np.isfinite(res.error_rms[0]) and np.isnan(res.error_rms[1])
+
+
+@pytest.mark.parametrize("signal", ["reference", "feedforward"])
+@pytest.mark.parametrize("extra", [5, -3, "2d"])
+def test_a_function_of_the_wrong_length_is_refused_before_the_kernel(signal, extra):
+    """More samples than instants once crashed the interpreter, fewer gave an overflow."""
+    model = PIFriction(0.1, [2e4, 5e3], [0.2, 0.2])
+    pid = PID(400.0, 4e4, 0.0, dt=1e-3, limit=5.0)
+
+    def bad(t):
+        return np.zeros((t.size, 2)) if extra == "2d" else np.zeros(t.size + extra)
+
+    for run in (simulate_loop, simulate_loop_batch):
+        with pytest.raises(ValueError, match=rf"^`{signal}` must return one value per instant"):
+            run(model, 1.0, pid, t_end=0.1, **{signal: bad})
+    # the right length and a scalar are taken
+    assert simulate_loop(model, 1.0, pid, t_end=0.1, **{signal: lambda t: 0 * t}).success
+    assert simulate_loop(model, 1.0, pid, t_end=0.1, **{signal: lambda t: 0.0}).success
+
+
+def test_a_short_sampled_reference_and_a_huge_run_are_refused():
+    model = PIFriction(0.1, [2e4, 5e3], [0.2, 0.2])
+    pid = PID(400.0, 4e4, 0.0, dt=1e-4)
+    with pytest.raises(ValueError, match=r"one sample per instant t_k \(K \+ 1 = 1001\); got 50"):
+        simulate_loop_batch(model, 1.0, pid, np.zeros(50), kp=[1.0, 2.0], t_end=0.1)
+    with pytest.raises(ValueError, match=r"^`t_end` must ask for at most"):
+        simulate_loop(model, 1.0, pid, t_end=1e6)  # 1e10 periods

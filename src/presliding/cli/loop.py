@@ -140,7 +140,13 @@ def load_spec(path: Path) -> LoopSpec:
             raise ValueError(f"`plant.mass` must be positive; got {mass!r}.")
     except (TypeError, ValueError) as exc:
         raise UserError(f"{path}: [controller] {exc}") from None
-    freq = _number(path, rf, "reference", "frequency", 1.0)
+    if kind == "sine" and "frequency" not in rf:
+        raise UserError(f"{path}: a sine reference needs `reference.frequency` [Hz]; see "
+                        "`presliding loop --help`.")  # fmt: skip
+    if kind != "sine" and "frequency" in rf:
+        raise UserError(f"{path}: `reference.frequency` applies to kind = 'sine' only; got "
+                        f"kind = {kind!r}.")  # fmt: skip
+    freq = _number(path, rf, "reference", "frequency", 0.0)
     if kind == "sine" and not freq > 0:
         raise UserError(f"{path}: `reference.frequency` must be positive; got {freq!r}.")
     return LoopSpec(path, model, mass, _number(path, pl, "plant", "initial_position", 0.0),

@@ -75,8 +75,16 @@ def _signal(
             )
         out = as_real_array(name, value(times))  # a function returning text is refused
         if out.ndim == 0:
-            out = np.full(times.shape, float(out))
-        return as_signal(name, out.reshape(-1) if out.shape == times.shape else out)
+            return np.full(times.shape, float(out))
+        if out.size != times.shape[0] or out.squeeze().ndim > 1:
+            # checked here, before any compiled code reads it: a longer array would be
+            # read past the end of the instants, a shorter one past its own end
+            raise ValueError(
+                f"`{name}` must return one value per instant t_k when called with the "
+                f"{times.shape[0]} instants (an array of shape ({times.shape[0]},)) or a "
+                f"scalar; got shape {out.shape}."
+            )
+        return as_signal(name, out.reshape(-1))
     if np.ndim(value) == 0:
         x = as_real_scalar(name, value)
         return np.full(n if n is not None else 1, x)
@@ -94,6 +102,11 @@ def _instants(t0: float, dt: float, t_end: Any, reference: Any, feedforward: Any
         t_end = as_real_scalar("t_end", t_end)
         check_time_span("t_end", t_end, t_end - t0)
         periods = (t_end - t0) / dt
+        if not np.isfinite(periods):
+            raise ValueError(
+                f"`t_end` − `t_start` must be a finite number of sample periods dt = {fmt(dt)}; "
+                f"got {fmt(t_end - t0)}."
+            )
         k = round(periods)
         if k < 1 or abs(periods - k) > 1e-9 * max(periods, 1.0):
             raise ValueError(
@@ -121,6 +134,9 @@ def _setup(model, mass, controller, reference, feedforward, t_end, t_start, y0, 
     y0 = as_real_scalar("initial_position", y0)
     v0 = as_real_scalar("initial_velocity", v0)
     n = _instants(t0, ctrl.dt, t_end, reference, feedforward)
+    # a run keeps about 13 arrays of one value per instant (instants, reference,
+    # feedforward, controller samples, the motion's outputs): checked before any is made
+    check_size("t_end", t_end, 13.0 * n, what="values (13 per instant t_k)")
     times = t0 + np.arange(n) * ctrl.dt
     ref = _signal("reference", reference, times, n)
     ff = np.zeros(n) if feedforward is None else _signal("feedforward", feedforward, times, n)
