@@ -283,3 +283,27 @@ def test_a_zero_threshold_is_the_identity_as_for_pi_operator():
         f, s = op.apply(y)
         assert_bit_identical(final.member(b).play, s.play)
         assert np.max(np.abs(force[:, b] - f)) <= 1e-12 * 4
+
+
+@pytest.mark.parametrize("n_members", [1, 3])
+def test_out_may_be_a_view_of_the_input(n_members):
+    """`out` sharing memory with `y` (y a column of out) gives the values of a fresh output."""
+    t = np.linspace(0.0, 20.0, 700)
+    batch = PIBatch(np.tile([0.1, 0.3, 0.05], (n_members, 1)), np.ones((n_members, 3)))
+    buffer = np.empty((t.size, n_members))
+    buffer[:, 0] = np.sin(t) + 0.2 * np.sin(7 * t)
+    y = buffer[:, 0]
+    expected, state = batch.apply(y.copy())
+    got, got_state = batch.apply(y, out=buffer)  # B = 1: y is contiguous, read in place
+    assert got is buffer
+    np.testing.assert_array_equal(got, expected)
+    np.testing.assert_array_equal(got_state.play, state.play)
+
+
+def test_the_output_size_is_checked_before_allocation(monkeypatch):
+    monkeypatch.setattr("presliding._validation.MAX_ALLOCATION_BYTES", 8 * 10**4)
+    batch = PIBatch(np.full((4, 2), 0.1), np.ones((4, 2)))
+    with pytest.raises(ValueError, match=r"^`y` must ask for at most 10000 forces \(T × B\)"):
+        batch.apply(np.zeros(3000))
+    out = np.empty((3000, 4))  # a buffer the caller made is used as it is
+    assert batch.apply(np.zeros(3000), out=out)[0] is out

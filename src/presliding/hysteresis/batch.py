@@ -25,6 +25,7 @@ from presliding._validation import (
     as_real_array,
     as_real_scalar,
     as_signal,
+    check_size,
     fmt,
 )
 from presliding.hysteresis import _batch_kernels
@@ -261,7 +262,11 @@ class PIBatch:
         """
         yv = as_signal("y", y, copy=False)  # only read
         shape = (yv.shape[0], self.n_members)
+        if out is None:  # the T × B output is the one O(T) allocation: checked first
+            check_size("y", yv, float(shape[0]) * shape[1], what="forces (T × B)")
         out = as_output("out", out, shape)
+        if np.may_share_memory(yv, out) and np.shares_memory(yv, out):
+            yv = yv.copy()  # `out` is (a view of) the input: read the input before it is written
         x, prev, d0 = self._start(yv, state)
         r, w, lin, c = self._kernel_bank
         # y ± r and every output stay finite (a bound over all members at once)
