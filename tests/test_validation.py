@@ -471,3 +471,41 @@ def test_resample_checks_the_size_before_allocating():
     assert_rejects(lambda: m.resample(1e-12), ValueError, "step")
     assert_rejects(lambda: m.resample(1e-320), ValueError, "step")
     assert m.resample(0.5).time.shape == (5,)
+
+
+def test_pint_quantities_are_converted_to_si_or_refused():
+    """A Quantity in mm is a position in m everywhere a position enters; wrong kinds refused."""
+    import warnings
+
+    import pint
+
+    import presliding as ps
+
+    q = pint.UnitRegistry().Quantity
+    y_mm = 3.0 * np.sin(np.linspace(0.0, 10.0, 300))
+    model = ps.PIFriction(0.1, [500.0, 10.0], [1.0, 1.0])
+    operator = ps.PIOperator([0.001, 0.002], [1.0, 1.0])
+    batch = ps.PIBatch([[0.001, 0.002]], [[1.0, 1.0]])
+    pid = ps.PID(400.0, 4e4, 0.0, dt=1e-3)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # pint's UnitStrippedWarning would be an error
+        for run in (model.force, operator.apply, batch.apply):
+            np.testing.assert_array_equal(run(q(y_mm, "mm"))[0], run(y_mm * 1e-3)[0])
+        a = ps.simulate(model, q(1000.0, "g"), q(0.2, "N"), initial_velocity=q(800.0, "mm/s"),
+                        t_end=q(100.0, "ms"))  # fmt: skip
+        b = ps.simulate(model, 1.0, 0.2, initial_velocity=0.8, t_end=0.1)
+        np.testing.assert_array_equal(a.position, b.position)
+        a = ps.simulate_loop(model, q(1.0, "kg"), pid, q(1.0, "mm"), t_end=q(0.1, "s"))
+        b = ps.simulate_loop(model, 1.0, pid, 1e-3, t_end=0.1)
+        np.testing.assert_array_equal(a.position, b.position)
+    # a rotary axis: an angle in degrees is a position in rad
+    np.testing.assert_allclose(model.force(q(y_mm, "deg"))[0], model.force(np.radians(y_mm))[0])
+    with pytest.raises(ValueError, match=r"^`displacement` must be a position .* newton"):
+        model.force(q(y_mm, "N"))
+    with pytest.raises(ValueError, match=r"^`mass` must be a mass .* meter"):
+        ps.simulate(model, q(1.0, "m"), t_end=1.0)
+    with pytest.raises(ValueError, match=r"^`t_end` must be a time"):
+        ps.simulate_loop(model, 1.0, pid, t_end=q(1.0, "m"))
+    # where no kind is known a Quantity is refused, never stripped of its unit
+    with pytest.raises(TypeError, match=r"^`stiffness` must be a plain number or array in SI"):
+        ps.PIFriction(0.1, q([500.0, 10.0], "N/m"), [1.0, 1.0])

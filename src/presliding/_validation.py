@@ -7,7 +7,9 @@ no NaN or inf is returned in place of an error. Beyond the plain checks: quantit
 from the arguments (F_c, Σ k_j, r_j = c_j/k_j, energies, ranges) are checked for finiteness
 naming their sources (`check_finite_derived`, `check_derived`); `check_size` compares an
 allocation with `size_limit()` before it is made; `check_time_span` bounds simulated time;
-`renamed` makes errors of an inner call name the argument the user passed.
+`renamed` makes errors of an inner call name the argument the user passed; `as_si` converts
+a pint Quantity to SI after checking its dimension (a Quantity anywhere else is refused,
+never stripped of its unit).
 """
 
 from __future__ import annotations
@@ -24,9 +26,9 @@ import numpy as np
 __all__ = [
     "as_bounds", "as_choice", "as_count", "as_list", "as_nonnegative_scalar", "as_parameter_matrix",
     "as_parameter_vector", "as_positive_scalar", "as_real_array", "as_real_scalar",
-    "as_real_vector", "as_signal", "as_state_vector", "check_derived", "check_finite_derived",
-    "check_has_friction", "check_increasing", "check_same_length", "check_size",
-    "check_time_span", "check_type", "fmt", "renamed", "size_limit"
+    "as_real_vector", "as_si", "as_signal", "as_state_vector", "check_derived",
+    "check_finite_derived", "check_has_friction", "check_increasing", "check_same_length",
+    "check_size", "check_time_span", "check_type", "fmt", "renamed", "size_limit"
 ]  # fmt: skip
 
 
@@ -40,11 +42,52 @@ def fmt(value: Any) -> str:
     return text if len(text) <= 60 else text[:57] + "..."
 
 
+#: The SI units a pint Quantity of each kind is converted to (the first that fits its
+#: dimension; the second is the rotary axis).
+SI_UNITS: dict[str, tuple[str, ...]] = {
+    "position": ("m", "rad"),
+    "velocity": ("m/s", "rad/s"),
+    "force": ("N", "N*m"),
+    "time": ("s",),
+    "mass": ("kg", "kg*m**2"),
+}
+
+
+def _is_quantity(value: Any) -> bool:
+    """A pint Quantity (found by its type's module: pint is not imported for the test)."""
+    return type(value).__module__.split(".", 1)[0] == "pint" and hasattr(value, "to")
+
+
+def as_si(name: str, value: Any, kind: str) -> Any:
+    """The magnitude in SI of a pint Quantity of `kind` (see `SI_UNITS`); others unchanged.
+
+    A Quantity of another dimension is refused naming the argument and its unit.
+    """
+    if not _is_quantity(value):
+        return value
+    units = SI_UNITS[kind]
+    for unit in units:
+        try:
+            return value.to(unit).magnitude
+        except Exception as exc:  # pint's DimensionalityError: try the next unit
+            if type(exc).__name__ != "DimensionalityError":
+                raise
+    raise ValueError(
+        f"`{name}` must be a {kind} (a Quantity in {' or '.join(units)} or any unit of the same "
+        f"dimension); got a Quantity in {value.units}."
+    )
+
+
 def _real_array(name: str, value: Any) -> np.ndarray:
     """Convert to a float64 array, rejecting booleans, strings, complex and objects."""
     rule = f"`{name}` must be a real number or array of real numbers; got"
     if value is None or isinstance(value, (str, bytes)):
         raise TypeError(f"{rule} {fmt(value)}.")
+    if _is_quantity(value):  # never strip a unit: only arguments of a known kind convert
+        raise TypeError(
+            f"`{name}` must be a plain number or array in SI units here; got a pint Quantity "
+            f"in {value.units} (convert it with `.to(...).magnitude`)."
+        )
     try:
         arr = np.asarray(value)
     except ValueError:  # ragged nested sequences
@@ -74,9 +117,14 @@ def _check_finite(name: str, arr: np.ndarray) -> None:
             raise ValueError(f"`{name}` must be finite; {_first_bad(arr, whole)}.")
 
 
-def as_signal(name: str, value: Any, *, min_length: int = 1, copy: bool = True) -> np.ndarray:
+def as_signal(
+    name: str, value: Any, *, min_length: int = 1, copy: bool = True, kind: str | None = None
+) -> np.ndarray:
     """A sampled signal: 1-D, finite, float64, with at least `min_length` samples
-    (``copy=False``: a C-contiguous float64 ndarray itself, for inputs only read)."""
+    (``copy=False``: a C-contiguous float64 ndarray itself, for inputs only read; `kind`:
+    a pint Quantity of that kind is converted to SI, `as_si`)."""
+    if kind is not None:
+        value = as_si(name, value, kind)
     plain = type(value) is np.ndarray and value.dtype == np.float64
     arr = value if not copy and plain and value.flags.c_contiguous else _real_array(name, value)
     if arr.ndim != 1:
@@ -92,7 +140,11 @@ def as_signal(name: str, value: Any, *, min_length: int = 1, copy: bool = True) 
     return np.ascontiguousarray(arr)
 
 
-def _as_scalar(name: str, value: Any, finite: bool = True) -> float:
+def _as_scalar(name: str, value: Any, finite: bool = True, kind: str | None = None) -> float:
+    if kind is not None:
+        value = as_si(name, value, kind)
+    if _is_quantity(value):
+        _real_array(name, value)  # refused, naming the unit
     if type(value) is float or type(value) is int:  # the common case, without numpy
         try:
             x = float(value)
@@ -111,25 +163,25 @@ def _as_scalar(name: str, value: Any, finite: bool = True) -> float:
     return float(arr)
 
 
-def as_nonnegative_scalar(name: str, value: Any) -> float:
-    """A finite real number >= 0."""
-    x = _as_scalar(name, value)
+def as_nonnegative_scalar(name: str, value: Any, *, kind: str | None = None) -> float:
+    """A finite real number >= 0 (`kind`: a pint Quantity of that kind in SI)."""
+    x = _as_scalar(name, value, kind=kind)
     if x < 0:
         raise ValueError(f"`{name}` must be nonnegative; got {fmt(x)}.")
     return x
 
 
-def as_positive_scalar(name: str, value: Any) -> float:
-    """A finite real number > 0."""
-    x = _as_scalar(name, value)
+def as_positive_scalar(name: str, value: Any, *, kind: str | None = None) -> float:
+    """A finite real number > 0 (`kind`: a pint Quantity of that kind in SI)."""
+    x = _as_scalar(name, value, kind=kind)
     if not x > 0:
         raise ValueError(f"`{name}` must be positive; got {fmt(x)}.")
     return x
 
 
-def as_real_scalar(name: str, value: Any, *, finite: bool = True) -> float:
-    """A real number, finite unless `finite` is False."""
-    return _as_scalar(name, value, finite)
+def as_real_scalar(name: str, value: Any, *, finite: bool = True, kind: str | None = None) -> float:
+    """A real number, finite unless `finite` is False (`kind`: a Quantity of it in SI)."""
+    return _as_scalar(name, value, finite, kind)
 
 
 def as_parameter_vector(

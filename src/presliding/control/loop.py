@@ -29,6 +29,7 @@ from presliding._validation import (
     as_real_array,
     as_real_scalar,
     as_real_vector,
+    as_si,
     as_signal,
     check_finite_derived,
     check_size,
@@ -128,11 +129,14 @@ def _instants(t0: float, dt: float, t_end: Any, reference: Any, feedforward: Any
 
 def _setup(model, mass, controller, reference, feedforward, t_end, t_start, y0, v0, state):
     _run.check_model(model)
-    m = as_positive_scalar("mass", mass)
+    m = as_positive_scalar("mass", mass, kind="mass")
     ctrl = as_controller(controller)
-    t0 = as_real_scalar("t_start", t_start)
-    y0 = as_real_scalar("initial_position", y0)
-    v0 = as_real_scalar("initial_velocity", v0)
+    t0 = as_real_scalar("t_start", t_start, kind="time")
+    y0 = as_real_scalar("initial_position", y0, kind="position")
+    v0 = as_real_scalar("initial_velocity", v0, kind="velocity")
+    t_end = None if t_end is None else as_si("t_end", t_end, "time")
+    reference = as_si("reference", reference, "position")  # pint Quantities in SI
+    feedforward = None if feedforward is None else as_si("feedforward", feedforward, "force")
     n = _instants(t0, ctrl.dt, t_end, reference, feedforward)
     # a run keeps about 13 arrays of one value per instant (instants, reference,
     # feedforward, controller samples, the motion's outputs): checked before any is made

@@ -260,7 +260,7 @@ class PIBatch:
             Memory after the last sample; passing it to the next call on the
             continuation of the input gives bit-identical results to one call.
         """
-        yv = as_signal("y", y, copy=False)  # only read
+        yv = as_signal("y", y, copy=False, kind="position")  # only read; a Quantity in SI
         shape = (yv.shape[0], self.n_members)
         if out is None:  # the T × B output is the one O(T) allocation: checked first
             check_size("y", yv, float(shape[0]) * shape[1], what="forces (T × B)")

@@ -342,7 +342,7 @@ class PIOperator:
             Memory after the last sample; passing it to the next call on the
             continuation of the signal gives bit-identical output to one call.
         """
-        yv = as_signal("y", y, copy=False)  # only read: no copy of a float64 array
+        yv = as_signal("y", y, copy=False, kind="position")  # read in place; a Quantity in SI
         x, prev, direction = start_memory(yv, self.threshold, state)
         check_input_range(yv, self.threshold, self.weight, self.linear)
         out = as_output("out", out, yv.shape)

@@ -60,7 +60,13 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from presliding._validation import as_choice, as_count, as_positive_scalar, as_real_scalar
+from presliding._validation import (
+    as_choice,
+    as_count,
+    as_positive_scalar,
+    as_real_scalar,
+    as_si,
+)
 from presliding.friction.pi_friction import PIFriction
 from presliding.hysteresis.general_pi import MemoryState
 from presliding.hysteresis.operators import PIState
@@ -180,10 +186,12 @@ def simulate(
     (0.972955074528, 3.486478)
     """
     _run.check_model(model, density_ok=True)
-    m = as_positive_scalar("mass", mass)
-    y0 = as_real_scalar("initial_position", initial_position)
-    v0 = as_real_scalar("initial_velocity", initial_velocity)
-    t0 = as_real_scalar("t_start", t_start)
+    m = as_positive_scalar("mass", mass, kind="mass")
+    y0 = as_real_scalar("initial_position", initial_position, kind="position")
+    v0 = as_real_scalar("initial_velocity", initial_velocity, kind="velocity")
+    t0 = as_real_scalar("t_start", t_start, kind="time")
+    applied_force = as_si("applied_force", applied_force, "force")  # pint Quantities in SI
+    t_end = None if t_end is None else as_si("t_end", t_end, "time")
     forcing = as_forcing(applied_force, hold, t0)
     method = as_choice("method", method, METHODS)
     t_end, times = _run.time_grid(t0, t_end, t_eval)
