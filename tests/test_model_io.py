@@ -250,3 +250,32 @@ def test_bad_viscous_in_a_model_file_names_file_and_field(tmp_path, value, needl
     with pytest.raises(ValueError, match=needle) as info:
         load_model(path)
     assert str(path) in str(info.value) and "[friction]" in str(info.value)
+
+
+def test_long_element_arrays_are_read_exactly_and_by_numpy(tmp_path, monkeypatch):
+    """Long arrays are parsed by numpy, bit for bit what tomllib gives; odd forms go to tomllib."""
+    import presliding.model_io as model_io
+
+    rng = np.random.default_rng(3)
+    k, c = rng.uniform(1.0, 1e4, 2000), rng.uniform(0.01, 1.0, 2000)
+    path = tmp_path / "big.toml"
+    model_io.save_model(path, PIFriction(0.3, k, c))
+    spec = model_io.load_model(path)
+    np.testing.assert_array_equal(spec.model.stiffness, k)
+    np.testing.assert_array_equal(spec.model.breakaway, c)
+    text = path.read_text(encoding="utf-8")
+    parsed = []  # the text tomllib sees: the long arrays are cut out of it
+    original = model_io.tomllib.loads
+    monkeypatch.setattr(model_io.tomllib, "loads", lambda t: parsed.append(t) or original(t))
+    multi = text.replace("stiffness = [", "stiffness = [\n  ").replace("]  # k_j", ",\n]  # k_j")
+    assert multi != text
+    for variant in (text, multi):
+        path.write_text(variant, encoding="utf-8")
+        got = model_io.load_model(path).model
+        np.testing.assert_array_equal(got.stiffness, k)
+        np.testing.assert_array_equal(got.breakaway, c)
+    assert len(parsed) == 2 and all(len(t) < 1000 for t in parsed)
+    # an empty item is still TOML's error, naming the file
+    path.write_text(text.replace(", ", ", , ", 1), encoding="utf-8")
+    with pytest.raises(model_io.ModelFileError, match="not valid TOML"):
+        model_io.load_model(path)

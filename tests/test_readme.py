@@ -58,3 +58,21 @@ def test_readme_python_examples_run():
         loop, cycles = spaces[-1]["res"].limit_cycle(), spaces[-1]["cycles"]
         assert loop.steady and abs(loop.amplitude / cycles.amplitude[0] - 1) < 0.01
     plt.close("all")
+
+
+def test_the_model_file_example_comes_to_rest(tmp_path, capsys):
+    """README's model file simulates a free stop (no offset pushing the mass), exit 0."""
+    import numpy as np
+
+    from presliding.cli import main
+
+    text = (ROOT / "README.md").read_text(encoding="utf-8")
+    example = text.split("```toml", 1)[1].split("```", 1)[0]
+    assert "[friction]" in example and "[motion]" in example
+    path = tmp_path / "model.toml"
+    path.write_text(example, encoding="utf-8")
+    out = tmp_path / "run"
+    assert main(["simulate", str(path), "-o", str(out)]) == 0
+    assert "stops at" in capsys.readouterr().out
+    data = np.loadtxt(out / "simulation.csv", delimiter=",", skiprows=1)
+    assert data[-1, 2] == 0.0 and np.all(data[:, 6] == 0.0)  # at rest; no force applied

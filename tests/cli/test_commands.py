@@ -482,7 +482,8 @@ def test_simulate_a_continuous_density(tmp_path, capsys):
     path = tmp_path / "dens.toml"
     path.write_text(
         '[friction]\ncoulomb = 0.1\n[friction.density]\nkind = "exponential"\nheight = 7e7\n'
-        'length = 1e-4\n[motion]\ninitial_velocity = 0.06\ninitial_state = "saturated"\n'
+        "length = 1e-4\n[motion]\nmass = 1.0\ninitial_velocity = 0.06\n"
+        'initial_state = "saturated"\n'
         "t_end = 0.3\nsamples = 301\n",
         encoding="utf-8",
     )
@@ -495,3 +496,36 @@ def test_simulate_a_continuous_density(tmp_path, capsys):
     assert data[-1, 1] == pytest.approx(pred.rest_position, rel=5e-4)
     assert main(["simulate", str(path), "--step", "-1", "-o", str(out)]) == 2
     one_error_line(capsys, "`--step` must be positive")  # the option, checked on parsing
+
+
+def test_simulate_asks_for_the_mass_and_a_start_instead_of_defaults(tmp_path, capsys):
+    """A fitted model without [motion] is refused (not 1 kg and v0 = 0, "stops at t = 0")."""
+    path = tmp_path / "fitted.toml"
+    path.write_text("[friction]\ncoulomb = 0.3\nstiffness = [2e4]\nbreakaway = [0.2]\n")
+    out = tmp_path / "run"
+    assert main(["simulate", str(path), "-o", str(out)]) == 2
+    one_error_line(capsys, "no `motion.mass`")
+    assert main(["simulate", str(path), "--mass", "2", "-o", str(out)]) == 2
+    one_error_line(capsys, "nothing sets the mass in motion")
+    assert not out.exists()
+    argv = ["simulate", str(path), "--mass", "2", "--initial-velocity", "0.05", "-o", str(out)]
+    assert main(argv) == 0
+    data = np.loadtxt(out / "simulation.csv", delimiter=",", skiprows=1)
+    ref = ps.simulate(load_model(path).model, 2.0, initial_velocity=0.05,
+                      t_eval=np.linspace(0.0, 1.0, 2001))  # fmt: skip
+    np.testing.assert_allclose(data[:, 1], ref.position, rtol=1e-13, atol=1e-15)
+
+
+def test_a_free_motion_still_moving_at_the_end_exits_1(tmp_path, capsys):
+    path = tmp_path / "m.toml"
+    path.write_text(MODEL_TOML.replace("t_end = 0.12", "t_end = 0.002"))
+    assert main(["simulate", str(path), "-o", str(tmp_path / "run")]) == 1
+    out = capsys.readouterr().out
+    assert "still moving at t_end = 0.002 s" in out and "exit status 1" in out
+
+
+def test_analyze_names_y_e_as_the_travel_back_from_the_first_turning_point(model_file, capsys):
+    assert main(["analyze", str(model_file)]) == 0
+    out = capsys.readouterr().out
+    assert "second turning point y_e" not in out
+    assert "travel back y_e (eq. 15)" in out and "from the 1st turning point to the 2nd" in out

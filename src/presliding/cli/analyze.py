@@ -84,11 +84,11 @@ def _text(name: str, a: dict[str, Any]) -> str:
         lines.append(f"  {a['note']}")
         return "\n".join(lines)
     if a["turning_point"] is None:
-        lines.append(row("second turning point y_e", "none", "c1 >= F_m: no reversal"))
+        lines.append(row("travel back y_e (eq. 15)", "none", "c1 >= F_m: no reversal"))
         verdict = "stops at the first turning point (c1 >= F_m)"
     else:
         y_e = f"{a['turning_point']:.6g} m"
-        lines.append(row("second turning point y_e", y_e, "eq. 15: c1·y + ∫Φ = 0"))
+        lines.append(row("travel back y_e (eq. 15)", y_e, "from the 1st turning point to the 2nd"))
         lines.append(row("Φ(y_e)", f"{a['phi_at_turning_point']:.6g} N", "eq. 14"))
         verdict = (
             "c1 >= Φ(y_e): stops at y_e after one reversal"

@@ -62,8 +62,9 @@ model files (TOML, or JSON with the same tables; units in brackets):
   breaks [m], heights [N/m^2])
 
 exit status: 0 success, 1 a computation that did not succeed (a fit that did not
-converge or is poor, a motion still moving; see its message), 2 a user error (bad file,
-column, unit or parameter), 130 interrupted.
+converge or is poor; a motion under a constant force, or a sweep point, still moving at
+t_end; see its message), 2 a user error (bad file, column, unit or parameter), 130
+interrupted.
 """
 
 
@@ -137,7 +138,10 @@ def _build_parser() -> argparse.ArgumentParser:
         "[motion] tables of a model file, with exact stiction; a [measurement] force_offset "
         "F_0 is subtracted from the applied force (measured u = m·ÿ + F + F_0). Writes the "
         "samples as CSV (time, position, velocity, acceleration, friction_force, "
-        "elastic_force, applied_force; units in the header) and a figure.",
+        "elastic_force, applied_force; units in the header) and a figure. The file needs "
+        "motion.mass (or --mass) and something that starts the motion (an initial velocity "
+        "or an applied force); exit status 1 when a motion under a constant force is still "
+        "moving at t_end.",
         epilog="examples:\n  presliding simulate model.toml -o run/\n"
         "  presliding simulate model.toml --applied-force u.csv -o run.csv",
         formatter_class=fmt,
@@ -184,6 +188,21 @@ def _build_parser() -> argparse.ArgumentParser:
         help="accuracy target of the implicit method: the step is halved until the estimated "
         "position error is at most R times the largest displacement (default 1e-3 unless "
         "--step is given); the estimate is printed",
+    )
+    simulate.add_argument(
+        "--mass",
+        type=checked("--mass"),
+        default=None,
+        metavar="KG",
+        help="the moving mass m [kg] (replaces motion.mass; needed when the file has none, "
+        "e.g. a fitted model)",
+    )
+    simulate.add_argument(
+        "--initial-velocity",
+        type=float,
+        default=None,
+        metavar="M_PER_S",
+        help="initial velocity [m/s] (replaces motion.initial_velocity)",
     )
     simulate.add_argument(
         "-o",

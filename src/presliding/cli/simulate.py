@@ -73,7 +73,7 @@ def run(args: argparse.Namespace) -> int:
 
     check_readable(args.model, "model file")
     spec = load_model(args.model)
-    mo = spec.motion
+    mo = _motion(args, spec.motion)
     csv_path, png_path = output_paths(args.output)
     check_outputs((csv_path, png_path), (args.model, args.applied_force), overwrite=args.overwrite)
     offset = spec.measurement.force_offset  # measured u = m·ÿ + F + F_0: u − F_0 acts
@@ -135,10 +135,44 @@ def run(args: argparse.Namespace) -> int:
             print(f"  applied force u − F_0, with F_0 = {offset:.6g} N from [measurement]")
         print(f"wrote {csv_path}")
         print(f"wrote {png_path}")
+    if result.success and result.stop_time is None and args.applied_force is None:
+        # `presliding --help`: exit 1 for a motion under a constant force still moving at the
+        # end (its stop is the question); a motion driven by samples of u(t) ends where they do
+        if not args.quiet:
+            print(
+                f"still moving at t_end = {mo.t_end:g} s (v = {result.final_velocity:.6g} m/s): "
+                "exit status 1; a longer motion.t_end shows where it stops"
+            )
+        return 1
     return 0 if result.success else 1
 
 
 DEFAULT_RTOL = 1e-3  # of the largest displacement, for the implicit step
+
+
+def _motion(args: argparse.Namespace, mo: Any) -> Any:
+    """The motion settings with --mass and --initial-velocity; a missing mass, or a motion
+    that nothing starts (no speed, no applied force), is refused rather than defaulted."""
+    import dataclasses
+
+    given = set(mo.given)
+    changes = {}
+    for key, value in (("mass", args.mass), ("initial_velocity", args.initial_velocity)):
+        if value is not None:
+            changes[key] = value
+            given.add(key)
+    if "mass" not in given:
+        raise UserError(
+            f"{args.model}: no `motion.mass`; a simulation needs the moving mass: add a [motion] "
+            "table with mass [kg] (and initial_velocity [m/s]) or pass --mass KG."
+        )
+    if not given & {"initial_velocity", "applied_force"} and args.applied_force is None:
+        raise UserError(
+            f"{args.model}: nothing sets the mass in motion (no `motion.initial_velocity`, "
+            "`motion.applied_force` or --applied-force); give one of them, or "
+            "--initial-velocity M_PER_S."
+        )
+    return dataclasses.replace(mo, **changes, given=frozenset(given))
 
 
 def _headline(result: Any) -> str:
