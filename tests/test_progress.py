@@ -133,3 +133,46 @@ def test_a_delayed_bar_appears_when_the_delay_ends_without_an_update():
         bar.part("fitting")
         time.sleep(0.4)  # a long step with no update or note: the timer draws the bar
         assert "presliding cmd: fitting" in stream.getvalue()
+
+
+def test_plain_output_beats_while_kernels_compile(monkeypatch):
+    """A piped run is never silent for long while numba compiles: a line every HEARTBEAT s."""
+    import time
+
+    monkeypatch.setattr(Progress, "HEARTBEAT", 0.2)
+    stream, bar = _plain(total=1, compile_note=False)
+    with bar:
+        bar.part("loops")
+        bar._on_compile("kernel_a")  # what numba's start event calls
+        time.sleep(0.75)
+        bar._on_compiled("kernel_a")  # done: the heartbeat stops
+        said = len(stream.getvalue().splitlines())
+        time.sleep(0.5)
+    lines = stream.getvalue().splitlines()
+    assert lines[:2] == ["presliding cmd: [1/1] loops", f"presliding cmd: {COMPILING}"]
+    beats = [ln for ln in lines if "so far" in ln]
+    assert 2 <= len(beats) <= 4 and beats[0].startswith(f"presliding cmd: {COMPILING}: 1 kernel")
+    assert len(lines) == said  # nothing after the compilation ended
+
+
+def test_the_bar_keeps_ticking_and_leads_with_the_note_while_compiling(monkeypatch):
+    import time
+
+    monkeypatch.setattr(Progress, "TICK", 0.05)
+    stream = io.StringIO()
+    with Progress("presliding demo", total=6, unit="part", stream=stream, interactive=True,
+                  compile_note=False) as bar:  # fmt: skip
+        bar.part("the paper's Figure 3 loops")
+        bar._on_compile("kernel_a")
+        before = stream.getvalue().count("\r")
+        time.sleep(0.4)  # no update from the work: the ticker redraws the clock
+        redraws = stream.getvalue().count("\r") - before
+        last = stream.getvalue().split("\r")[-1]
+        bar._on_compiled("kernel_a")
+        after = stream.getvalue().split("\r")[-1]
+    assert redraws >= 3
+    # the note comes first, so it stays visible when a terminal of 80 columns cuts the line
+    assert last.startswith(f"presliding demo: {COMPILING}")
+    assert len(f"presliding demo: {COMPILING}") < 60
+    assert "Figure 3 loops; 1 kernel" in last
+    assert after.startswith("presliding demo: the paper's Figure 3 loops")

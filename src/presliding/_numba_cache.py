@@ -150,8 +150,11 @@ def _run_uncached() -> None:
 
 
 @contextlib.contextmanager
-def compiling(callback: Callable[[str], None]) -> Iterator[None]:
-    """Call ``callback(name)`` each time numba compiles a kernel of presliding in the block.
+def compiling(
+    callback: Callable[[str], None], done: Callable[[str], None] | None = None
+) -> Iterator[None]:
+    """Call ``callback(name)`` each time numba starts compiling a kernel of presliding in the
+    block (and ``done(name)`` when it has finished).
 
     numba sends its ``"numba:compile"`` event only when a kernel is not found in
     the cache, so a warm cache calls nothing. ``name`` is the kernel's
@@ -163,16 +166,21 @@ def compiling(callback: Callable[[str], None]) -> Iterator[None]:
         yield
         return
 
+    def ours(ev: event.Event) -> str | None:
+        func = getattr((ev.data or {}).get("dispatcher"), "py_func", None)
+        module = getattr(func, "__module__", "") or ""
+        return getattr(func, "__qualname__", "kernel") if module.startswith("presliding.") else None
+
     class _Listener(event.Listener):
         def on_start(self, ev: event.Event) -> None:
-            dispatcher = (ev.data or {}).get("dispatcher")
-            func = getattr(dispatcher, "py_func", None)
-            module = getattr(func, "__module__", "") or ""
-            if module.startswith("presliding."):
-                callback(getattr(func, "__qualname__", "kernel"))
+            name = ours(ev)
+            if name is not None:
+                callback(name)
 
         def on_end(self, ev: event.Event) -> None:
-            pass
+            name = ours(ev)
+            if name is not None and done is not None:
+                done(name)
 
     with event.install_listener("numba:compile", _Listener()):
         yield

@@ -120,6 +120,10 @@ class Progress:
         self._bar: Any = None
         self._timer: threading.Timer | None = None
         self._listening: Any = None
+        self._compiling = 0  # kernels being compiled now (numba's events nest)
+        self._last_line = time.perf_counter()
+        self._stop = threading.Event()
+        self._ticker: threading.Thread | None = None
         if quiet:
             return
         if self.interactive:
@@ -134,8 +138,12 @@ class Progress:
                 self._timer.daemon = True
                 self._timer.start()
         if compile_note:
-            self._listening = compiling(self._on_compile)
+            self._listening = compiling(self._on_compile, self._on_compiled)
             self._listening.__enter__()
+        # the bar's clock keeps ticking, and plain output says it is alive, while numba
+        # compiles (a kernel can take 10 s, with no update from the work in between)
+        self._ticker = threading.Thread(target=self._tick, name="presliding-progress", daemon=True)
+        self._ticker.start()
 
     # ---------------------------------------------------------------- public
     def part(self, name: str) -> None:
@@ -182,6 +190,9 @@ class Progress:
         """Remove the bar (terminal) and stop listening for compilation."""
         if self._timer is not None:
             self._timer.cancel()
+        self._stop.set()
+        if self._ticker is not None and self._ticker is not threading.current_thread():
+            self._ticker.join(timeout=2.0)
         if self._listening is not None:
             listening, self._listening = self._listening, None
             listening.__exit__(None, None, None)
@@ -215,11 +226,44 @@ class Progress:
 
     def _on_compile(self, kernel: str) -> None:
         self.n_compiled += 1
+        self._compiling += 1
         if self._bar is not None:
+            # the note leads the line (tqdm cuts a long line at its right end: at 80 columns
+            # the postfix is the first to go); the part and the count follow
             n = self.n_compiled
-            self.note(f"{COMPILING}: {n} kernel{'s' if n > 1 else ''}")
+            self._bar.set_description_str(f"{self.desc}: {COMPILING}", refresh=False)
+            part = f"{self._part}; " if self._part else ""
+            self._bar.set_postfix_str(
+                f"{part}{n} kernel{'s' if n > 1 else ''}", refresh=self._due()
+            )
         else:
             self.note(COMPILING)
+
+    def _on_compiled(self, kernel: str) -> None:
+        self._compiling = max(self._compiling - 1, 0)
+        if self._compiling == 0 and self._bar is not None:
+            name = f"{self.desc}: {self._part}" if self._part else self.desc
+            self._bar.set_description_str(name, refresh=False)
+            self._bar.set_postfix_str(self._note or "", refresh=self._due())
+
+    #: Seconds between two heartbeat lines (plain output) while kernels compile.
+    HEARTBEAT = 5.0
+    #: Seconds between two redraws of the bar by the ticker.
+    TICK = 1.0
+
+    def _tick(self) -> None:
+        """Redraw the bar every `TICK` s; in plain output, a line at least every `HEARTBEAT` s
+        while kernels compile."""
+        period = self.TICK if self._bar is not None else min(self.TICK, self.HEARTBEAT / 5)
+        while not self._stop.wait(period):
+            if self._bar is not None:
+                if self._due():
+                    self._draw()
+            elif self._compiling and time.perf_counter() - self._last_line >= self.HEARTBEAT:
+                n = self.n_compiled
+                self._line(
+                    f"{COMPILING}: {n} kernel{'s' if n > 1 else ''} so far, {self.elapsed:.0f} s"
+                )
 
     def _line(self, text: str, *, part: bool = False) -> None:
         if self.delay and self.elapsed < self.delay:
@@ -228,6 +272,7 @@ class Progress:
             return
         pending, self._pending = self._pending, None
         lines = [text] if part or pending is None else [pending, text]
+        self._last_line = time.perf_counter()
         # a closed stream: progress is never worth an error
         with contextlib.suppress(OSError, ValueError):
             for line in lines:
