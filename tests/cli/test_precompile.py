@@ -65,3 +65,20 @@ def test_the_tasks_name_functions_that_exist():
         assert callable(getattr(importlib.import_module(module), name)), task
         module, name = _precompile._SENTINELS[task].split(":")
         assert hasattr(getattr(importlib.import_module(module), name), "_cache")
+
+
+def test_the_precompile_command_runs_the_demo_into_nothing_but_the_cache(
+    monkeypatch, tmp_path, capsys
+):
+    """``presliding precompile`` (documented in --help): the demo's work, no files left."""
+    from presliding.cli import demo, main
+
+    ran = []
+    monkeypatch.setattr(demo, "run_demo", lambda out, quiet: ran.append((out, quiet)) or [])
+    monkeypatch.chdir(tmp_path)
+    assert main(["precompile"]) == 0
+    assert len(ran) == 1 and ran[0][1] is False and not ran[0][0].exists()
+    assert "kernels are cached" in capsys.readouterr().out
+    assert list(tmp_path.iterdir()) == []
+    assert main(["--help"]) == 0
+    assert "presliding precompile" in capsys.readouterr().out
