@@ -302,3 +302,29 @@ def test_friction_model_inverse():
         friction_inverse(PIFriction(0.5))
     with pytest.raises(ValueError, match="continuous density"):
         friction_inverse(PIFriction(0.1, density=Uniform(1.0, 1.0)))
+
+
+@settings(max_examples=60, deadline=None)
+@given(banks(min_linear=0.0), st.floats(0.0, 2.0), paths, st.integers(1, 59))
+def test_inverses_in_chunks(op, coulomb, shape, split):
+    """What README states: the inverse of a bank with a linear term is a PIOperator, so its
+    chunks equal one call bit for bit; `PIInverse.apply` (a Coulomb element, or no linear
+    term) rebuilds its inverse memory from the forward memory at each call, so its chunks
+    agree with one call to rounding: within 1e-13 of the larger of max|y| and max r_j."""
+    bank = PIOperator(op.threshold, op.weight)
+    inverse = PIInverse(bank, coulomb=coulomb)
+    u = 0.95 * inverse.force_limit * np.tanh(shape)
+    split = min(split, u.shape[0] - 1)
+    y, _ = inverse.apply(u)
+    first, state = inverse.apply(u[:split])
+    second, _ = inverse.apply(u[split:], state)
+    joined = np.concatenate([first, second])
+    scale = max(float(np.max(np.abs(y))), float(np.max(bank.threshold)))
+    assert np.max(np.abs(joined - y)) <= 1e-13 * scale
+    if op.linear >= 0.05:  # the inverse of a bank with a linear term: a PIOperator
+        exact = pi_inverse(op)
+        force, _ = op.apply(shape)
+        whole, _ = exact.apply(force)
+        a, s = exact.apply(force[:split])
+        b, _ = exact.apply(force[split:], s)
+        np.testing.assert_array_equal(np.concatenate([a, b]), whole)

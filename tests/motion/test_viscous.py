@@ -387,3 +387,33 @@ def test_viscous_loss_is_an_independent_check_of_the_closed_forms():
     assert e.viscous[-1] > 1e-3 * e.initial
     shifted = e.residual + 1e-9 * e.viscous
     assert np.max(np.abs(shifted)) > 1e-12 * e.initial
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    coulomb=st.floats(0.0, 1.0),
+    stiffness=st.lists(st.floats(10.0, 2e3), min_size=1, max_size=4),
+    breakaway=st.floats(0.05, 1.0),
+    viscous=st.floats(0.05, 5.0),
+    forces=st.lists(st.floats(-3.0, 3.0), min_size=1, max_size=6),
+    v0=st.floats(-1.0, 1.0),
+    split=st.integers(1, 59),
+)
+def test_an_event_run_with_viscous_continued_from_its_final_state_is_bit_identical(
+    coulomb, stiffness, breakaway, viscous, forces, v0, split
+):
+    """Split anywhere (in a damped piece, at rest, mid-interval of u): the same bits."""
+    model = ps.PIFriction(coulomb, stiffness, [breakaway] * len(stiffness), viscous=viscous)
+    u = (np.linspace(0.0, 0.9, len(forces)), np.array(forces))
+    t = np.linspace(0.0, 1.5, 61)
+    kw = dict(applied_force=u, method="event")
+    whole = simulate(model, 1.3, initial_velocity=v0, t_eval=t, **kw)
+    first = simulate(model, 1.3, initial_velocity=v0, t_eval=t[: split + 1], **kw)
+    second = simulate(model, 1.3, initial_velocity=first.final_velocity, t_start=t[split],
+                      initial_position=first.final_state.last_input,
+                      initial_state=first.final_state, t_eval=t[split:], **kw)  # fmt: skip
+    for name in ("position", "velocity", "friction_force"):
+        joined = np.concatenate([getattr(first, name), getattr(second, name)[1:]])
+        np.testing.assert_array_equal(joined, getattr(whole, name), err_msg=name)
+    assert second.final_velocity == whole.final_velocity
+    np.testing.assert_array_equal(second.final_state.play, whole.final_state.play)
