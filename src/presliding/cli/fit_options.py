@@ -153,10 +153,11 @@ def _add_pooled_options(fit: argparse.ArgumentParser) -> None:
     )
     fit.add_argument(
         "--bootstrap",
-        type=checked("--bootstrap", integer=True),
+        type=checked("--bootstrap", integer=True, maximum=10_000),
         default=0,
         metavar="N",
-        help="record-level bootstrap resamples (three or more files)",
+        help="record-level bootstrap resamples (three or more files; at most 10000, each a "
+        "full refit: the progress shows the time left)",
     )
     fit.add_argument(
         "--no-cross-validation",
