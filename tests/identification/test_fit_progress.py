@@ -100,6 +100,7 @@ def test_a_pooled_fit_with_a_bootstrap_shows_its_steps_and_fits_the_same():
     assert "probe: check: the rigid limit of the smallest-threshold element" in text
     for b in (1, 2, 3):
         assert f"probe: bootstrap: resample {b} of 3" in text
+    assert "probe: bootstrap: resample 3 of 3, about " in text and " s left" in text
     assert "(run 2): 1 evaluation, cost" in text  # each solver run counts anew
 
 
