@@ -8,6 +8,8 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
+from presliding._display import fill_attrs, result_html, short_repr, summarise
+
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
 
@@ -117,5 +119,22 @@ class LimitCycles:
         """One row per cycle."""
         import pandas as pd
 
-        return pd.DataFrame({"amplitude": self.amplitude, "frequency": self.frequency,
-                             "period": self.period, "stable": self.stable})  # fmt: skip
+        frame = pd.DataFrame({"amplitude": self.amplitude, "frequency": self.frequency,
+                              "period": self.period, "stable": self.stable})  # fmt: skip
+        return fill_attrs(frame, self)
+
+    def __repr__(self) -> str:
+        return short_repr(self, ("amplitude", "frequency", "stable", "amplitudes", "frequencies",
+                                 "model"))  # fmt: skip
+
+    def _repr_html_(self) -> str:
+        """The status and the cycles (amplitude, frequency, period, stability), for notebooks."""
+        figures = [("cycles", str(self.n_cycles), ""),
+                   ("amplitude grid", summarise(self.amplitudes), "m"),
+                   ("frequency grid", summarise(self.frequencies), "rad/s")]  # fmt: skip
+        rows = [
+            (f"{a:.6g}", f"{w:.6g}", f"{2 * np.pi / w:.6g}", "stable" if st else "unstable")
+            for a, w, st in zip(self.amplitude, self.frequency, self.stable, strict=True)
+        ]
+        cols = ("amplitude [m]", "frequency [rad/s]", "period [s]", "Loeb")
+        return result_html(self, figures, (cols, rows) if rows else None)

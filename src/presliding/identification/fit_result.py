@@ -31,6 +31,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from presliding._display import fill_attrs, result_html, short_repr
 from presliding.friction.pi_friction import PIFriction
 from presliding.identification._least_squares import STATUSES as STATUSES
 from presliding.identification._least_squares import Solution, solve_least_squares
@@ -254,16 +255,52 @@ class FitResult:
         }  # fmt: skip
 
     def to_pandas(self) -> Any:
-        """A pandas DataFrame of the parameters: value, standard error, interval, fixed/tied."""
+        """A pandas DataFrame of the parameters: value, unit, standard error, interval,
+        fixed/tied; ``df.attrs`` holds the status, message, parameter ``units``, the
+        model, its ``parameters``, the fit's kind, NRMSE and confidence level."""
         import pandas as pd
 
         rows = []
         for n, v in self.parameters.items():
             lo, hi = self.confidence_interval[n]
-            rows.append({"parameter": n, "value": v, "standard_error": self.standard_error[n],
-                         "lower": lo, "upper": hi, "fixed": n in self.fixed,
-                         "tied": n in self.tied})  # fmt: skip
-        return pd.DataFrame(rows).set_index("parameter")
+            rows.append({"parameter": n, "value": v, "unit": self.units.get(n, ""),
+                         "standard_error": self.standard_error[n], "lower": lo, "upper": hi,
+                         "fixed": n in self.fixed, "tied": n in self.tied})  # fmt: skip
+        frame = fill_attrs(pd.DataFrame(rows).set_index("parameter"), self, units=self.units)
+        frame.attrs.update(kind=self.kind, nrmse=self.nrmse, derived=dict(self.derived),
+                           confidence_level=self.confidence_level)  # fmt: skip
+        return frame
+
+    def __repr__(self) -> str:
+        names = ("kind", "parameters", "standard_error", "nrmse", "relative_residual",
+                 "n_evaluations", "model", "measured")  # fmt: skip
+        return short_repr(self, names)
+
+    def _repr_html_(self) -> str:
+        """The status, the fit quality and the parameter table with units, for notebooks."""
+        unit = self.signal_unit
+        figures = [
+            ("samples", str(self.measured.shape[0]), ""),
+            ("records", str(max(len(self.records), 1)), ""),
+            ("residual RMS", f"{self.residual_rms:.4g}", unit),
+            ("NRMSE", f"{100 * self.nrmse:.3f}", "%"),
+            ("explained variance", f"{100 * (1 - self.relative_residual**2):.3f}", "%"),
+            ("evaluations", str(self.n_evaluations), ""),
+        ]
+        pct = f"{100 * self.confidence_level:g} % interval"
+        rows = []
+        for n, v in self.parameters.items():
+            lo, hi = self.confidence_interval[n]
+            note = "fixed" if n in self.fixed else ("tied" if n in self.tied else "")
+            note += " at bound" if n in self.at_bounds else ""
+            rows.append((n, f"{v:.6g}", self.units.get(n, ""), f"{self.standard_error[n]:.3g}",
+                         f"[{lo:.6g}, {hi:.6g}]", note.strip()))  # fmt: skip
+        rows += [(n, f"{v:.6g}", self.units.get(n, ""), "", "", "derived")
+                 for n, v in self.derived.items()]  # fmt: skip
+        table = (("parameter", "value", "unit", "std. error", pct, ""), rows)
+        return result_html(
+            self, figures, table, title=f"{self.kind} fit (FitResult)", show_model=False
+        )
 
     @property
     def success(self) -> bool:
