@@ -1,5 +1,12 @@
 """Plot functions. Each takes ``ax=None`` (a new figure is made), returns the axes,
-and changes no global style; matplotlib is imported only when a plot is drawn."""
+and changes no global style; matplotlib is imported only when a plot is drawn.
+
+Figures survive a plain ``savefig``: a new figure has a constrained layout (legends
+placed outside the axes stay inside the figure), every axis label carries its unit
+in brackets, legends sit off the data (`place_legend`), a small stroke far from
+zero is drawn relative to the record's start (`relative_positions`) and a
+presliding branch too narrow to see gets a zoomed inset (`plot_motion`).
+"""
 
 from __future__ import annotations
 
@@ -18,17 +25,43 @@ if TYPE_CHECKING:  # pragma: no cover
 __all__ = [
     "new_axes", "place_legend", "plot_batch", "plot_density", "plot_fit", "plot_forces",
     "plot_free_response", "plot_hysteresis", "plot_loop_fit", "plot_motion",
-    "plot_reversal_counts", "plot_sweep", "plot_turning_points", "save_figure"
+    "plot_reversal_counts", "plot_sweep", "plot_turning_points", "relative_positions",
+    "save_figure", "zoom_presliding",
 ]  # fmt: skip
 
 
 def new_axes(ax: Axes | None = None, **subplot_kw: Any) -> Axes:
-    """Return `ax` (matplotlib Axes, else a TypeError), or a new pyplot figure's axes if None."""
+    """Return `ax` (matplotlib Axes, else a TypeError), or the axes of a new pyplot figure
+    with a constrained layout if None."""
     import matplotlib.pyplot as plt
 
     if ax is not None:
         return check_type("ax", ax, plt.Axes)
-    return plt.subplots(**subplot_kw)[1]
+    return plt.subplots(layout="constrained", **subplot_kw)[1]
+
+
+def relative_positions(position: ArrayLike, unit: str = "m") -> tuple[Any, str]:
+    """Positions to draw, and the words for their axis label.
+
+    A stroke small against its distance from zero (a 0.24 mm stroke at −0.11 m)
+    would show as identical tick labels: it is drawn from the record's start,
+    ``y − y₀``, and the label names y₀. Other positions are returned as they are.
+
+    Returns
+    -------
+    values : ndarray
+    label : str
+        ``"y [m]"`` or ``"y − y₀ [m], y₀ = -0.11 m"``.
+    """
+    y = np.asarray(position, dtype=float)
+    finite = y[np.isfinite(y)]
+    if finite.size == 0:
+        return y, f"y [{unit}]"
+    stroke = float(np.ptp(finite))
+    if abs(float(finite[0])) > 20.0 * stroke and stroke >= 0.0 and finite[0] != 0.0:
+        y0 = float(finite[0])
+        return y - y0, f"y − y₀ [{unit}], y₀ = {y0:.6g} {unit}"
+    return y, f"y [{unit}]"
 
 
 def plot_hysteresis(
@@ -51,7 +84,7 @@ def plot_hysteresis(
     ax : matplotlib Axes, optional
     """
     ax = new_axes(ax)
-    y = np.asarray(displacement, dtype=float)
+    y, words = relative_positions(displacement, displacement_unit)
     curves: Any = force  # one curve, or a sequence of curves (possibly of several lengths)
     forces = [curves] if np.ndim(curves) == 1 else list(curves)
     for i, f in enumerate(forces):
@@ -64,7 +97,7 @@ def plot_hysteresis(
     values = np.concatenate([np.ravel(np.asarray(f, dtype=float)) for f in forces])
     if values.size and values.min() <= 0.0 <= values.max():
         ax.axhline(0.0, color="0.8", lw=0.8, zorder=0)
-    ax.set_xlabel(f"displacement y [{displacement_unit}]")
+    ax.set_xlabel(f"displacement {words}")
     ax.set_ylabel(f"friction force F [{force_unit}]")
     ax.grid(True, alpha=0.3)
     if labels is not None:
@@ -116,7 +149,8 @@ def plot_loop_fit(
     ax = plot_hysteresis(displacement, measured, ax=ax, displacement_unit=displacement_unit,
                          force_unit=force_unit)  # fmt: skip
     ax.lines[0].set(ls="none", marker=".", ms=2.0, color="0.55", label=measured_label)
-    ax.plot(np.asarray(displacement), np.asarray(fitted), color="C1", lw=1.4, label="fitted model")
+    y = relative_positions(displacement, displacement_unit)[0]
+    ax.plot(y, np.asarray(fitted), color="C1", lw=1.4, label="fitted model")
     place_legend(ax)
     return ax
 
@@ -127,32 +161,74 @@ def plot_fit(
     fitted: ArrayLike,
     *,
     ax: Axes | None = None,
-    xlabel: str = "sample",
+    xlabel: str = "sample [index]",
     ylabel: str = "signal",
     title: str | None = None,
+    records: Sequence[tuple[int, int]] = (),
+    labels: Sequence[str] | None = None,
 ) -> Axes:
     """Measured against fitted signal, with the residual (measured − fitted) in a panel below.
 
-    The residual panel is appended under `ax` (sharing its x axis); the main
-    axes are returned.
+    The residual panel is appended under `ax` (sharing its x axis), or is the
+    lower panel of a new figure when `ax` is None; the main axes are returned.
+
+    Parameters
+    ----------
+    records : sequence of (start, stop), optional
+        Sample ranges of the records of a pooled fit: each record is drawn on its
+        own, in its own colour, with its label (`labels`, default "record 1", ...),
+        and no line joins one record to the next.
+    labels : sequence of str, optional
+        A name per record (the file names).
     """
     from mpl_toolkits.axes_grid1 import make_axes_locatable
 
-    ax = new_axes(ax)
+    if ax is None:  # a new figure: both panels in its constrained layout
+        import matplotlib.pyplot as plt
+
+        fig = plt.figure(layout="constrained", figsize=(6.4, 5.2))
+        ax, res_ax = fig.subplots(2, 1, sharex=True, height_ratios=[3.0, 1.0])
+    else:  # the caller's axes: the residual panel is cut from them
+        ax = new_axes(ax)
+        res_ax = make_axes_locatable(ax).append_axes("bottom", size="30%", pad=0.08, sharex=ax)
     x = np.asarray(abscissa, dtype=float)
     m = np.asarray(measured, dtype=float)
     f = np.asarray(fitted, dtype=float)
-    ax.plot(x, m, ".", ms=2.5, color="0.45", label="measured")
-    ax.plot(x, f, lw=1.3, color="C1", label="fitted")
+    spans = [(int(a), int(b)) for a, b in records] or [(0, x.shape[0])]
+    pooled = len(spans) > 1
+    if labels is not None and len(labels) != len(spans):
+        raise ValueError(
+            f"`labels` must name each of the {len(spans)} records; got {len(labels)} labels."
+        )
+    names = list(labels) if labels is not None else [f"record {i + 1}" for i in range(len(spans))]
+    for i, (a, b) in enumerate(spans):
+        colour = f"C{i % 10}" if pooled else "C1"
+        ax.plot(x[a:b], m[a:b], ".", ms=2.5, color=colour if pooled else "0.45",
+                alpha=0.45 if pooled else 1.0, label=None if pooled else "measured")  # fmt: skip
+        ax.plot(x[a:b], f[a:b], lw=1.3, color=colour,
+                label=names[i] if pooled else "fitted")  # fmt: skip
+        res_ax.plot(x[a:b], m[a:b] - f[a:b], ".", ms=2.0, color=colour if pooled else "C3")
     ax.set_ylabel(ylabel)
     ax.grid(True, alpha=0.3)
-    place_legend(ax)
+    if pooled:  # dots: measured; lines: the fit; one colour per record
+        from matplotlib.lines import Line2D
+
+        handles, texts = ax.get_legend_handles_labels()
+        if len(handles) > 12:
+            more = f"… {len(handles) - 11} more"
+            handles, texts = handles[:11], [*texts[:11]]
+            handles.append(Line2D([], [], ls="none"))
+            texts.append(more)
+        handles.append(Line2D([], [], ls="none", marker=".", color="0.45"))
+        texts.append("measured (dots)")
+        place_legend(ax, handles=handles, labels=texts, fontsize=8)
+    else:
+        place_legend(ax)
     if title:
         ax.set_title(title)
-    res_ax = make_axes_locatable(ax).append_axes("bottom", size="30%", pad=0.08, sharex=ax)
-    res_ax.plot(x, m - f, ".", ms=2.0, color="C3")
     res_ax.axhline(0.0, color="0.6", lw=0.8)
-    res_ax.set_ylabel("residual")
+    unit = ylabel[ylabel.rfind("[") :] if ylabel.rstrip().endswith("]") else ""
+    res_ax.set_ylabel(f"residual {unit}".rstrip())
     res_ax.set_xlabel(xlabel)
     res_ax.grid(True, alpha=0.3)
     ax.tick_params(labelbottom=False)
@@ -232,7 +308,75 @@ def plot_motion(result: Any, *, kind: str = "time", ax: Axes | None = None) -> A
     ax.grid(True, alpha=0.3)
     if kind != "loop" and ax.get_legend_handles_labels()[0]:
         place_legend(ax)
+    if kind == "loop":
+        zoom_presliding(ax, y, result.friction_force, result.model, result.rest_position)
     return ax
+
+
+def _presliding_width(model: Any) -> float:
+    """The travel over which a reversal's presliding branch spans (twice the largest
+    threshold; for an unbounded density, twice four mean thresholds); 0 without one."""
+    r = getattr(model, "threshold", None)
+    if r is not None and np.size(r):
+        return 2.0 * float(np.max(r))
+    density = getattr(model, "density", None)
+    if density is None:
+        return 0.0
+    big_r = float(getattr(density, "max_threshold", np.inf))
+    if not np.isfinite(big_r):
+        big_r = 4.0 * float(density.M2(np.inf)) / float(density.max_elastic_force)
+    return 2.0 * big_r
+
+
+def _free_corner(ax: Axes, x: Any, y: Any) -> list[float]:
+    """The inset box [x0, y0, w, h] (axes fraction) in the corner holding the fewest samples."""
+    ax.autoscale_view()
+    pts = ax.transAxes.inverted().transform(ax.transData.transform(np.column_stack([x, y])))
+    counts = {}
+    for x0, y0 in ((0.6, 0.06), (0.06, 0.56), (0.6, 0.56), (0.06, 0.06)):
+        inside = ((pts[:, 0] > x0 - 0.04) & (pts[:, 0] < x0 + 0.38) & (pts[:, 1] > y0 - 0.04)
+                  & (pts[:, 1] < y0 + 0.42))  # fmt: skip
+        counts[(x0, y0)] = int(np.sum(inside))
+    x0, y0 = min(counts, key=lambda k: counts[k])
+    return [x0, y0, 0.34, 0.38]
+
+
+def zoom_presliding(
+    ax: Axes, position: Any, force: Any, model: Any, centre: float | None = None
+) -> Axes | None:
+    """An inset magnifying the presliding branches of a force–position loop when they are a
+    sliver of the axes (under a twentieth of the travel drawn); returns the inset or None.
+
+    The inset sits in the corner with the fewest samples and shows the travel of a
+    full presliding branch (twice the largest threshold) around `centre` (the rest
+    position; default the last turning point drawn).
+    """
+    y = np.asarray(position, dtype=float)
+    f = np.asarray(force, dtype=float)
+    ok = np.isfinite(y) & np.isfinite(f)
+    y, f = y[ok], f[ok]
+    width = _presliding_width(model)
+    span = float(np.ptp(y)) if y.size else 0.0
+    if width <= 0.0 or span <= 0.0 or width > span / 20.0:
+        return None
+    if centre is None:
+        turn = np.flatnonzero(np.diff(np.sign(np.diff(y))) != 0)
+        centre = float(y[turn[-1] + 1]) if turn.size else float(y[-1])
+    near = np.abs(y - centre) <= 1.5 * width
+    if np.count_nonzero(near) < 2:
+        return None
+    inset = ax.inset_axes(_free_corner(ax, y, f))
+    inset.plot(y[near], f[near], lw=1.2, color="C0")
+    lo, hi = float(np.min(f[near])), float(np.max(f[near]))
+    pad = 0.08 * (hi - lo or 1.0)
+    inset.set_xlim(centre - 1.5 * width, centre + 1.5 * width)
+    inset.set_ylim(lo - pad, hi + pad)
+    inset.tick_params(labelsize=7)
+    inset.ticklabel_format(axis="x", style="sci", scilimits=(-2, 3), useMathText=True)
+    inset.set_title("presliding (zoom)", fontsize=7)
+    inset.grid(True, alpha=0.3)
+    ax.indicate_inset_zoom(inset, edgecolor="0.4")
+    return inset
 
 
 def plot_turning_points(

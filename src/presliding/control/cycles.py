@@ -67,7 +67,7 @@ class LimitCycles:
 
     def plot(self, ax: Axes | None = None) -> Axes:
         """Nyquist curve of G(jω) with −1/N(A); cycles marked (filled: stable)."""
-        from presliding.plotting import new_axes
+        from presliding.plotting import new_axes, place_legend
 
         ax = new_axes(ax)
         g = self.loop_response
@@ -91,10 +91,10 @@ class LimitCycles:
             scale = float(np.median(finite)) if finite.size else 1.0
         ax.set_xlim(-scale, 0.6 * scale)
         ax.set_ylim(-0.6 * scale, scale)
-        ax.set_xlabel("Re")
-        ax.set_ylabel("Im")
+        ax.set_xlabel("Re G(jω), Re −1/N(A) [m/N]")
+        ax.set_ylabel("Im G(jω), Im −1/N(A) [m/N]")
         ax.set_title("Nyquist curve of G and −1/N(A)")
-        ax.legend(frameon=False, fontsize=7, loc="lower left")
+        place_legend(ax, fontsize=7)
         return ax
 
     def report(self) -> str:

@@ -183,7 +183,7 @@ class LoopResult(MotionResult):
     def plot(self, ax: Axes | None = None, *, kind: str = "tracking") -> Axes:
         """Position and reference over time ("tracking"), the error ("error"), the control
         signal ("control"), or a `MotionResult` kind ("time", "phase", "loop")."""
-        from presliding.plotting import new_axes
+        from presliding.plotting import new_axes, place_legend
 
         if kind in ("time", "phase", "loop"):
             return super().plot(ax, kind=kind)
@@ -207,7 +207,7 @@ class LoopResult(MotionResult):
             ax.plot(self.time, self.friction_force, color="C1", lw=1.0, label="friction F")
             ax.set_ylabel("force [N]")
         ax.set_xlabel("time t [s]")
-        ax.legend(frameon=False, fontsize=8)
+        place_legend(ax, fontsize=8)
         return ax
 
     def report(self) -> str:
@@ -339,7 +339,7 @@ class LoopBatch:
                 f"{fmt(kind)}."
             )
         ax.plot(np.arange(self.kp.shape[0]), getattr(self, kind), "o-", ms=3)
-        ax.set(xlabel="gain set", ylabel=f"{kind.replace('_', ' ')} [m]", yscale="log")
+        ax.set(xlabel="gain set [index]", ylabel=f"{kind.replace('_', ' ')} [m]", yscale="log")
         return ax
 
     def report(self) -> str:

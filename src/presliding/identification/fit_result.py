@@ -390,14 +390,25 @@ class FitResult:
             f"{self.signal_label} [{self.signal_unit}]" if self.signal_unit else self.signal_label
         )
 
-    def plot(self, ax: Axes | None = None) -> Axes:
-        """Measured and fitted signal, with the residual in a panel below; returns the axes."""
+    def plot(self, ax: Axes | None = None, *, labels: Any = None) -> Axes:
+        """Measured and fitted signal, with the residual in a panel below; returns the axes.
+
+        The records of a pooled fit are drawn apart, one colour and one label each
+        (`labels`, e.g. the file names; default "record 1", ...).
+        """
         from presliding.plotting import plot_fit
 
+        xlabel = self.abscissa_label
+        if "[" not in xlabel:  # the unit of the abscissa, where the label has none
+            unit = ("index" if xlabel == "sample" else
+                    self.units.get("coulomb", "N") if "force" in xlabel else
+                    self.units.get("threshold_1", "m"))  # fmt: skip
+            xlabel = f"{xlabel} [{unit}]"
         return plot_fit(
             self.abscissa, self.measured, self.fitted, ax=ax,
-            xlabel=self.abscissa_label, ylabel=self._signal_text(),
+            xlabel=xlabel, ylabel=self._signal_text(),
             title=f"{self.kind} fit (NRMSE {100 * self.nrmse:.2f} %)",
+            records=self.records, labels=labels,
         )  # fmt: skip
 
 

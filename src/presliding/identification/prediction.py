@@ -18,7 +18,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from presliding._display import fill_attrs, result_html, short_repr
+from presliding._display import fill_attrs, result_html, short_repr, unit_of
 from presliding._validation import as_nonnegative_scalar, as_signal
 from presliding.identification._pi_regression import reversal_indices
 from presliding.identification.fit_result import fit_statistics
@@ -195,8 +195,11 @@ class Prediction:
         """Measured and predicted signal with the residual below; returns the axes."""
         from presliding.plotting import plot_fit
 
+        ylabel, xlabel = self.signal_label, self.abscissa_label
+        ylabel += "" if "[" in ylabel else f" [{unit_of(ylabel.split()[-1]) or '-'}]"
+        xlabel += "" if "[" in xlabel else f" [{unit_of(xlabel.split()[-1]) or 'index'}]"
         return plot_fit(self.abscissa, self.measured, self.predicted, ax=ax,
-                        xlabel=self.abscissa_label, ylabel=self.signal_label,
+                        xlabel=xlabel, ylabel=ylabel,
                         title=f"prediction (NRMSE {100 * self.nrmse:.2f} %)")  # fmt: skip
 
 
