@@ -328,7 +328,7 @@ def _presliding_width(model: Any) -> float:
     return 2.0 * big_r
 
 
-def _free_corner(ax: Axes, x: Any, y: Any) -> list[float]:
+def _free_corner(ax: Axes, x: Any, y: Any) -> tuple[float, float, float, float]:
     """The inset box [x0, y0, w, h] (axes fraction) in the corner holding the fewest samples."""
     ax.autoscale_view()
     pts = ax.transAxes.inverted().transform(ax.transData.transform(np.column_stack([x, y])))
@@ -338,7 +338,7 @@ def _free_corner(ax: Axes, x: Any, y: Any) -> list[float]:
                   & (pts[:, 1] < y0 + 0.42))  # fmt: skip
         counts[(x0, y0)] = int(np.sum(inside))
     x0, y0 = min(counts, key=lambda k: counts[k])
-    return [x0, y0, 0.34, 0.38]
+    return (x0, y0, 0.34, 0.38)
 
 
 def zoom_presliding(
