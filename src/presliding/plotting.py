@@ -166,6 +166,7 @@ def plot_fit(
     title: str | None = None,
     records: Sequence[tuple[int, int]] = (),
     labels: Sequence[str] | None = None,
+    fitted_label: str = "fitted",
 ) -> Axes:
     """Measured against fitted signal, with the residual (measured − fitted) in a panel below.
 
@@ -180,6 +181,8 @@ def plot_fit(
         and no line joins one record to the next.
     labels : sequence of str, optional
         A name per record (the file names).
+    fitted_label : str
+        The legend's name of the model's line ("predicted" for a prediction).
     """
     from mpl_toolkits.axes_grid1 import make_axes_locatable
 
@@ -206,7 +209,7 @@ def plot_fit(
         ax.plot(x[a:b], m[a:b], ".", ms=2.5, color=colour if pooled else "0.45",
                 alpha=0.45 if pooled else 1.0, label=None if pooled else "measured")  # fmt: skip
         ax.plot(x[a:b], f[a:b], lw=1.3, color=colour,
-                label=names[i] if pooled else "fitted")  # fmt: skip
+                label=names[i] if pooled else fitted_label)  # fmt: skip
         res_ax.plot(x[a:b], m[a:b] - f[a:b], ".", ms=2.0, color=colour if pooled else "C3")
     ax.set_ylabel(ylabel)
     ax.grid(True, alpha=0.3)
@@ -227,12 +230,26 @@ def plot_fit(
     if title:
         ax.set_title(title)
     res_ax.axhline(0.0, color="0.6", lw=0.8)
-    unit = ylabel[ylabel.rfind("[") :] if ylabel.rstrip().endswith("]") else ""
-    res_ax.set_ylabel(f"residual {unit}".rstrip())
+    unit = ylabel[ylabel.rfind("[") + 1 : -1] if ylabel.rstrip().endswith("]") else ""
+    _residual_label(res_ax, m - f, unit)
     res_ax.set_xlabel(xlabel)
     res_ax.grid(True, alpha=0.3)
     ax.tick_params(labelbottom=False)
     return ax
+
+
+def _residual_label(ax: Axes, residual: Any, unit: str) -> None:
+    """``residual [10^-8 m]``: a power of ten goes into the label, never as an offset text
+    over the panel above."""
+    from matplotlib.ticker import FuncFormatter
+
+    finite = np.abs(residual[np.isfinite(residual)])
+    top = float(np.max(finite)) if finite.size else 0.0
+    power = int(np.floor(np.log10(top))) if top > 0.0 else 0
+    power = power if power < -2 or power > 3 else 0
+    scale = f"$10^{{{power}}}$ " if power else ""
+    ax.set_ylabel(f"residual [{scale}{unit}]" if unit or scale else "residual")
+    ax.yaxis.set_major_formatter(FuncFormatter(lambda v, _: f"{v / 10.0**power:g}"))
 
 
 def plot_sweep(

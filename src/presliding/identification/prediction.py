@@ -199,7 +199,7 @@ class Prediction:
         ylabel += "" if "[" in ylabel else f" [{unit_of(ylabel.split()[-1]) or '-'}]"
         xlabel += "" if "[" in xlabel else f" [{unit_of(xlabel.split()[-1]) or 'index'}]"
         return plot_fit(self.abscissa, self.measured, self.predicted, ax=ax,
-                        xlabel=xlabel, ylabel=ylabel,
+                        xlabel=xlabel, ylabel=ylabel, fitted_label="predicted",
                         title=f"prediction (NRMSE {100 * self.nrmse:.2f} %)")  # fmt: skip
 
 
