@@ -127,6 +127,7 @@ def _api_pages() -> None:
             "",
             f".. automodule:: presliding.{name}",
             "   :no-members:",
+            "   :no-index:",
             "",
             f".. currentmodule:: presliding.{name}",
             "",
@@ -175,16 +176,22 @@ def _inline(text: str) -> str:
 
 
 def _changelog_page() -> None:
-    """docs/changelog.rst from CHANGELOG.md: headings, paragraphs and bullet lists."""
+    """docs/changelog.rst from CHANGELOG.md: headings, paragraphs and bullet lists (inline
+    markup may run over several lines of a paragraph, so it is converted block by block)."""
     marks = {1: "=", 2: "-", 3: "~", 4: "^"}
     out: list[str] = [".. _changelog:", ""]
-    for line in (ROOT / "CHANGELOG.md").read_text(encoding="utf-8").splitlines():
+    block: list[str] = []
+    for line in [*(ROOT / "CHANGELOG.md").read_text(encoding="utf-8").splitlines(), "# end"]:
+        # "# end" closes the last block
         head = re.match(r"^(#{1,4}) (.*)$", line)
-        if head:
+        if not head:
+            block.append(line)
+            continue
+        out += [*_inline("\n".join(block)).splitlines(), ""]
+        block = []
+        if line != "# end":
             title = _inline(head.group(2)).replace("[", "").replace("]", "")
             out += [title, marks[len(head.group(1))] * len(title), ""]
-        else:
-            out.append(_inline(line))
     _write_if_changed(DOCS / "changelog.rst", "\n".join(out) + "\n")
 
 
@@ -192,12 +199,16 @@ _changelog_page()
 
 # -- Links to other projects' documentation (bundled inventories: no download) ---------
 _INV = DOCS / "_inventories"
+_CONTROL_DOCS = "https://python-control.readthedocs.io/en/latest"
 intersphinx_mapping = {
     "python": ("https://docs.python.org/3", str(_INV / "python.inv")),
     "numpy": ("https://numpy.org/doc/stable", str(_INV / "numpy.inv")),
     "scipy": ("https://docs.scipy.org/doc/scipy", str(_INV / "scipy.inv")),
     "matplotlib": ("https://matplotlib.org/stable", str(_INV / "matplotlib.inv")),
-    "control": ("https://python-control.readthedocs.io/en/latest", str(_INV / "python-control.inv")),
+    "control": (
+        _CONTROL_DOCS,
+        str(_INV / "python-control.inv"),
+    ),
 }
 intersphinx_timeout = 1
 

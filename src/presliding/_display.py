@@ -15,7 +15,9 @@ shows itself the same way:
 
 Units are the package's SI units, found from the field's name (``stop_time`` [s],
 ``rest_position`` [m], ``elastic_forces`` [N]); a result with other units (a
-rotary fit) passes its own. This module is shared ground: it imports no layer.
+rotary fit) passes its own.
+A result's figure follows the rules of `presliding._figures`. This module is shared
+ground: it imports no layer.
 """
 
 from __future__ import annotations
@@ -246,3 +248,28 @@ def fill_attrs(frame: Any, obj: Any, units: Mapping[str, str] | None = None,
         frame.attrs["model"] = summarise(model, 400)
         frame.attrs["parameters"] = model_parameters(model)
     return frame
+
+
+def fit_html(fit: Any) -> str:
+    """The HTML of a fit (a `FitResult`): quality figures, then each parameter's value,
+    unit, standard error and interval, fixed/tied/at-bound notes and derived quantities."""
+    figures = [
+        ("samples", str(fit.measured.shape[0]), ""),
+        ("records", str(max(len(fit.records), 1)), ""),
+        ("residual RMS", f"{fit.residual_rms:.4g}", fit.signal_unit),
+        ("NRMSE", f"{100 * fit.nrmse:.3f}", "%"),
+        ("explained variance", f"{100 * (1 - fit.relative_residual**2):.3f}", "%"),
+        ("evaluations", str(fit.n_evaluations), ""),
+    ]
+    rows = []
+    for n, v in fit.parameters.items():
+        lo, hi = fit.confidence_interval[n]
+        note = "fixed" if n in fit.fixed else ("tied" if n in fit.tied else "")
+        note += " at bound" if n in fit.at_bounds else ""
+        rows.append((n, f"{v:.6g}", fit.units.get(n, ""), f"{fit.standard_error[n]:.3g}",
+                     f"[{lo:.6g}, {hi:.6g}]", note.strip()))  # fmt: skip
+    rows += [(n, f"{v:.6g}", fit.units.get(n, ""), "", "", "derived")
+             for n, v in fit.derived.items()]  # fmt: skip
+    interval = f"{100 * fit.confidence_level:g} % interval"
+    table = (("parameter", "value", "unit", "std. error", interval, ""), rows)
+    return result_html(fit, figures, table, title=f"{fit.kind} fit (FitResult)", show_model=False)

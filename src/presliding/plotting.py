@@ -1,12 +1,7 @@
 """Plot functions. Each takes ``ax=None`` (a new figure is made), returns the axes,
-and changes no global style; matplotlib is imported only when a plot is drawn.
-
-Figures survive a plain ``savefig``: a new figure has a constrained layout (legends
-placed outside the axes stay inside the figure), every axis label carries its unit
-in brackets, legends sit off the data (`place_legend`), a small stroke far from
-zero is drawn relative to the record's start (`relative_positions`) and a
-presliding branch too narrow to see gets a zoomed inset (`plot_motion`).
-"""
+and changes no global style; matplotlib is imported only when a plot is drawn. Figures
+survive a plain ``savefig``, with a unit on every axis and legends off the data (the
+rules and helpers of `presliding._figures`, re-exported here)."""
 
 from __future__ import annotations
 
@@ -16,7 +11,15 @@ from typing import TYPE_CHECKING, Any, cast
 import numpy as np
 from numpy.typing import ArrayLike
 
-from presliding._validation import check_type
+from presliding._figures import (
+    new_axes,
+    place_legend,
+    records_legend,
+    relative_positions,
+    residual_label,
+    save_figure,
+    zoom_presliding,
+)
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
@@ -28,40 +31,6 @@ __all__ = [
     "plot_reversal_counts", "plot_sweep", "plot_turning_points", "relative_positions",
     "save_figure", "zoom_presliding",
 ]  # fmt: skip
-
-
-def new_axes(ax: Axes | None = None, **subplot_kw: Any) -> Axes:
-    """Return `ax` (matplotlib Axes, else a TypeError), or the axes of a new pyplot figure
-    with a constrained layout if None."""
-    import matplotlib.pyplot as plt
-
-    if ax is not None:
-        return check_type("ax", ax, plt.Axes)
-    return plt.subplots(layout="constrained", **subplot_kw)[1]
-
-
-def relative_positions(position: ArrayLike, unit: str = "m") -> tuple[Any, str]:
-    """Positions to draw, and the words for their axis label.
-
-    A stroke small against its distance from zero (a 0.24 mm stroke at −0.11 m)
-    would show as identical tick labels: it is drawn from the record's start,
-    ``y − y₀``, and the label names y₀. Other positions are returned as they are.
-
-    Returns
-    -------
-    values : ndarray
-    label : str
-        ``"y [m]"`` or ``"y − y₀ [m], y₀ = -0.11 m"``.
-    """
-    y = np.asarray(position, dtype=float)
-    finite = y[np.isfinite(y)]
-    if finite.size == 0:
-        return y, f"y [{unit}]"
-    stroke = float(np.ptp(finite))
-    if abs(float(finite[0])) > 20.0 * stroke and stroke >= 0.0 and finite[0] != 0.0:
-        y0 = float(finite[0])
-        return y - y0, f"y − y₀ [{unit}], y₀ = {y0:.6g} {unit}"
-    return y, f"y [{unit}]"
 
 
 def plot_hysteresis(
@@ -103,36 +72,6 @@ def plot_hysteresis(
     if labels is not None:
         place_legend(ax)
     return ax
-
-
-def place_legend(ax: Axes, **kwargs: Any) -> Any:
-    """A legend off the data: ``loc="best"``, or right of the axes if that still covers data
-    (lines in data coordinates, segment by segment, and scattered points; not axhline/axvline)."""
-    leg = ax.legend(frameon=False, loc="best", **kwargs)
-    if not hasattr((fig := ax.figure.figure).canvas, "get_renderer"):  # the root figure
-        fig.draw_without_rendering()
-    box = leg.get_window_extent().padded(2.0)
-    paths = [ln.get_transform().transform_path(ln.get_path()) for ln in ax.get_lines()
-             if ln.get_transform() is ax.transData]  # fmt: skip
-    points = [c.get_offset_transform().transform(np.reshape(c.get_offsets(), (-1, 2)))
-              for c in ax.collections]  # fmt: skip
-    if any(p.intersects_bbox(box, filled=False) for p in paths) or any(
-        box.count_contains(xy) > 0 for xy in points if xy.size
-    ):
-        return ax.legend(frameon=False, loc="upper left", bbox_to_anchor=(1.01, 1.0), **kwargs)
-    return leg
-
-
-def save_figure(fig: Any, path: Any, dpi: int = 120, *, tight: bool = True) -> None:
-    """Write a figure as PNG atomically (temporary file in the same folder, then rename).
-
-    ``tight=True`` crops the image to the drawn content; ``tight=False`` keeps
-    the figure size exactly (figsize × dpi pixels; use a constrained layout).
-    """
-    from presliding._io import atomic_path
-
-    with atomic_path(path) as tmp:
-        fig.savefig(tmp, dpi=dpi, format="png", bbox_inches="tight" if tight else None)
 
 
 def plot_loop_fit(
@@ -214,42 +153,18 @@ def plot_fit(
     ax.set_ylabel(ylabel)
     ax.grid(True, alpha=0.3)
     if pooled:  # dots: measured; lines: the fit; one colour per record
-        from matplotlib.lines import Line2D
-
-        handles, texts = ax.get_legend_handles_labels()
-        if len(handles) > 12:
-            more = f"… {len(handles) - 11} more"
-            handles, texts = handles[:11], [*texts[:11]]
-            handles.append(Line2D([], [], ls="none"))
-            texts.append(more)
-        handles.append(Line2D([], [], ls="none", marker=".", color="0.45"))
-        texts.append("measured (dots)")
-        place_legend(ax, handles=handles, labels=texts, fontsize=8)
+        records_legend(ax)
     else:
         place_legend(ax)
     if title:
         ax.set_title(title)
     res_ax.axhline(0.0, color="0.6", lw=0.8)
     unit = ylabel[ylabel.rfind("[") + 1 : -1] if ylabel.rstrip().endswith("]") else ""
-    _residual_label(res_ax, m - f, unit)
+    residual_label(res_ax, m - f, unit)
     res_ax.set_xlabel(xlabel)
     res_ax.grid(True, alpha=0.3)
     ax.tick_params(labelbottom=False)
     return ax
-
-
-def _residual_label(ax: Axes, residual: Any, unit: str) -> None:
-    """``residual [10^-8 m]``: a power of ten goes into the label, never as an offset text
-    over the panel above."""
-    from matplotlib.ticker import FuncFormatter
-
-    finite = np.abs(residual[np.isfinite(residual)])
-    top = float(np.max(finite)) if finite.size else 0.0
-    power = int(np.floor(np.log10(top))) if top > 0.0 else 0
-    power = power if power < -2 or power > 3 else 0
-    scale = f"$10^{{{power}}}$ " if power else ""
-    ax.set_ylabel(f"residual [{scale}{unit}]" if unit or scale else "residual")
-    ax.yaxis.set_major_formatter(FuncFormatter(lambda v, _: f"{v / 10.0**power:g}"))
 
 
 def plot_sweep(
@@ -328,72 +243,6 @@ def plot_motion(result: Any, *, kind: str = "time", ax: Axes | None = None) -> A
     if kind == "loop":
         zoom_presliding(ax, y, result.friction_force, result.model, result.rest_position)
     return ax
-
-
-def _presliding_width(model: Any) -> float:
-    """The travel over which a reversal's presliding branch spans (twice the largest
-    threshold; for an unbounded density, twice four mean thresholds); 0 without one."""
-    r = getattr(model, "threshold", None)
-    if r is not None and np.size(r):
-        return 2.0 * float(np.max(r))
-    density = getattr(model, "density", None)
-    if density is None:
-        return 0.0
-    big_r = float(getattr(density, "max_threshold", np.inf))
-    if not np.isfinite(big_r):
-        big_r = 4.0 * float(density.M2(np.inf)) / float(density.max_elastic_force)
-    return 2.0 * big_r
-
-
-def _free_corner(ax: Axes, x: Any, y: Any) -> tuple[float, float, float, float]:
-    """The inset box [x0, y0, w, h] (axes fraction) in the corner holding the fewest samples."""
-    ax.autoscale_view()
-    pts = ax.transAxes.inverted().transform(ax.transData.transform(np.column_stack([x, y])))
-    counts = {}
-    for x0, y0 in ((0.6, 0.06), (0.06, 0.56), (0.6, 0.56), (0.06, 0.06)):
-        inside = ((pts[:, 0] > x0 - 0.04) & (pts[:, 0] < x0 + 0.38) & (pts[:, 1] > y0 - 0.04)
-                  & (pts[:, 1] < y0 + 0.42))  # fmt: skip
-        counts[(x0, y0)] = int(np.sum(inside))
-    x0, y0 = min(counts, key=lambda k: counts[k])
-    return (x0, y0, 0.34, 0.38)
-
-
-def zoom_presliding(
-    ax: Axes, position: Any, force: Any, model: Any, centre: float | None = None
-) -> Axes | None:
-    """An inset magnifying the presliding branches of a force–position loop when they are a
-    sliver of the axes (under a twentieth of the travel drawn); returns the inset or None.
-
-    The inset sits in the corner with the fewest samples and shows the travel of a
-    full presliding branch (twice the largest threshold) around `centre` (the rest
-    position; default the last turning point drawn).
-    """
-    y = np.asarray(position, dtype=float)
-    f = np.asarray(force, dtype=float)
-    ok = np.isfinite(y) & np.isfinite(f)
-    y, f = y[ok], f[ok]
-    width = _presliding_width(model)
-    span = float(np.ptp(y)) if y.size else 0.0
-    if width <= 0.0 or span <= 0.0 or width > span / 20.0:
-        return None
-    if centre is None:
-        turn = np.flatnonzero(np.diff(np.sign(np.diff(y))) != 0)
-        centre = float(y[turn[-1] + 1]) if turn.size else float(y[-1])
-    near = np.abs(y - centre) <= 1.5 * width
-    if np.count_nonzero(near) < 2:
-        return None
-    inset = ax.inset_axes(_free_corner(ax, y, f))
-    inset.plot(y[near], f[near], lw=1.2, color="C0")
-    lo, hi = float(np.min(f[near])), float(np.max(f[near]))
-    pad = 0.08 * (hi - lo or 1.0)
-    inset.set_xlim(centre - 1.5 * width, centre + 1.5 * width)
-    inset.set_ylim(lo - pad, hi + pad)
-    inset.tick_params(labelsize=7)
-    inset.ticklabel_format(axis="x", style="sci", scilimits=(-2, 3), useMathText=True)
-    inset.set_title("presliding (zoom)", fontsize=7)
-    inset.grid(True, alpha=0.3)
-    ax.indicate_inset_zoom(inset, edgecolor="0.4")
-    return inset
 
 
 def plot_turning_points(

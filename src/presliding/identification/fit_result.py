@@ -31,7 +31,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from presliding._display import fill_attrs, result_html, short_repr
+from presliding._display import fill_attrs, fit_html, short_repr
 from presliding.friction.pi_friction import PIFriction
 from presliding.identification._least_squares import STATUSES as STATUSES
 from presliding.identification._least_squares import Solution, solve_least_squares
@@ -278,29 +278,7 @@ class FitResult:
 
     def _repr_html_(self) -> str:
         """The status, the fit quality and the parameter table with units, for notebooks."""
-        unit = self.signal_unit
-        figures = [
-            ("samples", str(self.measured.shape[0]), ""),
-            ("records", str(max(len(self.records), 1)), ""),
-            ("residual RMS", f"{self.residual_rms:.4g}", unit),
-            ("NRMSE", f"{100 * self.nrmse:.3f}", "%"),
-            ("explained variance", f"{100 * (1 - self.relative_residual**2):.3f}", "%"),
-            ("evaluations", str(self.n_evaluations), ""),
-        ]
-        pct = f"{100 * self.confidence_level:g} % interval"
-        rows = []
-        for n, v in self.parameters.items():
-            lo, hi = self.confidence_interval[n]
-            note = "fixed" if n in self.fixed else ("tied" if n in self.tied else "")
-            note += " at bound" if n in self.at_bounds else ""
-            rows.append((n, f"{v:.6g}", self.units.get(n, ""), f"{self.standard_error[n]:.3g}",
-                         f"[{lo:.6g}, {hi:.6g}]", note.strip()))  # fmt: skip
-        rows += [(n, f"{v:.6g}", self.units.get(n, ""), "", "", "derived")
-                 for n, v in self.derived.items()]  # fmt: skip
-        table = (("parameter", "value", "unit", "std. error", pct, ""), rows)
-        return result_html(
-            self, figures, table, title=f"{self.kind} fit (FitResult)", show_model=False
-        )
+        return fit_html(self)
 
     @property
     def success(self) -> bool:
