@@ -175,6 +175,8 @@ def zoom_presliding(
     near = np.abs(y - centre) <= 1.5 * width
     if np.count_nonzero(near) < 2:
         return None
+    from matplotlib.ticker import MaxNLocator
+
     inset = ax.inset_axes(_free_corner(ax, y, f))
     inset.plot(y[near], f[near], lw=1.2, color="C0")
     lo, hi = float(np.min(f[near])), float(np.max(f[near]))
@@ -182,7 +184,8 @@ def zoom_presliding(
     inset.set_xlim(centre - 1.5 * width, centre + 1.5 * width)
     inset.set_ylim(lo - pad, hi + pad)
     inset.tick_params(labelsize=7)
-    inset.ticklabel_format(axis="x", style="sci", scilimits=(-2, 3), useMathText=True)
+    inset.ticklabel_format(axis="x", style="plain", useOffset=False)  # no text over the axes
+    inset.xaxis.set_major_locator(MaxNLocator(3))
     inset.set_title("presliding (zoom)", fontsize=7)
     inset.grid(True, alpha=0.3)
     ax.indicate_inset_zoom(inset, edgecolor="0.4")
