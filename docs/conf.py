@@ -10,6 +10,11 @@ run during the build and their figures are shown. ``-D plot_gallery=0`` renders
 them without running (what the test suite does: ``tests/test_docs.py``, the
 examples themselves run in ``tests/test_examples.py``).
 
+Links to numpy, scipy, matplotlib, Python and python-control go through the
+inventories bundled in ``docs/_inventories/`` (written offline by
+``docs/_ext/make_inventories.py``): the build downloads nothing. The changelog
+page is made from ``CHANGELOG.md`` at every build.
+
 The API reference is generated from ``__all__``: the pages ``api/<layer>.rst``
 are written here at every build from each layer's ``__all__`` (and the root's),
 so every public name is documented and a new one needs no edit of these files.
@@ -37,6 +42,7 @@ version = ".".join(release.split(".")[:2])
 extensions = [
     "sphinx.ext.autodoc",
     "sphinx.ext.autosummary",
+    "sphinx.ext.intersphinx",
     "sphinx.ext.mathjax",
     "sphinx.ext.viewcode",
     "numpydoc",
@@ -66,6 +72,12 @@ LAYERS = {
     "identification": "measurements and fits (section 4)",
     "control": "python-control systems",
     "sweep": "parameter sweeps on local processes or Dask",
+}
+#: Modules of the shared ground with a reference page of their own.
+SHARED = {
+    "plotting": "plot functions behind every result's ``plot``",
+    "model_io": "model files (TOML): read, write, build a model",
+    "signals": "input paths: piecewise-linear displacements, the paper's Figure 3",
 }
 
 
@@ -104,6 +116,29 @@ def _api_pages() -> None:
             "",
         ]
         _write_if_changed(DOCS / "api" / f"{layer}.rst", "\n".join(lines))
+    for name, summary in SHARED.items():
+        module = importlib.import_module(f"presliding.{name}")
+        title = f"``presliding.{name}``: {summary}"
+        lines = [
+            f".. _api-{name}:",
+            "",
+            title,
+            "=" * len(title),
+            "",
+            f".. automodule:: presliding.{name}",
+            "   :no-members:",
+            "   :no-index:",
+            "",
+            f".. currentmodule:: presliding.{name}",
+            "",
+            ".. autosummary::",
+            "   :toctree: generated/",
+            "   :nosignatures:",
+            "",
+            *(f"   {n}" for n in sorted(module.__all__, key=str.lower)),
+            "",
+        ]
+        _write_if_changed(DOCS / "api" / f"{name}.rst", "\n".join(lines))
     rest = sorted((n for n in root - documented if not n.startswith("_")), key=str.lower)
     title = "Shared helpers at the package root"
     lines = [
@@ -127,6 +162,55 @@ def _api_pages() -> None:
 
 
 _api_pages()
+
+# -- Changelog: CHANGELOG.md as a page -------------------------------------------------
+_LINK = re.compile(r"\[([^\]]+)\]\(([^)\s]+)\)")
+
+
+def _inline(text: str) -> str:
+    """Markdown inline markup as reST: `code`, **strong**, [text](url)."""
+    text = re.sub(r"(?<!`)`([^`]+)`(?!`)", r"``\1``", text)
+    text = re.sub(r"(?<![\w*])\*([^*\s][^*]*?)\*(?![\w*])", r"*\1*", text)
+    text = _LINK.sub(lambda m: f"`{m.group(1)} <{m.group(2)}>`__", text)
+    return text.replace("|", "\\|")
+
+
+def _changelog_page() -> None:
+    """docs/changelog.rst from CHANGELOG.md: headings, paragraphs and bullet lists (inline
+    markup may run over several lines of a paragraph, so it is converted block by block)."""
+    marks = {1: "=", 2: "-", 3: "~", 4: "^"}
+    out: list[str] = [".. _changelog:", ""]
+    block: list[str] = []
+    for line in [*(ROOT / "CHANGELOG.md").read_text(encoding="utf-8").splitlines(), "# end"]:
+        # "# end" closes the last block
+        head = re.match(r"^(#{1,4}) (.*)$", line)
+        if not head:
+            block.append(line)
+            continue
+        out += [*_inline("\n".join(block)).splitlines(), ""]
+        block = []
+        if line != "# end":
+            title = _inline(head.group(2)).replace("[", "").replace("]", "")
+            out += [title, marks[len(head.group(1))] * len(title), ""]
+    _write_if_changed(DOCS / "changelog.rst", "\n".join(out) + "\n")
+
+
+_changelog_page()
+
+# -- Links to other projects' documentation (bundled inventories: no download) ---------
+_INV = DOCS / "_inventories"
+_CONTROL_DOCS = "https://python-control.readthedocs.io/en/latest"
+intersphinx_mapping = {
+    "python": ("https://docs.python.org/3", str(_INV / "python.inv")),
+    "numpy": ("https://numpy.org/doc/stable", str(_INV / "numpy.inv")),
+    "scipy": ("https://docs.scipy.org/doc/scipy", str(_INV / "scipy.inv")),
+    "matplotlib": ("https://matplotlib.org/stable", str(_INV / "matplotlib.inv")),
+    "control": (
+        _CONTROL_DOCS,
+        str(_INV / "python-control.inv"),
+    ),
+}
+intersphinx_timeout = 1
 
 # -- Gallery: the scripts of examples/ -------------------------------------------------
 sys.path.insert(0, str(DOCS / "_ext"))  # gallery_hooks, named by string (a picklable config)
@@ -173,12 +257,9 @@ html_theme_options = {
     "secondary_sidebar_items": ["page-toc"],
     "footer_start": ["copyright"],
     "footer_end": [],
+    "header_links_before_dropdown": 6,
 }
-# No navigation sidebar on the front page and the user guide (they have no sub-pages). Sphinx
-# warns when a page matches two wildcard patterns, so these are named one by one.
-html_sidebars = {
-    "**": ["sidebar-nav-bs"],
-    "index": [],
-    **{f"user_guide/{page.stem}": [] for page in (DOCS / "user_guide").glob("*.rst")},
-}
+# The top navigation: the user guide, the examples, the API reference and the changelog; the
+# sidebar lists the pages of each (none on the front page).
+html_sidebars = {"**": ["sidebar-nav-bs"], "index": [], "changelog": []}
 html_show_sourcelink = False

@@ -42,7 +42,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 import presliding as ps
-from presliding.plotting import save_figure
+from presliding.plotting import place_legend, save_figure
 
 
 def check_round_trip(model: ps.PIFriction, y_ref: np.ndarray, friction: np.ndarray) -> float:
@@ -113,7 +113,7 @@ def main(path: str = "closed_loop_compensation.png") -> None:
     axes[2].set(xlabel="time t [s]", ylabel="error r − y [µm]", title="after a reversal")
     for ax in axes:
         ax.grid(True, alpha=0.3)
-        ax.legend(frameon=False, fontsize=8)
+        place_legend(ax, fontsize=8)
     save_figure(fig, path)
     plt.close(fig)
     print(f"wrote {path}")

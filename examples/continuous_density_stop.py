@@ -27,7 +27,7 @@ import numpy as np
 
 import presliding as ps
 from presliding.analysis import turning_points
-from presliding.plotting import save_figure
+from presliding.plotting import place_legend, save_figure
 
 
 def main(path: str = "continuous_density_stop.png") -> None:
@@ -48,7 +48,7 @@ def main(path: str = "continuous_density_stop.png") -> None:
     ax.plot(t, undamped.velocity, lw=1.0, color="0.6", label="c1 = 0: never stops")
     res.plot(ax, kind="time")
     ax.set_title(f"velocity: {res.n_reversals} reversals, stop at t = {res.stop_time:.3f} s")
-    ax.legend(frameon=False, loc="upper right")
+    place_legend(ax)
 
     ax = axes[1]
     ax.plot(undamped.position, undamped.velocity, lw=0.8, color="0.7", label="c1 = 0")
@@ -56,7 +56,7 @@ def main(path: str = "continuous_density_stop.png") -> None:
     ax.plot(exact.positions, np.zeros(exact.positions.shape), "o", mfc="none", color="C1",
             ms=8, label="turning points (energy balance)")  # fmt: skip
     ax.set_title("phase portrait")
-    ax.legend(frameon=False, loc="upper left")
+    place_legend(ax)
 
     ax = axes[2]
     moving = res.time < res.stop_time
@@ -79,7 +79,7 @@ def main(path: str = "continuous_density_stop.png") -> None:
     ax.set_ylabel("force [N]")
     ax.set_title("force–displacement: presliding loops to the stop")
     ax.grid(True, alpha=0.3)
-    ax.legend(frameon=False, loc="lower right", fontsize=8)
+    place_legend(ax, fontsize=8)
     fig.suptitle(
         f"Exponential density a = {density.height:g} N/m², b = {density.length:g} m "
         f"(F_m = {fm:.2f} N), c1 = 0.1·F_m, m = {m:g} kg, v0 = {v0:g} m/s from saturation"

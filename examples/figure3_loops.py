@@ -25,7 +25,7 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from presliding import PIFriction
-from presliding.plotting import plot_hysteresis, save_figure
+from presliding.plotting import place_legend, plot_hysteresis, save_figure
 from presliding.signals import FIGURE3_TURNING_POINTS, piecewise_linear
 
 FIRST_STIFFNESS = (500.0, 50.0, 5.0)
@@ -71,7 +71,7 @@ def draw(path: Path) -> Path:
         )
         ax.set_xlim(-0.33, 0.33)
         ax.set_ylim(-3.4, 3.4)
-    panels[0].legend(frameon=False, loc="upper left", fontsize=8)
+    place_legend(panels[0], fontsize=8)
     for ax in panels[1:]:
         ax.set_ylabel("")
 

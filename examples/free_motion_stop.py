@@ -22,7 +22,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 import presliding as ps
-from presliding.plotting import save_figure
+from presliding.plotting import place_legend, save_figure
 
 
 def main(path: str = "free_motion_stop.png") -> None:
@@ -45,7 +45,7 @@ def main(path: str = "free_motion_stop.png") -> None:
     ax2.step(t1, exp1.applied_force, where="post", color="0.55", lw=1.0, label="u")
     ax2.set_ylabel("applied force u [N]", color="0.4")
     ax2.set_ylim(-0.6, 1.2)
-    ax.legend(frameon=False, loc="lower left")
+    place_legend(ax)
     ax.set_title(f"I: force switched off, stop at {exp1.stop_time:.4f} s")
     inset = ax.inset_axes([0.5, 0.42, 0.46, 0.33])
     near = (t1 > exp1.reversal_times[0] - 0.004) & (t1 < exp1.stop_time + 0.004)

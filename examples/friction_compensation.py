@@ -32,7 +32,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 import presliding as ps
-from presliding.plotting import save_figure
+from presliding.plotting import place_legend, save_figure
 
 
 def main(path: str = "friction_compensation.png") -> None:
@@ -79,7 +79,7 @@ def main(path: str = "friction_compensation.png") -> None:
     axes[2].set(xlabel="elastic force u [N]", ylabel="position y [mm]", title="Γ = Φ⁻¹")
     for ax in axes:
         ax.grid(True, alpha=0.3)
-        ax.legend(frameon=False, fontsize=8)
+        place_legend(ax, fontsize=8)
     save_figure(fig, path)
     plt.close(fig)
     print(f"wrote {path}")

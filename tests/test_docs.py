@@ -7,13 +7,16 @@ gallery pages are rendered without running the scripts, which
 ``tests/test_examples.py`` runs. The Python blocks of the user guide run
 here; a block that starts with ``# needs: PATH`` runs only where PATH exists
 (the measured data), and ``# needs: a Dask scheduler`` is left to
-``tests/sweep``.
+``tests/sweep``. Every number a block prints is checked against `PRINTED`: a
+block that prints a number nobody checks fails.
 """
 
 from __future__ import annotations
 
+import contextlib
 import importlib
 import importlib.util
+import io
 import re
 import shutil
 import subprocess
@@ -23,12 +26,89 @@ from pathlib import Path
 import pytest
 
 import presliding
+from presliding import _progress
 
 ROOT = Path(__file__).resolve().parents[1]
 DOCS = ROOT / "docs"
 GUIDE = sorted((DOCS / "user_guide").glob("*.rst"))
 BLOCK = re.compile(r"^\.\. code-block:: python\n\n((?:(?:   .*)?\n)+)", re.M)
 DOCS_PACKAGES = ("sphinx", "numpydoc", "sphinx_gallery", "pydata_sphinx_theme")
+
+
+#: The numbers the user guide prints, by (page, block index from 0): (pattern, expected,
+#: relative tolerance[, absolute tolerance]); group 1 of the pattern (searched line by line)
+#: is the printed value; an expected str is compared exactly.
+PRINTED: dict[tuple[str, int], list[tuple]] = {
+    ("citing", 0): [(r"^(\S+)$", presliding.__version__)],
+    ("install", 0): [(r"^(\S+) (True|False)$", presliding.__version__)],
+    ("command_line", 1): [(r"^(.*)$", f"{_progress.LOCATION} {_progress.FOLDER}")],
+    ("control", 1): [(r"^(\d+) reversals", 5.0, 0.0),
+                     (r"at rest from (\S+) s", 1.2248167712325622, 1e-6),
+                     (r" s at (\S+)$", 0.05026722669232527, 1e-6)],
+    ("control", 3): [(r"(\d+) limit cycle\(s\) predicted, (?:\d+) stable", 2.0, 0.0),
+                     (r"^  (\S+) +\S+ +\S+ +True$", 1.00981e-05, 1e-3),
+                     (r"^  \S+ +(\S+) +\S+ +True$", 165.425, 1e-3),
+                     (r"^  (\S+) +\S+ +\S+ +False$", 0.000662831, 1e-3),
+                     (r"^  \S+ +(\S+) +\S+ +False$", 33.3901, 1e-3)],
+    ("identification", 0): [(r"^coulomb +(\S+) N", 0.200218, 1e-3),
+                             (r"^stiffness_2 +(\S+) N/m", 400.062, 1e-3),
+                             (r"^threshold_3 +(\S+) m", 0.0150022, 1e-3),
+                             (r"explained variance (\S+) %", 100.0, 1e-4)],
+    # the tribometer: F_c of about 2.4 N (|F/N| of about 0.47 at a normal load of 5 N)
+    ("identification", 1): [(r"^F_c \[N\]: (\S+)$", 2.365, 0.02),
+                            (r"^validation RMS \[N\]: (\S+)$", 0.1158, 0.05),
+                            (r"^offset +(\S+) N", 0.0993, 0.05),
+                            (r"^stiffness_1 +(\S+) N/m", 2.83e4, 0.05)],
+    # EMPS: the published reference is M = 95.11 kg, 203.5 N s/m, 20.39 N, offset -3.16 N
+    ("identification", 2): [(r"^mass +(\S+) kg", 94.97, 2e-3),
+                            (r"^viscous +(\S+) N s/m", 204.6, 2e-3),
+                            (r"^coulomb +(\S+) N", 20.28, 2e-3),
+                            (r"^offset +(\S+) N", -3.152, 5e-3),
+                            (r"^validation RMS (\S+) N, F_c = 20.28 N$", 3.952, 1e-2),
+                            (r"^validation RMS (\S+) N, F_c = 20.47 N$", 3.816, 1e-2)],
+    ("measurements", 0): [(r"factor=(\S+?),", 0.001, 1e-12),
+                          (r"scale=(\S+?),", 1.0, 0.0)],
+    ("pooled_fits", 0): [(r"^(\d+) samples in 3 records", 1800.0, 0.0),
+                         (r"^mass +(\S+) kg", 2.0, 1e-3),
+                         (r"^coulomb_level +(\S+) N", 1.0, 1e-3),
+                         (r"^coulomb +(\S+) N", 0.3, 1e-3)],
+    ("pooled_fits", 2): [(r"median NRMSE (\S+) %", 0.0, 0.0, 0.05),
+                         (r"reversal counts exact in (\S+) %", 100.0, 0.0)],
+    ("pooled_fits", 4): [(r"within (\S+) % of the force range", 0.0, 0.0, 1e-6),
+                         (r"\(tolerance (\S+) %\)", 3.0, 0.0),
+                         (r"^  (\d+) branches", 2.0, 0.0)],
+    ("quickstart", 3): [(r"stops at t = (\S+) s", 0.0852924142586, 1e-6),
+                        (r"at position (\S+) m", 0.00176242655942, 1e-6),
+                        (r"^  reversals: (\d+)$", 1.0, 0.0),
+                        (r"balance residual (\S+) ", 0.0, 0.0, 1e-12)],
+    ("results", 0): [(r"max_events = (\d+) was reached", 20.0, 0.0),
+                     (r"reached at t = (\S+)$", 6.12611, 1e-5)],
+}  # fmt: skip
+
+
+def _check_printed(page: str, index: int, out: str) -> None:
+    """The printed numbers of a block are those of `PRINTED`; a number nobody checks fails."""
+    expected = PRINTED.get((page, index))
+    if expected is None:
+        assert not re.search(r"\d", out), (
+            f"{page}.rst block {index} prints numbers that tests/test_docs.py does not check; "
+            f"add them to PRINTED:\n{out[:500]}"
+        )
+        return
+    for pattern, value, *tol in expected:
+        found = re.search(pattern, out, re.M)
+        assert found, f"{page}.rst block {index}: {pattern!r} not in the output:\n{out[:2000]}"
+        if isinstance(value, str):
+            assert found.group(1) == value, (page, index, pattern)
+        else:
+            rel, absolute = [*tol, 0.0][:2]
+            assert float(found.group(1)) == pytest.approx(value, rel=rel, abs=absolute), (
+                page, index, pattern, found.group(0))  # fmt: skip
+
+
+def test_every_checked_block_exists():
+    for page, index in PRINTED:
+        assert index < len(_blocks(DOCS / "user_guide" / f"{page}.rst")), (page, index)
 
 
 def _blocks(page: Path) -> list[str]:
@@ -38,10 +118,10 @@ def _blocks(page: Path) -> list[str]:
 
 def test_the_user_guide_has_its_pages():
     names = {p.stem for p in GUIDE}
-    pages = ("quickstart", "equations", "operators", "measurements", "identification",
+    pages = ("install", "quickstart", "equations", "operators", "measurements", "identification",
              "pooled_fits", "control", "dask", "command_line", "citing")  # fmt: skip
     assert set(pages) <= names
-    index = (DOCS / "index.rst").read_text(encoding="utf-8")
+    index = (DOCS / "user_guide.rst").read_text(encoding="utf-8")
     for name in names:
         assert f"user_guide/{name}" in index
 
@@ -83,7 +163,7 @@ def test_user_guide_code_runs(page, tmp_path, monkeypatch):
         pytest.skip("no Python code on this page")
     namespace: dict[str, object] = {}
     ran = 0
-    for code in blocks:
+    for index, code in enumerate(blocks):
         needs = re.match(r"# needs: (.*)", code)
         if needs and needs.group(1).startswith("a Dask scheduler"):
             continue
@@ -93,7 +173,10 @@ def test_user_guide_code_runs(page, tmp_path, monkeypatch):
             continue
         # data paths are relative to the repository root; anything written goes to tmp_path
         monkeypatch.chdir(ROOT if needs else tmp_path)
-        exec(compile(code, str(page), "exec"), namespace)
+        printed = io.StringIO()
+        with contextlib.redirect_stdout(printed):
+            exec(compile(code, str(page), "exec"), namespace)
+        _check_printed(page.stem, index, printed.getvalue())
         ran += 1
     plt.close("all")
     if ran == 0:
@@ -107,6 +190,7 @@ def test_docs_build_offline_with_warnings_as_errors(tmp_path):
     shutil.copytree(DOCS, tmp_path / "docs", ignore=shutil.ignore_patterns(
         "_build", "generated", "auto_examples", "sg_execution_times.rst"))  # fmt: skip
     shutil.copytree(ROOT / "examples", tmp_path / "examples")
+    shutil.copy(ROOT / "CHANGELOG.md", tmp_path / "CHANGELOG.md")
     out = tmp_path / "html"
     run = subprocess.run(
         [sys.executable, "-m", "sphinx", "-W", "--keep-going", "-b", "html", "-q",
@@ -115,8 +199,10 @@ def test_docs_build_offline_with_warnings_as_errors(tmp_path):
         capture_output=True, text=True, timeout=600, cwd=tmp_path,
     )  # fmt: skip
     assert run.returncode == 0, run.stdout[-3000:] + run.stderr[-5000:]
-    for page in ("index", "user_guide/equations", "user_guide/dask", "auto_examples/index"):
+    for page in ("index", "user_guide/equations", "user_guide/dask", "auto_examples/index",
+                 "user_guide/install", "changelog"):  # fmt: skip
         assert (out / f"{page}.html").exists(), page
+    _check_navigation_statuses_links(out)
     # every public name has its page: the root's and each layer's __all__
     pages = {p.stem for p in (out / "api" / "generated").glob("*.html")}
     names = {f"presliding.{n}" for n in presliding.__all__ if not n.startswith("_")}
@@ -137,3 +223,43 @@ def test_docs_build_offline_with_warnings_as_errors(tmp_path):
                    "presliding.simulate", "presliding.phi", "presliding.turning_point",
                    "presliding.stops_at_turning_point", "presliding.turning_points"):  # fmt: skip
         assert f"{target}.html" in equations, target
+
+
+def _text(html: str) -> str:
+    return re.sub(r"\s+", " ", re.sub(r"<[^>]+>", " ", html)).replace("&quot;", '"')
+
+
+def _check_navigation_statuses_links(out: Path) -> None:
+    """The API reference in the top navigation (not under "More"), the statuses table
+    rendered as one table with a row per result, links to the other projects' docs, the
+    changelog and the shared modules' reference pages."""
+    index = (out / "index.html").read_text(encoding="utf-8")
+    header = index[index.find("<header") : index.find("</header>")]
+    assert 'href="api/index.html"' in header and 'href="user_guide.html"' in header
+    assert 'href="changelog.html"' in header
+    assert ">More<" not in header and "dropdown" not in header.split('href="api/index.html"')[0]
+    results = (out / "user_guide" / "results.html").read_text(encoding="utf-8")
+    table = results[results.find("<table") : results.find("</table>")]
+    assert "statuses" in table[:200]
+    rows = [_text(r) for r in re.findall(r"<tr.*?</tr>", table, re.S)]
+    fit = [r for r in rows if "FitResult" in r]
+    assert len(rows) == 12 and len(fit) == 1, rows  # the header and 11 results
+    for status in ("converged", "local_minimum", "not_identifiable", "poor_fit", "at_bound",
+                   "max_evaluations", "failed"):  # fmt: skip
+        assert f'"{status}"' in fit[0], status
+    assert not any("LoopResult" in r and "MotionResult" not in r for r in rows)
+    pages = "".join(p.read_text(encoding="utf-8") for p in (out / "user_guide").glob("*.html"))
+    for link in ("https://numpy.org/doc/stable/reference/generated/numpy.ndarray.html",
+                 "https://docs.scipy.org/doc/scipy/reference/generated/scipy.signal.butter.html",
+                 "https://matplotlib.org/stable/api/_as_gen/matplotlib.axes.Axes.html",
+                 "https://docs.python.org/3/library/exceptions.html#KeyboardInterrupt",
+                 "https://python-control.readthedocs.io/en/latest/generated/"
+                 "control.TransferFunction.html"):  # fmt: skip
+        assert link in pages, link
+    changelog = (out / "changelog.html").read_text(encoding="utf-8")
+    assert "Breaking changes" in changelog and "<li>" in changelog
+    generated = out / "api" / "generated"
+    for name in ("presliding.plotting.plot_fit", "presliding.plotting.place_legend",
+                 "presliding.model_io.load_model", "presliding.model_io.save_model",
+                 "presliding.signals.piecewise_linear"):  # fmt: skip
+        assert (generated / f"{name}.html").exists(), name

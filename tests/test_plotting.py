@@ -158,13 +158,14 @@ def test_plot_turning_points_without_a_stop_and_bad_samples(ax):
 
 
 def test_loops_far_from_the_origin_keep_their_own_scale(ax):
-    """A loop at −110 mm (a tribometer stage) is drawn over its own span, not from 0."""
+    """A loop at −110 mm (a tribometer stage) is drawn over its own span from its start."""
     t = np.linspace(0.0, 4 * np.pi, 400)
     y = -0.110 + 1.2e-4 * np.sin(t)
     force = 2.0 + 0.5 * np.tanh(np.gradient(y) * 1e6)
     plotting.plot_loop_fit(y, force, force + 0.01, ax=ax)
     lo, hi = ax.get_xlim()
-    assert hi < -0.1 and hi - lo < 1e-3
+    assert -3e-4 < lo < hi < 3e-4 and hi - lo < 1e-3  # y − y₀, y₀ named in the label
+    assert ax.get_xlabel() == "displacement y − y₀ [m], y₀ = -0.11 m"
     lo, hi = ax.get_ylim()
     assert lo > 1.0  # the forces stay positive: no axis line pulls 0 into view
     centred = plotting.plot_hysteresis(y + 0.110, force - 2.0)  # crosses both axes: lines drawn

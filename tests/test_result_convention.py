@@ -15,6 +15,7 @@ import functools
 import inspect
 import pickle
 import warnings
+from html.parser import HTMLParser
 
 import matplotlib
 import numpy as np
@@ -191,3 +192,74 @@ def test_integer_status_is_deprecated_but_still_compares():
     assert ok.status == "success" and {ok.status: 1}["success"] == 1
     assert pickle.loads(pickle.dumps(failed)).status == "event_limit"
     assert type(ok.to_dict()["status"]) is str
+
+
+class _Tags(HTMLParser):
+    """Checks that every opened tag is closed in order, and collects the text."""
+
+    def __init__(self):
+        super().__init__()
+        self.open, self.text = [], []
+
+    def handle_starttag(self, tag, attrs):
+        self.open.append(tag)
+
+    def handle_endtag(self, tag):
+        assert self.open and self.open.pop() == tag, f"</{tag}> closes nothing"
+
+    def handle_data(self, data):
+        self.text.append(data)
+
+
+@pytest.mark.parametrize("name", sorted(BUILDERS))
+def test_result_shows_itself_in_a_notebook(name):
+    res = BUILDERS[name]()
+    text = repr(res)
+    assert text.startswith(f"{name}(") and len(text) <= 1000, (len(text), text[:200])
+    assert str(res.status) in text
+    page = res._repr_html_()
+    tags = _Tags()
+    tags.feed(page)
+    assert tags.open == [], "unclosed tags"
+    shown = "".join(tags.text)
+    assert str(res.status) in shown and res.message[:40] in shown
+    assert "<table>" in page and "<th" in page
+    if getattr(res, "model", None) is not None:
+        for name_ in ("coulomb", "stiffness"):
+            assert name_ in shown  # the model's parameter table
+    pytest.importorskip("pandas")
+    attrs = res.to_pandas().attrs
+    assert attrs["status"] == str(res.status) and attrs["success"] is res.success
+    assert attrs["message"] == res.message and isinstance(attrs["units"], dict)
+    if getattr(res, "model", None) is not None:
+        assert attrs["parameters"]["coulomb"] == pytest.approx(res.model.coulomb)
+
+
+def test_a_fit_shows_its_parameter_table_with_units():
+    fit = BUILDERS["FitResult"]()
+    page = fit._repr_html_()
+    for n, v in fit.parameters.items():
+        assert f"<td>{n}</td><td>{v:.6g}</td><td>{fit.units[n]}</td>" in page
+    frame = fit.to_pandas()
+    assert frame.loc["stiffness_1", "unit"] == "N/m" and frame.attrs["units"]["threshold_1"] == "m"
+    assert frame.attrs["parameters"]["stiffness"] == pytest.approx([100.0, 40.0])
+    assert frame.attrs["kind"] == fit.kind and frame.attrs["nrmse"] == fit.nrmse
+
+
+def test_a_long_result_is_summarised_not_printed():
+    t = np.linspace(0.0, 200.0, 400_001)
+    res = ps.simulate(MODEL, 1.0, initial_velocity=0.05, t_eval=t)
+    text = repr(res)
+    assert len(text) <= 1000 and "<array 400001 float64" in text
+    assert "status='success'" in text
+
+
+def test_units_follow_the_names():
+    from presliding._display import summarise, unit_of
+
+    assert [unit_of(n) for n in ("stop_time", "rest_position", "elastic_forces",
+                                 "final_velocity", "n_reversals", "energy_viscous",
+                                 "nrmse")] == ["s", "m", "N", "m/s", "", "J", ""]  # fmt: skip
+    assert summarise(np.array([1.0, np.nan, 3.0, 4.0, 5.0])) == "<array 5 float64, 1 … 5>"
+    assert summarise(np.arange(3)) == "[0, 1, 2]"
+    assert summarise({f"k{i}": float(i) for i in range(10)}).endswith("… 2 more}")

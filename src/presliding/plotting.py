@@ -1,5 +1,7 @@
 """Plot functions. Each takes ``ax=None`` (a new figure is made), returns the axes,
-and changes no global style; matplotlib is imported only when a plot is drawn."""
+and changes no global style; matplotlib is imported only when a plot is drawn. Figures
+survive a plain ``savefig``, with a unit on every axis and legends off the data (the
+rules and helpers of `presliding._figures`, re-exported here)."""
 
 from __future__ import annotations
 
@@ -9,7 +11,15 @@ from typing import TYPE_CHECKING, Any, cast
 import numpy as np
 from numpy.typing import ArrayLike
 
-from presliding._validation import check_type
+from presliding._figures import (
+    new_axes,
+    place_legend,
+    records_legend,
+    relative_positions,
+    residual_label,
+    save_figure,
+    zoom_presliding,
+)
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
@@ -18,17 +28,9 @@ if TYPE_CHECKING:  # pragma: no cover
 __all__ = [
     "new_axes", "place_legend", "plot_batch", "plot_density", "plot_fit", "plot_forces",
     "plot_free_response", "plot_hysteresis", "plot_loop_fit", "plot_motion",
-    "plot_reversal_counts", "plot_sweep", "plot_turning_points", "save_figure"
+    "plot_reversal_counts", "plot_sweep", "plot_turning_points", "relative_positions",
+    "save_figure", "zoom_presliding",
 ]  # fmt: skip
-
-
-def new_axes(ax: Axes | None = None, **subplot_kw: Any) -> Axes:
-    """Return `ax` (matplotlib Axes, else a TypeError), or a new pyplot figure's axes if None."""
-    import matplotlib.pyplot as plt
-
-    if ax is not None:
-        return check_type("ax", ax, plt.Axes)
-    return plt.subplots(**subplot_kw)[1]
 
 
 def plot_hysteresis(
@@ -51,7 +53,7 @@ def plot_hysteresis(
     ax : matplotlib Axes, optional
     """
     ax = new_axes(ax)
-    y = np.asarray(displacement, dtype=float)
+    y, words = relative_positions(displacement, displacement_unit)
     curves: Any = force  # one curve, or a sequence of curves (possibly of several lengths)
     forces = [curves] if np.ndim(curves) == 1 else list(curves)
     for i, f in enumerate(forces):
@@ -64,42 +66,12 @@ def plot_hysteresis(
     values = np.concatenate([np.ravel(np.asarray(f, dtype=float)) for f in forces])
     if values.size and values.min() <= 0.0 <= values.max():
         ax.axhline(0.0, color="0.8", lw=0.8, zorder=0)
-    ax.set_xlabel(f"displacement y [{displacement_unit}]")
+    ax.set_xlabel(f"displacement {words}")
     ax.set_ylabel(f"friction force F [{force_unit}]")
     ax.grid(True, alpha=0.3)
     if labels is not None:
         place_legend(ax)
     return ax
-
-
-def place_legend(ax: Axes, **kwargs: Any) -> Any:
-    """A legend off the data: ``loc="best"``, or right of the axes if that still covers data
-    (lines in data coordinates, segment by segment, and scattered points; not axhline/axvline)."""
-    leg = ax.legend(frameon=False, loc="best", **kwargs)
-    if not hasattr((fig := ax.figure.figure).canvas, "get_renderer"):  # the root figure
-        fig.draw_without_rendering()
-    box = leg.get_window_extent().padded(2.0)
-    paths = [ln.get_transform().transform_path(ln.get_path()) for ln in ax.get_lines()
-             if ln.get_transform() is ax.transData]  # fmt: skip
-    points = [c.get_offset_transform().transform(np.reshape(c.get_offsets(), (-1, 2)))
-              for c in ax.collections]  # fmt: skip
-    if any(p.intersects_bbox(box, filled=False) for p in paths) or any(
-        box.count_contains(xy) > 0 for xy in points if xy.size
-    ):
-        return ax.legend(frameon=False, loc="upper left", bbox_to_anchor=(1.01, 1.0), **kwargs)
-    return leg
-
-
-def save_figure(fig: Any, path: Any, dpi: int = 120, *, tight: bool = True) -> None:
-    """Write a figure as PNG atomically (temporary file in the same folder, then rename).
-
-    ``tight=True`` crops the image to the drawn content; ``tight=False`` keeps
-    the figure size exactly (figsize × dpi pixels; use a constrained layout).
-    """
-    from presliding._io import atomic_path
-
-    with atomic_path(path) as tmp:
-        fig.savefig(tmp, dpi=dpi, format="png", bbox_inches="tight" if tight else None)
 
 
 def plot_loop_fit(
@@ -116,7 +88,8 @@ def plot_loop_fit(
     ax = plot_hysteresis(displacement, measured, ax=ax, displacement_unit=displacement_unit,
                          force_unit=force_unit)  # fmt: skip
     ax.lines[0].set(ls="none", marker=".", ms=2.0, color="0.55", label=measured_label)
-    ax.plot(np.asarray(displacement), np.asarray(fitted), color="C1", lw=1.4, label="fitted model")
+    y = relative_positions(displacement, displacement_unit)[0]
+    ax.plot(y, np.asarray(fitted), color="C1", lw=1.4, label="fitted model")
     place_legend(ax)
     return ax
 
@@ -127,32 +100,67 @@ def plot_fit(
     fitted: ArrayLike,
     *,
     ax: Axes | None = None,
-    xlabel: str = "sample",
+    xlabel: str = "sample [index]",
     ylabel: str = "signal",
     title: str | None = None,
+    records: Sequence[tuple[int, int]] = (),
+    labels: Sequence[str] | None = None,
+    fitted_label: str = "fitted",
 ) -> Axes:
     """Measured against fitted signal, with the residual (measured − fitted) in a panel below.
 
-    The residual panel is appended under `ax` (sharing its x axis); the main
-    axes are returned.
+    The residual panel is appended under `ax` (sharing its x axis), or is the
+    lower panel of a new figure when `ax` is None; the main axes are returned.
+
+    Parameters
+    ----------
+    records : sequence of (start, stop), optional
+        Sample ranges of the records of a pooled fit: each record is drawn on its
+        own, in its own colour, with its label (`labels`, default "record 1", ...),
+        and no line joins one record to the next.
+    labels : sequence of str, optional
+        A name per record (the file names).
+    fitted_label : str
+        The legend's name of the model's line ("predicted" for a prediction).
     """
     from mpl_toolkits.axes_grid1 import make_axes_locatable
 
-    ax = new_axes(ax)
+    if ax is None:  # a new figure: both panels in its constrained layout
+        import matplotlib.pyplot as plt
+
+        fig = plt.figure(layout="constrained", figsize=(6.4, 5.2))
+        ax, res_ax = fig.subplots(2, 1, sharex=True, height_ratios=[3.0, 1.0])
+    else:  # the caller's axes: the residual panel is cut from them
+        ax = new_axes(ax)
+        res_ax = make_axes_locatable(ax).append_axes("bottom", size="30%", pad=0.08, sharex=ax)
     x = np.asarray(abscissa, dtype=float)
     m = np.asarray(measured, dtype=float)
     f = np.asarray(fitted, dtype=float)
-    ax.plot(x, m, ".", ms=2.5, color="0.45", label="measured")
-    ax.plot(x, f, lw=1.3, color="C1", label="fitted")
+    spans = [(int(a), int(b)) for a, b in records] or [(0, x.shape[0])]
+    pooled = len(spans) > 1
+    if labels is not None and len(labels) != len(spans):
+        raise ValueError(
+            f"`labels` must name each of the {len(spans)} records; got {len(labels)} labels."
+        )
+    names = list(labels) if labels is not None else [f"record {i + 1}" for i in range(len(spans))]
+    for i, (a, b) in enumerate(spans):
+        colour = f"C{i % 10}" if pooled else "C1"
+        ax.plot(x[a:b], m[a:b], ".", ms=2.5, color=colour if pooled else "0.45",
+                alpha=0.45 if pooled else 1.0, label=None if pooled else "measured")  # fmt: skip
+        ax.plot(x[a:b], f[a:b], lw=1.3, color=colour,
+                label=names[i] if pooled else fitted_label)  # fmt: skip
+        res_ax.plot(x[a:b], m[a:b] - f[a:b], ".", ms=2.0, color=colour if pooled else "C3")
     ax.set_ylabel(ylabel)
     ax.grid(True, alpha=0.3)
-    place_legend(ax)
+    if pooled:  # dots: measured; lines: the fit; one colour per record
+        records_legend(ax)
+    else:
+        place_legend(ax)
     if title:
         ax.set_title(title)
-    res_ax = make_axes_locatable(ax).append_axes("bottom", size="30%", pad=0.08, sharex=ax)
-    res_ax.plot(x, m - f, ".", ms=2.0, color="C3")
     res_ax.axhline(0.0, color="0.6", lw=0.8)
-    res_ax.set_ylabel("residual")
+    unit = ylabel[ylabel.rfind("[") + 1 : -1] if ylabel.rstrip().endswith("]") else ""
+    residual_label(res_ax, m - f, unit)
     res_ax.set_xlabel(xlabel)
     res_ax.grid(True, alpha=0.3)
     ax.tick_params(labelbottom=False)
@@ -232,6 +240,8 @@ def plot_motion(result: Any, *, kind: str = "time", ax: Axes | None = None) -> A
     ax.grid(True, alpha=0.3)
     if kind != "loop" and ax.get_legend_handles_labels()[0]:
         place_legend(ax)
+    if kind == "loop":
+        zoom_presliding(ax, y, result.friction_force, result.model, result.rest_position)
     return ax
 
 

@@ -172,8 +172,9 @@ def test_input_validation():
         sweep(surface, GRID, n_workers=0)
     with pytest.raises(TypeError, match="`fn` must be callable"):
         sweep(3.0, GRID)
-    with pytest.raises(TypeError, match=r"`fn` must be picklable .*cloudpickle"):
-        sweep(lambda ratio, velocity: ratio, GRID, n_workers=2)
+    lock = __import__("threading").Lock()
+    with pytest.raises(TypeError, match=r"`fn` must be picklable by cloudpickle .*lock"):
+        sweep(lambda ratio, velocity: (lock, ratio)[1], GRID, n_workers=2)
     with pytest.raises(ValueError, match="`retries` must be nonnegative; got -1"):
         sweep(surface, GRID, retries=-1)
     with pytest.raises(TypeError, match="`scheduler` must be None, a scheduler address"):

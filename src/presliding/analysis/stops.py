@@ -180,7 +180,7 @@ def stops_at_turning_point(model: PIFriction) -> bool:
     return sticks(model, float(phi(model, turning_point(model))))
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, repr=False)
 class TurningPoints(ResultMixin):
     """Turning points of a free motion (eq. 12), from the work-energy balance.
 

@@ -246,7 +246,7 @@ def reversal_sweep() -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
 
 
 def reversal_figure(sweep: tuple, out_dir: Path) -> Path:
-    from presliding.plotting import plot_reversal_counts
+    from presliding.plotting import place_legend, plot_reversal_counts
 
     ratio, predicted, simulated, _ = sweep
     fig, (ax,) = _figure(1, (7.2, 4.8))
@@ -267,7 +267,7 @@ def reversal_figure(sweep: tuple, out_dir: Path) -> Path:
     ax.yaxis.set_minor_locator(NullLocator())
     ax.set_ylim(-0.3, 1.3 * top)
     ax.axvline(1.0, color="0.4", lw=0.9, ls=":", label="c1 = F_m (none beyond)")
-    ax.legend(frameon=False, loc="upper right", fontsize=9)
+    place_legend(ax, fontsize=9)  # rescaled axes: placed again, off the counts
     ax.set_title("Reversals before the stop, free motion from saturation")
     return _save(fig, out_dir / "reversals.png")
 

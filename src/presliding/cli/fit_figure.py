@@ -19,12 +19,17 @@ def _timed(meas: Any) -> bool:
     return src.sample_rate is not None or any(c.signal == "time" for c in src.conversions)
 
 
-def save_fit_figure(args: argparse.Namespace, meas: Any, result: Any, path: Path) -> None:
+def save_fit_figure(
+    args: argparse.Namespace, meas: Any, result: Any, path: Path, labels: Any = None
+) -> None:
+    """fit.png; `labels` names the records of a pooled fit (one colour and label each)."""
     from presliding.plotting import plot_fit, plot_loop_fit, save_figure
 
     rotary = meas.source is not None and meas.source.rotary
     unit = result.signal_unit or ("N m" if rotary else "N")
     name = Path(args.data[0] if isinstance(args.data, list) else args.data).name
+    if labels is not None and len(labels) > 1:
+        name = f"{len(labels)} files ({', '.join(labels[:3])}{', …' if len(labels) > 3 else ''})"
     head = f"{name}: {result.kind} fit, {result.status}, NRMSE {100 * result.nrmse:.2f} %"
     if args.kind == "presliding":
         fig, axes = new_figure(2, 1, size=(13.2, 4.8))
@@ -37,13 +42,14 @@ def save_fit_figure(args: argparse.Namespace, meas: Any, result: Any, path: Path
             result.measured,
             result.fitted,
             ax=axes[0, 1],
-            xlabel="time [s]" if timed else "sample",
+            xlabel="time [s]" if timed else "sample [index]",
             title="measured and fitted force",
         )
         fig.suptitle(head)
     else:
         fig, axes = new_figure(1, 1, size=(8.0, 5.2))
-        ax = result.plot(ax=axes[0, 0])
+        pooled = labels is not None and len(result.records) == len(labels) > 1
+        ax = result.plot(ax=axes[0, 0], labels=list(labels) if pooled else None)
         ax.set_title(head)
     tidy_fit_axes(fig, ax, result.signal_label, unit)
     save_figure(fig, path)

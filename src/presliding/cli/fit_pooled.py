@@ -122,7 +122,8 @@ def run_pooled(args: argparse.Namespace) -> int:
         bar.part(f"writing {folder}")
         record_outputs(paths.values())
         first = argparse.Namespace(**{**vars(args), "data": Path(args.data[0])})
-        save_fit_figure(first, records[0], result, paths["figure"])
+        save_fit_figure(first, records[0], result, paths["figure"],
+                        labels=[Path(p).name for p in args.data])  # fmt: skip
         written = [paths["figure"]]
         problem = model_problem(result, records[0])
         if not problem:

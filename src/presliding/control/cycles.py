@@ -8,6 +8,8 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
+from presliding._display import fill_attrs, result_html, short_repr, summarise
+
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
 
@@ -65,7 +67,7 @@ class LimitCycles:
 
     def plot(self, ax: Axes | None = None) -> Axes:
         """Nyquist curve of G(jω) with −1/N(A); cycles marked (filled: stable)."""
-        from presliding.plotting import new_axes
+        from presliding.plotting import new_axes, place_legend
 
         ax = new_axes(ax)
         g = self.loop_response
@@ -89,10 +91,10 @@ class LimitCycles:
             scale = float(np.median(finite)) if finite.size else 1.0
         ax.set_xlim(-scale, 0.6 * scale)
         ax.set_ylim(-0.6 * scale, scale)
-        ax.set_xlabel("Re")
-        ax.set_ylabel("Im")
+        ax.set_xlabel("Re G(jω), Re −1/N(A) [m/N]")
+        ax.set_ylabel("Im G(jω), Im −1/N(A) [m/N]")
         ax.set_title("Nyquist curve of G and −1/N(A)")
-        ax.legend(frameon=False, fontsize=7, loc="lower left")
+        place_legend(ax, fontsize=7)
         return ax
 
     def report(self) -> str:
@@ -117,5 +119,22 @@ class LimitCycles:
         """One row per cycle."""
         import pandas as pd
 
-        return pd.DataFrame({"amplitude": self.amplitude, "frequency": self.frequency,
-                             "period": self.period, "stable": self.stable})  # fmt: skip
+        frame = pd.DataFrame({"amplitude": self.amplitude, "frequency": self.frequency,
+                              "period": self.period, "stable": self.stable})  # fmt: skip
+        return fill_attrs(frame, self)
+
+    def __repr__(self) -> str:
+        return short_repr(self, ("amplitude", "frequency", "stable", "amplitudes", "frequencies",
+                                 "model"))  # fmt: skip
+
+    def _repr_html_(self) -> str:
+        """The status and the cycles (amplitude, frequency, period, stability), for notebooks."""
+        figures = [("cycles", str(self.n_cycles), ""),
+                   ("amplitude grid", summarise(self.amplitudes), "m"),
+                   ("frequency grid", summarise(self.frequencies), "rad/s")]  # fmt: skip
+        rows = [
+            (f"{a:.6g}", f"{w:.6g}", f"{2 * np.pi / w:.6g}", "stable" if st else "unstable")
+            for a, w, st in zip(self.amplitude, self.frequency, self.stable, strict=True)
+        ]
+        cols = ("amplitude [m]", "frequency [rad/s]", "period [s]", "Loeb")
+        return result_html(self, figures, (cols, rows) if rows else None)

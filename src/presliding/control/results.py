@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING, Any, NamedTuple
 import numpy as np
 from numpy.typing import NDArray
 
+from presliding._display import figures_of, fill_attrs, result_html, short_repr
 from presliding._validation import as_real_scalar, as_real_vector, check_same_length, fmt
 from presliding.hysteresis._results import deprecated_code
 from presliding.motion.results import STATUS_SUCCESS, MotionResult, motion_status
@@ -72,8 +73,14 @@ class MeasuredCycle(NamedTuple):
         import pandas as pd
 
         frame = pd.DataFrame([self.to_dict()])
-        frame.attrs.update(success=self.success, status=self.status, message=self.message)
-        return frame
+        return fill_attrs(frame, self, units={"amplitude": "m", "frequency": "rad/s"})
+
+    def __repr__(self) -> str:
+        return short_repr(self)
+
+    def _repr_html_(self) -> str:
+        """The status, amplitude, frequency, cycles and trend, for notebooks."""
+        return result_html(self, figures_of(self, units={"amplitude": "m"}))
 
     def plot(self, ax: Axes | None = None) -> Axes:
         """The measured cycle as its first harmonic A·sin(ωt) over the cycles measured."""
@@ -124,7 +131,7 @@ def _measure(t_all: FloatArray, y_all: FloatArray, after: float) -> MeasuredCycl
     return MeasuredCycle(amplitude, 2.0 * np.pi / period, (t.shape[0] - 1) // 2, trend)
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, repr=False)
 class LoopResult(MotionResult):
     """A sampled-data closed loop (`simulate_loop`): the motion and the control signal.
 
@@ -176,7 +183,7 @@ class LoopResult(MotionResult):
     def plot(self, ax: Axes | None = None, *, kind: str = "tracking") -> Axes:
         """Position and reference over time ("tracking"), the error ("error"), the control
         signal ("control"), or a `MotionResult` kind ("time", "phase", "loop")."""
-        from presliding.plotting import new_axes
+        from presliding.plotting import new_axes, place_legend
 
         if kind in ("time", "phase", "loop"):
             return super().plot(ax, kind=kind)
@@ -200,7 +207,7 @@ class LoopResult(MotionResult):
             ax.plot(self.time, self.friction_force, color="C1", lw=1.0, label="friction F")
             ax.set_ylabel("force [N]")
         ax.set_xlabel("time t [s]")
-        ax.legend(frameon=False, fontsize=8)
+        place_legend(ax, fontsize=8)
         return ax
 
     def report(self) -> str:
@@ -245,8 +252,7 @@ class LoopResult(MotionResult):
              "control": self.control, "feedforward": self.feedforward},
             index=pd.Index(self.control_time, name="time"),
         )  # fmt: skip
-        frame.attrs.update(success=self.success, status=str(self.status), message=self.message)
-        return frame
+        return fill_attrs(frame, self, units={"error": "m", "position": "m"})
 
 
 @dataclass(frozen=True, eq=False)
@@ -333,7 +339,7 @@ class LoopBatch:
                 f"{fmt(kind)}."
             )
         ax.plot(np.arange(self.kp.shape[0]), getattr(self, kind), "o-", ms=3)
-        ax.set(xlabel="gain set", ylabel=f"{kind.replace('_', ' ')} [m]", yscale="log")
+        ax.set(xlabel="gain set [index]", ylabel=f"{kind.replace('_', ' ')} [m]", yscale="log")
         return ax
 
     def report(self) -> str:
@@ -368,5 +374,26 @@ class LoopBatch:
         cols = ("kp", "ki", "kd", "error_rms", "error_max", "half_range", "n_reversals",
                 "final_position", "final_velocity", "member_status")  # fmt: skip
         frame = pd.DataFrame({c: getattr(self, c) for c in cols})
-        frame.attrs.update(success=self.success, status=str(self.status), message=self.message)
-        return frame
+        frame.attrs.update(settle_time=self.settle_time)
+        return fill_attrs(frame, self, units={"error_rms": "m", "error_max": "m"})
+
+    def __repr__(self) -> str:
+        return short_repr(self)
+
+    def _repr_html_(self) -> str:
+        """The status, the summaries' ranges and the best gain set, for notebooks."""
+        figures = figures_of(self, ("time", "error_rms", "error_max", "half_range",
+                                    "n_reversals", "settle_time"))  # fmt: skip
+        ok = np.isfinite(self.error_rms)
+        best = int(np.nanargmin(self.error_rms)) if np.any(ok) else None
+        rows = []
+        if best is not None:
+            rows = [("kp", f"{self.kp[best]:.6g}", "N/m"),
+                    ("ki", f"{self.ki[best]:.6g}", "N/(m s)"),
+                    ("kd", f"{self.kd[best]:.6g}", "N s/m"),
+                    ("error rms", f"{self.error_rms[best]:.6g}", "m")]  # fmt: skip
+        return result_html(
+            self,
+            [("gain sets", str(self.kp.shape[0]), ""), *figures],
+            (("smallest rms error", "value", "unit"), rows) if rows else None,
+        )

@@ -35,7 +35,7 @@ __all__ = ["Comparison", "compare"]
 FloatArray = NDArray[np.float64]
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, repr=False)
 class Comparison(ResultMixin):
     """Forces of several friction models along one displacement path.
 

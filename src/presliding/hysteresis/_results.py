@@ -19,6 +19,8 @@ from typing import Any, ClassVar
 
 import numpy as np
 
+from presliding._display import fill_attrs, result_html, short_repr
+
 __all__ = ["ResultMixin", "Status", "deprecated_code"]
 
 _DEPRECATED = (
@@ -83,7 +85,11 @@ class ResultMixin:
     memory states stay objects. ``to_pandas`` is the table of the
     one-dimensional arrays as long as the array named by ``_rows`` (also the
     index when ``_rows_are_index``), nested arrays prefixed with their field's
-    name; ``df.attrs`` holds ``success``, ``status`` and ``message``.
+    name; ``df.attrs`` holds ``success``, ``status``, ``message``, the columns'
+    ``units`` and the ``model`` and its ``parameters`` where there is one.
+    ``repr`` is short (arrays summarised) and ``_repr_html_`` shows the status,
+    the key figures with units and the model's parameters (`presliding._display`);
+    a subclass declares its dataclass with ``repr=False`` to keep them.
     """
 
     _rows: ClassVar[str] = "time"
@@ -115,10 +121,11 @@ class ResultMixin:
             if name != self._rows or not self._rows_are_index:
                 take(name, value)
         index = pd.Index(rows, name=self._rows) if self._rows_are_index else None
-        frame = pd.DataFrame(columns, index=index)
-        frame.attrs.update(
-            success=bool(getattr(self, "success")),  # noqa: B009
-            status=str(getattr(self, "status")),  # noqa: B009
-            message=str(getattr(self, "message")),  # noqa: B009
-        )
-        return frame
+        return fill_attrs(pd.DataFrame(columns, index=index), self)
+
+    def __repr__(self) -> str:
+        return short_repr(self)
+
+    def _repr_html_(self) -> str:
+        """The status, the key figures with units and the model's parameters, for notebooks."""
+        return result_html(self)

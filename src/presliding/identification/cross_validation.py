@@ -21,6 +21,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from presliding._display import fill_attrs, result_html, short_repr
 from presliding._validation import as_choice
 from presliding.identification._fit_progress import reporting
 from presliding.identification.fit_result import FitResult
@@ -143,8 +144,20 @@ class CrossValidation:
             for label, f, p in zip(self.labels, self.fits, self.predictions, strict=True)
         ]
         frame = pd.DataFrame(rows).drop(columns=["parameters"]).set_index("record")
-        frame.attrs.update(success=self.success, status=self.status, message=self.message)
-        return frame
+        frame.attrs.update(median_nrmse=float(np.median(self.nrmse)))
+        return fill_attrs(frame, self, units={"measured_rest": "m", "predicted_rest": "m"},
+                          model=self.result.model)  # fmt: skip
+
+    def __repr__(self) -> str:
+        return short_repr(self, ("labels", "nrmse", "reversals_exact"))
+
+    def _repr_html_(self) -> str:
+        """The status, the median NRMSE and the per-record table, for notebooks."""
+        figures = [("held-out records", str(len(self.predictions)), ""),
+                   ("median NRMSE", f"{100 * float(np.median(self.nrmse)):.3g}", "%"),
+                   ("reversal counts exact", _pct(self.reversals_exact), "")]  # fmt: skip
+        rows = self.table()
+        return result_html(self, figures, (rows[0], rows[1:]))
 
     def plot(self, ax: Axes | None = None) -> Axes:
         """NRMSE of each held-out record (bars); returns the axes."""

@@ -31,6 +31,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from presliding._display import fill_attrs, fit_html, short_repr
 from presliding.friction.pi_friction import PIFriction
 from presliding.identification._least_squares import STATUSES as STATUSES
 from presliding.identification._least_squares import Solution, solve_least_squares
@@ -254,16 +255,30 @@ class FitResult:
         }  # fmt: skip
 
     def to_pandas(self) -> Any:
-        """A pandas DataFrame of the parameters: value, standard error, interval, fixed/tied."""
+        """A pandas DataFrame of the parameters: value, unit, standard error, interval,
+        fixed/tied; ``df.attrs`` holds the status, message, parameter ``units``, the
+        model, its ``parameters``, the fit's kind, NRMSE and confidence level."""
         import pandas as pd
 
         rows = []
         for n, v in self.parameters.items():
             lo, hi = self.confidence_interval[n]
-            rows.append({"parameter": n, "value": v, "standard_error": self.standard_error[n],
-                         "lower": lo, "upper": hi, "fixed": n in self.fixed,
-                         "tied": n in self.tied})  # fmt: skip
-        return pd.DataFrame(rows).set_index("parameter")
+            rows.append({"parameter": n, "value": v, "unit": self.units.get(n, ""),
+                         "standard_error": self.standard_error[n], "lower": lo, "upper": hi,
+                         "fixed": n in self.fixed, "tied": n in self.tied})  # fmt: skip
+        frame = fill_attrs(pd.DataFrame(rows).set_index("parameter"), self, units=self.units)
+        frame.attrs.update(kind=self.kind, nrmse=self.nrmse, derived=dict(self.derived),
+                           confidence_level=self.confidence_level)  # fmt: skip
+        return frame
+
+    def __repr__(self) -> str:
+        names = ("kind", "parameters", "standard_error", "nrmse", "relative_residual",
+                 "n_evaluations", "model", "measured")  # fmt: skip
+        return short_repr(self, names)
+
+    def _repr_html_(self) -> str:
+        """The status, the fit quality and the parameter table with units, for notebooks."""
+        return fit_html(self)
 
     @property
     def success(self) -> bool:
@@ -353,14 +368,25 @@ class FitResult:
             f"{self.signal_label} [{self.signal_unit}]" if self.signal_unit else self.signal_label
         )
 
-    def plot(self, ax: Axes | None = None) -> Axes:
-        """Measured and fitted signal, with the residual in a panel below; returns the axes."""
+    def plot(self, ax: Axes | None = None, *, labels: Any = None) -> Axes:
+        """Measured and fitted signal, with the residual in a panel below; returns the axes.
+
+        The records of a pooled fit are drawn apart, one colour and one label each
+        (`labels`, e.g. the file names; default "record 1", ...).
+        """
         from presliding.plotting import plot_fit
 
+        xlabel = self.abscissa_label
+        if "[" not in xlabel:  # the unit of the abscissa, where the label has none
+            unit = ("index" if xlabel == "sample" else
+                    self.units.get("coulomb", "N") if "force" in xlabel else
+                    self.units.get("threshold_1", "m"))  # fmt: skip
+            xlabel = f"{xlabel} [{unit}]"
         return plot_fit(
             self.abscissa, self.measured, self.fitted, ax=ax,
-            xlabel=self.abscissa_label, ylabel=self._signal_text(),
+            xlabel=xlabel, ylabel=self._signal_text(),
             title=f"{self.kind} fit (NRMSE {100 * self.nrmse:.2f} %)",
+            records=self.records, labels=labels,
         )  # fmt: skip
 
 

@@ -30,6 +30,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
+from presliding._display import fill_attrs, result_html, short_repr
 from presliding._validation import (
     as_list,
     as_nonnegative_scalar,
@@ -106,20 +107,35 @@ class MasingCheck:
         """A DataFrame of the compared samples."""
         import pandas as pd
 
-        return pd.DataFrame({"displacement": self.displacement, "measured": self.measured,
-                             "predicted": self.predicted})  # fmt: skip
+        frame = pd.DataFrame({"displacement": self.displacement, "measured": self.measured,
+                              "predicted": self.predicted})  # fmt: skip
+        frame.attrs.update(discrepancy=self.discrepancy, tolerance=self.tolerance)
+        return fill_attrs(frame, self, units={"measured": "N", "predicted": "N"})
+
+    def __repr__(self) -> str:
+        return short_repr(self)
+
+    def _repr_html_(self) -> str:
+        """The verdict, the discrepancy against the tolerance and the worst branches."""
+        figures = [("discrepancy", f"{100 * self.discrepancy:.3g}", "% of the force range"),
+                   ("tolerance", f"{100 * self.tolerance:.3g}", "% of the force range"),
+                   ("branches", str(self.branch_discrepancy.shape[0]), ""),
+                   ("samples compared", str(self.measured.shape[0]), "")]  # fmt: skip
+        worst = np.argsort(self.branch_discrepancy)[::-1][:5]
+        rows = [(int(i) + 1, f"{100 * self.branch_discrepancy[i]:.3g}") for i in worst]
+        return result_html(self, figures, (("branch", "discrepancy [%]"), rows))
 
     def plot(self, ax: Axes | None = None) -> Axes:
         """Measured branches and their Masing prediction against displacement."""
-        from presliding.plotting import new_axes
+        from presliding.plotting import new_axes, place_legend
 
         ax = new_axes(ax)
         ax.plot(self.displacement, self.measured, ".", ms=2, label="measured branches")
         ax.plot(self.displacement, self.predicted, ".", ms=2, label="Masing prediction")
-        ax.set_xlabel("displacement")
-        ax.set_ylabel("force")
+        ax.set_xlabel("displacement [m]")
+        ax.set_ylabel("force [N]")
         ax.set_title(f"Masing check: {self.status} ({100 * self.discrepancy:.3g} %)")
-        ax.legend(frameon=False)
+        place_legend(ax, markerscale=4)
         return ax
 
 

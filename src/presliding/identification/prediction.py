@@ -18,6 +18,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from presliding._display import fill_attrs, result_html, short_repr, unit_of
 from presliding._validation import as_nonnegative_scalar, as_signal
 from presliding.identification._pi_regression import reversal_indices
 from presliding.identification.fit_result import fit_statistics
@@ -156,8 +157,27 @@ class Prediction:
         """A DataFrame of the abscissa, measured and predicted signal."""
         import pandas as pd
 
-        return pd.DataFrame({self.abscissa_label: self.abscissa, "measured": self.measured,
-                             "predicted": self.predicted})  # fmt: skip
+        frame = pd.DataFrame({self.abscissa_label: self.abscissa, "measured": self.measured,
+                              "predicted": self.predicted})  # fmt: skip
+        frame.attrs.update(signal=self.signal_label, nrmse=self.nrmse,
+                           parameters=dict(self.parameters))  # fmt: skip
+        return fill_attrs(frame, self, units=_units(self.abscissa_label, self.signal_label))
+
+    def __repr__(self) -> str:
+        return short_repr(self)
+
+    def _repr_html_(self) -> str:
+        """The status, NRMSE, reversal counts, rest positions and parameters, for notebooks."""
+        figures = [("signal", self.signal_label, ""), ("samples", str(self.measured.shape[0]), ""),
+                   ("NRMSE", f"{100 * self.nrmse:.3f}", "%")]  # fmt: skip
+        for name in ("measured_reversals", "predicted_reversals"):
+            if getattr(self, name) is not None:
+                figures.append((name.replace("_", " "), str(getattr(self, name)), ""))
+        for name in ("measured_rest", "predicted_rest"):
+            if getattr(self, name) is not None:
+                figures.append((name.replace("_", " "), f"{getattr(self, name):.6g}", "m"))
+        rows = [(n, f"{v:.6g}") for n, v in self.parameters.items()]
+        return result_html(self, figures, (("parameter", "value"), rows) if rows else None)
 
     def report(self) -> str:
         """A one-paragraph summary."""
@@ -175,6 +195,22 @@ class Prediction:
         """Measured and predicted signal with the residual below; returns the axes."""
         from presliding.plotting import plot_fit
 
+        ylabel, xlabel = self.signal_label, self.abscissa_label
+        ylabel += "" if "[" in ylabel else f" [{unit_of(ylabel.split()[-1]) or '-'}]"
+        xlabel += "" if "[" in xlabel else f" [{unit_of(xlabel.split()[-1]) or 'index'}]"
         return plot_fit(self.abscissa, self.measured, self.predicted, ax=ax,
-                        xlabel=self.abscissa_label, ylabel=self.signal_label,
+                        xlabel=xlabel, ylabel=ylabel, fitted_label="predicted",
                         title=f"prediction (NRMSE {100 * self.nrmse:.2f} %)")  # fmt: skip
+
+
+def _units(abscissa_label: str, signal_label: str) -> dict[str, str]:
+    """Units of the columns, read from labels such as ``time [s]`` (none where not given)."""
+    import re
+
+    out = {}
+    for column, label in ((abscissa_label, abscissa_label), ("measured", signal_label),
+                          ("predicted", signal_label)):  # fmt: skip
+        found = re.search(r"\[([^\]]+)\]", label)
+        if found:
+            out[column] = found.group(1)
+    return out

@@ -26,6 +26,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from presliding._display import figures_of, fill_attrs, result_html, short_repr
 from presliding._validation import as_signal, check_increasing, check_same_length, renamed
 from presliding.friction._parts import elements
 from presliding.friction.pi_friction import PIFriction
@@ -101,7 +102,16 @@ class QuasiStaticResponse:
         import pandas as pd
 
         data = {k: v for k, v in self.to_dict().items() if isinstance(v, np.ndarray)}
-        return pd.DataFrame(data)
+        return fill_attrs(pd.DataFrame(data), self)
+
+    def __repr__(self) -> str:
+        return short_repr(self)
+
+    def _repr_html_(self) -> str:
+        """The status, the signals' ranges and the model's parameters, for notebooks."""
+        figures = [("Coulomb level F_c", f"{self.model.coulomb_level:.6g}", "N"),
+                   *figures_of(self)]  # fmt: skip
+        return result_html(self, figures)
 
     def plot(self, ax: Axes | None = None) -> Axes:
         """The position against the applied force (the presliding loops); returns the axes."""

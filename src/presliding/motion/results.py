@@ -102,7 +102,7 @@ class MotionEnergy:
         return float(np.max(np.abs(self.residual), initial=0.0)) / scale
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, repr=False)
 class MotionResult(ResultMixin):
     """A simulated motion of a mass with PI friction (eq. 17), sampled at ``time``.
 
@@ -228,7 +228,7 @@ class MotionResult(ResultMixin):
         return "\n".join(lines)
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, repr=False)
 class MotionBatch(ResultMixin):
     """Many exact motions on one time grid (`presliding.motion.simulate_batch`).
 
@@ -316,7 +316,7 @@ class MotionBatch(ResultMixin):
         return "\n".join(lines)
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, repr=False)
 class FreeResponse(ResultMixin):
     """Exact samples of one motion at t = i·time_step (`presliding.motion.free_response`).
 

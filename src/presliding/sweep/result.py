@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
+from presliding._display import result_html, short_repr, summarise
 from presliding._validation import check_type
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -106,7 +107,8 @@ class SweepResult:
             varying slowest, as in ``values.ravel()``), so ``df["value"].unstack()``
             gives the 2-D map; for a table, the grid's columns first, then the
             values. A boolean column ``failed`` marks the points of `failed`.
-            ``df.attrs`` holds ``status``, ``message``, ``backend`` and ``elapsed``.
+            ``df.attrs`` holds ``success``, ``status``, ``message``, ``backend``,
+            ``elapsed`` [s] and ``units`` (empty: the grid's units are the caller's).
         """
         pd = _optional("pandas", "to_pandas")
         columns = self._named_values(names)
@@ -116,7 +118,7 @@ class SweepResult:
             frame = pd.DataFrame(columns, index=index)
         else:
             frame = pd.DataFrame({**self.grid, **columns})
-        frame.attrs.update(self._attrs())
+        frame.attrs.update(self._attrs(), success=self.success, units={"elapsed": "s"})
         return frame
 
     def to_xarray(self, names: Sequence[str] | None = None) -> xr.Dataset:
@@ -195,6 +197,23 @@ class SweepResult:
             "backend": self.backend,
             "elapsed": self.elapsed,
         }
+
+    def __repr__(self) -> str:
+        return short_repr(self, ("kind", "shape", "grid", "values", "failed", "backend",
+                                 "n_workers", "n_chunks", "elapsed"))  # fmt: skip
+
+    def _repr_html_(self) -> str:
+        """The status, the run and the grid's axes, for notebooks."""
+        n = int(np.prod(self.shape))
+        figures = [("points", f"{n} ({self.kind}, shape {self.shape})", ""),
+                   ("failed points", str(int(np.sum(self.failed))), ""),
+                   ("values", summarise(self.values), ""),
+                   ("run", f"{self.n_chunks} chunks {where_run(self.backend, self.n_workers)}",
+                    ""),
+                   ("elapsed", f"{self.elapsed:.3f}", "s")]  # fmt: skip
+        rows = [(name, arr.size, f"{np.min(arr):.6g}", f"{np.max(arr):.6g}")
+                for name, arr in self.grid.items()]  # fmt: skip
+        return result_html(self, figures, (("grid", "values", "min", "max"), rows))
 
     def report(self) -> str:
         """A readable summary of the grid, the run and the values."""

@@ -8,8 +8,10 @@ keeps the per-call overhead away from batch kernels that run a whole chunk in
 compiled code.
 
 Where it runs: ``scheduler=None`` uses a local pool of worker processes
-(``n_workers``, default: all cores; 1 runs in this process; started with
-"forkserver" where available, so ``fn`` must be importable); a scheduler
+(``n_workers``, default: all cores; 1 runs in this process; loky's pool, which
+starts clean interpreters and never re-runs the calling script, and ``fn`` sent
+by value with cloudpickle, so a function defined in a notebook or a script
+works: `presliding.sweep._local`); a scheduler
 address string (``"tcp://host:8786"``) or a ``distributed.Client`` runs the
 chunks on a Dask cluster (optional dependency: ``pip install presliding[dask]``),
 where the grid's description is sent once and each task carries an index range
@@ -21,11 +23,9 @@ from __future__ import annotations
 
 import math
 import os
-import pickle
 import time
 from collections.abc import Callable, Mapping
-from concurrent.futures import Executor, ProcessPoolExecutor
-from concurrent.futures.process import BrokenProcessPool
+from concurrent.futures import Executor
 from typing import Any
 
 import numpy as np
@@ -42,6 +42,7 @@ from presliding.sweep._dask import (
     run_on_dask,
 )
 from presliding.sweep._grid import Points, as_points, describe_error, run_chunk
+from presliding.sweep._local import by_value, on_executor, on_local_pool
 from presliding.sweep.result import SweepResult, where_run
 
 __all__ = ["DASK_HINT", "SweepResult", "check_address", "sweep"]
@@ -69,9 +70,9 @@ def sweep(
     fn : callable
         ``fn(**columns) -> array`` with one keyword per parameter, each a 1-D
         float64 array of a chunk's length; returns one value (or one row) per
-        point. Local worker processes need it picklable by reference (a
-        module-level function, or a ``functools.partial`` of one); Dask needs it
-        serialisable by cloudpickle (lambdas and closures too).
+        point. It is sent to worker processes by value (cloudpickle): a function
+        defined in a notebook or in a script's ``__main__``, a lambda or a
+        closure works, as long as what it holds can be pickled.
     grid : dict of str to 1-D array, or 1-D structured array
         A dict gives the Cartesian product of its axes (``values`` gets their
         shape); a structured array gives a table, one point per row.
@@ -104,7 +105,10 @@ def sweep(
         ``status`` is "failed" when any chunk raised or any point got only NaN
         or infinite values from `fn`; those points are NaN and flagged in
         ``failed``, and ``message`` says how many failed and names the first
-        failing chunk and the first non-finite point.
+        failing chunk and the first non-finite point (a worker process that
+        died is named with its signal or exit code and the likely cause).
+        Ctrl-C (KeyboardInterrupt) cancels the queued chunks, ends the local
+        workers without waiting for them and propagates.
 
     Notes
     -----
@@ -147,7 +151,7 @@ def sweep(
     if chunk_size is not None:
         chunk_size = as_count("chunk_size", chunk_size, minimum=1)
     if backend in ("processes", "executor"):
-        _check_pickle(fn)
+        by_value(fn)  # a TypeError now if it cannot be sent
     t0 = time.perf_counter()
     try:
         if backend == "dask":
@@ -165,17 +169,6 @@ def sweep(
     return _assemble(outcomes, points, elapsed, workers, backend)
 
 
-def _check_pickle(fn: Callable[..., Any]) -> None:
-    try:
-        pickle.dumps(fn)
-    except Exception as exc:
-        raise TypeError(
-            f"`fn` must be picklable (a module-level function) to run in local worker "
-            f"processes; got {fmt(fn)} ({exc}). A Dask scheduler (cloudpickle) also takes "
-            "lambdas and closures."
-        ) from exc
-
-
 def _execute(fn, points, n_chunks, backend, workers, client, bar, retries):
     """(ok, values or error text) per chunk, in chunk order."""
     if backend == "serial":
@@ -190,43 +183,8 @@ def _execute(fn, points, n_chunks, backend, workers, client, bar, retries):
     if backend == "dask":
         return run_on_dask(client, fn, points, n_chunks, retries=retries, bar=bar)
     if backend == "executor":
-        return _on_executor(client, fn, points, n_chunks, bar)
-    n_proc = min(workers, n_chunks)
-    with ProcessPoolExecutor(max_workers=n_proc, mp_context=_mp_context()) as pool:
-        return _on_executor(pool, fn, points, n_chunks, bar)
-
-
-def _on_executor(
-    pool: Executor, fn: Callable[..., Any], points: Points, n_chunks: int, bar: Any
-) -> list[tuple[bool, Any]]:
-    """Each chunk's own rows go to a local worker (a product grid sends only its axes)."""
-    if points.kind == "product" and points.nbytes < 1 << 20:
-        futures = [pool.submit(run_chunk, fn, points, i, n_chunks) for i in range(n_chunks)]
-    else:
-        futures = [pool.submit(run_chunk, fn, points.rows(i, n_chunks), 0, 1)
-                   for i in range(n_chunks)]  # fmt: skip
-    for f in futures:
-        f.add_done_callback(lambda _: bar.update())
-    return [_result(f) for f in futures]
-
-
-def _mp_context() -> Any:
-    """'forkserver' where available: workers start from a clean, single-threaded
-    process, so a parent that already runs threads (numba's parallel layer, a
-    Dask client) cannot leave them with a broken copy, as plain fork can."""
-    import multiprocessing
-
-    methods = multiprocessing.get_all_start_methods()
-    return multiprocessing.get_context("forkserver" if "forkserver" in methods else None)
-
-
-def _result(future: Any) -> tuple[bool, Any]:
-    try:
-        return future.result()
-    except BrokenProcessPool as exc:
-        return False, f"a worker process died ({type(exc).__name__}: {exc})"
-    except Exception as exc:  # fn raised in the worker
-        return False, describe_error(exc)
+        return on_executor(client, by_value(fn), points, n_chunks, bar)
+    return on_local_pool(by_value(fn), points, n_chunks, min(workers, n_chunks), bar)
 
 
 def _nonfinite_points(values: np.ndarray, failed: NDArray[np.bool_]) -> NDArray[np.intp]:
