@@ -100,6 +100,16 @@ from presliding.motion import (
     simulate,
     simulate_batch,
 )
+from presliding.network import (
+    NetworkEnergy,
+    NetworkResult,
+    NetworkState,
+    NetworkStructure,
+    chain_structure,
+    modal_structure,
+    multi_contact_structure,
+    simulate_network,
+)
 from presliding.sweep import SweepResult, sweep
 
 #: Module paths from before the package was split into layers, and their homes.
@@ -165,6 +175,10 @@ __all__ = [
     "MotionBatch",
     "MotionEnergy",
     "MotionResult",
+    "NetworkEnergy",
+    "NetworkResult",
+    "NetworkState",
+    "NetworkStructure",
     "PIBatch",
     "PIBatchState",
     "PIFriction",
@@ -179,6 +193,7 @@ __all__ = [
     "TurningPoints",
     "Uniform",
     "__version__",
+    "chain_structure",
     "compare",
     "correlation_matrix",
     "count_reversals",
@@ -199,6 +214,8 @@ __all__ = [
     "iosys_state",
     "masing_check",
     "measure_limit_cycle",
+    "modal_structure",
+    "multi_contact_structure",
     "phi",
     "pi_inverse",
     "play",
@@ -211,6 +228,7 @@ __all__ = [
     "simulate_batch",
     "simulate_loop",
     "simulate_loop_batch",
+    "simulate_network",
     "stop",
     "stops_at_turning_point",
     "sweep",
