@@ -62,41 +62,53 @@ def _triggered(fun: Any, t: float) -> NDArray[np.bool_]:
 
 def _refine(fun: Any, a: float, b: float, cand: NDArray[np.bool_]
             ) -> tuple[float, NDArray[np.bool_]]:  # fmt: skip
-    """The earliest trigger time in (a, b] among the candidate functions."""
-    best = b
-    best_j = -1
+    """The earliest trigger time in (a, b] among the candidate functions.
+
+    A function that triggers at the earliest time found so far is refined too (a
+    contact's distance to its threshold decreases only while it slides the same way,
+    so it may have crossed and come back within the interval, before its velocity
+    event); repeated until no function triggers earlier.
+    """
+    best, best_j = b, -1
+    done = np.zeros(cand.shape[0], bool)
     fa_all = fun(np.array([a]))[0][0] if a > 0.0 else None
-    for j in (int(i) for i in np.flatnonzero(cand)):
-        lo, hi = a, best
-        if lo >= hi:
-            continue
-
-        def h(t: float, j: int = j) -> float:
-            return float(fun(np.array([t]))[0][0, j])
-
-        fa = h(lo) if fa_all is None else float(fa_all[j])
-        fb = h(hi)
-        if not fb <= 0.0:  # triggered only at the strict side (-0.0 / 0.0): keep hi
-            t = hi
-        elif fa > 0.0 and fb < 0.0:
-            # the root to ~1e-15 s: the event happens there (its function is zero to
-            # rounding; the event is applied exactly: snapped threshold, zero velocity)
-            t = brentq(h, lo, hi, xtol=1e-15, rtol=4 * np.finfo(float).eps, maxiter=200)
-            if not t > a:
-                t = hi
-        else:  # bisection on the trigger (a start at h = 0, a touch of zero)
-            for _ in range(200):
-                mid = 0.5 * (lo + hi)
-                if mid <= lo or mid >= hi:
-                    break
-                if _triggered(fun, mid)[j]:
-                    hi = mid
-                else:
-                    lo = mid
-            t = hi
-        if t < best or best_j < 0:
-            best, best_j = t, int(j)
+    todo = cand.copy()
+    while todo.any():
+        for j in (int(i) for i in np.flatnonzero(todo)):
+            done[j] = True
+            t = _root(fun, j, a, best, fa_all)
+            if t < best or best_j < 0:
+                best, best_j = t, j
+        todo = _triggered(fun, best) & ~done
     mask = _triggered(fun, best)
     if best_j >= 0:
         mask[best_j] = True
     return best, mask
+
+
+def _root(fun: Any, j: int, a: float, b: float, fa_all: Any) -> float:
+    """The first time in (a, b] where function j triggers (b if only there)."""
+    lo, hi = a, b
+
+    def h(t: float) -> float:
+        return float(fun(np.array([t]))[0][0, j])
+
+    fa = h(lo) if fa_all is None else float(fa_all[j])
+    fb = h(hi)
+    if not fb <= 0.0:  # triggered only at the strict side (-0.0 / 0.0): keep hi
+        return hi
+    if fa > 0.0 and fb < 0.0:
+        # the root to ~1e-15 s: the event happens there (its function is zero to
+        # rounding; the event is applied exactly: snapped threshold, zero velocity)
+        t = brentq(h, lo, hi, xtol=1e-15, rtol=4 * np.finfo(float).eps, maxiter=200)
+        if t > a:
+            return float(t)
+    for _ in range(200):  # bisection on the trigger (a start at h = 0, a touch of zero)
+        mid = 0.5 * (lo + hi)
+        if mid <= lo or mid >= hi:
+            break
+        if _triggered(fun, mid)[j]:
+            hi = mid
+        else:
+            lo = mid
+    return hi

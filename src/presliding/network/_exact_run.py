@@ -212,7 +212,9 @@ class Network:
                     for c, tsc in zip(stuck[trig[n1 + n2 :]], tau_s[trig[n1 + n2 :]], strict=True):
                         forced[int(c)] = 1.0 if tsc > 0 else -1.0
         dist = cts.r - s_el * st.e
-        snap = el & ((s_el * e >= cts.r) | (hit[cts.owner] & (dist == info["dmin"][cts.owner])))
+        # an element reaching its threshold is set exactly (also one within rounding of it)
+        near = s_el * e >= cts.r * (1.0 - 8.0 * np.finfo(float).eps)
+        snap = el & (near | (hit[cts.owner] & (dist == info["dmin"][cts.owner])))
         st.e = np.where(snap, s_el * cts.r, e)
         st.t = st.t + tau
         return forced
