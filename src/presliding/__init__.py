@@ -109,6 +109,7 @@ from presliding.network import (
     modal_structure,
     multi_contact_structure,
     simulate_network,
+    simulate_network_moreau,
 )
 from presliding.sweep import SweepResult, sweep
 
@@ -229,6 +230,7 @@ __all__ = [
     "simulate_loop",
     "simulate_loop_batch",
     "simulate_network",
+    "simulate_network_moreau",
     "stop",
     "stops_at_turning_point",
     "sweep",
