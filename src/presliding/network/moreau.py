@@ -39,7 +39,7 @@ __all__ = ["simulate_network_moreau"]
 FloatArray = NDArray[np.float64]
 
 
-def _csr(a: FloatArray, drop: float = 1e-18) -> tuple[Any, Any, Any]:
+def _csr(a: Any, drop: float = 1e-18) -> tuple[Any, Any, Any]:
     """CSR arrays of `a`, entries below `drop` times its largest entry dropped."""
     scale = float(np.max(np.abs(a), initial=0.0))
     m = scipy.sparse.csr_matrix(np.where(np.abs(a) > drop * scale, a, 0.0))
@@ -132,7 +132,8 @@ def simulate_network_moreau(
     rows = n_steps // every + 1 + (1 if n_steps % every else 0)
     check_size("samples", samples, rows * (2 * n + 6 * n_c))
     check_size("structure", n, float(n) * n, what="entries of Ŵ⁻¹")
-    m, c, k, w = structure.mass, structure.damping, structure.stiffness, structure.contacts
+    m, k, w = structure.mass, structure.stiffness, structure.contacts
+    c = np.asarray(structure.damping, dtype=np.float64)
     what = m + h * theta * c + (h * theta) ** 2 * k
     wi = np.linalg.inv(what)
     b = wi @ w
