@@ -125,7 +125,17 @@ class NetworkResult(ResultMixin):
     final_state : NetworkState
     forces_unique : bool
         False when contacts stuck together redundantly (forces not unique).
-    status, message, success, n_events, method
+    status : str
+        "success"; "event_limit" (the exact path reached `max_events`: the samples stop
+        there); "not_converged" (Moreau–Jean: a step's Gauss–Seidel reached
+        `max_sweeps`; the message counts them).
+    message : str
+    success : bool
+        True when `status` is "success".
+    n_events : int
+        Events (exact path) or steps (Moreau–Jean).
+    method : str
+        "event" or "moreau".
     """
 
     time: FloatArray
