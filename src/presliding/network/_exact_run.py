@@ -167,6 +167,8 @@ class Network:
         sl = np.flatnonzero(info["sliding"])
         thr = sl[np.isfinite(info["dmin"][sl])]
         s = st.s
+        if not info["redundant"]:
+            return self._affine_functions(pc, info, st, sl, thr)
 
         def fun(tau: FloatArray) -> tuple[FloatArray, NDArray[np.bool_]]:
             vals = self.contact_values(pc, info, st, tau)
@@ -175,6 +177,45 @@ class Network:
             strict = np.concatenate([np.zeros(sl.size + thr.size, bool),
                                      np.ones(vals["margin"].shape[1], bool)])  # fmt: skip
             return np.hstack(cols), strict
+
+        fun.layout = (sl, thr)  # type: ignore[attr-defined]
+        return fun
+
+    def _affine_functions(self, pc: Piece, info: dict[str, Any], st: RunState,
+                          sl: NDArray[np.int64], thr: NDArray[np.int64]) -> Any:  # fmt: skip
+        """The event functions as affine maps of the piece's native coordinates ξ(τ)."""
+        n = self.w.shape[0]
+        az, azd = pc.maps()
+        nt = np.eye(n) if pc.nullsp is None else pc.nullsp.T
+        qmap = az @ nt  # Δq = ξ·qmap
+        vmap = azd @ nt  # q̇ = ξ·vmap
+        dgmap = qmap @ self.w
+        gdmap = vmap @ self.w
+        s = st.s
+        cols = [s[sl] * gdmap[:, sl], -s[thr] * dgmap[:, thr]]
+        consts = [np.zeros(sl.size), info["dmin"][thr]]
+        stuck = info["stuck"]
+        n_m = stuck.size
+        if n_m:
+            slide = info["sliding"]
+            wl = self.w[:, slide]
+            pmat = info["stick_map"].T
+            lam_l = dgmap[:, slide] * info["kel"][slide] + gdmap[:, slide] * self.cts.sigma[slide]
+            rmap = -vmap @ self.c.T - qmap @ self.k.T - lam_l @ wl.T
+            r0 = pc.f - self.k @ st.q - wl @ info["lam0"][slide]
+            cols.append(rmap @ pmat)
+            consts.append(r0 @ pmat - info["fel0"][stuck])
+        hmat = np.hstack(cols)
+        h0 = np.concatenate(consts)
+        n_lin = sl.size + thr.size
+        c1s = self.cts.c1[stuck]
+        strict = np.concatenate([np.zeros(n_lin, bool), np.ones(n_m, bool)])
+
+        def fun(tau: FloatArray) -> tuple[FloatArray, NDArray[np.bool_]]:
+            vals = pc.native(tau) @ hmat + h0
+            if n_m:
+                vals[:, n_lin:] = c1s - np.abs(vals[:, n_lin:])
+            return vals, strict
 
         fun.layout = (sl, thr)  # type: ignore[attr-defined]
         return fun

@@ -131,6 +131,34 @@ class Piece:
         self.kr, self.cr, self.br = kr, cr, br
 
     # ---------------------------------------------------------------- evaluation
+    def native(self, tau: FloatArray) -> FloatArray:
+        """ξ(τ), shape (T, 2·dim): [η, η̇] (modes) or [z, ż] (damped); z = ξ·`maps`[0],
+        ż = ξ·`maps`[1]."""
+        tau = np.asarray(tau, dtype=float).reshape(-1, 1)
+        d = self.dim
+        if d == 0:
+            return np.zeros((tau.shape[0], 0))
+        if not self.damped:
+            om = self.omega
+            wt = om * tau
+            safe = np.where(om > 0.0, om, 1.0)
+            s1 = np.where(om > 0.0, np.sin(wt) / safe, tau)
+            sh = np.where(om > 0.0, np.sin(0.5 * wt) / safe, 0.5 * tau)
+            eta = self.vm * s1 + self.a0 * 2.0 * sh * sh
+            etad = self.vm * np.cos(wt) + self.a0 * s1
+            return np.hstack([eta, etad])
+        return self._first_order(tau[:, 0])[0]
+
+    def maps(self) -> tuple[FloatArray, FloatArray]:
+        """(A_z, A_ż), shapes (2·dim, dim): z = ξ·A_z, ż = ξ·A_ż."""
+        d = self.dim
+        base = self.phi.T if (d and not self.damped) else np.eye(d)
+        az = np.zeros((2 * d, d))
+        azd = np.zeros((2 * d, d))
+        az[:d] = base
+        azd[d:] = base
+        return az, azd
+
     def reduced(self, tau: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
         """(z, ż, z̈) at the times tau, shapes (T, dim)."""
         tau = np.asarray(tau, dtype=float).reshape(-1, 1)
