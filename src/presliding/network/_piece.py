@@ -56,9 +56,13 @@ class Contacts:
 
     def per_contact(self, values: FloatArray) -> FloatArray:
         """Σ of element values over each contact's elements (last axis)."""
-        out = np.zeros((*values.shape[:-1], self.c1.shape[0]))
-        for c in range(self.c1.shape[0]):
-            out[..., c] = values[..., self.start[c] : self.start[c + 1]].sum(axis=-1)
+        n_e = values.shape[-1]
+        if n_e == 0:
+            return np.zeros((*values.shape[:-1], self.c1.shape[0]))
+        lo = self.start[:-1]
+        empty = lo == self.start[1:]
+        out = np.add.reduceat(values, np.minimum(lo, n_e - 1), axis=-1)
+        out[..., empty] = 0.0
         return out
 
 
