@@ -42,3 +42,40 @@ def test_free_decay_dissipates_the_initial_energy():
     stored = en.kinetic[-1] + en.potential[-1] + en.elastic[-1]
     assert abs(stored + en.dissipated[-1] - en.initial) <= 1e-11 * en.initial
     assert en.work[-1] == 0.0
+
+
+def _random_structure(rng):
+    from presliding.network import NetworkStructure
+
+    n, n_c = int(rng.integers(1, 5)), int(rng.integers(1, 5))
+    a = rng.normal(size=(n, n))
+    b = rng.normal(size=(n, n))
+    w = rng.normal(size=(n, n_c))
+    if n_c > 1 and rng.uniform() < 0.3:  # a redundant pair
+        w[:, 1] = w[:, 0] * rng.choice([1.0, -2.0])
+    models = [PIFriction(rng.uniform(0.1, 1.0)) if rng.uniform() < 0.4 else
+              PIFriction(rng.uniform(0.1, 1.0), rng.uniform(10, 1000, 3), rng.uniform(0.05, 0.5, 3),
+                         viscous=rng.choice([0.0, 0.5])) for _ in range(n_c)]  # fmt: skip
+    return NetworkStructure(a @ a.T + n * np.eye(n), b @ b.T * rng.uniform(0, 100), w, models,
+                            damping=np.eye(n) * rng.choice([0.0, 0.3]),
+                            forcing=([0.0, 0.5], rng.normal(size=(2, n))))  # fmt: skip
+
+
+@pytest.mark.parametrize("seed", range(8))
+def test_random_structures_balance_energy_and_hold_within_the_friction_bounds(seed):
+    rng = np.random.default_rng(seed)
+    s = _random_structure(rng)
+    res = simulate_network(s, 1.0, rng.normal(size=s.n_coordinates) * 0.1,
+                           rng.normal(size=s.n_coordinates))  # fmt: skip
+    assert res.success
+    assert res.energy.max_relative_residual <= 1e-11
+    stuck = res.contact_mode == 0.0
+    coulomb = np.abs(res.contact_force - res.elastic_force)
+    assert np.all(coulomb[stuck] <= (s.coulomb * (1 + 1e-9) + 1e-12)[np.nonzero(stuck)[1]])
+    sliding = ~stuck
+    np.testing.assert_allclose(
+        (res.contact_force - res.elastic_force - s.viscous * res.contact_velocity)[sliding],
+        (res.contact_mode * s.coulomb)[sliding],
+        rtol=0,
+        atol=1e-12,
+    )

@@ -78,3 +78,17 @@ def test_mass_on_several_contacts_and_modal_model():
     assert m.n_contacts == 2
     with pytest.raises(ValueError, match="n_masses"):
         chain_structure(0, 1.0, 1.0, COULOMB)
+
+
+def test_per_contact_sums_with_contacts_without_elements():
+    from presliding.network._piece import Contacts
+
+    models = [PIFriction(1.0), PIFriction(1.0, [1.0, 2.0, 3.0], [1.0, 1.0, 1.0]), PIFriction(1.0),
+              PIFriction(1.0, [4.0], [1.0]), PIFriction(1.0)]  # fmt: skip
+    cts = Contacts.of(models)
+    values = np.array([1.0, 2.0, 4.0, 8.0])
+    np.testing.assert_array_equal(cts.per_contact(values), [0.0, 7.0, 0.0, 8.0, 0.0])
+    np.testing.assert_array_equal(cts.per_contact(np.vstack([values, -values]))[1],
+                                  [0.0, -7.0, 0.0, -8.0, 0.0])  # fmt: skip
+    trailing = Contacts.of(models[1:3])
+    np.testing.assert_array_equal(trailing.per_contact(values[:3]), [7.0, 0.0])

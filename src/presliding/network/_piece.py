@@ -61,7 +61,8 @@ class Contacts:
             return np.zeros((*values.shape[:-1], self.c1.shape[0]))
         lo = self.start[:-1]
         empty = lo == self.start[1:]
-        out = np.add.reduceat(values, np.minimum(lo, n_e - 1), axis=-1)
+        padded = np.concatenate([values, np.zeros((*values.shape[:-1], 1))], axis=-1)
+        out = np.add.reduceat(padded, lo, axis=-1)  # a contact's elements lo[c]:lo[c+1]
         out[..., empty] = 0.0
         return out
 
