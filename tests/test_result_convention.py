@@ -33,6 +33,8 @@ NOT_RESULTS = {
     "MemoryState", "PIOperator", "PIState", "PIInverse", "PIBatch", "PIBatchState",
     "Measurement",
     "MotionEnergy",  # a part of MotionResult (its `energy`), with its own to_dict
+    "NetworkStructure", "NetworkState",
+    "NetworkEnergy",  # a part of NetworkResult (its `energy`), with its own to_dict
 }  # fmt: skip
 
 MODEL = ps.PIFriction(0.3, [100.0, 40.0], breakaway=[0.32, 0.34])
@@ -91,6 +93,9 @@ BUILDERS = {
     "MeasuredCycle": lambda: _loop(initial_velocity=0.0).limit_cycle(after=0.0),
     "LimitCycles": _cycles,
     "SweepResult": _sweep,
+    "NetworkResult": lambda: ps.simulate_network(
+        ps.chain_structure(2, 1.0, 10.0, MODEL), 0.5, None, [0.05, 0.0]
+    ),
 }
 
 #: failures that are cheap to provoke: (type, builder, expected status)
@@ -103,6 +108,9 @@ FAILURES = {
         1.0, 0.0, [1e10], [1.0], 1.0, 0.01, 2000, initial_state="relaxed", max_events=100
     ),
     "LoopResult": lambda: _loop(max_events=3),
+    "NetworkResult": lambda: ps.simulate_network(
+        ps.chain_structure(2, 1.0, 10.0, MODEL), 0.5, None, [0.05, 0.0], max_events=2
+    ),
 }
 
 

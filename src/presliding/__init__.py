@@ -100,6 +100,17 @@ from presliding.motion import (
     simulate,
     simulate_batch,
 )
+from presliding.network import (
+    NetworkEnergy,
+    NetworkResult,
+    NetworkState,
+    NetworkStructure,
+    chain_structure,
+    modal_structure,
+    multi_contact_structure,
+    simulate_network,
+    simulate_network_moreau,
+)
 from presliding.sweep import SweepResult, sweep
 
 #: Module paths from before the package was split into layers, and their homes.
@@ -165,6 +176,10 @@ __all__ = [
     "MotionBatch",
     "MotionEnergy",
     "MotionResult",
+    "NetworkEnergy",
+    "NetworkResult",
+    "NetworkState",
+    "NetworkStructure",
     "PIBatch",
     "PIBatchState",
     "PIFriction",
@@ -179,6 +194,7 @@ __all__ = [
     "TurningPoints",
     "Uniform",
     "__version__",
+    "chain_structure",
     "compare",
     "correlation_matrix",
     "count_reversals",
@@ -199,6 +215,8 @@ __all__ = [
     "iosys_state",
     "masing_check",
     "measure_limit_cycle",
+    "modal_structure",
+    "multi_contact_structure",
     "phi",
     "pi_inverse",
     "play",
@@ -211,6 +229,8 @@ __all__ = [
     "simulate_batch",
     "simulate_loop",
     "simulate_loop_batch",
+    "simulate_network",
+    "simulate_network_moreau",
     "stop",
     "stops_at_turning_point",
     "sweep",

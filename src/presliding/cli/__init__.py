@@ -14,6 +14,7 @@ fit_pooled.py   ``presliding fit FILE ...`` for response, quasi-static and virgi
 fit_figure.py   the figure of a fit
 sweep.py, sweep_spec.py     ``presliding sweep`` and its specification files
 loop.py         ``presliding loop``: a PID loop, its exact response and limit cycles
+network.py      ``presliding network``: a structure with friction contacts, report, figures
 report.py       Markdown and HTML reports
 _precompile.py  compiles a later part's kernels in a second process on a cold cache
 

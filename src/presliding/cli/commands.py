@@ -4,7 +4,8 @@ Subcommands: ``demo`` (the built-in main job), ``simulate`` (a model file to a
 motion CSV and figure), ``analyze`` (stop analysis of a model file, eqs. 7, 9,
 14–16), ``fit`` (identification from a CSV file, section 4), ``sweep`` (a
 quantity of the free motion over a parameter grid, locally or on Dask) and
-``loop`` (a PID loop with PI friction: exact response, predicted limit cycles).
+``loop`` (a PID loop with PI friction: exact response, predicted limit cycles) and
+``network`` (a structure with many friction contacts, stick/slip per contact).
 
 User errors (a bad file, a missing column, a bad parameter) print one line on
 stderr naming the file or field and the fix, and exit with code 2; ``--debug``
@@ -41,6 +42,7 @@ examples:
   presliding sweep spec.toml --scheduler tcp://10.0.0.5:8786   # on a Dask cluster
   presliding loop spec.toml -o loop/       # PID loop: exact response, predicted limit cycles
   presliding precompile                    # fill numba's cache (CI images, containers)
+  presliding network spec.toml -o net/     # many masses and contacts: stick/slip per contact
 
 model files (TOML, or JSON with the same tables; units in brackets):
   [friction]
@@ -300,6 +302,10 @@ def _build_parser() -> argparse.ArgumentParser:
     from presliding.cli.loop import add_parser as add_loop_parser
 
     add_loop_parser(sub, [common, writes]).set_defaults(handler=_cmd_loop)
+
+    from presliding.cli.network import add_parser as add_network_parser
+
+    add_network_parser(sub, [common, writes]).set_defaults(handler=_cmd_network)
     return parser
 
 
@@ -356,6 +362,12 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
 
 def _cmd_loop(args: argparse.Namespace) -> int:
     from presliding.cli.loop import run
+
+    return run(args)
+
+
+def _cmd_network(args: argparse.Namespace) -> int:
+    from presliding.cli.network import run
 
     return run(args)
 

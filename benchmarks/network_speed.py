@@ -1,0 +1,92 @@
+"""Speed and accuracy of the network paths (issue 25).
+
+1. Exact path: a chain of 10 masses on 10 PI contacts (4 elements each), 1 s of motion
+   with several hundred events (target <= 0.1 s).
+2. Moreau–Jean: a chain of 1,000 masses and contacts, 1 s at a step of 1e-4 s
+   (target <= 60 s).
+3. Accuracy of Moreau–Jean against the exact path on the 10-mass chain, and where the
+   two cost the same (the crossover step).
+
+Run: PYTHONPATH=src python benchmarks/network_speed.py   (times are the best of a few
+runs after a warm-up; the machine may be shared, so compare the ratios printed.)
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from presliding import PIFriction
+from presliding.network import chain_structure, simulate_network, simulate_network_moreau
+
+PI = PIFriction(0.2, [2e3, 1e3, 500.0, 200.0], [0.1, 0.1, 0.1, 0.1])
+
+
+def best(fn, repeat=3):
+    out, times = None, []
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        out = fn()
+        times.append(time.perf_counter() - t0)
+    return min(times), out
+
+
+def chain10():
+    force = np.outer([1.0, -1.0, 1.0, -1.0], np.r_[np.zeros(9), 2.0])
+    s = chain_structure(10, 0.1, 2e3, PI, forcing=([0.0, 0.25, 0.5, 0.75], force))
+    return s, 0.3 * np.sin(np.arange(10))
+
+
+def chain1000():
+    n = 1000
+    force = np.zeros(n)
+    force[-1] = 2.0
+    return chain_structure(n, 0.1, 2e3, PI, forcing=force), 0.3 * np.sin(np.arange(n))
+
+
+def main():
+    s, v0 = chain10()
+    simulate_network(s, 0.05, None, v0)  # warm-up
+    t_exact, exact = best(lambda: simulate_network(s, 1.0, None, v0, t_eval=np.linspace(0, 1, 201)))
+    print(
+        f"exact, 10 masses, 10 PI contacts: {t_exact:.3f} s for {exact.n_events} events "
+        f"({1e3 * t_exact / exact.n_events:.2f} ms per event); target 0.1 s: "
+        f"{t_exact / 0.1:.1f}x the target; energy residual {exact.energy.max_relative_residual:.1e}"
+    )
+
+    simulate_network_moreau(s, 0.01, 1e-3, None, v0)  # compile
+    print("Moreau–Jean on the 10-mass chain against the exact path (mean |q error|, ~200 samples):")
+    rows = []
+    for h in (1e-3, 3e-4, 1e-4, 3e-5, 1e-5):
+        t_mj, mj = best(lambda h=h: simulate_network_moreau(s, 1.0, h, None, v0, samples=201))
+        ref = simulate_network(s, 1.0, None, v0, t_eval=mj.time)
+        err = float(np.mean(np.abs(mj.position - ref.position)))
+        rows.append((h, t_mj, err))
+        print(
+            f"  h = {h:.0e} s: {t_mj:.4f} s, error {err:.2e} m, cost / exact = {t_mj / t_exact:.3f}"
+        )
+    hs, ts, es = (np.array(c) for c in zip(*rows, strict=True))
+    slope = np.polyfit(np.log(hs), np.log(es), 1)[0]
+    # cost ≈ a·h^(−b) and error ≈ c·h^slope, fitted; the step where the cost equals the
+    # exact path's (extrapolated when it lies beyond the steps measured)
+    b, a = np.polyfit(np.log(hs), np.log(ts), 1)
+    log_cross = (np.log(t_exact) - a) / b
+    err_cross = np.exp(np.polyval(np.polyfit(np.log(hs), np.log(es), 1), log_cross))
+    print(
+        f"  log-log slope of the error: {slope:.2f} (first order: 1); cost ∝ h^{b:.2f}; the "
+        f"two cost the same at h ≈ {np.exp(log_cross):.1e} s, where the Moreau–Jean error "
+        f"is ≈ {err_cross:.1e} m (the exact path's is rounding)"
+    )
+
+    big, v0b = chain1000()
+    simulate_network_moreau(big, 1e-3, 1e-4, None, v0b)  # warm-up of this size
+    t_big, res = best(lambda: simulate_network_moreau(big, 1.0, 1e-4, None, v0b, samples=101), 1)
+    print(
+        f"Moreau–Jean, 1,000 masses and contacts, 1 s at h = 1e-4 s (10,000 steps): "
+        f"{t_big:.2f} s; target 60 s: {t_big / 60:.2f}x the target; {res.message}"
+    )
+
+
+if __name__ == "__main__":
+    main()

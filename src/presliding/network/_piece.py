@@ -1,0 +1,255 @@
+"""One closed-form piece of a network's motion: fixed stick/slip modes, constant force.
+
+Between two events every contact either sticks (the constraint w_cᵀ·q̇ = 0) or slides
+in a fixed direction s_c with a fixed set of elastic elements, so the motion is linear
+with constant coefficients. With Δq = q − q0 = N·z (N an orthonormal basis of the null
+space of W_Sᵀ, S the sticking contacts; N = I when none sticks):
+
+    M_r·z̈ + C_r·ż + K_r·z = b_r,       M_r = NᵀMN,  C_r = Nᵀ(C + W_L Σ_v W_Lᵀ)N,
+                                       K_r = Nᵀ(K + W_L K_el W_Lᵀ)N,
+                                       b_r = Nᵀ(f − K·q0 − W_L·λ0_L − (C + W_L Σ_v W_Lᵀ)·0)
+
+Undamped pieces (C_r = 0) are solved per mode of the generalised eigenproblem
+K_r·φ = ω²·M_r·φ in the closed form of the single mass (harmonic, or parabolic for
+ω = 0, without cancellation); damped pieces by the matrix exponential of the
+augmented first-order system [[0, I, 0], [−M_r⁻¹K_r, −M_r⁻¹C_r, M_r⁻¹b_r], [0, 0, 0]]
+(scipy's expm, batched over the sample times), with the dissipated energies
+∫ q̇ᵀCq̇ and σ_v,c·∫ ġ_c² in closed form by Van Loan's block exponential.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import scipy.linalg
+from numpy.typing import NDArray
+
+FloatArray = NDArray[np.float64]
+
+
+@dataclass
+class Contacts:
+    """The contacts' constant data: Coulomb c1, viscous σ_v, elements (flattened)."""
+
+    c1: FloatArray
+    sigma: FloatArray
+    k: FloatArray  # element stiffnesses, all contacts one after the other
+    r: FloatArray  # thresholds
+    owner: NDArray[np.int64]  # the contact of each element
+    start: NDArray[np.int64]  # offsets: the elements of contact c are start[c]:start[c+1]
+
+    @classmethod
+    def of(cls, models: Any) -> Contacts:
+        ks = [np.asarray(m.stiffness, dtype=float) for m in models]
+        rs = [np.asarray(m.threshold, dtype=float) for m in models]
+        sizes = np.array([k.shape[0] for k in ks], dtype=np.int64)
+        return cls(
+            c1=np.array([m.coulomb for m in models]),
+            sigma=np.array([m.viscous for m in models]),
+            k=np.concatenate(ks) if ks else np.empty(0),
+            r=np.concatenate(rs) if rs else np.empty(0),
+            owner=np.repeat(np.arange(len(models), dtype=np.int64), sizes),
+            start=np.concatenate([[0], np.cumsum(sizes)]).astype(np.int64),
+        )
+
+    def per_contact(self, values: FloatArray) -> FloatArray:
+        """Σ of element values over each contact's elements (last axis)."""
+        n_e = values.shape[-1]
+        if n_e == 0:
+            return np.zeros((*values.shape[:-1], self.c1.shape[0]))
+        lo = self.start[:-1]
+        empty = lo == self.start[1:]
+        padded = np.concatenate([values, np.zeros((*values.shape[:-1], 1))], axis=-1)
+        out = np.add.reduceat(padded, lo, axis=-1)  # a contact's elements lo[c]:lo[c+1]
+        out[..., empty] = 0.0
+        return out
+
+
+def null_space(ws: FloatArray, n: int) -> tuple[FloatArray | None, int]:
+    """(N, rank of W_S): an orthonormal basis of {x: W_Sᵀx = 0}; N is None for the identity."""
+    if ws.shape[1] == 0:
+        return None, 0
+    u, sv, _ = np.linalg.svd(ws, full_matrices=True)
+    rank = int(np.sum(sv > sv[0] * max(ws.shape) * np.finfo(float).eps * 16))
+    return np.ascontiguousarray(u[:, rank:]), rank
+
+
+class Piece:
+    """The closed form of one piece, evaluated at times τ since its start (vectorised)."""
+
+    def __init__(self, m: FloatArray, c: FloatArray, k: FloatArray, w: FloatArray,
+                 f: FloatArray, q0: FloatArray, v0: FloatArray, sliding: NDArray[np.bool_],
+                 s: FloatArray, kel: FloatArray, lam0: FloatArray, sigma: FloatArray,
+                 nullsp: FloatArray | None) -> None:  # fmt: skip
+        self.q0, self.v0, self.f, self.w, self.c = q0, v0, f, w, c
+        wl = w[:, sliding]
+        self.sliding = sliding
+        ceff = c + (wl * sigma[sliding]) @ wl.T
+        keff = k + (wl * kel[sliding]) @ wl.T
+        b0 = f - k @ q0 - wl @ lam0[sliding]
+        self.ceff, self.keff, self.b0 = ceff, keff, b0
+        self.nullsp = nullsp
+        if nullsp is None:
+            mr, cr, kr, br, zd0 = m, ceff, keff, b0, v0
+        else:
+            mr = nullsp.T @ m @ nullsp
+            cr = nullsp.T @ ceff @ nullsp
+            kr = nullsp.T @ keff @ nullsp
+            br = nullsp.T @ b0
+            zd0 = nullsp.T @ v0
+        self.dim = mr.shape[0]
+        self.damped = bool(np.any(cr != 0.0))
+        self.mr = mr
+        if self.dim == 0:
+            self.omega_max = 0.0
+        elif not self.damped:
+            if self.dim == 1:  # as the single mass: ω² = K/M, a0 = b/M
+                w2 = np.array([kr[0, 0] / mr[0, 0]])
+                self.phi = np.ones((1, 1))
+                self.a0 = br / mr[0, 0]
+                self.vm = zd0.copy()
+            else:
+                w2, self.phi = scipy.linalg.eigh(kr, mr)
+                self.a0 = self.phi.T @ br
+                self.vm = self.phi.T @ (mr @ zd0)
+            w2 = np.where(w2 > 1e-13 * max(float(np.max(np.abs(w2))), 0.0), w2, 0.0)
+            self.omega = np.sqrt(w2)
+            self.omega_max = float(np.max(self.omega))
+        else:
+            d = self.dim
+            minv = np.linalg.inv(mr)
+            a = np.zeros((2 * d, 2 * d))
+            a[:d, d:] = np.eye(d)
+            a[d:, :d] = -minv @ kr
+            a[d:, d:] = -minv @ cr
+            h = np.concatenate([np.zeros(d), minv @ br])
+            x0 = np.concatenate([np.zeros(d), zd0])
+            self.amat, self.h, self.x0 = a, h, x0
+            lam, vec = np.linalg.eig(a)
+            self.omega_max = float(np.max(np.abs(lam)))
+            self.modal = bool(np.linalg.cond(vec) < 1e8)
+            if self.modal:  # x(t) = V·(e^{Λt}·c0 + t·φ1(Λt)·d), φ1(z) = (e^z − 1)/z
+                vinv = np.linalg.inv(vec)
+                self.lam, self.vec, self.c0, self.dd = lam, vec, vinv @ x0, vinv @ h
+        self.kr, self.cr, self.br = kr, cr, br
+
+    # ---------------------------------------------------------------- evaluation
+    def native(self, tau: FloatArray) -> FloatArray:
+        """ξ(τ), shape (T, 2·dim): [η, η̇] (modes) or [z, ż] (damped); z = ξ·`maps`[0],
+        ż = ξ·`maps`[1]."""
+        tau = np.asarray(tau, dtype=float).reshape(-1, 1)
+        d = self.dim
+        if d == 0:
+            return np.zeros((tau.shape[0], 0))
+        if not self.damped:
+            om = self.omega
+            wt = om * tau
+            safe = np.where(om > 0.0, om, 1.0)
+            s1 = np.where(om > 0.0, np.sin(wt) / safe, tau)
+            sh = np.where(om > 0.0, np.sin(0.5 * wt) / safe, 0.5 * tau)
+            eta = self.vm * s1 + self.a0 * 2.0 * sh * sh
+            etad = self.vm * np.cos(wt) + self.a0 * s1
+            return np.hstack([eta, etad])
+        return self._first_order(tau[:, 0])[0]
+
+    def maps(self) -> tuple[FloatArray, FloatArray]:
+        """(A_z, A_ż), shapes (2·dim, dim): z = ξ·A_z, ż = ξ·A_ż."""
+        d = self.dim
+        base = self.phi.T if (d and not self.damped) else np.eye(d)
+        az = np.zeros((2 * d, d))
+        azd = np.zeros((2 * d, d))
+        az[:d] = base
+        azd[d:] = base
+        return az, azd
+
+    def reduced(self, tau: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
+        """(z, ż, z̈) at the times tau, shapes (T, dim)."""
+        tau = np.asarray(tau, dtype=float).reshape(-1, 1)
+        d = self.dim
+        if d == 0:
+            z = np.zeros((tau.shape[0], 0))
+            return z, z, z
+        if not self.damped:
+            om = self.omega
+            wt = om * tau
+            safe = np.where(om > 0.0, om, 1.0)
+            s1 = np.where(om > 0.0, np.sin(wt) / safe, tau)
+            sh = np.where(om > 0.0, np.sin(0.5 * wt) / safe, 0.5 * tau)
+            cs = np.cos(wt)
+            eta = self.vm * s1 + self.a0 * 2.0 * sh * sh
+            etad = self.vm * cs + self.a0 * s1
+            etadd = self.a0 * cs - self.vm * om * om * s1
+            if self.dim == 1:
+                return eta, etad, etadd
+            return eta @ self.phi.T, etad @ self.phi.T, etadd @ self.phi.T
+        x, xd = self._first_order(tau[:, 0])
+        return x[:, :d], x[:, d:], xd[:, d:]
+
+    def _first_order(self, tau: FloatArray) -> tuple[FloatArray, FloatArray]:
+        """x = [z, ż] and ẋ at the times tau (damped pieces)."""
+        if self.modal:
+            zt = self.lam * tau[:, None]
+            ex = np.exp(zt)
+            safe = np.where(zt != 0.0, zt, 1.0)
+            phi1 = np.where(zt != 0.0, np.expm1(zt) / safe, 1.0)
+            x = (ex * self.c0 + tau[:, None] * phi1 * self.dd) @ self.vec.T
+            xd = (ex * (self.lam * self.c0 + self.dd)) @ self.vec.T
+            return x.real, xd.real
+        dd = self.amat.shape[0]
+        aug = np.zeros((dd + 1, dd + 1))
+        aug[:dd, :dd] = self.amat
+        aug[:dd, dd] = self.h
+        x = np.array([(scipy.linalg.expm(aug * t) @ np.append(self.x0, 1.0))[:dd] for t in tau])
+        x = x.reshape(-1, dd)
+        return x, x @ self.amat.T + self.h
+
+    def full(self, tau: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
+        """(Δq, q̇, q̈) at the times tau, shapes (T, n)."""
+        z, zd, zdd = self.reduced(tau)
+        n = self.q0.shape[0]
+        if self.dim == 0:
+            zero = np.zeros((z.shape[0], n))
+            return zero, zero.copy(), zero.copy()
+        if self.nullsp is None:
+            return z, zd, zdd
+        ns = self.nullsp
+        return z @ ns.T, zd @ ns.T, zdd @ ns.T
+
+    def damping_losses(self, tau: FloatArray, sigma: FloatArray) -> tuple[FloatArray, FloatArray]:
+        """(∫ q̇ᵀCq̇ dt (T,), σ_v,c ∫ ġ_c² dt (T, n_c)) since the start of the piece."""
+        tau = np.asarray(tau, dtype=float).reshape(-1)
+        n_c = self.w.shape[1]
+        if not self.damped:
+            return np.zeros(tau.shape[0]), np.zeros((tau.shape[0], n_c))
+        # Gauss–Legendre (16 nodes) on pieces no longer than 1/ω_max: exact to rounding
+        edges = np.concatenate([[0.0], tau])
+        lengths = np.diff(edges)
+        parts = np.maximum(np.ceil(lengths * max(self.omega_max, 1e-300)), 1).astype(np.int64)
+        parts[lengths == 0.0] = 1
+        idx = np.repeat(np.arange(tau.shape[0]), parts)
+        first = np.repeat(np.cumsum(parts) - parts, parts)
+        k = np.arange(idx.shape[0]) - first
+        width = lengths[idx] / parts[idx]
+        left = edges[idx] + k * width
+        nodes = left[:, None] + 0.5 * width[:, None] * (_GL_X + 1.0)
+        weights = 0.5 * width[:, None] * _GL_W
+        zd = self.reduced(nodes.reshape(-1))[1]
+        ns = np.eye(self.q0.shape[0]) if self.nullsp is None else self.nullsp
+        v = zd @ ns.T
+        wts = weights.reshape(-1)
+        structural = np.einsum("ti,ij,tj->t", v, self.c, v) * wts
+        gd = v @ self.w
+        visc = gd * gd * np.where(self.sliding, sigma, 0.0) * wts[:, None]
+        seg = np.repeat(idx, _GL_X.shape[0])
+        s_out = np.cumsum(np.bincount(seg, weights=structural, minlength=tau.shape[0])).astype(
+            float
+        )
+        v_out = np.zeros((tau.shape[0], n_c))
+        for c in np.flatnonzero(self.sliding & (sigma > 0.0)):
+            v_out[:, c] = np.cumsum(np.bincount(seg, weights=visc[:, c], minlength=tau.shape[0]))
+        return s_out, v_out
+
+
+_GL_X, _GL_W = np.polynomial.legendre.leggauss(16)

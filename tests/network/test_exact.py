@@ -1,0 +1,152 @@
+"""simulate_network: closed-form checks, the single mass, redundancy, stiction, chunks."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from presliding import PIFriction, simulate
+from presliding.network import (
+    NetworkStructure,
+    chain_structure,
+    multi_contact_structure,
+    simulate_network,
+)
+
+
+def test_friction_oscillator_turning_points_and_rest_in_closed_form():
+    """m = k = 1, c1 = 1, x0 = 12, v0 = 6: half cycles about ∓1 (the Siconos example).
+
+    Amplitude about the first centre −1 is A = √(13² + 6²) = √205; each half cycle loses
+    2·c1/k = 2, so the k-th turning point is (−1)^(k+1)·(√205 − (2k − 1)) at
+    t_k = atan2(6, 13) + (k − 1)π; the 8th, 15 − √205, is inside the stick band |x| <= 1.
+    """
+    s = NetworkStructure(1.0, 1.0, [[1.0]], [PIFriction(1.0)])
+    res = simulate_network(s, 30.0, [12.0], [6.0])
+    a = math.sqrt(205.0)
+    k = np.arange(1, 8)
+    turning = (-1.0) ** (k + 1) * (a - (2 * k - 1))
+    times = math.atan2(6.0, 13.0) + (k - 1) * math.pi
+    assert res.success and res.n_reversals[0] == 7
+    np.testing.assert_allclose(res.reversal_displacements[0], turning, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(res.reversal_times[0], times, rtol=0, atol=1e-12)
+    assert abs(res.stop_times[0] - (math.atan2(6.0, 13.0) + 7 * math.pi)) <= 1e-12
+    assert abs(res.position[-1, 0] - (15.0 - a)) <= 1e-12
+    assert res.contact_velocity[-1, 0] == 0.0 and res.contact_mode[-1, 0] == 0.0
+    assert np.all(res.stick_intervals[0] == [[res.stop_times[0], 30.0]])
+
+
+def test_mirror_symmetry():
+    s = chain_structure(2, 1.0, 50.0, PIFriction(0.4, [300.0], [0.2]), forcing=[0.0, 1.0])
+    m = s.with_forcing([0.0, -1.0])
+    a = simulate_network(s, 2.0, [0.01, 0.0], [0.0, -0.3])
+    b = simulate_network(m, 2.0, [-0.01, 0.0], [0.0, 0.3])
+    np.testing.assert_allclose(a.position, -b.position, rtol=0, atol=1e-14)
+    np.testing.assert_array_equal(a.n_reversals, b.n_reversals)
+
+
+@pytest.mark.parametrize("viscous", [0.0, 5.0])
+def test_one_contact_on_one_mass_is_the_single_mass_simulate(viscous):
+    """The same motion as `presliding.simulate` to 1e-14 (relative to each array's scale;
+    not bit for bit: the network path solves the piece as a 1-DOF modal problem)."""
+    model = PIFriction(0.3, [2e4, 5e3, 1.5e3], [0.2, 0.2, 0.3], viscous=viscous)
+    u = (np.array([0.0, 0.05, 0.1, 0.15]), np.array([1.0, -1.2, 0.6, 0.0]))
+    te = np.linspace(0.0, 0.2, 2001)
+    ref = simulate(model, 1.0, applied_force=u, initial_velocity=0.05, t_end=0.2, t_eval=te)
+    s = NetworkStructure(1.0, 0.0, [[1.0]], [model], forcing=(u[0], u[1].reshape(-1, 1)))
+    res = simulate_network(s, 0.2, [0.0], [0.05], t_eval=te)
+    assert res.success and res.n_events == ref.n_events
+    for mine, theirs in ((res.position[:, 0], ref.position),
+                         (res.velocity[:, 0], ref.velocity),
+                         (res.contact_force[:, 0], ref.friction_force),
+                         (res.elastic_force[:, 0], ref.elastic_force)):  # fmt: skip
+        assert np.max(np.abs(mine - theirs)) <= 1e-14 * np.max(np.abs(theirs))
+    np.testing.assert_allclose(res.reversal_times[0], ref.reversal_times, rtol=0, atol=1e-14)
+    dissipated = res.energy.coulomb[:, 0] + res.energy.hysteretic[:, 0]
+    assert np.max(np.abs(dissipated - ref.energy.dissipated)) <= 1e-14 * ref.energy.dissipated[-1]
+
+
+def test_redundant_contacts_give_the_unique_motion_and_flag_the_forces():
+    """Two Coulomb contacts with the same w act as one with c1 = c1a + c1b."""
+    k = [[2.0, -1.0], [-1.0, 1.0]]
+    two = NetworkStructure(np.diag([1.0, 2.0]), k, [[1.0, 1.0], [0.0, 0.0]],
+                           [PIFriction(0.5), PIFriction(0.7)], forcing=[0.0, 1.5])  # fmt: skip
+    one = NetworkStructure(np.diag([1.0, 2.0]), k, [[1.0], [0.0]], [PIFriction(1.2)],
+                           forcing=[0.0, 1.5])  # fmt: skip
+    a = simulate_network(two, 20.0, [1.0, 3.0], [0.5, 0.0])
+    b = simulate_network(one, 20.0, [1.0, 3.0], [0.5, 0.0])
+    assert a.success and not a.forces_unique and "not unique" in a.message
+    assert b.forces_unique and "not unique" not in b.message
+    np.testing.assert_allclose(a.position, b.position, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(a.contact_force.sum(axis=1), b.contact_force[:, 0], atol=1e-12)
+    stuck = a.contact_mode[:, 0] == 0.0
+    assert stuck.any()
+    c1 = np.array([0.5, 0.7])
+    assert np.all(np.abs(a.contact_force[stuck] - a.elastic_force[stuck]) <= c1 * (1 + 1e-12))
+
+
+def test_stiction_is_exact_over_long_times():
+    """Every contact held below break-away: nothing moves, 0.0 exactly, to t = 1e6 s."""
+    s = chain_structure(3, 1.0, 100.0, PIFriction(1.0, [1e3], [0.5]), forcing=[0.3, -0.2, 0.4])
+    q0 = np.array([0.001, -0.002, 0.0005])
+    res = simulate_network(s, 1e6, q0, None, t_eval=np.linspace(0.0, 1e6, 11))
+    assert res.success and res.n_events == 0  # one piece, no event
+    assert np.all(res.position - q0 == 0.0) and np.all(res.velocity == 0.0)
+    assert np.all(res.stop_times == 0.0)
+
+
+def test_a_stuck_contact_holds_exactly_while_the_rest_vibrates():
+    """Mass 0 on a contact, mass 1 free on a spring: the contact displacement stays exact."""
+    s = NetworkStructure(np.eye(2), [[2.0, -1.0], [-1.0, 1.0]], [[1.0], [0.0]],
+                         [PIFriction(5.0)])  # fmt: skip
+    res = simulate_network(s, 1e4, [0.2, 0.0], [0.0, 1.0], t_eval=np.linspace(0, 1e4, 5001))
+    assert res.success
+    assert np.all(res.contact_displacement[:, 0] == 0.2)
+    assert np.all(res.contact_mode == 0.0)
+    assert np.ptp(res.position[:, 1]) > 1.0  # the free mass moves
+
+
+def test_chunked_runs_equal_the_whole_run():
+    model = PIFriction(0.5, [1e4, 2e3], [0.2, 0.3], viscous=2.0)
+    force = ([0.0, 0.3, 0.6], [[0, 0, 3.0], [0, 1.0, -2.0], [0, 0, 0]])
+    s = chain_structure(3, 1.0, 1e3, model, damping=1.0, forcing=force)
+    t = np.linspace(0.0, 1.0, 401)
+    whole = simulate_network(s, 1.0, None, [0.2, -0.1, 0.3], t_eval=t)
+    first = simulate_network(s, 0.45, None, [0.2, -0.1, 0.3], t_eval=t[t <= 0.45])
+    second = simulate_network(s, 1.0, initial_state=first.final_state, t_eval=t[t >= 0.45])
+    both = np.vstack([first.position, second.position[1:]])
+    assert first.final_state.time == 0.45
+    np.testing.assert_allclose(both, whole.position, rtol=0, atol=1e-12)
+    reversals = first.n_reversals + second.n_reversals
+    np.testing.assert_array_equal(reversals, whole.n_reversals)
+
+
+def test_mass_on_several_contacts_sticks_by_its_total_friction():
+    s = multi_contact_structure(1.0, 0.0, [PIFriction(0.4), PIFriction(0.6)], forcing=0.99)
+    held = simulate_network(s, 10.0, [0.0], [0.0])
+    assert held.success and np.all(held.position == 0.0)
+    moved = simulate_network(s.with_forcing(1.01), 1.0, [0.0], [0.0])
+    np.testing.assert_allclose(moved.position[-1, 0], 0.5 * 0.01, rtol=1e-12)
+
+
+def test_bad_arguments():
+    s = NetworkStructure(1.0, 1.0, [[1.0]], [PIFriction(1.0)])
+    with pytest.raises(ValueError, match="t_end"):
+        simulate_network(s, 0.0)
+    with pytest.raises(ValueError, match=r"initial_position` must have shape \(1,\)"):
+        simulate_network(s, 1.0, [1.0, 2.0])
+    with pytest.raises(ValueError, match="initial_state"):
+        simulate_network(s, 1.0, initial_state="saturated")
+    with pytest.raises(ValueError, match="t_eval"):
+        simulate_network(s, 1.0, t_eval=[0.0, 2.0])
+    with pytest.raises(TypeError, match="structure"):
+        simulate_network("s", 1.0)
+
+
+def test_event_limit_is_reported():
+    s = NetworkStructure(1.0, 1.0, [[1.0]], [PIFriction(1.0)])
+    res = simulate_network(s, 30.0, [12.0], [6.0], max_events=3)
+    assert not res.success and res.status == "event_limit" and "max_events=3" in res.message
+    assert res.time.shape[0] < 1001

@@ -1,0 +1,94 @@
+"""NetworkStructure: validation on construction and the helpers."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from presliding import PIFriction
+from presliding.hysteresis.densities import Uniform
+from presliding.network import (
+    NetworkStructure,
+    chain_structure,
+    modal_structure,
+    multi_contact_structure,
+)
+
+COULOMB = PIFriction(1.0)
+
+
+def test_a_structure_holds_its_arrays_read_only():
+    s = NetworkStructure([2.0, 3.0], [[2.0, -1.0], [-1.0, 1.0]], [[1.0], [0.0]], [COULOMB],
+                         forcing=[0.0, 1.0])  # fmt: skip
+    assert s.mass.shape == (2, 2) and s.mass[1, 1] == 3.0
+    assert s.n_coordinates == 2 and s.n_contacts == 1
+    assert not s.mass.flags.writeable and not s.contacts.flags.writeable
+    np.testing.assert_array_equal(s.force_at(5.0), [0.0, 1.0])
+    assert not s.is_damped
+    assert s.breakaway_level[0] == 1.0
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "match"),
+    [
+        ({"mass": [[1.0, 0.0], [0.0, -1.0]]}, "mass` must be positive definite"),
+        ({"mass": [[1.0, 0.5], [0.0, 1.0]]}, "mass` must be symmetric"),
+        ({"stiffness": [[-1.0, 0.0], [0.0, 1.0]]}, "stiffness` must be positive semidefinite"),
+        ({"stiffness": np.eye(3)}, r"stiffness` must be a square matrix of shape \(2, 2\)"),
+        ({"contacts": [[1.0, 0.0], [0.0, 0.0]]}, "zero column; column 1"),
+        ({"contacts": [[1.0], [0.0], [0.0]]}, r"contacts` must have shape \(2, n_c\)"),
+        ({"friction": [COULOMB, COULOMB]}, r"one model per contact \(1\); got 2"),
+        ({"friction": [PIFriction(0.0, [1.0], [1.0])]}, "Coulomb element c1 > 0"),
+        ({"friction": [PIFriction(0.0, density=Uniform(1.0, 1.0))]}, "finite elements"),
+        ({"forcing": [1.0, 2.0, 3.0]}, r"forcing` must be a constant of shape \(2,\)"),
+        ({"forcing": ([0.0, 1.0], [[1.0, 2.0]])}, r"values must have shape \(2, 2\)"),
+        ({"forcing": ([1.0, 0.0], [[1.0, 2.0], [0.0, 0.0]])}, "strictly increasing"),
+        ({"damping": [[0.0, 1.0], [1.0, 0.0]]}, "damping` must be positive semidefinite"),
+    ],
+)
+def test_bad_input_is_an_error_naming_the_argument(kwargs, match):
+    args = {"mass": np.eye(2), "stiffness": np.eye(2), "contacts": [[1.0], [0.0]],
+            "friction": [COULOMB]}  # fmt: skip
+    extra = {k: kwargs.pop(k) for k in ("forcing", "damping") if k in kwargs}
+    args.update(kwargs)
+    with pytest.raises((ValueError, TypeError), match=match):
+        NetworkStructure(**args, **extra)
+
+
+def test_a_friction_entry_of_another_type_is_a_type_error():
+    with pytest.raises(TypeError, match=r"friction\[0\]"):
+        NetworkStructure(1.0, 1.0, [[1.0]], ["coulomb"])
+
+
+def test_chain_has_springs_between_neighbours_and_one_contact_per_mass():
+    s = chain_structure(3, [1.0, 2.0, 3.0], [10.0, 20.0, 30.0], COULOMB, damping=0.5)
+    np.testing.assert_array_equal(s.stiffness, [[30.0, -20.0, 0.0], [-20.0, 50.0, -30.0],
+                                                [0.0, -30.0, 30.0]])  # fmt: skip
+    np.testing.assert_array_equal(s.contacts, np.eye(3))
+    np.testing.assert_array_equal(s.damping[0], [1.0, -0.5, 0.0])
+    assert len(s.friction) == 3 and s.is_damped
+
+
+def test_mass_on_several_contacts_and_modal_model():
+    s = multi_contact_structure(2.0, 5.0, [COULOMB, PIFriction(0.5, [10.0], [0.1])])
+    np.testing.assert_array_equal(s.contacts, [[1.0, 1.0]])
+    m = modal_structure([1.0, 3.0], [[1.0, 0.5], [0.2, -1.0]], COULOMB, damping_ratios=0.01)
+    np.testing.assert_array_equal(m.stiffness, np.diag([1.0, 9.0]))
+    np.testing.assert_allclose(np.diag(m.damping), [0.02, 0.06])
+    assert m.n_contacts == 2
+    with pytest.raises(ValueError, match="n_masses"):
+        chain_structure(0, 1.0, 1.0, COULOMB)
+
+
+def test_per_contact_sums_with_contacts_without_elements():
+    from presliding.network._piece import Contacts
+
+    models = [PIFriction(1.0), PIFriction(1.0, [1.0, 2.0, 3.0], [1.0, 1.0, 1.0]), PIFriction(1.0),
+              PIFriction(1.0, [4.0], [1.0]), PIFriction(1.0)]  # fmt: skip
+    cts = Contacts.of(models)
+    values = np.array([1.0, 2.0, 4.0, 8.0])
+    np.testing.assert_array_equal(cts.per_contact(values), [0.0, 7.0, 0.0, 8.0, 0.0])
+    np.testing.assert_array_equal(cts.per_contact(np.vstack([values, -values]))[1],
+                                  [0.0, -7.0, 0.0, -8.0, 0.0])  # fmt: skip
+    trailing = Contacts.of(models[1:3])
+    np.testing.assert_array_equal(trailing.per_contact(values[:3]), [7.0, 0.0])
