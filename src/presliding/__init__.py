@@ -14,7 +14,9 @@ import sys as _sys
 from presliding import _progress, signals  # noqa: F401  (_progress: for that effect)
 from presliding._version import __version__
 from presliding.analysis import (
+    AmplitudeResponse,
     TurningPoints,
+    amplitude_response,
     dissipated_energy,
     elastic_energy,
     phi,
@@ -143,6 +145,7 @@ def __getattr__(name: str) -> object:
 
 __all__ = [
     "PID",
+    "AmplitudeResponse",
     "Comparison",
     "CoulombFriction",
     "CrossValidation",
@@ -185,6 +188,7 @@ __all__ = [
     "TurningPoints",
     "Uniform",
     "__version__",
+    "amplitude_response",
     "compare",
     "correlation_matrix",
     "count_reversals",
