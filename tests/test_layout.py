@@ -22,6 +22,7 @@ LAYERS = (
     "friction",
     "motion",
     "analysis",
+    "network",
     "identification",
     "control",
     "sweep",

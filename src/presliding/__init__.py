@@ -105,6 +105,13 @@ from presliding.motion import (
     simulate,
     simulate_batch,
 )
+from presliding.network import (
+    QuasiStaticNetworkResult,
+    SliderNetwork,
+    compile_network,
+    network_virgin_curve,
+    quasi_static_network,
+)
 from presliding.sweep import SweepResult, sweep
 
 #: Module paths from before the package was split into layers, and their homes.
@@ -181,8 +188,10 @@ __all__ = [
     "PIState",
     "PiecewiseConstant",
     "Prediction",
+    "QuasiStaticNetworkResult",
     "QuasiStaticResponse",
     "SegalmanIwan",
+    "SliderNetwork",
     "SweepResult",
     "Tabulated",
     "TurningPoints",
@@ -190,6 +199,7 @@ __all__ = [
     "__version__",
     "amplitude_response",
     "compare",
+    "compile_network",
     "correlation_matrix",
     "count_reversals",
     "cross_validate",
@@ -209,12 +219,14 @@ __all__ = [
     "iosys_state",
     "masing_check",
     "measure_limit_cycle",
+    "network_virgin_curve",
     "phi",
     "pi_inverse",
     "play",
     "predict_limit_cycles",
     "predict_motion_force",
     "preloaded_state",
+    "quasi_static_network",
     "quasi_static_response",
     "signals",
     "simulate",
