@@ -132,7 +132,7 @@ def compile_network(network: SliderNetwork, load: Any, *, verify: bool | None = 
     verify : bool, optional
         Also run the network and the compiled operator over a history with
         ten nested reversals and raise if they differ by more than 1e-9 of the
-        force range. Default (None): for networks with at most 200 sliders
+        force range. Default (None): for networks with at most 64 sliders
         (the replay costs about ten virgin curves). The load's sign, the
         hypothesis of the reduction, is checked on every call.
 
@@ -178,7 +178,7 @@ def compile_network(network: SliderNetwork, load: Any, *, verify: bool | None = 
     stiffness, threshold = drops[keep], breaks[keep]
     model = PIFriction(max(coulomb, 0.0), stiffness, threshold=threshold)
     if verify is None:
-        verify = network.n_sliders <= 200
+        verify = network.n_sliders <= 64
     if verify:
         with threadpool_limits(1):
             _verify(network, nodes, coef if np.all(coef > 0) else -coef, model)
