@@ -153,3 +153,13 @@ def test_microslip_bar_virgin_curve_and_dissipation():
 def test_bad_parameters_are_named(build, match):
     with pytest.raises(ValueError, match=match):
         build()
+
+
+def test_motion_tools_refuse_the_infinitely_stiff_bar():
+    import presliding as ps
+
+    model = PIFriction(0.5, density=MicroslipBar(1e6, 1e3, 0.05))
+    with pytest.raises(ValueError, match="finite stiffness"):
+        ps.simulate(model, 1.0, initial_velocity=0.05, t_end=0.5)
+    with pytest.raises(ValueError, match="finite stiffness"):
+        ps.turning_points(model, 1.0, 0.05)

@@ -207,7 +207,9 @@ class MicroslipBar(Density):
     u = τL²/(2EA). As a density: dμ/dr = √(EAτ/8)·r^(−3/2) on (0, R] plus a
     point mass EA/L at R = τL²/(2EA). The stuck part does not move, so the
     bar is infinitely stiff at every reversal (μ([0, R]) = inf): the
-    dissipation and the branches are exact, the initial slope is not finite.
+    dissipation and the branches are exact, the initial slope is not finite,
+    and `simulate` and `turning_points` refuse it (a motion would need a
+    finite stiffness; model the bar as a `SliderNetwork` chain instead).
 
     Parameters
     ----------

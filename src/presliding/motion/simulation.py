@@ -60,7 +60,13 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from presliding._validation import as_choice, as_count, as_positive_scalar, as_real_scalar
+from presliding._validation import (
+    as_choice,
+    as_count,
+    as_positive_scalar,
+    as_real_scalar,
+    check_finite_stiffness,
+)
 from presliding.friction.pi_friction import PIFriction
 from presliding.hysteresis.general_pi import MemoryState
 from presliding.hysteresis.operators import PIState
@@ -180,6 +186,7 @@ def simulate(
     (0.972955074528, 3.486478)
     """
     _run.check_model(model, density_ok=True)
+    check_finite_stiffness(model.initial_stiffness, "`simulate`", model.density)
     m = as_positive_scalar("mass", mass)
     y0 = as_real_scalar("initial_position", initial_position)
     v0 = as_real_scalar("initial_velocity", initial_velocity)
