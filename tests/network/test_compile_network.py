@@ -185,3 +185,14 @@ def test_a_chain_converges_to_the_microslip_bar_as_n_to_the_minus_two():
     ratios = np.array(errors[:-1]) / np.array(errors[1:])
     np.testing.assert_allclose(ratios, 4.0, rtol=1e-6)  # second order
     assert errors[-1] < 3e-4
+
+
+def test_the_replay_check_catches_a_wrong_operator():
+    from presliding.network.compile import _verify
+
+    net = _chain4(1)
+    model = compile_network(net, 0, verify=True)
+    _verify(net, np.array([0]), np.array([1.0]), model)  # passes
+    wrong = PIFriction(0.0, model.stiffness * (1 + 1e-6), threshold=model.threshold)
+    with pytest.raises(ValueError, match="not reproduced"):
+        _verify(net, np.array([0]), np.array([1.0]), wrong)
