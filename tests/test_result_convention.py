@@ -31,7 +31,7 @@ NOT_RESULTS = {
     "DahlFriction", "DahlState", "LuGreFriction", "LuGreState", "Density", "Discrete",
     "Exponential", "Uniform", "PiecewiseConstant", "Tabulated", "GeneralPIOperator",
     "MemoryState", "PIOperator", "PIState", "PIInverse", "PIBatch", "PIBatchState",
-    "Measurement",
+    "Measurement", "SegalmanIwan", "MindlinContact", "MicroslipBar", "SliderNetwork",
     "MotionEnergy",  # a part of MotionResult (its `energy`), with its own to_dict
     "NetworkStructure", "NetworkState",
     "NetworkEnergy",  # a part of NetworkResult (its `energy`), with its own to_dict
@@ -76,6 +76,10 @@ def _sweep():
 
 
 BUILDERS = {
+    "QuasiStaticNetworkResult": lambda: ps.quasi_static_network(
+        ps.SliderNetwork(1, stops=[(0, -1, 100.0, 1.0)]), displacement={0: [0.02, -0.01]}
+    ),
+    "AmplitudeResponse": lambda: ps.amplitude_response(MODEL, [1e-3, 1e-2]),
     "MotionResult": lambda: ps.simulate(MODEL, 1.0, initial_velocity=0.05, t_end=0.5),
     "MotionBatch": lambda: ps.simulate_batch(MODEL, 1.0, [0.02, 0.05], t_end=0.5),
     "FreeResponse": lambda: ps.free_response(1.0, 0.3, [100.0], [0.003], 0.05, 1e-3, 500),

@@ -467,3 +467,14 @@ def check_has_friction(c1: np.ndarray, n_elements: int) -> None:
             "`coulomb` must be positive when `stiffness` is empty (a model without elements); "
             f"got 0.0{where}."
         )
+
+
+def check_finite_stiffness(stiffness: float, where: str, density: Any) -> None:
+    """A motion needs a finite stiffness μ([0, R]) at reversals (eq. 7)."""
+    if not math.isfinite(stiffness):
+        raise ValueError(
+            f"{where} needs a finite stiffness μ([0, R]) at reversals (eq. 7); got the infinitely "
+            f"stiff density {type(density).__name__} (a contact that sticks rigidly, such as the "
+            f"microslip bar): use its force, branches and `amplitude_response`, or model it as a "
+            f"`SliderNetwork` chain."
+        )

@@ -2,6 +2,7 @@
 
 Files
 -----
+amplitude.py  D(a), secant stiffness, damping ratio, loss factor, backbone and their slopes
 stops.py      Φ (eq. 14), y_e (eq. 15), the stop test (eq. 16) and `turning_points`
 energy.py     stored, kinetic and dissipated energy (the energy after eq. 12), viscous loss
 _walks.py     exact half swings by the work-energy balance (finite elements, densities)
@@ -10,6 +11,7 @@ May import: `presliding.friction`, `presliding.hysteresis` and the root's shared
 It does not import `presliding.motion` (a sibling layer).
 """
 
+from presliding.analysis.amplitude import AmplitudeResponse, amplitude_response
 from presliding.analysis.energy import (
     dissipated_energy,
     elastic_energy,
@@ -25,7 +27,9 @@ from presliding.analysis.stops import (
 )
 
 __all__ = [
+    "AmplitudeResponse",
     "TurningPoints",
+    "amplitude_response",
     "dissipated_energy",
     "elastic_energy",
     "phi",

@@ -34,6 +34,7 @@ from presliding._validation import (
     as_positive_scalar,
     as_real_array,
     as_real_scalar,
+    check_finite_stiffness,
     fmt,
 )
 from presliding.analysis._walks import (
@@ -310,6 +311,7 @@ def turning_points(
         `presliding.simulate` solves the damped motion exactly.
     """
     model = _undamped(model, "`turning_points`")
+    check_finite_stiffness(model.initial_stiffness, "`turning_points`", model.density)
     m = as_positive_scalar("mass", mass)
     v0 = as_real_scalar("initial_velocity", initial_velocity)
     y0 = as_real_scalar("initial_position", initial_position)

@@ -9,6 +9,7 @@ operators.py            `play`, `stop` (eqs. 3, 5, 11), `PIOperator` (eq. 4) and
 batch.py                `PIBatch`, `PIBatchState`: B operators on one input, output F[T, B]
 general_pi.py           `GeneralPIOperator` and `MemoryState`: the exact operator of a density μ
 densities.py            the distributions μ of section 3: `Discrete`, `Uniform`, `Exponential`, …
+iwan.py                 the Iwan family: `SegalmanIwan`, `MindlinContact`, `MicroslipBar`
 inverse.py              `pi_inverse`, `inverse_state`, `PIInverse`: inverse operators (compensation)
 _inversion.py           the inverse's parameters from the loading-curve slopes (and on the range)
 _kernels.py, _fused.py  compiled play/stop loops, time-blocked and batched
@@ -32,6 +33,7 @@ from presliding.hysteresis.densities import (
 )
 from presliding.hysteresis.general_pi import GeneralPIOperator, MemoryState
 from presliding.hysteresis.inverse import PIInverse, inverse_state, pi_inverse
+from presliding.hysteresis.iwan import MicroslipBar, MindlinContact, SegalmanIwan
 from presliding.hysteresis.operators import PIOperator, PIState, play, stop
 
 __all__ = [
@@ -40,12 +42,15 @@ __all__ = [
     "Exponential",
     "GeneralPIOperator",
     "MemoryState",
+    "MicroslipBar",
+    "MindlinContact",
     "PIBatch",
     "PIBatchState",
     "PIInverse",
     "PIOperator",
     "PIState",
     "PiecewiseConstant",
+    "SegalmanIwan",
     "Tabulated",
     "Uniform",
     "inverse_state",

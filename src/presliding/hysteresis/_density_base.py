@@ -174,7 +174,8 @@ class Density:
             rule = "a scalar or a nonempty one-dimensional array"
             raise ValueError(f"`displacement` must be {rule}; got shape {y.shape}.")
         a = np.abs(y)
-        out = np.sign(y) * (self.M1(a) + np.where(a < self._big_r, a, 0.0) * self.tail(a))
+        t = np.where(a > 0, self.tail(a), 0.0)  # 0·T(0) = 0 also where T(0) = inf
+        out = np.sign(y) * (self.M1(a) + np.where(a < self._big_r, a, 0.0) * t)
         return float(out) if np.ndim(out) == 0 else out
 
     def discretize(self, n: int, max_threshold: float | None = None) -> Discrete:

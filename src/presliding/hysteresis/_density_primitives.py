@@ -21,6 +21,11 @@ Density specification (arrays in, no Python objects)
   T at the breaks.
 * ``TABULATED`` (4): ``par = [R, h]``; ``tab`` rows on the uniform grid r_i = i·h:
   r, dμ/dr, M1, M2, T; cubic Hermite interpolation between nodes.
+* ``POWER`` (5): ``par = [R, a, χ]``, dμ/dr = a·r^χ on (0, R] (χ > −2), plus a
+  point mass ``tab[0, 0]`` at R (the Iwan family: Segalman, the microslip bar).
+* ``MINDLIN`` (6): ``par = [R, a]``, dμ/dr = a·(1 − r/R)^(−1/2) on [0, R)
+  (the Cattaneo–Mindlin sphere), in the cancellation-free variable
+  u = 1 − √(1 − r/R) = (r/R)/(1 + √(1 − r/R)).
 
 Functions for other compiled code
 ---------------------------------
@@ -38,7 +43,7 @@ import numpy as np
 
 from presliding.hysteresis._jit import JitFlags, njit
 
-DISCRETE, UNIFORM, EXPONENTIAL, PIECEWISE, TABULATED = 0, 1, 2, 3, 4
+DISCRETE, UNIFORM, EXPONENTIAL, PIECEWISE, TABULATED, POWER, MINDLIN = 0, 1, 2, 3, 4, 5, 6
 # Flags and small integer arguments of compiled helpers are passed as
 # np.bool_(...) / np.int64(...) rather than literal constants: numba compiles one
 # specialisation per literal value, which costs seconds on a cold cache.
@@ -76,6 +81,34 @@ def _search(tab, row, n, r):  # pragma: no cover - compiled
         else:
             hi = mid
     return lo
+
+
+@njit(**_JIT)
+def _power(big_r, a, chi, mass, r):  # pragma: no cover - compiled
+    """(M1, M2, T) of a·r^χ on (0, R] plus the point mass `mass` at R (r <= R)."""
+    if r >= big_r:
+        m1 = a * big_r ** (chi + 2.0) / (chi + 2.0) + mass * big_r
+        return m1, a * big_r ** (chi + 3.0) / (chi + 3.0) + mass * big_r * big_r, 0.0
+    if r <= 0.0:
+        t = math.inf if chi <= -1.0 else a * big_r ** (chi + 1.0) / (chi + 1.0) + mass
+        return 0.0, 0.0, t
+    return (
+        a * r ** (chi + 2.0) / (chi + 2.0),
+        a * r ** (chi + 3.0) / (chi + 3.0),
+        a * (big_r ** (chi + 1.0) - r ** (chi + 1.0)) / (chi + 1.0) + mass,
+    )
+
+
+@njit(**_JIT)
+def _mindlin(big_r, a, r):  # pragma: no cover - compiled
+    """(M1, M2, T) of a·(1 − r/R)^(−1/2) on [0, R) (r <= R), without cancellation."""
+    x = r / big_r
+    w = math.sqrt(max(1.0 - x, 0.0))
+    u = x / (1.0 + w)  # 1 − √(1 − x)
+    rr = big_r * big_r
+    m1 = a * rr * u * u * (2.0 - 2.0 * u / 3.0)
+    m2 = a * rr * big_r * u * u * u * (8.0 / 3.0 - 2.0 * u + 0.4 * u * u)
+    return m1, m2, 2.0 * a * big_r * w
 
 
 @njit(**_JIT)
@@ -125,6 +158,10 @@ def _prim(kind, big_r, p1, p2, tab, r, want_m2):  # pragma: no cover - compiled
             a * b * b * b * _gamma_lower(np.int64(3), x, e) if want_m2 else 0.0,
             a * b * (e - tail) if x < big_r / b else 0.0,
         )
+    if kind == POWER:
+        return _power(big_r, p1, p2, tab[0, 0], r)
+    if kind == MINDLIN:
+        return _mindlin(big_r, p1, r)
     # TABULATED: cubic Hermite with the exact derivatives r^k·dμ/dr at the nodes
     h = p1
     n = tab.shape[1] - 1

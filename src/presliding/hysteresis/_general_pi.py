@@ -100,7 +100,8 @@ def _reversal_level(last, d, base, n, stack, kind, big_r, p1, p2, tab):  # pragm
             return base, 0, big_r, _prim(kind, big_r, p1, p2, tab, big_r, np.bool_(False))[0], 0.0
     m1, _, t = _prim(kind, big_r, p1, p2, tab, rho, np.bool_(False))
     force = d * m1 if n == 0 else d * (2.0 * m1 - stack[n - 1, 2]) + stack[n - 1, 3]
-    force += (last - e) * t
+    if rho > 0.0:  # 0·T(0) = 0, also where T(0) = inf
+        force += (last - e) * t
     return base, n, rho, m1, force - d * m1
 
 
@@ -211,7 +212,8 @@ def _walk(y, y_one, head, stack, kind, par, tab, out, dissipated, mode):  # prag
                 q_rho = _q(rho, m1r, m2r, kind, big_r, p1, p2, tab)
                 diss += 2.0 * (q_rho - _q(rho0, m1r, m2r, kind, big_r, p1, p2, tab))
         if rho < big_r:
-            force += (yv - e) * slope
+            if rho > 0.0:  # (y − e)·T(ρ) = 0 at ρ = 0, also where T(0) = inf (microslip bar)
+                force += (yv - e) * slope
         else:
             slope = 0.0
         n, d, last = top, s, yv

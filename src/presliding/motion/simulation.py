@@ -66,6 +66,7 @@ from presliding._validation import (
     as_positive_scalar,
     as_real_scalar,
     as_si,
+    check_finite_stiffness,
 )
 from presliding.friction.pi_friction import PIFriction
 from presliding.hysteresis.general_pi import MemoryState
@@ -186,6 +187,7 @@ def simulate(
     (0.972955074528, 3.486478)
     """
     _run.check_model(model, density_ok=True)
+    check_finite_stiffness(model.initial_stiffness, "`simulate`", model.density)
     m = as_positive_scalar("mass", mass, kind="mass")
     y0 = as_real_scalar("initial_position", initial_position, kind="position")
     v0 = as_real_scalar("initial_velocity", initial_velocity, kind="velocity")

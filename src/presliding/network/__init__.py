@@ -2,7 +2,8 @@
 
 M·q̈ + C·q̇ + K·q + W·λ = f(t), each contact c a 1-D tangential contact g_c = w_cᵀq with
 its own `PIFriction` (eq. 8; the paper's closing question: eq. 17 with interacting
-stop nonlinearities).
+stop nonlinearities), and quasi-static networks of springs, Coulomb sliders and stops
+reduced to one exact PI operator (Krejčí et al., Phys. Rev. E 90, 032822, 2014).
 
 Files
 -----
@@ -17,14 +18,21 @@ _contact_problem.py   stick/slip at an instant: the box QP over the Delassus mat
 _exact_run.py         the event loop's operations on its state
 _moreau_kernel.py     its compiled loop: θ-method, PGS on the Delassus matrix per step
 _plots.py             figures of a network result
+slider_network.py     `SliderNetwork`: springs, Coulomb sliders and stops (quasi-static)
+quasi_static.py       `quasi_static_network`: the exact piecewise-linear quasi-static response
+_qs_solver.py         the event-driven active-set solution of the sweeping process
+compile.py            `compile_network`: a network driven through one input as a `PIFriction`
 
 May import: `presliding.friction`, `presliding.hysteresis` and the root's shared modules.
 It does not import `presliding.motion` or `presliding.analysis` (sibling layers).
 """
 
+from presliding.network.compile import compile_network, network_virgin_curve
 from presliding.network.exact import simulate_network
 from presliding.network.moreau import simulate_network_moreau
+from presliding.network.quasi_static import QuasiStaticNetworkResult, quasi_static_network
 from presliding.network.results import NetworkEnergy, NetworkResult, NetworkState
+from presliding.network.slider_network import GROUND, SliderNetwork
 from presliding.network.structure import (
     NetworkStructure,
     chain_structure,
@@ -33,13 +41,19 @@ from presliding.network.structure import (
 )
 
 __all__ = [
+    "GROUND",
     "NetworkEnergy",
     "NetworkResult",
     "NetworkState",
     "NetworkStructure",
+    "QuasiStaticNetworkResult",
+    "SliderNetwork",
     "chain_structure",
+    "compile_network",
     "modal_structure",
     "multi_contact_structure",
+    "network_virgin_curve",
+    "quasi_static_network",
     "simulate_network",
     "simulate_network_moreau",
 ]
