@@ -223,9 +223,14 @@ class _Tags(HTMLParser):
         self.text.append(data)
 
 
-@pytest.mark.parametrize("name", sorted(BUILDERS))
-def test_result_shows_itself_in_a_notebook(name):
-    res = BUILDERS[name]()
+SHOWN = [(n, BUILDERS[n]) for n in sorted(BUILDERS)]
+SHOWN += [(n, FAILURES[n]) for n in sorted(FAILURES)]  # a failed run shows its status too
+SHOWN_IDS = [f"{n}-{'failed' if i >= len(BUILDERS) else 'ok'}" for i, (n, _) in enumerate(SHOWN)]
+
+
+@pytest.mark.parametrize(("name", "build"), SHOWN, ids=SHOWN_IDS)
+def test_result_shows_itself_in_a_notebook(name, build):
+    res = build()
     text = repr(res)
     assert text.startswith(f"{name}(") and len(text) <= 1000, (len(text), text[:200])
     assert str(res.status) in text
@@ -236,6 +241,7 @@ def test_result_shows_itself_in_a_notebook(name):
     shown = "".join(tags.text)
     assert str(res.status) in shown and res.message[:40] in shown
     assert "<table>" in page and "<th" in page
+    assert ("#1a7f37" in page) is res.success  # green for success only
     if getattr(res, "model", None) is not None:
         for name_ in ("coulomb", "stiffness"):
             assert name_ in shown  # the model's parameter table

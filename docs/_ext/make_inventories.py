@@ -44,7 +44,10 @@ def _write(project: str, version: str, entries: list[tuple[str, str, str]]) -> N
         f"# Project: {project}\n# Version: {version}\n"
         "# The remainder of this file is compressed using zlib.\n"
     )
-    body = "".join(f"{name} {role} 1 {uri} -\n" for name, role, uri in sorted(set(entries)))
+    # Sphinx expands a ``$`` only at the end of a uri: the others are written out here
+    lines = {(n, r, uri[:-1].replace("$", n) + "$" if uri.endswith("$") else uri.replace("$", n))
+             for n, r, uri in entries}  # fmt: skip
+    body = "".join(f"{name} {role} 1 {uri} -\n" for name, role, uri in sorted(lines))
     OUT.mkdir(exist_ok=True)
     (OUT / f"{project.lower()}.inv").write_bytes(head.encode() + zlib.compress(body.encode(), 9))
 

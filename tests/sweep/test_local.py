@@ -117,6 +117,7 @@ def test_ctrl_c_stops_a_sweep_on_two_workers_promptly(tmp_path):
             proc.kill()
     assert proc.returncode == 130 and "interrupted" in out, err[-2000:]
     assert took < 8.0, f"Ctrl-C took {took:.1f} s"
+    assert "Traceback" not in err, err[-2000:]
 
 
 def test_a_function_holding_what_cannot_be_sent_is_refused_before_any_work():

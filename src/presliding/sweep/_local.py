@@ -92,10 +92,16 @@ def _outcome(future: Future[Any]) -> tuple[bool, Any]:
 
 
 def on_executor(
-    pool: Executor, fn: Callable[..., Any], points: Points, n_chunks: int, bar: Any
+    pool: Executor,
+    fn: Callable[..., Any],
+    points: Points,
+    n_chunks: int,
+    bar: Any,
+    cancel: bool = True,
 ) -> list[tuple[bool, Any]]:
     """Each chunk's own rows go to a worker (a product grid sends only its axes); on any
-    interruption the chunks not yet started are cancelled before it propagates."""
+    interruption the chunks not yet started are cancelled (with `cancel`; a pool that is
+    shut down drops them itself) before it propagates."""
     if points.kind == "product" and points.nbytes < 1 << 20:
         futures = [pool.submit(run_chunk, fn, points, i, n_chunks) for i in range(n_chunks)]
     else:
@@ -106,7 +112,7 @@ def on_executor(
     try:
         return [_outcome(f) for f in futures]
     except BaseException:  # Ctrl-C: nothing queued starts any more
-        for f in futures:
+        for f in futures if cancel else ():
             f.cancel()
         raise
 
@@ -121,7 +127,7 @@ def on_local_pool(
 
     pool = ProcessPoolExecutor(max_workers=workers, context=get_context("loky"))
     try:
-        outcomes = on_executor(pool, fn, points, n_chunks, bar)
+        outcomes = on_executor(pool, fn, points, n_chunks, bar, cancel=False)
     except BaseException:
         pool.shutdown(wait=False, kill_workers=True)
         raise
