@@ -16,6 +16,7 @@ sweep.py, sweep_spec.py     ``presliding sweep`` and its specification files
 loop.py         ``presliding loop``: a PID loop, its exact response and limit cycles
 report.py       Markdown and HTML reports
 _precompile.py  compiles a later part's kernels in a second process on a cold cache
+precompile.py   `presliding precompile`: the demo's kernels into numba's cache, no files
 
 May import every layer below it.
 """
