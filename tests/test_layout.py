@@ -162,14 +162,20 @@ def test_no_import_cycles():
 
 
 def test_modules_stay_small_and_the_root_stays_shared_ground():
-    """Modules of about 400 lines at most; at most 12 modules at the root; one folder a layer."""
+    """Modules of about 400 lines at most; the root holds shared ground only (the numba
+    cache, progress, validation, optional packages and units, file input and output, ...),
+    each module kept below every layer by an import contract; one folder a layer."""
     lengths = {
         str(p.relative_to(PACKAGE)): len(p.read_text(encoding="utf-8").splitlines())
         for p in _modules()
     }
     assert {name: n for name, n in lengths.items() if n > 420} == {}
     root = sorted(p.name for p in PACKAGE.glob("*.py"))
-    assert len(root) <= 12, root  # the shared ground, _display and _figures included
+    # every root module is shared ground: named in the import contract that keeps it below
+    # every layer (plotting and model_io have a contract of their own)
+    config = (ROOT / "pyproject.toml").read_text(encoding="utf-8")
+    shared = {p[:-3] for p in root} - {"__init__", "__main__", "plotting", "model_io"}
+    assert {m for m in shared if f'"presliding.{m}"' not in config} == set(), root
     assert sorted(p.name for p in PACKAGE.iterdir() if (p / "__init__.py").exists()) == sorted(
         LAYERS
     )

@@ -138,3 +138,24 @@ def test_the_sdist_carries_what_its_tests_need(tmp_path):
     assert tests_here <= members
     generated = [m for m in members if "/generated/" in m or "auto_examples" in m]
     assert generated == [] and not any(m.endswith((".pyc", ".nbi", ".nbc")) for m in members)
+
+
+def test_python_control_is_core_and_the_main_job_needs_no_extra():
+    """README's first command installs no extra: the demo must run on the core dependencies
+    (.ci/run runs it for real in a fresh environment; here its imports with extras blocked)."""
+    import subprocess
+    import sys
+
+    core = _pyproject()["project"]["dependencies"]
+    assert any(d.startswith("control>=") for d in core)
+    blocked = ("pandas", "dask", "distributed", "xarray", "h5py", "lmfit", "cloudpickle")
+    code = (
+        "import sys\n"
+        f"for name in {blocked!r}:\n"
+        "    sys.modules[name] = None\n"
+        "from presliding.cli import demo, demo_hunting, demo_sections\n"
+        "import presliding.control.limit_cycles, presliding.control.iosys\n"
+    )
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         timeout=300)  # fmt: skip
+    assert run.returncode == 0, run.stderr

@@ -24,7 +24,7 @@ import time
 from types import TracebackType
 from typing import IO, Any
 
-from presliding._numba_cache import compiling
+from presliding._numba_cache import FOLDER, LOCATION, compiling  # the last two: older home
 
 # ---------------------------------------------------------------- progress
 #: The note shown while numba compiles kernels (a cold cache).
@@ -279,4 +279,6 @@ class Progress:
                 print(f"{self.desc}: {line}", file=self.stream, flush=True)
 
 
-__all__ = ["COMPILING", "Progress", "compiling", "progress", "progress_enabled"]
+__all__ = [
+    "COMPILING", "FOLDER", "LOCATION", "Progress", "compiling", "progress", "progress_enabled"
+]  # fmt: skip

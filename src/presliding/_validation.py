@@ -7,9 +7,8 @@ no NaN or inf is returned in place of an error. Beyond the plain checks: quantit
 from the arguments (F_c, Σ k_j, r_j = c_j/k_j, energies, ranges) are checked for finiteness
 naming their sources (`check_finite_derived`, `check_derived`); `check_size` compares an
 allocation with `size_limit()` before it is made; `check_time_span` bounds simulated time;
-`renamed` makes errors of an inner call name the argument the user passed; `as_si` converts
-a pint Quantity to SI after checking its dimension (a Quantity anywhere else is refused,
-never stripped of its unit).
+`renamed` makes errors of an inner call name the argument the user passed; `kind=` converts
+a pint Quantity to SI (`presliding._interop.as_si`); any other Quantity is refused.
 """
 
 from __future__ import annotations
@@ -18,10 +17,12 @@ import math
 import numbers
 import os
 from collections.abc import Iterator
-from contextlib import contextmanager
+from contextlib import contextmanager, suppress
 from typing import Any
 
 import numpy as np
+
+from presliding._interop import as_si, is_quantity
 
 __all__ = [
     "as_bounds", "as_choice", "as_count", "as_list", "as_nonnegative_scalar", "as_parameter_matrix",
@@ -42,52 +43,13 @@ def fmt(value: Any) -> str:
     return text if len(text) <= 60 else text[:57] + "..."
 
 
-#: The SI units a pint Quantity of each kind is converted to (the first that fits its
-#: dimension; the second is the rotary axis).
-SI_UNITS: dict[str, tuple[str, ...]] = {
-    "position": ("m", "rad"),
-    "velocity": ("m/s", "rad/s"),
-    "force": ("N", "N*m"),
-    "time": ("s",),
-    "mass": ("kg", "kg*m**2"),
-}
-
-
-def _is_quantity(value: Any) -> bool:
-    """A pint Quantity (found by its type's module: pint is not imported for the test)."""
-    return type(value).__module__.split(".", 1)[0] == "pint" and hasattr(value, "to")
-
-
-def as_si(name: str, value: Any, kind: str) -> Any:
-    """The magnitude in SI of a pint Quantity of `kind` (see `SI_UNITS`); others unchanged.
-
-    A Quantity of another dimension is refused naming the argument and its unit.
-    """
-    if not _is_quantity(value):
-        return value
-    units = SI_UNITS[kind]
-    for unit in units:
-        try:
-            return value.to(unit).magnitude
-        except Exception as exc:  # pint's DimensionalityError: try the next unit
-            if type(exc).__name__ != "DimensionalityError":
-                raise
-    raise ValueError(
-        f"`{name}` must be a {kind} (a Quantity in {' or '.join(units)} or any unit of the same "
-        f"dimension); got a Quantity in {value.units}."
-    )
-
-
 def _real_array(name: str, value: Any) -> np.ndarray:
     """Convert to a float64 array, rejecting booleans, strings, complex and objects."""
     rule = f"`{name}` must be a real number or array of real numbers; got"
     if value is None or isinstance(value, (str, bytes)):
         raise TypeError(f"{rule} {fmt(value)}.")
-    if _is_quantity(value):  # never strip a unit: only arguments of a known kind convert
-        raise TypeError(
-            f"`{name}` must be a plain number or array in SI units here; got a pint Quantity "
-            f"in {value.units} (convert it with `.to(...).magnitude`)."
-        )
+    if is_quantity(value):  # never strip a unit: only arguments of a known kind convert
+        as_si(name, value, None)
     try:
         arr = np.asarray(value)
     except ValueError:  # ragged nested sequences
@@ -121,10 +83,8 @@ def as_signal(
     name: str, value: Any, *, min_length: int = 1, copy: bool = True, kind: str | None = None
 ) -> np.ndarray:
     """A sampled signal: 1-D, finite, float64, with at least `min_length` samples
-    (``copy=False``: a C-contiguous float64 ndarray itself, for inputs only read; `kind`:
-    a pint Quantity of that kind is converted to SI, `as_si`)."""
-    if kind is not None:
-        value = as_si(name, value, kind)
+    (``copy=False``: a float64 C-contiguous ndarray itself, only read; `kind`: Quantity to SI)."""
+    value = as_si(name, value, kind) if kind is not None else value
     plain = type(value) is np.ndarray and value.dtype == np.float64
     arr = value if not copy and plain and value.flags.c_contiguous else _real_array(name, value)
     if arr.ndim != 1:
@@ -141,10 +101,7 @@ def as_signal(
 
 
 def _as_scalar(name: str, value: Any, finite: bool = True, kind: str | None = None) -> float:
-    if kind is not None:
-        value = as_si(name, value, kind)
-    if _is_quantity(value):
-        _real_array(name, value)  # refused, naming the unit
+    value = as_si(name, value, kind) if kind is not None or is_quantity(value) else value
     if type(value) is float or type(value) is int:  # the common case, without numpy
         try:
             x = float(value)
@@ -231,9 +188,8 @@ def check_same_length(**arrays: np.ndarray) -> None:
     lengths = {k: len(v) for k, v in arrays.items()}
     if len(set(lengths.values())) > 1:
         listing = " and ".join(str(n) for n in lengths.values())
-        raise ValueError(
-            f"{' and '.join(f'`{k}`' for k in lengths)} must have the same length; got {listing}."
-        )
+        names = " and ".join(f"`{k}`" for k in lengths)
+        raise ValueError(f"{names} must have the same length; got {listing}.")
 
 
 def as_choice(name: str, value: Any, choices: tuple[str, ...]) -> str:
@@ -249,10 +205,8 @@ def check_increasing(name: str, arr: np.ndarray, after: float | None = None) -> 
     bad = np.diff(arr) <= 0
     if bad.any():
         i = int(np.argmax(bad)) + 1
-        raise ValueError(
-            f"`{name}` must be strictly increasing; got {fmt(arr[i])} after {fmt(arr[i - 1])} "
-            f"at index {i}."
-        )
+        got = f"got {fmt(arr[i])} after {fmt(arr[i - 1])} at index {i}"
+        raise ValueError(f"`{name}` must be strictly increasing; {got}.")
     if after is not None and arr.shape[0] and not arr[0] > after:
         raise ValueError(f"`{name}` must start after the state's time {after}; got {fmt(arr[0])}.")
 
@@ -325,8 +279,7 @@ def _sources(names: str | tuple[str, ...]) -> str:
 def check_finite_derived(what: str, value: Any, names: str | tuple[str, ...]) -> None:
     """The quantity `what` (with its formula), computed from the arguments `names` the user
     passed, came out finite (an array element by element)."""
-    arr = np.asarray(value, dtype=np.float64)
-    bad = ~np.isfinite(arr)
+    bad = ~np.isfinite(arr := np.asarray(value, dtype=np.float64))
     if bad.any():
         raise ValueError(
             f"{_sources(names)} must give a finite {what}; {_first_bad(arr, bad)} (beyond the "
@@ -343,10 +296,9 @@ def size_limit() -> int:
     """Bytes `check_size` accepts: `MAX_ALLOCATION_BYTES`, else half the physical memory."""
     if MAX_ALLOCATION_BYTES is not None:
         return int(MAX_ALLOCATION_BYTES)
-    try:
+    total = 0
+    with suppress(AttributeError, OSError, ValueError):
         total = os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
-    except (AttributeError, OSError, ValueError):
-        total = 0
     return int(total) // 2 if total > 0 else 32 * 2**30 // 2
 
 
@@ -384,8 +336,7 @@ def as_parameter_matrix(name: str, value: Any) -> np.ndarray:
     """A 2-D float64 array (B, N) of finite, positive parameters, one row per batch member
     (a scalar becomes shape (1, 1) and a 1-D vector one row (1, N); N may be 0)."""
     arr = _real_array(name, value)
-    if arr.ndim < 2:
-        arr = arr.reshape(1, -1)
+    arr = arr.reshape(1, -1) if arr.ndim < 2 else arr
     if arr.ndim != 2:
         raise ValueError(f"`{name}` must have shape (B, N) or (N,); got shape {arr.shape}.")
     _check_finite(name, arr)

@@ -42,15 +42,12 @@ from __future__ import annotations
 import contextlib
 import json
 import math
-import re
 import sys
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-import numpy as np
-
-from presliding._io import write_text
+from presliding._io import loads_toml, write_text
 from presliding._validation import check_time_span, check_type
 from presliding.friction._parts import density_of, elements
 from presliding.friction.pi_friction import PIFriction
@@ -145,57 +142,13 @@ def _read_mapping(path: Path) -> dict[str, Any]:
         raise ModelFileError(f"{path}: cannot be read ({exc.strerror}).") from None
     try:
         text = raw.decode("utf-8-sig")  # a byte-order mark is not part of the text
-        data = json.loads(text) if path.suffix.lower() == ".json" else _loads_toml(text)
+        data = json.loads(text) if path.suffix.lower() == ".json" else loads_toml(text)
     except (json.JSONDecodeError, tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
         kind = "JSON" if path.suffix.lower() == ".json" else "TOML"
         raise ModelFileError(f"{path}: not valid {kind} ({exc}).") from None
     if not isinstance(data, dict):
         raise ModelFileError(f"{path}: the top level must be a table; got {type(data).__name__}.")
     return data
-
-
-#: A one-line or multi-line array of plain numbers given to a key of the element arrays.
-_NUMBER_ARRAY = re.compile(
-    r"^([ \t]*)(stiffness|breakaway|threshold|breaks|heights)([ \t]*=[ \t]*)\[([0-9eE+\-.,\s]*)\]",
-    re.MULTILINE,
-)
-#: Arrays shorter than this [characters] are left to the TOML parser.
-_FAST_ARRAY = 4096
-
-
-def _loads_toml(text: str) -> dict[str, Any]:
-    """TOML with long arrays of the element parameters parsed by numpy (tomllib parses
-    numbers one at a time in Python: minutes for 1e7 elements). Each such array is cut out,
-    parsed with numpy and put back as the list of floats tomllib would give; anything numpy
-    cannot read as plain decimal numbers is left to tomllib."""
-    arrays: dict[str, np.ndarray] = {}
-
-    def cut(match: re.Match[str]) -> str:
-        body = match.group(4)
-        if len(body) < _FAST_ARRAY:
-            return match.group(0)
-        body = body.strip()
-        body = body[:-1] if body.endswith(",") else body  # TOML allows a trailing comma
-        try:  # numpy's parser is strict: an empty item or a stray character raises
-            values = np.array(body.split(","), dtype=np.float64)
-        except ValueError:  # tomllib decides (and says what is wrong)
-            return match.group(0)
-        key = f"presliding-array-{len(arrays)}-{id(arrays)}"
-        arrays[key] = values  # a float64 array where tomllib gives a list of floats
-        return f'{match.group(1)}{match.group(2)}{match.group(3)}"{key}"'
-
-    data = tomllib.loads(_NUMBER_ARRAY.sub(cut, text))
-    if arrays:
-        _put_back(data, arrays)
-    return data
-
-
-def _put_back(table: dict[str, Any], arrays: dict[str, np.ndarray]) -> None:
-    for key, value in table.items():
-        if isinstance(value, dict):
-            _put_back(value, arrays)
-        elif isinstance(value, str) and value in arrays:
-            table[key] = arrays[value]
 
 
 def _table(path: Path, data: dict[str, Any], name: str, allowed: set[str]) -> dict[str, Any]:

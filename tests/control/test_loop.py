@@ -252,3 +252,24 @@ def test_a_short_sampled_reference_and_a_huge_run_are_refused():
         simulate_loop_batch(model, 1.0, pid, np.zeros(50), kp=[1.0, 2.0], t_end=0.1)
     with pytest.raises(ValueError, match=r"^`t_end` must ask for at most"):
         simulate_loop(model, 1.0, pid, t_end=1e6)  # 1e10 periods
+
+
+def test_every_number_in_the_reports_has_its_unit():
+    """Loop, batch, motion and turning-point reports: energies in J, errors in m, gains."""
+    import re
+
+    from presliding import turning_points
+
+    model = PIFriction(0.0, [2e4, 5e3, 1.5e3, 500.0], [0.2] * 4)
+    pid = PID(400.0, 4e4, 0.0, dt=1e-4, limit=5.0)
+    text = simulate_loop(model, 1.0, pid, 0.0, t_end=0.3, initial_velocity=1e-3).report()
+    assert re.search(r"energy: initial \S+ J, dissipated \S+ J, work of u \S+ J", text)
+    assert re.search(r"\|u\| max \S+ N", text) and re.search(r"error: rms \S+ m, max", text)
+    assert re.search(r"amplitude \S+ m, frequency \S+ rad/s", text)
+    batch = simulate_loop_batch(model, 1.0, pid, kp=[300.0, 400.0], t_end=0.1).report()
+    assert re.search(r"rms error \S+ \.\. \S+ m, half range of y \S+ \.\. \S+ m", batch)
+    assert re.search(r"kp = \S+ N/m, ki = \S+ N/\(m s\), kd = \S+ N s/m", batch)
+    tp = turning_points(MODEL, 1.0, 0.8, "saturated").report()
+    assert "m with v0 = 0.8 m/s (mass 1 kg)" in tp and "rest position: " in tp
+    assert re.search(r"turning point 1: y = \S+ m, F_el = \S+ N", tp)
+    assert re.search(r"\|F_el\| = \S+ N <= c1 = 0.2 N", tp)

@@ -246,15 +246,15 @@ class TurningPoints(ResultMixin):
     def report(self) -> str:
         """A readable summary."""
         lines = [
-            f"free motion from y0 = {self.initial_position:.6g} with v0 = "
-            f"{self.initial_velocity:.6g} (mass {self.mass:.6g}): {self.status}",
+            f"free motion from y0 = {self.initial_position:.6g} m with v0 = "
+            f"{self.initial_velocity:.6g} m/s (mass {self.mass:.6g} kg): {self.status}",
             self.message,
             f"reversals: {self.n_reversals}",
         ]
         for i, (y, f) in enumerate(zip(self.positions, self.elastic_forces, strict=True)):
-            lines.append(f"  turning point {i + 1}: y = {y:.10g}, F_el = {f:.6g}")
+            lines.append(f"  turning point {i + 1}: y = {y:.10g} m, F_el = {f:.6g} N")
         if self.rest_position is not None:
-            lines.append(f"rest position: {self.rest_position:.10g}")
+            lines.append(f"rest position: {self.rest_position:.10g} m")
         return "\n".join(lines)
 
 
@@ -327,7 +327,7 @@ def turning_points(
     if s == 0.0:
         f = walk.force()
         if sticks(model, f):
-            message = f"at rest with |F_el| = {abs(f):.6g} <= c1 = {model.coulomb:.6g}: sticks."
+            message = f"at rest with |F_el| = {abs(f):.6g} N <= c1 = {model.coulomb:.6g} N: sticks."
             return _result(walk, [y0], [f], 0, "stopped", message, y0, v0, m, model, state)
         s = -float(np.sign(f))
     while True:
@@ -337,8 +337,8 @@ def turning_points(
         forces.append(f)
         if sticks(model, f):
             message = (
-                f"stopped after {len(positions) - 1} reversal(s) with |F_el| = {abs(f):.6g} "
-                f"<= c1 = {model.coulomb:.6g}."
+                f"stopped after {len(positions) - 1} reversal(s) with |F_el| = {abs(f):.6g} N "
+                f"<= c1 = {model.coulomb:.6g} N."
             )
             break
         if model.coulomb == 0.0 and not slid and kinetic == 0.0:

@@ -17,6 +17,7 @@ loop.py         ``presliding loop``: a PID loop, its exact response and limit cy
 network.py      ``presliding network``: a structure with friction contacts, report, figures
 report.py       Markdown and HTML reports
 _precompile.py  compiles a later part's kernels in a second process on a cold cache
+precompile.py   `presliding precompile`: the demo's kernels into numba's cache, no files
 
 May import every layer below it.
 """

@@ -327,7 +327,7 @@ def _cmd_demo(args: argparse.Namespace) -> int:
 
 
 def _cmd_precompile(args: argparse.Namespace) -> int:
-    from presliding.cli._precompile import run
+    from presliding.cli.precompile import run
 
     return run(args)
 
@@ -392,7 +392,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     except ImportError as exc:  # an optional package that is not installed: one line
         if args.debug:
             raise
-        from presliding._extras import missing_extra
+        from presliding._interop import missing_extra
 
         print(f"presliding {args.command}: error: {missing_extra(exc)}", file=sys.stderr)
         return 2

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from presliding._extras import require
+from presliding._interop import require
 
 
 def python_control() -> Any:

@@ -217,15 +217,15 @@ class LoopResult(MotionResult):
             super().report(),
             f"  controller {self.controller!r}",
             f"  {self.control_time.shape[0]} samples of dt = {self.controller.dt:g} s; "
-            f"|u| max {np.max(np.abs(self.control)):.6g}",
-            f"  error: rms {np.sqrt(np.mean(e * e)):.6g}, max |e| {np.max(np.abs(e)):.6g}, "
-            f"final {e[-1]:.6g}",
+            f"|u| max {np.max(np.abs(self.control)):.6g} N",
+            f"  error: rms {np.sqrt(np.mean(e * e)):.6g} m, max |e| {np.max(np.abs(e)):.6g} m, "
+            f"final {e[-1]:.6g} m",
         ]
         cyc = self.limit_cycle()
         if cyc.cycles:
             kind = "steady" if cyc.steady else f"swing changing by {cyc.trend:+.1%}"
             lines.append(
-                f"  oscillation (second half): amplitude {cyc.amplitude:.6g}, frequency "
+                f"  oscillation (second half): amplitude {cyc.amplitude:.6g} m, frequency "
                 f"{cyc.frequency:.6g} rad/s ({cyc.cycles} cycles, {kind})"
             )
         return "\n".join(lines)
@@ -349,10 +349,10 @@ class LoopBatch:
         return "\n".join([
             f"{n} closed loops, {self.time.shape[0]} samples each; {self.message}",
             f"  after t = {self.settle_time:g} s: rms error {np.nanmin(self.error_rms):.6g} .. "
-            f"{np.nanmax(self.error_rms):.6g}, half range of y {np.nanmin(self.half_range):.6g}"
-            f" .. {np.nanmax(self.half_range):.6g}",
-            f"  smallest rms error: kp = {self.kp[best]:g}, ki = {self.ki[best]:g}, "
-            f"kd = {self.kd[best]:g}",
+            f"{np.nanmax(self.error_rms):.6g} m, half range of y "
+            f"{np.nanmin(self.half_range):.6g} .. {np.nanmax(self.half_range):.6g} m",
+            f"  smallest rms error: kp = {self.kp[best]:g} N/m, ki = {self.ki[best]:g} N/(m s), "
+            f"kd = {self.kd[best]:g} N s/m",
         ])  # fmt: skip
 
     def to_dict(self) -> dict[str, Any]:

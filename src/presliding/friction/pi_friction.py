@@ -322,9 +322,7 @@ class PIFriction:
         force : ndarray, shape (T,)
         final_state : PIState
         """
-        y = as_signal(
-            "displacement", displacement, copy=False, kind="position"
-        )  # only read; a pint Quantity in SI
+        y = as_signal("displacement", displacement, copy=False, kind="position")  # read only
         return self._run(y, state)[:2]
 
     def force(
@@ -364,9 +362,7 @@ class PIFriction:
             Passing it to the next call on the continuation of the path gives
             bit-identical results to a single call.
         """
-        y = as_signal(
-            "displacement", displacement, copy=False, kind="position"
-        )  # only read; a pint Quantity in SI
+        y = as_signal("displacement", displacement, copy=False, kind="position")  # read only
         out = as_output("out", out, y.shape)
         if self.is_discrete:
             # one fused pass: the Coulomb term c1·sign(ẏ) is added in the time loop

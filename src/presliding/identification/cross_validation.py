@@ -94,8 +94,8 @@ class CrossValidation:
 
     def table(self) -> list[list[str]]:
         """Rows: record, fit status, NRMSE, reversals measured/predicted, rest positions."""
-        rows = [["record", "fit status", "NRMSE %", "reversals (meas./pred.)",
-                 "rest position (meas./pred.)"]]  # fmt: skip
+        rows = [["record", "fit status", "NRMSE [%]", "reversals (meas./pred.)",
+                 "rest position [m] (meas./pred.)"]]  # fmt: skip
         for label, fit, p in zip(self.labels, self.fits, self.predictions, strict=True):
             rev = (
                 "—" if p.measured_reversals is None

@@ -219,10 +219,10 @@ class MotionResult(ResultMixin):
         if self.n_reversals > 10:
             lines.append(f"    ... {self.n_reversals - 10} more")
         e = self.energy
-        viscous = f" (+ viscous {e.viscous[-1]:.6g})" if np.any(e.viscous) else ""
+        viscous = f" (+ viscous {e.viscous[-1]:.6g} J)" if np.any(e.viscous) else ""
         lines.append(
-            f"  energy: initial {e.initial:.6g}, dissipated {e.dissipated[-1]:.6g}{viscous}, "
-            f"work of u {e.work[-1]:.6g}, balance residual {e.max_relative_residual:.2e} "
+            f"  energy: initial {e.initial:.6g} J, dissipated {e.dissipated[-1]:.6g} J{viscous}, "
+            f"work of u {e.work[-1]:.6g} J, balance residual {e.max_relative_residual:.2e} "
             "(relative)"
         )
         return "\n".join(lines)
@@ -309,7 +309,7 @@ class MotionBatch(ResultMixin):
             f"  at rest at the end: {int(self.stopped.sum())} of {n}",
         ]
         if st.size:
-            lines.append(f"  stop times: {np.min(st):.6g} .. {np.max(st):.6g}")
+            lines.append(f"  stop times: {np.min(st):.6g} .. {np.max(st):.6g} s")
         lines.append(
             f"  reversals: {int(np.min(self.n_reversals))} .. {int(np.max(self.n_reversals))}"
         )
