@@ -63,7 +63,8 @@ LAYERS = {
     "friction": "PIFriction (eqs. 8-10) and the Coulomb, Dahl and LuGre baselines",
     "motion": "simulate a mass with friction (eqs. 12, 17), batches, free responses",
     "analysis": "when a free mass stops: eqs. 14-16, turning points, energy",
-    "identification": "measurements and fits (section 4)",
+    "measurement": "measured signals: readers, units, joins, windows, filters, derivatives",
+    "identification": "fits to measurements (section 4)",
     "control": "python-control systems",
     "sweep": "parameter sweeps on local processes or Dask",
 }

@@ -113,7 +113,6 @@ _MOVED = {
     "baselines": "presliding.friction.baselines",
     "comparison": "presliding.friction.comparison",
     "energy": "presliding.analysis.energy",
-    "measurement": "presliding.identification.measurement",
     "fitting": "presliding.identification.fit_result",
     "fit_presliding": "presliding.identification.fit_presliding",
     "fit_motion": "presliding.identification.fit_motion",

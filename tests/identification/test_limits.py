@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from presliding import PIFriction, fit_presliding
-from presliding.identification._filters import MAX_ORDER, estimate_derivatives, lowpass
+from presliding.measurement._filters import MAX_ORDER, estimate_derivatives, lowpass
 from tests.test_validation import assert_rejects
 
 T = np.linspace(0.0, 1.0, 1001)

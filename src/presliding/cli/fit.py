@@ -155,9 +155,9 @@ def _locate(signal: str, columns: dict[str, str], names: Sequence[str] | None) -
 
 def read_measurement(args: argparse.Namespace) -> Any:
     """The Measurement of the columns `args.kind` needs, in SI, windowed; clear errors."""
-    from presliding.identification._mat import read_mat
-    from presliding.identification._readers import read_text
-    from presliding.identification.measurement import Measurement
+    from presliding.measurement._mat import read_mat
+    from presliding.measurement._readers import read_text
+    from presliding.measurement.measurement import Measurement
 
     check_readable(args.data, "data file")
     columns = check_options(args.columns, "--columns", SIGNALS)

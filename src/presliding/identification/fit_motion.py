@@ -38,7 +38,7 @@ from presliding.identification.fit_presliding import (
     pi_model,
 )
 from presliding.identification.fit_result import FitResult, Tie
-from presliding.identification.measurement import Measurement
+from presliding.measurement.measurement import Measurement
 
 __all__ = ["fit_motion", "predict_motion_force"]
 

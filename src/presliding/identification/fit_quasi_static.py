@@ -56,7 +56,7 @@ from presliding.identification._response_setup import (
 )
 from presliding.identification.fit_presliding import check_enough, element_count
 from presliding.identification.fit_result import FitResult, Tie, solve_least_squares
-from presliding.identification.measurement import Measurement
+from presliding.measurement.measurement import Measurement
 
 __all__ = ["fit_quasi_static"]
 

@@ -36,7 +36,7 @@ from presliding.identification._least_squares import STATUSES as STATUSES
 from presliding.identification._least_squares import Solution, solve_least_squares
 from presliding.identification._least_squares import Tie as Tie
 from presliding.identification._status import judge
-from presliding.identification._units import parameter_units
+from presliding.measurement._units import parameter_units
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes

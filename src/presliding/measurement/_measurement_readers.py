@@ -12,8 +12,8 @@ import os
 from collections.abc import Mapping, Sequence
 from typing import Any
 
-from presliding.identification._source import build, check_signal_names, with_time
-from presliding.identification._units import parse_header
+from presliding.measurement._source import build, check_signal_names, with_time
+from presliding.measurement._units import parse_header
 
 __all__ = ["MeasurementReaders"]
 
@@ -76,7 +76,7 @@ class MeasurementReaders:
         A headerless two-column file sampled at 1 kHz: ``from_csv(path, sample_rate=1e3,
         position=0, applied_force=1)``.
         """
-        from presliding.identification._readers import read_text
+        from presliding.measurement._readers import read_text
 
         check_signal_names(columns)
         table = read_text(path, delimiter=delimiter, header=header)
@@ -124,7 +124,7 @@ class MeasurementReaders:
             Measurement.from_mat(path, position="qm", applied_force="vir",
                                  scale={"applied_force": "gtau"})
         """
-        from presliding.identification._mat import read_mat
+        from presliding.measurement._mat import read_mat
 
         check_signal_names(variables)
         mat = read_mat(path)
@@ -161,7 +161,7 @@ class MeasurementReaders:
         --------
         ``Measurement.from_dataframe(df, "t [ms]", position="x [um]", friction_force="F [mN]")``
         """
-        from presliding.identification._frames import dataframe_columns
+        from presliding.measurement._frames import dataframe_columns
 
         check_signal_names(columns)
         if time is None and sample_rate is None:
@@ -186,6 +186,6 @@ class MeasurementReaders:
         interpolate : bool
             Interpolate records on other clocks onto the first record's times.
         """
-        from presliding.identification._join import join_records
+        from presliding.measurement._join import join_records
 
         return join_records(records, interpolate, cls)

@@ -8,7 +8,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from presliding.identification._units import parse_header
+from presliding.measurement._units import parse_header
 
 __all__ = ["dataframe_columns"]
 

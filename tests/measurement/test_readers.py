@@ -8,7 +8,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy import io
 
-from presliding.identification.measurement import Measurement
+from presliding.measurement.measurement import Measurement
 
 
 def _write(tmp_path, text, name="data.csv", encoding="utf-8"):

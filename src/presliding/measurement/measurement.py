@@ -34,9 +34,9 @@ from presliding._validation import (
     check_size,
     fmt,
 )
-from presliding.identification._filters import estimate_derivatives, lowpass
-from presliding.identification._measurement_readers import MeasurementReaders
-from presliding.identification._source import Source
+from presliding.measurement._filters import estimate_derivatives, lowpass
+from presliding.measurement._measurement_readers import MeasurementReaders
+from presliding.measurement._source import Source
 
 __all__ = ["Measurement", "estimate_derivatives", "lowpass"]
 

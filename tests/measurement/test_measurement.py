@@ -8,7 +8,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy import io, signal
 
-from presliding.identification.measurement import Measurement, estimate_derivatives, lowpass
+from presliding.measurement.measurement import Measurement, estimate_derivatives, lowpass
 
 
 def test_stores_read_only_signals_and_properties():

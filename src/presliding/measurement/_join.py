@@ -25,7 +25,7 @@ from typing import Any
 import numpy as np
 
 from presliding._validation import fmt
-from presliding.identification._source import Source
+from presliding.measurement._source import Source
 
 __all__ = ["join_records"]
 

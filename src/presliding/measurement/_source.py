@@ -17,7 +17,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from presliding._validation import as_real_scalar, fmt
-from presliding.identification._units import SI_UNITS, UnitConversion, si_factor
+from presliding.measurement._units import SI_UNITS, UnitConversion, si_factor
 
 __all__ = [
     "Source",

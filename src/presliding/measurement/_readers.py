@@ -25,7 +25,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from presliding._validation import fmt
-from presliding.identification._units import parse_header
+from presliding.measurement._units import parse_header
 
 __all__ = ["TextTable", "check_path", "read_bytes", "read_text"]
 

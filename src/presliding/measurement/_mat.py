@@ -13,7 +13,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from presliding._validation import fmt
-from presliding.identification._readers import check_path, read_bytes
+from presliding.measurement._readers import check_path, read_bytes
 
 __all__ = ["MatFile", "read_mat"]
 
