@@ -162,14 +162,14 @@ def test_no_import_cycles():
 
 
 def test_modules_stay_small_and_the_root_stays_shared_ground():
-    """Modules of about 400 lines at most; at most 10 modules at the root; one folder a layer."""
+    """Modules of about 400 lines at most; at most 11 modules at the root; one folder a layer."""
     lengths = {
         str(p.relative_to(PACKAGE)): len(p.read_text(encoding="utf-8").splitlines())
         for p in _modules()
     }
     assert {name: n for name, n in lengths.items() if n > 420} == {}
     root = sorted(p.name for p in PACKAGE.glob("*.py"))
-    assert len(root) <= 10, root
+    assert len(root) <= 11, root
     assert sorted(p.name for p in PACKAGE.iterdir() if (p / "__init__.py").exists()) == sorted(
         LAYERS
     )

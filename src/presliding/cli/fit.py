@@ -239,7 +239,7 @@ def fit(args: argparse.Namespace, meas: Any, bar: Any = False) -> tuple[Any, Any
         return fit_presliding(
             meas.position, meas.friction_force, n, offset=args.offset, search=args.search,
             seed=args.seed, progress=bar,
-        ), meas  # fmt: skip
+        ).on_axis(meas.axis), meas  # fmt: skip
     fixed = None if args.mass is None else {"mass": args.mass}
     if args.kind == "motion":
         from presliding.identification.fit_motion import fit_motion
@@ -361,6 +361,7 @@ def run(args: argparse.Namespace) -> int:
             save_model(
                 paths["model"], result.model, _motion_settings(args, meas, result),
                 measurement=terms, header=_header(args, meas, result), overwrite=True,
+                axis=meas.axis,
             )  # fmt: skip
             written.insert(0, paths["model"])
         else:  # an earlier run's model.toml would be taken for this fit's

@@ -77,6 +77,7 @@ def fit_records(args: argparse.Namespace, records: list[Any], bar: Any = False) 
     )
     from presliding.identification._pi_regression import reversal_indices
     from presliding.identification.prediction import reversal_tolerance
+    from presliding.measurement.measurement import common_axis
 
     options = {**_options(args, records), "progress": bar}
     if args.kind == "virgin":
@@ -87,7 +88,7 @@ def fit_records(args: argparse.Namespace, records: list[Any], bar: Any = False) 
                     for y in ys)  # fmt: skip
         n = options.pop("n_elements")
         fit = fit_virgin_curve(ys, fs, n, loops=loops, reversal_tolerance=None, **options)
-        return fit, None
+        return fit.on_axis(common_axis(records)), None
     fitter: Callable[..., Any] = fit_response if args.kind == "response" else fit_quasi_static
     pooled: Any = records if len(records) > 1 else records[0]
     if len(records) < 2 or args.no_cross_validation:
@@ -131,7 +132,8 @@ def run_pooled(args: argparse.Namespace) -> int:
             kind = "response" if args.kind == "response" else "other"
             motion = _motion_settings(argparse.Namespace(kind=kind), records[0], result)
             save_model(paths["model"], result.model, motion, measurement=terms,
-                       header=_header(first, records[0], result), overwrite=True)  # fmt: skip
+                       header=_header(first, records[0], result), overwrite=True,
+                       axis=result.axis)  # fmt: skip
             written.insert(0, paths["model"])
         else:  # an earlier run's model.toml would be taken for this fit's
             paths["model"].unlink(missing_ok=True)

@@ -160,7 +160,7 @@ def fit_motion(
     if model is not None and viscous:  # σ is part of the friction model (simulate honours it)
         model = PIFriction(model.coulomb, model.stiffness, model.breakaway,
                            viscous=max(sol.values["viscous"], 0.0))  # fmt: skip
-    rotary = m.source is not None and m.source.rotary
+    rotary = m.axis == "rotary"
     return FitResult.from_solution(
         _with_note(sol, note), model, m.time[used], u[used], fit.fitted[used],
         kind="motion equation (eq. 17)", abscissa_label="time [s]",

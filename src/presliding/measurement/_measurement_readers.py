@@ -32,6 +32,7 @@ class MeasurementReaders:
         header: bool | None = None,
         units: Mapping[str, str | None] | None = None,
         scale: Mapping[str, float] | None = None,
+        axis: str | None = None,
         **columns: str | int,
     ) -> Any:
         """Read a delimited text file (comma, tab, semicolon or whitespace separated).
@@ -55,6 +56,9 @@ class MeasurementReaders:
             None or "" takes the values as SI.
         scale : mapping, optional
             Factor per signal name applied after the unit conversion.
+        axis : {'linear', 'rotary'}, optional
+            The kind of axis (default: from the units read, else linear); see
+            `Measurement`.
         **columns : str or int
             Columns of the signals, by signal name, e.g. ``position="Position [mm]"``
             or ``position=1``.
@@ -87,7 +91,7 @@ class MeasurementReaders:
         for sig, j in index.items():
             label = table.label(j)
             raw[sig] = (label, values[j], parse_header(label)[1] if table.names else None)
-        return build(cls, raw, table.path, "csv", scale, units, sample_rate)
+        return build(cls, raw, table.path, "csv", scale, units, sample_rate, axis=axis)
 
     @classmethod
     def from_mat(
@@ -98,6 +102,7 @@ class MeasurementReaders:
         sample_rate: float | None = None,
         units: Mapping[str, str | None] | None = None,
         scale: Mapping[str, float | str] | None = None,
+        axis: str | None = None,
         **variables: str,
     ) -> Any:
         """Read a MATLAB file (versions 4 to 7.2, through scipy.io.loadmat).
@@ -114,6 +119,8 @@ class MeasurementReaders:
         scale : mapping, optional
             Factor per signal name; a string names a scalar variable of the file
             (e.g. ``{"applied_force": "gtau"}`` for force = gtau · voltage).
+        axis : {'linear', 'rotary'}, optional
+            The kind of axis (variables carry no units: give it for a joint).
         **variables : str
             Variables of the signals, by signal name, e.g. ``position="qm"``.
 
@@ -130,7 +137,7 @@ class MeasurementReaders:
         mat = read_mat(path)
         wanted = with_time(variables, time if sample_rate is None else None, sample_rate)
         raw = {sig: (var, mat.vector(var, sig), None) for sig, var in wanted.items()}
-        return build(cls, raw, mat.path, "mat", scale, units, sample_rate, mat.scalar)
+        return build(cls, raw, mat.path, "mat", scale, units, sample_rate, mat.scalar, axis)
 
     @classmethod
     def from_dataframe(
@@ -141,6 +148,7 @@ class MeasurementReaders:
         sample_rate: float | None = None,
         units: Mapping[str, str | None] | None = None,
         scale: Mapping[str, float] | None = None,
+        axis: str | None = None,
         **columns: str | int,
     ) -> Any:
         """Read columns of a pandas DataFrame (pandas is needed only for this).
@@ -152,7 +160,7 @@ class MeasurementReaders:
             Column of the time, or ``"index"`` for the DataFrame's index (numeric
             [s, or the unit in its name], TimedeltaIndex or DatetimeIndex: seconds
             since the first entry). Default: the index, unless `sample_rate` is given.
-        sample_rate, units, scale : as in `from_csv`
+        sample_rate, units, scale, axis : as in `from_csv`
             A unit at the end of a column name (``"x [mm]"``) is converted to SI.
         **columns : str or int
             Columns of the signals by signal name (a name, or a position).
@@ -167,7 +175,7 @@ class MeasurementReaders:
         if time is None and sample_rate is None:
             time = "index"
         raw = dataframe_columns(df, with_time(columns, time, sample_rate))
-        return build(cls, raw, None, "dataframe", scale, units, sample_rate)
+        return build(cls, raw, None, "dataframe", scale, units, sample_rate, axis=axis)
 
     @classmethod
     def join(cls, records: Sequence[Any], *, interpolate: bool = False) -> Any:

@@ -16,6 +16,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from presliding._axes import AXES
 from presliding._validation import as_real_scalar, fmt
 from presliding.measurement._units import SI_UNITS, UnitConversion, si_factor
 
@@ -71,6 +72,25 @@ class Source:
         for part in self.parts:
             out.update({k: v for k, v in part.units.items() if k not in out})
         return out
+
+    @property
+    def axis_read(self) -> str | None:
+        """The axis the units read show: ``"rotary"`` (an angle or a torque),
+        ``"linear"`` (a length or a force), None when no unit says."""
+        given = [c for c in self.all_conversions() if c.signal != "time" and c.unit is not None]
+        if not given:
+            return None
+        return "rotary" if any(c.rotary for c in given) else "linear"
+
+    def on_axis(self, axis: str) -> Source:
+        """The same source with the signals read without a unit labelled in `axis`'s SI units."""
+        kind = AXES.index(axis)
+        conversions = tuple(
+            replace(c, si_unit=SI_UNITS[c.signal][kind]) if c.unit is None else c
+            for c in self.conversions
+        )
+        parts = tuple(p.on_axis(axis) for p in self.parts)
+        return replace(self, conversions=conversions, parts=parts)
 
     @property
     def rotary(self) -> bool:
@@ -194,7 +214,7 @@ def time_from_rate(sample_rate: Any, n: int) -> FloatArray:
     return np.arange(n, dtype=np.float64) / rate
 
 
-def build(cls: type, raw, path, kind, scale, units, sample_rate, lookup=None) -> Any:
+def build(cls: type, raw, path, kind, scale, units, sample_rate, lookup=None, axis=None) -> Any:
     """A `Measurement` (`cls`) of the columns `raw` read from `path`, converted by `assemble`.
 
     Errors of the constructor (time not increasing, ...) are prefixed with the file.
@@ -207,7 +227,7 @@ def build(cls: type, raw, path, kind, scale, units, sample_rate, lookup=None) ->
     if sample_rate is not None:
         source = replace(source, conversions=source.conversions[1:])
     try:
-        return cls(**signals, source=source)
+        return cls(**signals, source=source, axis=axis)
     except ValueError as exc:
         raise ValueError(f"{path or 'df'}: {exc}") from None
 

@@ -25,6 +25,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from presliding._axes import as_axis, axis_unit
 from presliding._validation import (
     as_choice,
     as_positive_scalar,
@@ -38,7 +39,7 @@ from presliding.measurement._filters import estimate_derivatives, lowpass
 from presliding.measurement._measurement_readers import MeasurementReaders
 from presliding.measurement._source import Source
 
-__all__ = ["Measurement", "estimate_derivatives", "lowpass"]
+__all__ = ["Measurement", "common_axis", "estimate_derivatives", "lowpass"]
 
 FloatArray = NDArray[np.float64]
 
@@ -51,7 +52,7 @@ _UNIFORM_TOL = 1e-3
 
 @dataclass(frozen=True, eq=False)
 class Measurement(MeasurementReaders):
-    """Signals sampled on one time base (units: s, m, m/s, m/s², N).
+    """Signals sampled on one time base (units: s, m, m/s, m/s², N; rad and N m on a rotary axis).
 
     Parameters
     ----------
@@ -71,6 +72,12 @@ class Measurement(MeasurementReaders):
     source : Source, optional
         Where the signals came from (set by the readers; kept by `window`,
         `resample` and `differentiate`).
+    axis : {'linear', 'rotary'}, optional
+        The kind of axis: linear (m, N, kg) or rotary (rad, N m, kg m²; the
+        position an angle, the forces torques). Default: from the units read
+        (``deg`` or ``rad`` positions, ``N m`` torques make it rotary), else
+        linear. Given explicitly, it must agree with the units read. Fits,
+        reports, figures and model files label their quantities in its units.
 
     All given signals must be finite and have the same length as `time`; at
     least one signal must be given. Arrays are stored read-only.
@@ -83,6 +90,7 @@ class Measurement(MeasurementReaders):
     applied_force: FloatArray | None = None
     friction_force: FloatArray | None = None
     source: Source | None = None
+    axis: str | None = None
 
     def __post_init__(self) -> None:
         t = as_signal("time", self.time, min_length=2)
@@ -113,6 +121,29 @@ class Measurement(MeasurementReaders):
                 + ", ".join(f"`{s}`" for s in SIGNALS)
                 + "."
             )
+        self._settle_axis()
+
+    def _settle_axis(self) -> None:
+        read = None if self.source is None else self.source.axis_read
+        axis = (read or "linear") if self.axis is None else as_axis(self.axis)
+        if read is not None and axis != read:
+            assert self.source is not None
+            units = ", ".join(f"{c.signal} in {c.unit}" for c in self.source.all_conversions()
+                              if c.unit is not None and c.signal != "time")  # fmt: skip
+            raise ValueError(
+                f"`axis` {axis!r} contradicts the units read ({units}: a {read} axis); "
+                "leave `axis` out or correct the units."
+            )
+        object.__setattr__(self, "axis", axis)
+        if self.source is not None and axis == "rotary":
+            object.__setattr__(self, "source", self.source.on_axis(axis))
+
+    def unit(self, quantity: str) -> str:
+        """The SI unit of `quantity` (``"position"``, ``"force"``, ``"mass"``, ...) on this axis.
+
+        ``Measurement(..., axis="rotary").unit("stiffness")`` is ``"N m/rad"``.
+        """
+        return axis_unit(quantity, self.axis or "linear")
 
     # ------------------------------------------------------------------ properties
     @property
@@ -297,5 +328,18 @@ class Measurement(MeasurementReaders):
 
     def _map(self, fn: Any, time: FloatArray) -> Measurement:
         return Measurement(
-            time, **{n: fn(a) for n, a in self.signals().items()}, source=self.source
+            time, **{n: fn(a) for n, a in self.signals().items()}, source=self.source,
+            axis=self.axis,
+        )  # fmt: skip
+
+
+def common_axis(records: Any) -> str:
+    """The axis shared by a `Measurement` or a sequence of them (an error if they differ)."""
+    items = [records] if isinstance(records, Measurement) else list(records)
+    axes = {getattr(r, "axis", None) or "linear" for r in items}
+    if len(axes) > 1:
+        raise ValueError(
+            "`records` must all be on one kind of axis; got linear and rotary records "
+            "(check the units read, or give `axis` when reading)."
         )
+    return axes.pop() if axes else "linear"
