@@ -12,8 +12,14 @@ import os
 from collections.abc import Mapping, Sequence
 from typing import Any
 
-from presliding.measurement._source import build, check_signal_names, with_time
-from presliding.measurement._units import parse_header
+from presliding.measurement._source import (
+    build,
+    check_distinct_columns,
+    check_signal_names,
+    check_time_lines,
+    with_time,
+)
+from presliding.measurement._units import header_unit
 
 __all__ = ["MeasurementReaders"]
 
@@ -30,6 +36,7 @@ class MeasurementReaders:
         sample_rate: float | None = None,
         delimiter: str | None = None,
         header: bool | None = None,
+        decimal: str = ".",
         units: Mapping[str, str | None] | None = None,
         scale: Mapping[str, float] | None = None,
         axis: str | None = None,
@@ -51,6 +58,8 @@ class MeasurementReaders:
             Whether the first line names the columns; default: detected (a header
             when any of its cells is not a number). Without a header, columns are
             chosen by 0-based index.
+        decimal : {".", ","}
+            The decimal mark (``","`` for European exports such as ``0,5;1,25``).
         units : mapping, optional
             Unit per signal name (``{"position": "mm"}``), overriding the header's;
             None or "" takes the values as SI.
@@ -83,14 +92,18 @@ class MeasurementReaders:
         from presliding.measurement._readers import read_text
 
         check_signal_names(columns)
-        table = read_text(path, delimiter=delimiter, header=header)
+        table = read_text(path, delimiter=delimiter, header=header, decimal=decimal)
         wanted = with_time(columns, time, sample_rate)
         index = {sig: table.index(sig, col) for sig, col in wanted.items()}
+        check_distinct_columns(index, table.label)
         values = table.values(sorted(set(index.values())))
+        where = f"{table.path}: "
         raw = {}
         for sig, j in index.items():
             label = table.label(j)
-            raw[sig] = (label, values[j], parse_header(label)[1] if table.names else None)
+            raw[sig] = (label, values[j], header_unit(label, where) if table.names else None)
+        if "time" in index:
+            check_time_lines(table, values[index["time"]], table.label(index["time"]))
         return build(cls, raw, table.path, "csv", scale, units, sample_rate, axis=axis)
 
     @classmethod
@@ -105,7 +118,7 @@ class MeasurementReaders:
         axis: str | None = None,
         **variables: str,
     ) -> Any:
-        """Read a MATLAB file (versions 4 to 7.2, through scipy.io.loadmat).
+        """Read a MATLAB file (versions 4 to 7.2 through scipy.io.loadmat; 7.3 through h5py).
 
         Parameters
         ----------
@@ -136,6 +149,7 @@ class MeasurementReaders:
         check_signal_names(variables)
         mat = read_mat(path)
         wanted = with_time(variables, time if sample_rate is None else None, sample_rate)
+        check_distinct_columns(wanted)
         raw = {sig: (var, mat.vector(var, sig), None) for sig, var in wanted.items()}
         return build(cls, raw, mat.path, "mat", scale, units, sample_rate, mat.scalar, axis)
 
@@ -174,7 +188,9 @@ class MeasurementReaders:
         check_signal_names(columns)
         if time is None and sample_rate is None:
             time = "index"
-        raw = dataframe_columns(df, with_time(columns, time, sample_rate))
+        wanted = with_time(columns, time, sample_rate)
+        raw = dataframe_columns(df, wanted)
+        check_distinct_columns({k: v for k, v in wanted.items() if v != "index"})
         return build(cls, raw, None, "dataframe", scale, units, sample_rate, axis=axis)
 
     @classmethod

@@ -24,7 +24,9 @@ __all__ = [
     "Source",
     "assemble",
     "build",
+    "check_distinct_columns",
     "check_signal_names",
+    "check_time_lines",
     "time_from_rate",
     "with_time",
 ]
@@ -252,3 +254,28 @@ def check_signal_names(names: Mapping[str, Any]) -> None:
     for name in names:
         if name not in SIGNALS[1:]:
             raise ValueError(f"signal names must be among {', '.join(SIGNALS[1:])}; got {name!r}.")
+
+
+def check_distinct_columns(index: Mapping[str, Any], label: Any = str) -> None:
+    """One column for one signal: the same column given to two signals is an error."""
+    seen: dict[Any, str] = {}
+    for sig, col in index.items():
+        if col in seen:
+            raise ValueError(
+                f"column {label(col)!r} is given to both `{seen[col]}` and `{sig}`; each signal "
+                "needs its own column."
+            )
+        seen[col] = sig
+
+
+def check_time_lines(table: Any, t: FloatArray, label: str) -> None:
+    """Time that does not increase, named by the file's line (not the array index)."""
+    bad = ~(np.diff(t) > 0)
+    if bad.any():
+        i = int(np.argmax(bad)) + 1
+        lines = table.row_lines()
+        raise ValueError(
+            f"{table.path}: line {lines[i]}, column {label!r}: time {fmt(t[i])} does not "
+            f"increase (line {lines[i - 1]} has {fmt(t[i - 1])}); time must be strictly "
+            "increasing."
+        )

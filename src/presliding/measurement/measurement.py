@@ -38,6 +38,7 @@ from presliding._validation import (
 from presliding.measurement._filters import estimate_derivatives, lowpass
 from presliding.measurement._measurement_readers import MeasurementReaders
 from presliding.measurement._source import Source
+from presliding.measurement._units import is_quantity, quantity_to_si
 
 __all__ = ["Measurement", "common_axis", "estimate_derivatives", "lowpass"]
 
@@ -93,6 +94,7 @@ class Measurement(MeasurementReaders):
     axis: str | None = None
 
     def __post_init__(self) -> None:
+        rotary_quantity = self._convert_quantities()
         t = as_signal("time", self.time, min_length=2)
         steps = np.diff(t)
         if not np.all(steps > 0):
@@ -121,15 +123,30 @@ class Measurement(MeasurementReaders):
                 + ", ".join(f"`{s}`" for s in SIGNALS)
                 + "."
             )
-        self._settle_axis()
+        self._settle_axis(rotary_quantity)
 
-    def _settle_axis(self) -> None:
+    def _convert_quantities(self) -> bool | None:
+        """pint Quantities to SI magnitudes (dimension checked); whether one was rotary."""
+        rotary = None
+        for name in ("time", *SIGNALS):
+            value = getattr(self, name)
+            if is_quantity(value):
+                magnitude, si = quantity_to_si(name, value)
+                object.__setattr__(self, name, magnitude)
+                if name != "time":
+                    rotary = bool(rotary) or si in ("rad", "rad/s", "rad/s^2", "N m")
+        return rotary
+
+    def _settle_axis(self, rotary_quantity: bool | None = None) -> None:
         read = None if self.source is None else self.source.axis_read
+        if read is None and rotary_quantity is not None:
+            read = "rotary" if rotary_quantity else "linear"
         axis = (read or "linear") if self.axis is None else as_axis(self.axis)
         if read is not None and axis != read:
-            assert self.source is not None
-            units = ", ".join(f"{c.signal} in {c.unit}" for c in self.source.all_conversions()
-                              if c.unit is not None and c.signal != "time")  # fmt: skip
+            conversions = self.source.all_conversions() if self.source is not None else ()
+            given = [f"{c.signal} in {c.unit}" for c in conversions
+                     if c.unit is not None and c.signal != "time"]  # fmt: skip
+            units = ", ".join(given) or "pint units"
             raise ValueError(
                 f"`axis` {axis!r} contradicts the units read ({units}: a {read} axis); "
                 "leave `axis` out or correct the units."
