@@ -177,7 +177,9 @@ def read_measurement(args: argparse.Namespace) -> Any:
             scales[key] = text
         if isinstance(scales[key], float) and not (np.isfinite(scales[key]) and scales[key]):
             raise UserError(f"--scale {key}={text}: the factor must be finite and nonzero.")
-    source = read_mat(args.data) if mat else read_text(args.data)
+    text_options: dict[str, Any] = {"header": getattr(args, "header", None),
+                    "decimal": getattr(args, "decimal", None) or "."}  # fmt: skip
+    source = read_mat(args.data) if mat else read_text(args.data, **text_options)
     names = source.names if mat else (list(source.names) if source.names else None)
     found = {}
     for signal in (*[s for group in NEEDS[args.kind] for s in group], *OPTIONAL[args.kind]):
@@ -185,7 +187,8 @@ def read_measurement(args: argparse.Namespace) -> Any:
         if col is not None:
             found[signal] = col
     rate = args.sample_rate
-    if "time" not in found and rate is None and args.kind == "presliding" and window is None:
+    numbered = ("presliding", "virgin")  # fits that use no time
+    if "time" not in found and rate is None and args.kind in numbered and window is None:
         rate = 1.0  # numbered samples: the presliding fit needs no time
     for group in NEEDS[args.kind]:
         if not any(s in found for s in group) and not (group == ("time",) and rate):
@@ -196,7 +199,9 @@ def read_measurement(args: argparse.Namespace) -> Any:
     if time is not None and rate is not None:
         raise UserError(f"--sample-rate: {args.data} has a time column ({time!r}); drop one.")
     reader: Callable[..., Measurement] = Measurement.from_mat if mat else Measurement.from_csv
-    meas = reader(args.data, time, sample_rate=rate, units=units or None, scale=scales, **found)
+    extra = {} if mat else text_options
+    meas = reader(args.data, time, sample_rate=rate, units=units or None, scale=scales,
+                  axis=getattr(args, "axis", None), **extra, **found)  # fmt: skip
     if time is None and args.sample_rate is None:
         note = "no time column: samples numbered 0, 1, 2, ..."
         assert meas.source is not None  # a record read from a file knows its source

@@ -15,6 +15,7 @@ _frames.py          pandas DataFrames (pandas imported only when used)
 _join.py            `Measurement.join`: per-signal records on one time base
 _units.py           units in column headers → SI factors (pint), parameter units
 _source.py          `Source`: the file, columns, units, factors and window of a measurement
+segments.py         `Measurement.segments`, `Segments`: stops, loops and ramps cut from a record
 _filters.py         zero-phase filters and derivative estimates
 
 May import: the root's shared modules only (it needs no friction model).
@@ -22,5 +23,6 @@ May import: the root's shared modules only (it needs no friction model).
 
 # the filters stay reachable where `presliding.measurement` (a module before) had them
 from presliding.measurement.measurement import Measurement, estimate_derivatives, lowpass  # noqa: F401
+from presliding.measurement.segments import Segments
 
-__all__ = ["Measurement"]
+__all__ = ["Measurement", "Segments"]

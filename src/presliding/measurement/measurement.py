@@ -335,6 +335,53 @@ class Measurement(MeasurementReaders):
             out = replace(out, source=self.source.with_note(note))
         return out
 
+    def segments(
+        self,
+        kind: str = "stops",
+        *,
+        lead_in: float | None = None,
+        rest_speed: float | None = None,
+        tolerance: float | None = None,
+        min_samples: int = 10,
+    ) -> Any:
+        """Cut the record into stops, loops or ramps: the pieces and a table of what was cut.
+
+        Parameters
+        ----------
+        kind : {'stops', 'loops', 'ramps'}
+            ``"stops"``: each arrival at rest, from where the applied force drops
+            to its final level (else from the speed's peak), less a lead-in, to
+            after the rest; ``"loops"``: one closed cycle of the position each
+            (turning point to the second turning point after it); ``"ramps"``:
+            one monotone run each (turning point to turning point).
+        lead_in : float, optional
+            Stops: time [s] kept before the drop (default: a fifth of the
+            deceleration).
+        rest_speed : float, optional
+            Stops: the speed [m/s or rad/s] below which the record is at rest
+            (default: 2 % of its 99th-percentile speed, smoothed).
+        tolerance : float, optional
+            Loops and ramps: the retreat [m or rad] that makes a turning point
+            (default: three quanta of a quantised position, else 1 % of its span).
+        min_samples : int
+            Shorter pieces are left out.
+
+        Returns
+        -------
+        Segments
+            ``.records`` (the pieces, each a `Measurement` whose source notes the
+            cut), ``.table()`` and ``.report()``; iterable and indexable.
+
+        Examples
+        --------
+        ``fit_response(list(m.segments("stops")), 2)`` fits every stop of a file
+        as a pooled record.
+        """
+        from presliding.measurement.segments import segment
+
+        return segment(self, kind, lead_in=lead_in, rest_speed=rest_speed, tolerance=tolerance,
+                       min_samples=min_samples)  # fmt: skip
+
     def _require_uniform(self, what: str) -> None:
         if not self.is_uniform:
             steps = np.diff(self.time)
