@@ -87,6 +87,7 @@ from presliding.identification import (
     hac_covariance,
     masing_check,
     predict_motion_force,
+    reversal_tolerance,
 )
 from presliding.motion import (
     FreeResponse,
@@ -205,6 +206,7 @@ __all__ = [
     "predict_motion_force",
     "preloaded_state",
     "quasi_static_response",
+    "reversal_tolerance",
     "signals",
     "simulate",
     "simulate_batch",

@@ -48,7 +48,7 @@ from presliding.identification.fit_response import fit_response
 from presliding.identification.fit_result import FitResult
 from presliding.identification.fit_virgin import fit_virgin_curve, virgin_samples
 from presliding.identification.masing import MasingCheck, masing_check
-from presliding.identification.prediction import Prediction, count_reversals
+from presliding.identification.prediction import Prediction, count_reversals, reversal_tolerance
 from presliding.identification.uncertainty import correlation_matrix, hac_covariance
 from presliding.measurement.measurement import Measurement
 
@@ -73,4 +73,5 @@ __all__ = [
     "hac_covariance",
     "masing_check",
     "predict_motion_force",
+    "reversal_tolerance",
 ]
