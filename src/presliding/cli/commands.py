@@ -266,7 +266,16 @@ def _build_parser() -> argparse.ArgumentParser:
     from presliding.cli.loop import add_parser as add_loop_parser
 
     add_loop_parser(sub, [common, writes]).set_defaults(handler=_cmd_loop)
+    from presliding.cli.predict import add_parser as add_predict_parser
+
+    add_predict_parser(sub, [common, writes]).set_defaults(handler=_cmd_predict)
     return parser
+
+
+def _cmd_predict(args: argparse.Namespace) -> int:
+    from presliding.cli.predict import run
+
+    return run(args)
 
 
 def _cmd_demo(args: argparse.Namespace) -> int:

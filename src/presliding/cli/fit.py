@@ -331,12 +331,16 @@ def _header(args: argparse.Namespace, meas: Any, result: Any) -> str:
 def run(args: argparse.Namespace) -> int:
     """Read, fit, write model.toml, fit.png and the report; print the fit report."""
     from presliding.cli.fit_figure import save_fit_figure
+    from presliding.cli.records import input_files, read_single
     from presliding.cli.report import Section, write_report
     from presliding.model_io import MeasurementTerms, save_model
 
-    if isinstance(args.data, list) and len(args.data) != 1:
+    joined = bool(getattr(args, "join", None))
+    if isinstance(args.data, list) and len(args.data) != 1 and not joined:
         raise UserError(f"--kind {args.kind} takes one data file; got {len(args.data)}.")
-    args.data = args.data[0] if isinstance(args.data, list) else args.data
+    inputs = input_files(args)
+    if isinstance(args.data, list):
+        args.data = args.data[0] if args.data else None
     folder = check_folder(args.output)
     paths = {
         "model": folder / "model.toml",
@@ -344,10 +348,12 @@ def run(args: argparse.Namespace) -> int:
         "md": folder / "report.md",
         "html": folder / "report.html",
     }
-    check_outputs(paths.values(), (args.data,), overwrite=args.overwrite)
+    check_outputs(paths.values(), inputs, overwrite=args.overwrite)
     with fit_progress(args.quiet) as bar:
-        bar.part(f"reading {args.data.name}")
-        meas = read_measurement(args)
+        bar.part(f"reading {inputs[0].name}")
+        meas = read_single(args)
+        if args.data is None:  # one --join group: named by its first file
+            args.data, args.join = inputs[0], None
         bar.update()
         bar.part(f"fitting (--kind {args.kind}, {meas.time.shape[0]} samples)")
         try:

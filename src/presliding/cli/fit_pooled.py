@@ -26,12 +26,10 @@ __all__ = ["fit_records", "run_pooled"]
 
 
 def _read_all(args: argparse.Namespace) -> list[Any]:
-    from presliding.cli.fit import read_measurement
+    """Files, --join groups and --segments pieces (`presliding.cli.records`)."""
+    from presliding.cli.records import read_records
 
-    records = []
-    for path in args.data:
-        one = argparse.Namespace(**{**vars(args), "data": Path(path)})
-        records.append(read_measurement(one))
+    records, args.record_labels, args.cuts = read_records(args)
     return records
 
 
@@ -93,7 +91,7 @@ def fit_records(args: argparse.Namespace, records: list[Any], bar: Any = False) 
     pooled: Any = records if len(records) > 1 else records[0]
     if len(records) < 2 or args.no_cross_validation:
         return fitter(pooled, **options), None
-    labels = [Path(p).name for p in args.data]
+    labels = getattr(args, "record_labels", None) or [Path(p).name for p in args.data]
     cv = cross_validate(records, fitter, labels=labels, **options)
     return cv.result, cv
 
@@ -103,13 +101,16 @@ def run_pooled(args: argparse.Namespace) -> int:
     from presliding.cli.fit import _header, _motion_settings, fit_progress, model_problem
     from presliding.cli.fit_figure import save_fit_figure
     from presliding.cli.report import Section, write_report
-    from presliding.model_io import MeasurementTerms, save_model
+    from presliding.model_io import MeasurementTerms, MotionSettings, save_model
 
     folder = check_folder(args.output)
     paths = {"model": folder / "model.toml", "figure": folder / "fit.png",
              "md": folder / "report.md", "html": folder / "report.html"}  # fmt: skip
-    check_outputs(paths.values(), tuple(args.data), overwrite=args.overwrite)
-    names = ", ".join(Path(p).name for p in args.data)
+    from presliding.cli.predict import held_out_section
+    from presliding.cli.records import data_names, input_files, pooled_header
+
+    check_outputs(paths.values(), input_files(args), overwrite=args.overwrite)
+    names = ", ".join(data_names(args))
     with fit_progress(args.quiet) as bar:
         bar.part(f"reading {len(args.data)} file(s)")
         records = _read_all(args)
@@ -122,7 +123,7 @@ def run_pooled(args: argparse.Namespace) -> int:
         bar.update()
         bar.part(f"writing {folder}")
         record_outputs(paths.values())
-        first = argparse.Namespace(**{**vars(args), "data": Path(args.data[0])})
+        first = argparse.Namespace(**{**vars(args), "data": input_files(args)[0]})
         save_fit_figure(first, records[0], result, paths["figure"])
         written = [paths["figure"]]
         problem = model_problem(result, records[0])
@@ -131,9 +132,12 @@ def run_pooled(args: argparse.Namespace) -> int:
             terms = None if offset is None else MeasurementTerms(float(offset))
             kind = "response" if args.kind == "response" else "other"
             motion = _motion_settings(argparse.Namespace(kind=kind), records[0], result)
+            header = _header(first, records[0], result)
+            if len(records) > 1:  # every record listed; no one record's start as [motion]
+                motion = None if motion is None else MotionSettings(mass=motion.mass)
+                header = pooled_header(args, records, args.record_labels, result)
             save_model(paths["model"], result.model, motion, measurement=terms,
-                       header=_header(first, records[0], result), overwrite=True,
-                       axis=result.axis)  # fmt: skip
+                       header=header, overwrite=True, axis=result.axis)  # fmt: skip
             written.insert(0, paths["model"])
         else:  # an earlier run's model.toml would be taken for this fit's
             paths["model"].unlink(missing_ok=True)
@@ -144,6 +148,14 @@ def run_pooled(args: argparse.Namespace) -> int:
         sections = [
             Section("Result", text, (paths["figure"],), code=f"{data}\n\n{result.report()}")
         ]
+        if getattr(args, "cuts", None):
+            sections.append(Section(
+                "Segments", f"Each record was cut into {args.segments} (--segments); every "
+                "piece was fitted as a pooled record.", code="\n".join(args.cuts)))  # fmt: skip
+        if getattr(args, "hold_out", None):
+            held, figures = held_out_section(args, result, folder)
+            sections.append(held)
+            written += figures
         if cv is not None:
             sections.append(Section(
                 "Cross-validation",

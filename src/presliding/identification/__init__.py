@@ -12,6 +12,7 @@ fit_quasi_static.py `fit_quasi_static`: position from a slow force (torque-drive
 fit_result.py       `FitResult`, the least-squares driver shared by the fits
 prediction.py       `Prediction`, `count_reversals`: a fitted model on another record
 cross_validation.py `cross_validate`, `CrossValidation`: leave-one-record-out tables
+model_prediction.py `predict_record`: a given model (a model file's) predicting a record
 uncertainty.py      HAC (Newey–West) covariance, correlations
 _least_squares.py   the solver around scipy.optimize.least_squares (bounds, ties, statistics)
 _fit_options.py     the options every fit shares (level, evaluations, fixed, tied), checked
@@ -48,6 +49,7 @@ from presliding.identification.fit_response import fit_response
 from presliding.identification.fit_result import FitResult
 from presliding.identification.fit_virgin import fit_virgin_curve, virgin_samples
 from presliding.identification.masing import MasingCheck, masing_check
+from presliding.identification.model_prediction import predict_record
 from presliding.identification.prediction import Prediction, count_reversals, reversal_tolerance
 from presliding.identification.uncertainty import correlation_matrix, hac_covariance
 from presliding.measurement.measurement import Measurement
@@ -73,5 +75,6 @@ __all__ = [
     "hac_covariance",
     "masing_check",
     "predict_motion_force",
+    "predict_record",
     "reversal_tolerance",
 ]
