@@ -125,3 +125,38 @@ def test_fit_with_held_out_files(tmp_path, capsys):
     assert "## Held-out files" in report and "| held.txt | measured |" in report
     assert "| held.txt | fitted |" in report and (out / "held_out_1.png").exists()
     assert ps.reversal_tolerance is not None
+
+
+def _ramp_files(tmp_path, retreat_quanta=4):
+    """Quantised loading ramps of both signs, no time column, retreats of several counts."""
+    model = ps.PIFriction(0.1, [1e4, 3e3, 1e3], breakaway=[0.2, 0.2, 0.2])
+    rng = np.random.default_rng(4)
+    paths = []
+    for k, sign in enumerate((1.0, -1.0, 1.0)):
+        y = sign * np.linspace(0.0, 8e-4, 400)
+        for i in rng.choice(np.arange(50, 390), 3, replace=False):
+            y[i : i + 3] -= sign * retreat_quanta * 1e-6
+        y = 1e-6 * np.round(y / 1e-6)
+        f = model.force(y)[0]
+        path = tmp_path / f"ramp{k}.txt"
+        np.savetxt(path, np.column_stack([y * 1e6, f]), delimiter="\t", fmt="%.9g")
+        paths.append(str(path))
+    return paths
+
+
+def test_virgin_ramps_without_time_are_detected_and_fitted(tmp_path, capsys):
+    paths = _ramp_files(tmp_path)
+    cols = ["--columns", "position=0", "friction_force=1", "--units", "position=um"]
+    out = tmp_path / "virgin"
+    assert main(["fit", *paths, "--kind", "virgin", *cols, "-o", str(out)]) == 0
+    printed = capsys.readouterr().out
+    assert "1197 samples" in printed  # every sample of the ramps (as loops they cannot fit)
+    fitted = load_model(out / "model.toml").model
+    assert fitted.coulomb == pytest.approx(0.1, abs=0.01)
+    out2 = tmp_path / "virgin2"
+    assert main(["fit", *paths, "--kind", "virgin", *cols, "--ramps", "-o", str(out2)]) == 0
+    capsys.readouterr()
+    code = main(["fit", *paths, "--kind", "virgin", *cols, "--density", "uniform", "-o",
+                 str(tmp_path / "v3")])  # fmt: skip
+    assert code == 2
+    one_error_line(capsys, "--density uniform: --kind virgin fits elastoplastic elements")

@@ -46,6 +46,10 @@ def _options(args: argparse.Namespace, records: list[Any]) -> dict[str, Any]:
         raise UserError(f"--bootstrap must be 0 or more; got {args.bootstrap}.")
     out: dict[str, Any] = {"n_elements": n, "max_evaluations": args.max_evaluations}
     if args.kind == "virgin":
+        if args.density is not None:
+            raise UserError(f"--density {args.density}: --kind virgin fits elastoplastic "
+                            "elements only; drop --density, or fit a density with --kind "
+                            "response or quasi-static.")  # fmt: skip
         return {"n_elements": n, "max_evaluations": args.max_evaluations}
     out.update(density=args.density, offset=args.offset, bootstrap=args.bootstrap)
     if args.kind == "response":
@@ -74,6 +78,7 @@ def fit_records(args: argparse.Namespace, records: list[Any], bar: Any = False) 
         fit_virgin_curve,
     )
     from presliding.identification._pi_regression import reversal_indices
+    from presliding.identification.fit_virgin import RAMP_RETREAT
     from presliding.identification.prediction import reversal_tolerance
     from presliding.measurement.measurement import common_axis
 
@@ -82,8 +87,11 @@ def fit_records(args: argparse.Namespace, records: list[Any], bar: Any = False) 
         ys = [np.asarray(m.position) for m in records]
         fs = [np.asarray(m.friction_force if m.friction_force is not None else m.applied_force)
               for m in records]  # fmt: skip
-        loops = any(reversal_indices(np.ascontiguousarray(y), reversal_tolerance(y)).size
-                    for y in ys)  # fmt: skip
+        # ramps against loops: a reversal beyond the record's tolerance and a tenth of its
+        # travel makes loops; retreats of a few quanta on a ramp do not (--ramps: ramps)
+        loops = not getattr(args, "ramps", False) and any(
+            reversal_indices(np.ascontiguousarray(y), max(reversal_tolerance(y),
+                             RAMP_RETREAT * float(np.ptp(y)))).size for y in ys)  # fmt: skip
         n = options.pop("n_elements")
         fit = fit_virgin_curve(ys, fs, n, loops=loops, reversal_tolerance=None, **options)
         return fit.on_axis(common_axis(records)), None

@@ -74,6 +74,12 @@ def add_data_options(parser: argparse.ArgumentParser, *, fit: bool = True) -> No
         help="--segments stops: time kept before each drop of the input",
     )
     parser.add_argument(
+        "--ramps",
+        action="store_true",
+        help="--kind virgin: the records are loading ramps from rest (default: detected; "
+        "retreats of a few encoder counts are not reversals)",
+    )
+    parser.add_argument(
         "--hold-out",
         nargs="+",
         type=Path,
