@@ -313,7 +313,9 @@ def _cmd_fit(args: argparse.Namespace) -> int:
 
         return run_pooled(args)
     from presliding.cli.fit import run
+    from presliding.cli.records import prepare_single
 
+    prepare_single(args)
     return run(args)
 
 

@@ -331,14 +331,15 @@ def _header(args: argparse.Namespace, meas: Any, result: Any) -> str:
 def run(args: argparse.Namespace) -> int:
     """Read, fit, write model.toml, fit.png and the report; print the fit report."""
     from presliding.cli.fit_figure import save_fit_figure
-    from presliding.cli.records import input_files, read_single
     from presliding.cli.report import Section, write_report
     from presliding.model_io import MeasurementTerms, save_model
 
     joined = bool(getattr(args, "join", None))
     if isinstance(args.data, list) and len(args.data) != 1 and not joined:
         raise UserError(f"--kind {args.kind} takes one data file; got {len(args.data)}.")
-    inputs = input_files(args)
+    # the files read, and a reader for a --join group: `presliding.cli.records.prepare_single`
+    first = args.data[0] if isinstance(args.data, list) and args.data else args.data
+    inputs = list(getattr(args, "inputs", None) or [first])
     if isinstance(args.data, list):
         args.data = args.data[0] if args.data else None
     folder = check_folder(args.output)
@@ -351,7 +352,7 @@ def run(args: argparse.Namespace) -> int:
     check_outputs(paths.values(), inputs, overwrite=args.overwrite)
     with fit_progress(args.quiet) as bar:
         bar.part(f"reading {inputs[0].name}")
-        meas = read_single(args)
+        meas = args.read(args) if getattr(args, "read", None) else read_measurement(args)
         if args.data is None:  # one --join group: named by its first file
             args.data, args.join = inputs[0], None
         bar.update()

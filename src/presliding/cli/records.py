@@ -22,6 +22,7 @@ __all__ = [
     "data_names",
     "input_files",
     "pooled_header",
+    "prepare_single",
     "read_file",
     "read_records",
     "read_single",
@@ -205,6 +206,12 @@ def read_records(args: argparse.Namespace) -> tuple[list[Any], list[str], list[s
         body = seg.report().split("\n", 1)[1:]
         cuts.append("\n".join([f"{len(seg)} {kind} cut from {label}:", *body]))
     return pieces, names, cuts
+
+
+def prepare_single(args: argparse.Namespace) -> None:
+    """Set up a single-record kind: the files it reads, and its reader (a file or one --join)."""
+    args.inputs = input_files(args)
+    args.read = read_single
 
 
 def read_single(args: argparse.Namespace) -> Any:
