@@ -167,8 +167,10 @@ def run_pooled(args: argparse.Namespace) -> int:
         if cv is not None:
             sections.append(Section(
                 "Cross-validation",
-                "Each record predicted by the fit of the others (its own start estimated with "
-                "the shared parameters held): NRMSE, reversal counts and rest positions.",
+                "Each record predicted by the fit of the others, from its measured start "
+                "(nothing taken from it) and from a start fitted to it with the shared "
+                "parameters held (the parameters in the last column are taken from the "
+                "held-out record): NRMSE, reversal counts and rest errors.",
                 table=cv.table(), code=cv.report(),
             ))  # fmt: skip
         written += write_report(folder, f"presliding fit: {names}", sections)
