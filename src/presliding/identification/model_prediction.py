@@ -101,7 +101,8 @@ def predict_record(
         # sliding (or pushed) at the start: the memory saturated its way; at rest: relaxed
         state = "saturated" if v0 != 0.0 or force[0] != 0.0 else "relaxed"
         return simulate(model, m, applied_force=(t, force), initial_position=y0,
-                        initial_velocity=v0, initial_state=state, t_eval=t)  # fmt: skip
+                        initial_velocity=v0, initial_state=state, t_start=float(t[0]),
+                        t_eval=t)  # fmt: skip
 
     start = {"initial_position": float(y[0]), "initial_velocity": float(v[0])}
     own: dict[str, float] = {}
