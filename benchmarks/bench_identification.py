@@ -30,7 +30,7 @@ from presliding.identification.fit_motion import fit_motion, predict_motion_forc
 from presliding.identification.fit_presliding import fit_presliding
 from presliding.identification.fit_response import fit_response
 from presliding.identification.fit_result import fit_statistics
-from presliding.identification.measurement import Measurement
+from presliding.measurement.measurement import Measurement
 from presliding.motion import simulate
 from presliding.signals import piecewise_linear
 

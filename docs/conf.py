@@ -70,7 +70,8 @@ LAYERS = {
     "motion": "simulate a mass with friction (eqs. 12, 17), batches, free responses",
     "analysis": "when a free mass stops: eqs. 14-16, turning points, energy",
     "network": "structures with many friction contacts: exact stick/slip per contact",
-    "identification": "measurements and fits (section 4)",
+    "measurement": "measured signals: readers, units, joins, windows, filters, derivatives",
+    "identification": "fits to measurements (section 4)",
     "control": "python-control systems",
     "sweep": "parameter sweeps on local processes or Dask",
 }

@@ -23,6 +23,7 @@ LAYERS = (
     "motion",
     "analysis",
     "network",
+    "measurement",
     "identification",
     "control",
     "sweep",
@@ -263,3 +264,14 @@ def test_old_pickles_load_in_a_fresh_interpreter():
     )
     assert run.returncode == 0, run.stderr.decode()
     assert run.stdout.decode().strip() == "presliding.hysteresis.operators"
+
+
+@pytest.mark.parametrize(
+    "old",
+    ["measurement", "_measurement_readers", "_readers", "_mat", "_join", "_units", "_source"],
+)
+def test_measurement_modules_keep_their_identification_paths(old):
+    moved = importlib.import_module(f"presliding.measurement.{old}")
+    assert importlib.import_module(f"presliding.identification.{old}") is moved
+    assert getattr(presliding.identification, old) is moved
+    assert presliding.identification.Measurement is presliding.measurement.Measurement

@@ -110,7 +110,7 @@ def test_density_round_trip(tmp_path, make):
     loaded = load_model(path)
     assert loaded.model == model and not loaded.model.is_discrete
     assert loaded.model.max_elastic_force == model.max_elastic_force
-    assert "[friction.density]" in path.read_text() and "[N/m²]" in path.read_text()
+    assert "[friction.density]" in path.read_text() and "[N/m^2]" in path.read_text()
     assert loaded.motion.mass == 2.0
 
 

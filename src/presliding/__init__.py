@@ -92,6 +92,7 @@ from presliding.identification import (
     hac_covariance,
     masing_check,
     predict_motion_force,
+    reversal_tolerance,
 )
 from presliding.motion import (
     FreeResponse,
@@ -134,7 +135,6 @@ _MOVED = {
     "baselines": "presliding.friction.baselines",
     "comparison": "presliding.friction.comparison",
     "energy": "presliding.analysis.energy",
-    "measurement": "presliding.identification.measurement",
     "fitting": "presliding.identification.fit_result",
     "fit_presliding": "presliding.identification.fit_presliding",
     "fit_motion": "presliding.identification.fit_motion",
@@ -244,6 +244,7 @@ __all__ = [
     "preloaded_state",
     "quasi_static_network",
     "quasi_static_response",
+    "reversal_tolerance",
     "signals",
     "simulate",
     "simulate_batch",

@@ -9,10 +9,10 @@ Schema (units in brackets; any consistent unit set works, SI shown)::
     viscous = 0.0                  # σ [N s/m], optional viscous term σ·ẏ (default 0)
 
     [friction.density]             # instead of stiffness/breakaway: a continuous μ (eq. 10)
-    kind = "uniform"               # height a [N/m²], max_threshold R [m]
-    # kind = "exponential"         # height a [N/m²], length b [m], max_threshold R [m]
+    kind = "uniform"               # height a [N/m^2], max_threshold R [m]
+    # kind = "exponential"         # height a [N/m^2], length b [m], max_threshold R [m]
     #                              #   (optional; default inf: untruncated)
-    # kind = "piecewise_constant"  # breaks [m] (m + 1 values), heights [N/m²] (m values)
+    # kind = "piecewise_constant"  # breaks [m] (m + 1 values), heights [N/m^2] (m values)
 
     [motion]                       # optional: what `presliding simulate` runs
     mass = 1.0                     # m [kg]
@@ -47,6 +47,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from presliding._axes import as_axis, axis_unit
 from presliding._io import loads_toml, write_text
 from presliding._validation import check_time_span, check_type
 from presliding.friction._parts import density_of, elements
@@ -318,12 +319,13 @@ def _density_model(path: Path, fr: dict[str, Any]) -> PIFriction:
     return PIFriction(fr["coulomb"], density=density, viscous=fr.get("viscous", 0.0))
 
 
-def _density_lines(density: Density) -> list[str]:
+def _density_lines(density: Density, axis: str = "linear") -> list[str]:
     for kind, (cls, required, optional) in _DENSITIES.items():
         if type(density) is cls:
             lines = ["", "[friction.density]", f"kind = {_toml_value(kind)}"]
-            units = {"height": "[N/m²]", "heights": "[N/m²]", "length": "[m]",
-                     "max_threshold": "[m]", "breaks": "[m]"}  # fmt: skip
+            height, length = axis_unit("density_height", axis), axis_unit("position", axis)
+            units = {"height": f"[{height}]", "heights": f"[{height}]", "length": f"[{length}]",
+                     "max_threshold": f"[{length}]", "breaks": f"[{length}]"}  # fmt: skip
             for key in (*required, *optional):
                 value = getattr(density, key)
                 if isinstance(value, float) and value == float("inf"):
@@ -347,38 +349,51 @@ def _toml_value(value: Any) -> str:
     return repr(float(value)) if not isinstance(value, int) else str(value)
 
 
+#: The quantity of each `[motion]` key, for its unit comment.
+_MOTION_QUANTITIES = {"mass": "mass", "initial_velocity": "velocity", "t_end": "time",
+                      "initial_position": "position", "applied_force": "force"}  # fmt: skip
+
+
 def model_to_toml(
     model: PIFriction,
     motion: MotionSettings | None = None,
     measurement: MeasurementTerms | None = None,
     header: str = "",
+    axis: str = "linear",
 ) -> str:
     """The TOML text of a model (and optional motion settings and measurement terms).
 
-    Units are stated in comments; `header` (lines of text) is written first as
-    comments, e.g. the data and units a model was identified from.
+    Units are stated in comments, those of `axis` (``"rotary"``: rad, N m, kg m²);
+    `header` (lines of text) is written first as comments (the data, units, ...).
     """
     if not isinstance(model, PIFriction):
         raise TypeError(f"`model` must be a PIFriction; got {type(model).__name__}.")
+    axis = as_axis(axis)
+    force, pos = axis_unit("force", axis), axis_unit("position", axis)
     lines = [f"# {ln}".rstrip() for ln in header.splitlines()]
+    if axis == "rotary":
+        lines.append(f"# rotary axis: positions in {pos}, torques in {force}")
     lines += [""] if lines else []
-    lines += ["[friction]", f"coulomb = {_toml_value(model.coulomb)}  # c1 [N]"]
+    lines += ["[friction]", f"coulomb = {_toml_value(model.coulomb)}  # c1 [{force}]"]
     if model.is_discrete:
         k, _, c = elements(model)
         lines += [
-            f"stiffness = {_toml_value(k.tolist())}  # k_j [N/m]",
-            f"breakaway = {_toml_value(c.tolist())}  # c_j [N]",
+            f"stiffness = {_toml_value(k.tolist())}  # k_j [{axis_unit('stiffness', axis)}]",
+            f"breakaway = {_toml_value(c.tolist())}  # c_j [{force}]",
         ]
     if model.viscous:
-        lines.append(f"viscous = {_toml_value(model.viscous)}  # σ [N s/m]")
+        lines.append(f"viscous = {_toml_value(model.viscous)}  # σ [{axis_unit('viscous', axis)}]")
     if not model.is_discrete:
-        lines += _density_lines(density_of(model))
+        lines += _density_lines(density_of(model), axis)
     if motion is not None:
         lines += ["", "[motion]"]
-        lines += [f"{k} = {_toml_value(getattr(motion, k))}" for k in _MOTION_DEFAULTS]
+        for key in _MOTION_DEFAULTS:
+            quantity = _MOTION_QUANTITIES.get(key)
+            unit = f"  # [{axis_unit(quantity, axis)}]" if quantity else ""
+            lines.append(f"{key} = {_toml_value(getattr(motion, key))}{unit}")
     if measurement is not None:
         offset = _toml_value(measurement.force_offset)
-        note = "F_0 [N]: measured force = model force + F_0; simulate applies u - F_0"
+        note = f"F_0 [{force}]: measured force = model force + F_0; simulate applies u - F_0"
         lines += ["", "[measurement]", f"force_offset = {offset}  # {note}"]
     return "\n".join(lines) + "\n"
 
@@ -391,17 +406,19 @@ def save_model(
     measurement: MeasurementTerms | None = None,
     header: str = "",
     overwrite: bool = False,
+    axis: str = "linear",
 ) -> None:
     """Write a model file atomically (temporary file, then rename).
 
     `measurement` adds the `[measurement]` table, `header` comment lines at the
-    top. An existing file is replaced only with ``overwrite=True``.
+    top, `axis` the units of the comments. An existing file is replaced only with
+    ``overwrite=True``.
     """
     check_type("model", model, PIFriction)
     if motion is not None:
         check_type("motion", motion, MotionSettings)
     path = Path(path)
-    text = model_to_toml(model, motion, measurement, header)
+    text = model_to_toml(model, motion, measurement, header, axis)
     if path.exists() and not overwrite:
         raise FileExistsError(
             f"{path}: already exists; choose another path or pass overwrite=True."

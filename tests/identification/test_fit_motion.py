@@ -10,7 +10,7 @@ import pytest
 
 from presliding import PIFriction
 from presliding.identification.fit_motion import fit_motion, predict_motion_force
-from presliding.identification.measurement import Measurement
+from presliding.measurement.measurement import Measurement
 
 T = np.arange(3000) * 1e-3
 W1, W2 = 2 * np.pi * 1.0, 2 * np.pi * 3.3

@@ -9,7 +9,7 @@ import pytest
 
 from presliding import PIFriction
 from presliding.identification.fit_response import fit_response
-from presliding.identification.measurement import Measurement
+from presliding.measurement.measurement import Measurement
 from presliding.motion import simulate
 
 DT, N = 2.5e-4, 3000

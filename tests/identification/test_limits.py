@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from presliding import PIFriction, fit_presliding
-from presliding.identification._filters import MAX_ORDER, estimate_derivatives, lowpass
+from presliding.measurement._filters import MAX_ORDER, estimate_derivatives, lowpass
 from tests.test_validation import assert_rejects
 
 T = np.linspace(0.0, 1.0, 1001)
@@ -27,11 +27,12 @@ def test_filter_order_has_a_limit_instead_of_a_hang():
     assert time.perf_counter() - start < 1.0
 
 
-def test_unstable_butterworth_is_an_error_not_nan():
+def test_high_order_butterworth_at_a_low_cutoff_stays_accurate():
+    # in (b, a) form this filter was unstable; in second-order sections it is exact
     t = np.linspace(0.0, 1.0, 20001)
-    message = assert_rejects(lambda: lowpass(t, np.sin(t), 5.0, order=10), ValueError, "order")
-    assert "`cutoff`" in message and "stable" in message
-    assert np.all(np.isfinite(lowpass(t, np.sin(t), 5.0, order=4)))
+    smooth = lowpass(t, np.sin(t), 5.0, order=10)
+    np.testing.assert_allclose(smooth, np.sin(t), atol=0.05)  # the end rings (a 1 s record)
+    np.testing.assert_allclose(smooth[:-8000], np.sin(t)[:-8000], atol=2e-3)
 
 
 @pytest.fixture(scope="module")

@@ -12,7 +12,7 @@ from presliding.identification._pi_regression import reversal_indices
 from presliding.identification.fit_motion import fit_motion, predict_motion_force
 from presliding.identification.fit_presliding import fit_presliding
 from presliding.identification.fit_result import fit_statistics
-from presliding.identification.measurement import Measurement
+from presliding.measurement.measurement import Measurement
 
 DATA = Path(__file__).resolve().parents[3] / "shared" / "data"
 EMPS = DATA / "emps"

@@ -12,6 +12,8 @@ fit.py          ``presliding fit``: reading the data, one-file kinds, model file
 fit_options.py  the options of ``presliding fit``
 fit_pooled.py   ``presliding fit FILE ...`` for response, quasi-static and virgin fits
 fit_figure.py   the figure of a fit
+records.py      records from files, --join groups and --segments; --header, --decimal, --axis
+predict.py      ``presliding predict MODEL FILE ...`` and ``fit --hold-out``: held-out records
 sweep.py, sweep_spec.py     ``presliding sweep`` and its specification files
 loop.py         ``presliding loop``: a PID loop, its exact response and limit cycles
 network.py      ``presliding network``: a structure with friction contacts, report, figures

@@ -306,7 +306,17 @@ def _build_parser() -> argparse.ArgumentParser:
     from presliding.cli.network import add_parser as add_network_parser
 
     add_network_parser(sub, [common, writes]).set_defaults(handler=_cmd_network)
+
+    from presliding.cli.predict import add_parser as add_predict_parser
+
+    add_predict_parser(sub, [common, writes]).set_defaults(handler=_cmd_predict)
     return parser
+
+
+def _cmd_predict(args: argparse.Namespace) -> int:
+    from presliding.cli.predict import run
+
+    return run(args)
 
 
 def _cmd_demo(args: argparse.Namespace) -> int:
@@ -350,7 +360,9 @@ def _cmd_fit(args: argparse.Namespace) -> int:
 
         return run_pooled(args)
     from presliding.cli.fit import run
+    from presliding.cli.records import prepare_single
 
+    prepare_single(args)
     return run(args)
 
 

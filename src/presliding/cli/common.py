@@ -249,9 +249,9 @@ def read_table(path: Path, what: str, example: str = "time,value") -> Table:
 
     The delimiter is a tab, a semicolon, a comma or whitespace; a byte-order
     mark is skipped; every row must be as long as the header and every value a
-    finite number (see `presliding.identification._readers`).
+    finite number (see `presliding.measurement._readers`).
     """
-    from presliding.identification._readers import read_text
+    from presliding.measurement._readers import read_text
 
     check_readable(path, what)
     try:

@@ -155,9 +155,9 @@ def _locate(signal: str, columns: dict[str, str], names: Sequence[str] | None) -
 
 def read_measurement(args: argparse.Namespace) -> Any:
     """The Measurement of the columns `args.kind` needs, in SI, windowed; clear errors."""
-    from presliding.identification._mat import read_mat
-    from presliding.identification._readers import read_text
-    from presliding.identification.measurement import Measurement
+    from presliding.measurement._mat import read_mat
+    from presliding.measurement._readers import read_text
+    from presliding.measurement.measurement import Measurement
 
     check_readable(args.data, "data file")
     columns = check_options(args.columns, "--columns", SIGNALS)
@@ -177,7 +177,9 @@ def read_measurement(args: argparse.Namespace) -> Any:
             scales[key] = text
         if isinstance(scales[key], float) and not (np.isfinite(scales[key]) and scales[key]):
             raise UserError(f"--scale {key}={text}: the factor must be finite and nonzero.")
-    source = read_mat(args.data) if mat else read_text(args.data)
+    text_options: dict[str, Any] = {"header": getattr(args, "header", None),
+                    "decimal": getattr(args, "decimal", None) or "."}  # fmt: skip
+    source = read_mat(args.data) if mat else read_text(args.data, **text_options)
     names = source.names if mat else (list(source.names) if source.names else None)
     found = {}
     for signal in (*[s for group in NEEDS[args.kind] for s in group], *OPTIONAL[args.kind]):
@@ -185,7 +187,8 @@ def read_measurement(args: argparse.Namespace) -> Any:
         if col is not None:
             found[signal] = col
     rate = args.sample_rate
-    if "time" not in found and rate is None and args.kind == "presliding" and window is None:
+    numbered = ("presliding", "virgin")  # fits that use no time
+    if "time" not in found and rate is None and args.kind in numbered and window is None:
         rate = 1.0  # numbered samples: the presliding fit needs no time
     for group in NEEDS[args.kind]:
         if not any(s in found for s in group) and not (group == ("time",) and rate):
@@ -196,7 +199,9 @@ def read_measurement(args: argparse.Namespace) -> Any:
     if time is not None and rate is not None:
         raise UserError(f"--sample-rate: {args.data} has a time column ({time!r}); drop one.")
     reader: Callable[..., Measurement] = Measurement.from_mat if mat else Measurement.from_csv
-    meas = reader(args.data, time, sample_rate=rate, units=units or None, scale=scales, **found)
+    extra = {} if mat else text_options
+    meas = reader(args.data, time, sample_rate=rate, units=units or None, scale=scales,
+                  axis=getattr(args, "axis", None), **extra, **found)  # fmt: skip
     if time is None and args.sample_rate is None:
         note = "no time column: samples numbered 0, 1, 2, ..."
         assert meas.source is not None  # a record read from a file knows its source
@@ -239,7 +244,7 @@ def fit(args: argparse.Namespace, meas: Any, bar: Any = False) -> tuple[Any, Any
         return fit_presliding(
             meas.position, meas.friction_force, n, offset=args.offset, search=args.search,
             seed=args.seed, progress=bar,
-        ), meas  # fmt: skip
+        ).on_axis(meas.axis), meas  # fmt: skip
     fixed = None if args.mass is None else {"mass": args.mass}
     if args.kind == "motion":
         from presliding.identification.fit_motion import fit_motion
@@ -329,9 +334,14 @@ def run(args: argparse.Namespace) -> int:
     from presliding.cli.report import Section, write_report
     from presliding.model_io import MeasurementTerms, save_model
 
-    if isinstance(args.data, list) and len(args.data) != 1:
+    joined = bool(getattr(args, "join", None))
+    if isinstance(args.data, list) and len(args.data) != 1 and not joined:
         raise UserError(f"--kind {args.kind} takes one data file; got {len(args.data)}.")
-    args.data = args.data[0] if isinstance(args.data, list) else args.data
+    # the files read, and a reader for a --join group: `presliding.cli.records.prepare_single`
+    first = args.data[0] if isinstance(args.data, list) and args.data else args.data
+    inputs = list(getattr(args, "inputs", None) or [first])
+    if isinstance(args.data, list):
+        args.data = args.data[0] if args.data else None
     folder = check_folder(args.output)
     paths = {
         "model": folder / "model.toml",
@@ -339,10 +349,12 @@ def run(args: argparse.Namespace) -> int:
         "md": folder / "report.md",
         "html": folder / "report.html",
     }
-    check_outputs(paths.values(), (args.data,), overwrite=args.overwrite)
+    check_outputs(paths.values(), inputs, overwrite=args.overwrite)
     with fit_progress(args.quiet) as bar:
-        bar.part(f"reading {args.data.name}")
-        meas = read_measurement(args)
+        bar.part(f"reading {inputs[0].name}")
+        meas = args.read(args) if getattr(args, "read", None) else read_measurement(args)
+        if args.data is None:  # one --join group: named by its first file
+            args.data, args.join = inputs[0], None
         bar.update()
         bar.part(f"fitting (--kind {args.kind}, {meas.time.shape[0]} samples)")
         try:
@@ -361,6 +373,7 @@ def run(args: argparse.Namespace) -> int:
             save_model(
                 paths["model"], result.model, _motion_settings(args, meas, result),
                 measurement=terms, header=_header(args, meas, result), overwrite=True,
+                axis=meas.axis,
             )  # fmt: skip
             written.insert(0, paths["model"])
         else:  # an earlier run's model.toml would be taken for this fit's

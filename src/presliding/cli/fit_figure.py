@@ -23,10 +23,11 @@ def save_fit_figure(
     args: argparse.Namespace, meas: Any, result: Any, path: Path, labels: Any = None
 ) -> None:
     """fit.png; `labels` names the records of a pooled fit (one colour and label each)."""
+    from presliding._axes import axis_unit
     from presliding.plotting import plot_fit, plot_loop_fit, save_figure
 
-    rotary = meas.source is not None and meas.source.rotary
-    unit = result.signal_unit or ("N m" if rotary else "N")
+    axis = getattr(meas, "axis", None) or "linear"
+    unit = result.signal_unit or axis_unit("force", axis)
     name = Path(args.data[0] if isinstance(args.data, list) else args.data).name
     if labels is not None and len(labels) > 1:
         name = f"{len(labels)} files ({', '.join(labels[:3])}{', …' if len(labels) > 3 else ''})"
@@ -34,7 +35,7 @@ def save_fit_figure(
     if args.kind == "presliding":
         fig, axes = new_figure(2, 1, size=(13.2, 4.8))
         ax = plot_loop_fit(result.abscissa, result.measured, result.fitted, ax=axes[0, 0],
-                           displacement_unit="rad" if rotary else "m")  # fmt: skip
+                           displacement_unit=axis_unit("position", axis))  # fmt: skip
         ax.set_title("friction force against displacement")
         timed = _timed(meas) and meas.n_samples == result.measured.shape[0]
         ax = plot_fit(

@@ -29,9 +29,9 @@ def add_fit_parser(
     fit.add_argument(
         "data",
         type=Path,
-        nargs="+",
+        nargs="*",
         help="measured data (delimited text, or .mat files); several files are pooled as "
-        "records (--kind response, quasi-static, virgin)",
+        "records (--kind response, quasi-static, virgin); none with --join",
     )
     fit.add_argument(
         "--kind",
@@ -113,6 +113,9 @@ def add_fit_parser(
     )
     fit.add_argument("-o", "--output", type=Path, required=True, help="output folder")
     _add_pooled_options(fit)
+    from presliding.cli.records import add_data_options
+
+    add_data_options(fit)
     fit.set_defaults(handler=handler)
     return fit
 

@@ -26,12 +26,10 @@ __all__ = ["fit_records", "run_pooled"]
 
 
 def _read_all(args: argparse.Namespace) -> list[Any]:
-    from presliding.cli.fit import read_measurement
+    """Files, --join groups and --segments pieces (`presliding.cli.records`)."""
+    from presliding.cli.records import read_records
 
-    records = []
-    for path in args.data:
-        one = argparse.Namespace(**{**vars(args), "data": Path(path)})
-        records.append(read_measurement(one))
+    records, args.record_labels, args.cuts = read_records(args)
     return records
 
 
@@ -48,6 +46,10 @@ def _options(args: argparse.Namespace, records: list[Any]) -> dict[str, Any]:
         raise UserError(f"--bootstrap must be 0 or more; got {args.bootstrap}.")
     out: dict[str, Any] = {"n_elements": n, "max_evaluations": args.max_evaluations}
     if args.kind == "virgin":
+        if args.density is not None:
+            raise UserError(f"--density {args.density}: --kind virgin fits elastoplastic "
+                            "elements only; drop --density, or fit a density with --kind "
+                            "response or quasi-static.")  # fmt: skip
         return {"n_elements": n, "max_evaluations": args.max_evaluations}
     out.update(density=args.density, offset=args.offset, bootstrap=args.bootstrap)
     if args.kind == "response":
@@ -76,23 +78,28 @@ def fit_records(args: argparse.Namespace, records: list[Any], bar: Any = False) 
         fit_virgin_curve,
     )
     from presliding.identification._pi_regression import reversal_indices
+    from presliding.identification.fit_virgin import RAMP_RETREAT
     from presliding.identification.prediction import reversal_tolerance
+    from presliding.measurement.measurement import common_axis
 
     options = {**_options(args, records), "progress": bar}
     if args.kind == "virgin":
         ys = [np.asarray(m.position) for m in records]
         fs = [np.asarray(m.friction_force if m.friction_force is not None else m.applied_force)
               for m in records]  # fmt: skip
-        loops = any(reversal_indices(np.ascontiguousarray(y), reversal_tolerance(y)).size
-                    for y in ys)  # fmt: skip
+        # ramps against loops: a reversal beyond the record's tolerance and a tenth of its
+        # travel makes loops; retreats of a few quanta on a ramp do not (--ramps: ramps)
+        loops = not getattr(args, "ramps", False) and any(
+            reversal_indices(np.ascontiguousarray(y), max(reversal_tolerance(y),
+                             RAMP_RETREAT * float(np.ptp(y)))).size for y in ys)  # fmt: skip
         n = options.pop("n_elements")
         fit = fit_virgin_curve(ys, fs, n, loops=loops, reversal_tolerance=None, **options)
-        return fit, None
+        return fit.on_axis(common_axis(records)), None
     fitter: Callable[..., Any] = fit_response if args.kind == "response" else fit_quasi_static
     pooled: Any = records if len(records) > 1 else records[0]
     if len(records) < 2 or args.no_cross_validation:
         return fitter(pooled, **options), None
-    labels = [Path(p).name for p in args.data]
+    labels = getattr(args, "record_labels", None) or [Path(p).name for p in args.data]
     cv = cross_validate(records, fitter, labels=labels, **options)
     return cv.result, cv
 
@@ -102,13 +109,16 @@ def run_pooled(args: argparse.Namespace) -> int:
     from presliding.cli.fit import _header, _motion_settings, fit_progress, model_problem
     from presliding.cli.fit_figure import save_fit_figure
     from presliding.cli.report import Section, write_report
-    from presliding.model_io import MeasurementTerms, save_model
+    from presliding.model_io import MeasurementTerms, MotionSettings, save_model
 
     folder = check_folder(args.output)
     paths = {"model": folder / "model.toml", "figure": folder / "fit.png",
              "md": folder / "report.md", "html": folder / "report.html"}  # fmt: skip
-    check_outputs(paths.values(), tuple(args.data), overwrite=args.overwrite)
-    names = ", ".join(Path(p).name for p in args.data)
+    from presliding.cli.predict import held_out_section
+    from presliding.cli.records import data_names, input_files, pooled_header
+
+    check_outputs(paths.values(), input_files(args), overwrite=args.overwrite)
+    names = ", ".join(data_names(args))
     with fit_progress(args.quiet) as bar:
         bar.part(f"reading {len(args.data)} file(s)")
         records = _read_all(args)
@@ -121,9 +131,9 @@ def run_pooled(args: argparse.Namespace) -> int:
         bar.update()
         bar.part(f"writing {folder}")
         record_outputs(paths.values())
-        first = argparse.Namespace(**{**vars(args), "data": Path(args.data[0])})
-        save_fit_figure(first, records[0], result, paths["figure"],
-                        labels=[Path(p).name for p in args.data])  # fmt: skip
+        first = argparse.Namespace(**{**vars(args), "data": input_files(args)[0]})
+        labels = getattr(args, "record_labels", None) or [Path(p).name for p in args.data]
+        save_fit_figure(first, records[0], result, paths["figure"], labels=labels)
         written = [paths["figure"]]
         problem = model_problem(result, records[0])
         if not problem:
@@ -131,8 +141,12 @@ def run_pooled(args: argparse.Namespace) -> int:
             terms = None if offset is None else MeasurementTerms(float(offset))
             kind = "response" if args.kind == "response" else "other"
             motion = _motion_settings(argparse.Namespace(kind=kind), records[0], result)
+            header = _header(first, records[0], result)
+            if len(records) > 1:  # every record listed; no one record's start as [motion]
+                motion = None if motion is None else MotionSettings(mass=motion.mass)
+                header = pooled_header(args, records, args.record_labels, result)
             save_model(paths["model"], result.model, motion, measurement=terms,
-                       header=_header(first, records[0], result), overwrite=True)  # fmt: skip
+                       header=header, overwrite=True, axis=result.axis)  # fmt: skip
             written.insert(0, paths["model"])
         else:  # an earlier run's model.toml would be taken for this fit's
             paths["model"].unlink(missing_ok=True)
@@ -143,11 +157,21 @@ def run_pooled(args: argparse.Namespace) -> int:
         sections = [
             Section("Result", text, (paths["figure"],), code=f"{data}\n\n{result.report()}")
         ]
+        if getattr(args, "cuts", None):
+            sections.append(Section(
+                "Segments", f"Each record was cut into {args.segments} (--segments); every "
+                "piece was fitted as a pooled record.", code="\n".join(args.cuts)))  # fmt: skip
+        if getattr(args, "hold_out", None):
+            held, figures = held_out_section(args, result, folder)
+            sections.append(held)
+            written += figures
         if cv is not None:
             sections.append(Section(
                 "Cross-validation",
-                "Each record predicted by the fit of the others (its own start estimated with "
-                "the shared parameters held): NRMSE, reversal counts and rest positions.",
+                "Each record predicted by the fit of the others, from its measured start "
+                "(nothing taken from it) and from a start fitted to it with the shared "
+                "parameters held (the parameters in the last column are taken from the "
+                "held-out record): NRMSE, reversal counts and rest errors.",
                 table=cv.table(), code=cv.report(),
             ))  # fmt: skip
         written += write_report(folder, f"presliding fit: {names}", sections)

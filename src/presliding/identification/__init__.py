@@ -2,14 +2,6 @@
 
 Files
 -----
-measurement.py      `Measurement`: checking, windowing, resampling and differentiating signals
-_measurement_readers.py   `Measurement.from_csv`, `from_mat`, `from_dataframe`, `join`
-_readers.py         delimited text: delimiters, headers or none, BOM, bad cells named
-_mat.py             MATLAB files: variables checked, clear errors for other files
-_frames.py          pandas DataFrames (pandas imported only when used)
-_join.py            `Measurement.join`: per-signal records on one time base
-_units.py           units in column headers → SI factors (pint), parameter units
-_source.py          `Source`: the file, columns, units, factors and window of a measurement
 _status.py          the poor-fit test: explained variance, parameters on bounds, likely causes
 fit_presliding.py   `fit_presliding`: force against displacement (eqs. 4–9)
 fit_virgin.py       `fit_virgin_curve`: virgin curves from ramps or loops, pooled, quantised
@@ -20,6 +12,7 @@ fit_quasi_static.py `fit_quasi_static`: position from a slow force (torque-drive
 fit_result.py       `FitResult`, the least-squares driver shared by the fits
 prediction.py       `Prediction`, `count_reversals`: a fitted model on another record
 cross_validation.py `cross_validate`, `CrossValidation`: leave-one-record-out tables
+model_prediction.py `predict_record`: a given model (a model file's) predicting a record
 uncertainty.py      HAC (Newey–West) covariance, correlations
 _least_squares.py   the solver around scipy.optimize.least_squares (bounds, ties, statistics)
 _fit_options.py     the options every fit shares (level, evaluations, fixed, tied), checked
@@ -35,12 +28,18 @@ _predictors.py      how each fit predicts another record
 _pi_regression.py   separable least squares over the PI thresholds; the fused batch loss
 _global_search.py   differential evolution over thresholds for `fit_presliding`
 _response_tools.py, _response_checks.py   response start helpers and checks after a fit
-_filters.py         zero-phase filters and derivative estimates
+_moved.py           old paths of the modules that moved to `presliding.measurement`
 
-May import: `presliding.motion`, `presliding.analysis`, `presliding.friction`,
-`presliding.hysteresis` and the root's shared modules.
+Measurements (`Measurement`, readers, units, filters) live one layer down, in
+`presliding.measurement`; their old paths here (`presliding.identification.measurement`,
+`presliding.identification._units`, ...) stay importable aliases.
+
+May import: `presliding.measurement`, `presliding.motion`, `presliding.analysis`,
+`presliding.friction`, `presliding.hysteresis` and the root's shared modules.
 """
 
+# first: the old paths of the modules that moved to `presliding.measurement`
+from presliding.identification import _moved  # noqa: F401  (registers the aliases)
 from presliding.identification import fit_presliding as _fit_presliding
 from presliding.identification.cross_validation import CrossValidation, cross_validate
 from presliding.identification.fit_motion import fit_motion, predict_motion_force
@@ -50,9 +49,10 @@ from presliding.identification.fit_response import fit_response
 from presliding.identification.fit_result import FitResult
 from presliding.identification.fit_virgin import fit_virgin_curve, virgin_samples
 from presliding.identification.masing import MasingCheck, masing_check
-from presliding.identification.measurement import Measurement
-from presliding.identification.prediction import Prediction, count_reversals
+from presliding.identification.model_prediction import predict_record
+from presliding.identification.prediction import Prediction, count_reversals, reversal_tolerance
 from presliding.identification.uncertainty import correlation_matrix, hac_covariance
+from presliding.measurement.measurement import Measurement
 
 # the virgin-curve fit lived in fit_presliding before: its old names keep working
 _fit_presliding.fit_virgin_curve = fit_virgin_curve  # type: ignore[attr-defined]
@@ -75,4 +75,6 @@ __all__ = [
     "hac_covariance",
     "masing_check",
     "predict_motion_force",
+    "predict_record",
+    "reversal_tolerance",
 ]

@@ -30,7 +30,7 @@ from presliding.identification import _pooled_kernel as pk
 from presliding.identification import _response_tools as rt
 from presliding.identification._least_squares import _Map
 from presliding.identification._model_spec import TINY, ModelSpec
-from presliding.identification.measurement import Measurement
+from presliding.measurement.measurement import Measurement
 from presliding.motion._forcing import as_forcing
 
 FloatArray = NDArray[np.float64]

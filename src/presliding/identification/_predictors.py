@@ -17,7 +17,12 @@ import numpy as np
 from presliding._validation import as_choice
 from presliding.identification import _pooled_problem as pp
 from presliding.identification._least_squares import solve_least_squares
-from presliding.identification.prediction import Prediction, count_reversals, reversal_tolerance
+from presliding.identification.prediction import (
+    Prediction,
+    count_reversals,
+    counted,
+    reversal_tolerance,
+)
 
 INITIAL = ("fit", "measured")
 
@@ -37,7 +42,9 @@ class ResponsePredictor:
         self.problem = problem
         self.shared = {x: values[x] for x in problem.shared}
 
-    def predict(self, result: Any, measurement: Any, initial: str = "fit") -> Prediction:
+    def predict(
+        self, result: Any, measurement: Any, initial: str = "fit", tolerance: float | None = None
+    ) -> Prediction:
         from presliding.identification._response_setup import check_records, initial_bounds
 
         initial = as_choice("initial", initial, INITIAL)
@@ -70,7 +77,7 @@ class ResponsePredictor:
         if np.any(st != 0):
             status, message = "failed", "the simulation failed"
         y_sim, v_sim = o_y[0], o_v[0]
-        tol = reversal_tolerance(rec.position)
+        tol = reversal_tolerance(rec.position) if tolerance is None else tolerance
         measured_sig, predicted_sig = (
             (rec.position, y_sim) if signal == "position" else (rec.velocity, v_sim)
         )
@@ -84,6 +91,7 @@ class ResponsePredictor:
             measured_rest=_rest(rec.position, measured_v, tol),
             predicted_rest=_rest(y_sim, v_sim, tol),
             parameters=own, status=status, message=message,
+            **counted(initial, tol, rec.position),
         )  # fmt: skip
 
 
@@ -94,7 +102,9 @@ class QuasiStaticPredictor:
         self.problem = problem
         self.shared = {x: values[x] for x in problem.shared}
 
-    def predict(self, result: Any, measurement: Any, initial: str = "fit") -> Prediction:
+    def predict(
+        self, result: Any, measurement: Any, initial: str = "fit", tolerance: float | None = None
+    ) -> Prediction:
         from presliding.identification._response_setup import check_quasi_static_records
 
         initial = as_choice("initial", initial, INITIAL)
@@ -113,11 +123,11 @@ class QuasiStaticPredictor:
         o_y, _, st, _ = sub.simulate(np.array([start[x] for x in sub.names]))
         if np.any(st != 0):
             status, message = "failed", "no quasi-static response (|u| >= F_c)"
-        tol = reversal_tolerance(rec.position)
+        tol = reversal_tolerance(rec.position) if tolerance is None else tolerance
         own = {x: float(start[x]) for x in sub.names if x not in self.shared}
         return Prediction.build(
             rec.applied_force, rec.position, o_y[0], ("position", "applied force"),
             measured_reversals=count_reversals(rec.position, tol),
             predicted_reversals=count_reversals(o_y[0], tol), parameters=own, status=status,
-            message=message,
+            message=message, **counted(initial, tol, rec.position),
         )  # fmt: skip

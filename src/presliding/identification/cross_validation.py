@@ -2,11 +2,13 @@
 
 `cross_validate(records, fit=fit_response, **options)` fits all records once,
 then, for each record i, fits the others and predicts record i with
-`FitResult.predict` (its own initial conditions estimated with every shared
-parameter held, by default). The table lists, per held-out record, the NRMSE
-of the prediction, the measured and predicted reversal counts (counted alike,
-`count_reversals`) and rest positions. The result of the fit on all records
-carries the table, so its report shows it.
+`FitResult.predict` twice: from its measured start (first samples) and from
+a start fitted to it with every shared parameter held. The table lists, per
+held-out record, the NRMSE of both predictions, the measured and predicted
+reversal counts (counted alike, `count_reversals`, at a stated tolerance),
+rest positions, and which parameters were taken from the held-out record.
+The result of the fit on all records carries the table, so its report shows
+it.
 
 A record left out is never seen by the fit that predicts it: the figures
 measure how well the identified physics carries over to a record the fit did
@@ -22,10 +24,10 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from presliding._display import fill_attrs, result_html, short_repr
-from presliding._validation import as_choice
+from presliding._validation import as_choice, as_nonnegative_scalar
 from presliding.identification._fit_progress import reporting
 from presliding.identification.fit_result import FitResult
-from presliding.identification.prediction import Prediction
+from presliding.identification.prediction import Prediction, tolerance_text
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
@@ -40,7 +42,11 @@ class CrossValidation:
     Attributes
     ----------
     predictions : tuple of Prediction
-        One per held-out record, in order (a failed fold: status "failed").
+        One per held-out record, in order (a failed fold: status "failed"),
+        from the start chosen by `initial`.
+    alternatives : tuple of Prediction
+        The same records predicted from the other start (measured or fitted),
+        so that both figures are reported.
     fits : tuple of FitResult
         The fit without each record.
     result : FitResult
@@ -59,6 +65,7 @@ class CrossValidation:
     fits: tuple[FitResult, ...]
     result: FitResult
     labels: tuple[str, ...]
+    alternatives: tuple[Prediction, ...] = ()
 
     @property
     def nrmse(self) -> np.ndarray:
@@ -92,20 +99,32 @@ class CrossValidation:
             return f"{len(self.predictions)} held-out records predicted"
         return f"{len(bad)} of {len(self.predictions)} folds failed; first: {bad[0]}"
 
+    def _by_start(self) -> list[tuple[Prediction | None, Prediction | None]]:
+        """(measured-start, fitted-start) predictions of each record (None where absent)."""
+        alts = self.alternatives or (None,) * len(self.predictions)
+        out: list[tuple[Prediction | None, Prediction | None]] = []
+        for p, a in zip(self.predictions, alts, strict=True):
+            out.append((p, a) if p.initial == "measured" else (a, p))
+        return out
+
     def table(self) -> list[list[str]]:
-        """Rows: record, fit status, NRMSE, reversals measured/predicted, rest positions."""
-        rows = [["record", "fit status", "NRMSE [%]", "reversals (meas./pred.)",
-                 "rest position [m] (meas./pred.)"]]  # fmt: skip
-        for label, fit, p in zip(self.labels, self.fits, self.predictions, strict=True):
-            rev = (
-                "—" if p.measured_reversals is None
-                else f"{p.measured_reversals} / {p.predicted_reversals}"
-            )  # fmt: skip
-            rest = "—"
-            if p.measured_rest is not None or p.predicted_rest is not None:
-                rest = f"{_num(p.measured_rest)} / {_num(p.predicted_rest)}"
-            rows.append([label, fit.status, f"{100 * p.nrmse:.3g}", rev, rest])
+        """Rows: record, fit status, NRMSE and reversals (measured and fitted start), rest."""
+        unit = self.result.units.get("initial_position", "m") if self.result else "m"
+        rows = [["record", "fit status", "NRMSE % (measured start)", "NRMSE % (fitted start)",
+                 "reversals meas. / pred. (measured start)",
+                 "reversals meas. / pred. (fitted start)", f"rest error [{unit}] (measured / "
+                 "fitted start)", "fitted to the held-out record"]]  # fmt: skip
+        for label, fit, (m, f) in zip(self.labels, self.fits, self._by_start(), strict=True):
+            own = ", ".join(f.parameters) if f is not None and f.parameters else "—"
+            rows.append([label, fit.status, _nrmse(m), _nrmse(f), _rev(m), _rev(f),
+                         f"{_err(m)} / {_err(f)}", own])  # fmt: skip
         return rows
+
+    @property
+    def reversal_tolerances(self) -> str:
+        """The tolerances the reversals were counted at, as text (encoder counts if quantised)."""
+        texts = sorted({tolerance_text(p.reversal_tolerance, p.quantum) for p in self.predictions})
+        return texts[0] if len(texts) == 1 else f"each record's own ({', '.join(texts[:3])}, ...)"
 
     def report(self) -> str:
         """The table as text, with the median NRMSE and the share of exact reversal counts."""
@@ -116,9 +135,17 @@ class CrossValidation:
             "  " + "  ".join(c.ljust(w) for c, w in zip(r, widths, strict=True)) for r in rows
         ]
         lines.append(
-            f"  median NRMSE {100 * float(np.median(self.nrmse)):.3g} %; reversal counts exact "
-            f"in {_pct(self.reversals_exact)} of the records"
+            f"  median NRMSE {100 * float(np.median(self.nrmse)):.3g} % (start "
+            f"{self.predictions[0].initial if self.predictions else 'fit'}); reversal counts "
+            f"exact in {_pct(self.reversals_exact)} of the records"
         )
+        pairs = self._by_start()
+        if all(m is not None and f is not None for m, f in pairs):
+            meas = float(np.median([m.nrmse for m, _ in pairs if m is not None]))
+            fitted = float(np.median([f.nrmse for _, f in pairs if f is not None]))
+            lines.append(f"  median NRMSE from the measured start {100 * meas:.3g} %, from a "
+                         f"start fitted to the held-out record {100 * fitted:.3g} %")  # fmt: skip
+        lines.append(f"  reversals counted at a tolerance of {self.reversal_tolerances}")
         return "\n".join(lines)
 
     def to_dict(self) -> dict[str, Any]:
@@ -175,6 +202,22 @@ def _num(x: float | None) -> str:
     return "moving" if x is None else f"{x:.6g}"
 
 
+def _nrmse(p: Prediction | None) -> str:
+    return "—" if p is None else f"{100 * p.nrmse:.3g}"
+
+
+def _rev(p: Prediction | None) -> str:
+    if p is None or p.measured_reversals is None:
+        return "—"
+    return f"{p.measured_reversals} / {p.predicted_reversals}"
+
+
+def _err(p: Prediction | None) -> str:
+    if p is None or (p.measured_rest is None and p.predicted_rest is None):
+        return "—"
+    return "moving" if p.rest_error is None else f"{p.rest_error:.3g}"
+
+
 def _pct(x: float) -> str:
     return "—" if not np.isfinite(x) else f"{100 * x:.3g} %"
 
@@ -185,6 +228,7 @@ def cross_validate(
     *,
     labels: Sequence[str] | None = None,
     initial: str = "fit",
+    reversal_tolerance: float | None = None,
     **options: Any,
 ) -> CrossValidation:
     """Leave-one-record-out cross-validation of a pooled fit (module notes).
@@ -200,8 +244,14 @@ def cross_validate(
     labels : sequence of str, optional
         A name per record for the table.
     initial : {"fit", "measured"}
-        How the held-out record's own initial conditions are set (see
-        `FitResult.predict`).
+        The start of `CrossValidation.predictions`: fitted to the held-out
+        record with every shared parameter held, or its measured first samples
+        (see `FitResult.predict`); the other start's predictions are in
+        `CrossValidation.alternatives`, and the table shows both.
+    reversal_tolerance : float, optional
+        Travel [m or rad] by which reversals are counted, measured and
+        predicted alike (default: each record's `reversal_tolerance`, three
+        times its quantum or noise; the report states it).
     **options
         Passed to every fit. ``progress`` (as in `fit_response`) also names
         each left-out record as its fit begins.
@@ -231,12 +281,15 @@ def cross_validate(
     if len(names) != len(recs):
         raise ValueError(f"`labels` must name each of the {len(recs)} records; got {len(names)}.")
     initial = as_choice("initial", initial, ("fit", "measured"))
+    tol_value = None
+    if reversal_tolerance is not None:
+        tol_value = as_nonnegative_scalar("reversal_tolerance", reversal_tolerance)
     given = options.pop("progress", None)  # passed on only when given (any fit works)
     with reporting(False if given is None else given, "cross_validate") as shown:
         extra: dict[str, Any] = {} if given is None else {"progress": shown}
         shown.stage(f"fit of all {len(recs)} records")
         full = fit(recs, **options, **extra)
-        fits, predictions = [], []
+        fits, predictions, alternatives = [], [], []
         for i, held in enumerate(recs):
             shown.stage(f"cross-validation: {names[i]} left out ({i + 1} of {len(recs)})")
             others = recs[:i] + recs[i + 1 :]
@@ -244,9 +297,13 @@ def cross_validate(
             fits.append(part)
             if part.model is None or part.status == "failed":
                 predictions.append(_failed(held, part))
+                alternatives.append(_failed(held, part))
                 continue
-            predictions.append(part.predict(held, initial=initial))
-    cv = CrossValidation(tuple(predictions), tuple(fits), full, names)
+            other = "measured" if initial == "fit" else "fit"
+            tol = {} if reversal_tolerance is None else {"tolerance": tol_value}
+            predictions.append(part.predict(held, initial=initial, **tol))
+            alternatives.append(part.predict(held, initial=other, **tol))
+    cv = CrossValidation(tuple(predictions), tuple(fits), full, names, tuple(alternatives))
     result = replace(full, cross_validation=cv)
     return replace(cv, result=result)
 

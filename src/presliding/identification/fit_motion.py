@@ -38,7 +38,7 @@ from presliding.identification.fit_presliding import (
     pi_model,
 )
 from presliding.identification.fit_result import FitResult, Tie
-from presliding.identification.measurement import Measurement
+from presliding.measurement.measurement import Measurement
 
 __all__ = ["fit_motion", "predict_motion_force"]
 
@@ -160,7 +160,7 @@ def fit_motion(
     if model is not None and viscous:  # σ is part of the friction model (simulate honours it)
         model = PIFriction(model.coulomb, model.stiffness, model.breakaway,
                            viscous=max(sol.values["viscous"], 0.0))  # fmt: skip
-    rotary = m.source is not None and m.source.rotary
+    rotary = m.axis == "rotary"
     return FitResult.from_solution(
         _with_note(sol, note), model, m.time[used], u[used], fit.fitted[used],
         kind="motion equation (eq. 17)", abscissa_label="time [s]",

@@ -56,7 +56,7 @@ from presliding.identification._response_setup import (
 )
 from presliding.identification.fit_presliding import check_enough, element_count
 from presliding.identification.fit_result import FitResult, Tie, solve_least_squares
-from presliding.identification.measurement import Measurement
+from presliding.measurement.measurement import Measurement, common_axis
 
 __all__ = ["fit_quasi_static"]
 
@@ -267,7 +267,7 @@ def fit_quasi_static(
         replace(sol, n_evaluations=count), spec.model(values), u_all,
         np.concatenate([r.position for r in recs]), o_y[0], kind="quasi-static",
         abscissa_label="applied force", signal_label="position", signal_unit="m",
-        units=units, derived=derived,
+        units=units, derived=derived, rotary=common_axis(records) == "rotary",
     )  # fmt: skip
     spans = tuple(zip(problem.t_off[:-1].tolist(), problem.t_off[1:].tolist(), strict=True))
     if floor > 0 and spec.has_level_parameter and values["coulomb_level"] <= floor * (1 + 1e-6):

@@ -75,7 +75,7 @@ from presliding.identification._response_setup import (
 )
 from presliding.identification.fit_presliding import check_enough, element_count
 from presliding.identification.fit_result import FitResult, Tie, solve_least_squares
-from presliding.identification.measurement import Measurement
+from presliding.measurement.measurement import Measurement, common_axis
 
 __all__ = ["fit_response"]
 
@@ -366,4 +366,5 @@ def fit_response(
         sol, boot, count = record_bootstrap(sol, problem, settings, bootstrap, seed)
         evaluations[0] += count
     sol = replace(sol, n_evaluations=evaluations[0])
-    return response_result(sol, problem, spec, pruned, notes, boot, per_unit_mass, signal)
+    result = response_result(sol, problem, spec, pruned, notes, boot, per_unit_mass, signal)
+    return result.on_axis(common_axis(records))

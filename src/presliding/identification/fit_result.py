@@ -31,13 +31,14 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from presliding._axes import as_axis, on_axis
 from presliding._display import fill_attrs, fit_html, short_repr
 from presliding.friction.pi_friction import PIFriction
 from presliding.identification._least_squares import STATUSES as STATUSES
 from presliding.identification._least_squares import Solution, solve_least_squares
 from presliding.identification._least_squares import Tie as Tie
 from presliding.identification._status import judge
-from presliding.identification._units import parameter_units
+from presliding.measurement._units import parameter_units
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
@@ -129,6 +130,9 @@ class FitResult:
     units : dict name -> str
         SI unit of each parameter and derived quantity (rotary units for an
         angle and a torque).
+    axis : {'linear', 'rotary'}
+        The axis of the data fitted (`presliding.measurement.Measurement.axis`);
+        `units` and `signal_unit` are in its units.
     """
 
     model: PIFriction | None
@@ -161,6 +165,7 @@ class FitResult:
     at_bounds: tuple[str, ...] = ()
     units: dict[str, str] = field(default_factory=dict)
     bounds: dict[str, tuple[float, float]] = field(default_factory=dict)
+    axis: str = "linear"
 
     @classmethod
     def from_solution(
@@ -180,6 +185,11 @@ class FitResult:
         )  # fmt: skip
         units = parameter_units([*sol.values, *labels.get("derived", {})], rotary)
         units.update(labels.pop("units", {}))
+        if rotary:
+            units = {k: on_axis(v, "rotary") for k, v in units.items()}
+            labels["signal_unit"] = on_axis(labels.get("signal_unit", ""), "rotary")
+            labels["abscissa_label"] = on_axis(labels.get("abscissa_label", "sample"), "rotary")
+            labels["axis"] = "rotary"
         return cls(
             model=model, parameters=sol.values, standard_error=sol.standard_error,
             confidence_interval=sol.confidence_interval, confidence_level=sol.level,
@@ -188,6 +198,20 @@ class FitResult:
             residual_rms=rms, nrmse=nrmse, relative_residual=relative, status=status,
             message=message, n_evaluations=sol.n_evaluations, at_bounds=sol.at_bounds,
             units=units, covariance=sol.covariance, bounds=sol.bounds, **labels,
+        )  # fmt: skip
+
+    def on_axis(self, axis: str) -> FitResult:
+        """The same result with its units labelled for `axis` (from a fit of bare arrays)."""
+        from dataclasses import replace
+
+        if as_axis(axis) == self.axis:
+            return self
+        if self.axis == "rotary":
+            raise ValueError(f"`axis` {axis!r}: this result is already labelled rotary.")
+        return replace(
+            self, axis=axis, units={k: on_axis(v, axis) for k, v in self.units.items()},
+            signal_unit=on_axis(self.signal_unit, axis),
+            abscissa_label=on_axis(self.abscissa_label, axis),
         )  # fmt: skip
 
     @property

@@ -13,10 +13,11 @@ reads virgin-curve samples from
   force offset cancels.
 
 Quantised data. An encoder's position steps back and forth by a quantum (and
-noise) even on a ramp: a ramp may retreat by up to `reversal_tolerance`
-(default: `count_reversals`' tolerance of the record, three times its quantum
-or noise) without counting as a reversal. The samples of all records are
-pooled and sorted by s, and the monotone envelope F_iso(s), the
+noise) even on a ramp: each record's own tolerance (`count_reversals`', three
+times its quantum or noise) decides what a turning point is, and a ramp is
+taken on the monotone envelope of its travel (isotonic regression), so that a
+retreat of a few quanta, or up to a tenth of the travel, is not a reversal.
+The samples of all records are pooled and sorted by s, and the monotone envelope F_iso(s), the
 nondecreasing function closest to them in least squares
 (`scipy.optimize.isotonic_regression`, pool-adjacent-violators), gives a
 second start: the thresholds fitted to the envelope (which no noise makes
@@ -116,20 +117,35 @@ def _before_rest(seg: FloatArray, tol: float) -> NDArray[np.bool_]:
     return keep
 
 
+#: A ramp may retreat by this share of its travel (quantisation, noise, a settling drive)
+#: before it counts as reversing; beyond it (and beyond `reversal_tolerance`) it is a loop.
+RAMP_RETREAT = 0.1
+
+
 def _ramp_samples(y: FloatArray, f: FloatArray, tol: float, which: str) -> tuple:
-    """(s, F_v) of a loading ramp from rest at y[0], allowed to retreat by at most `tol`."""
+    """(s, F_v) of a loading ramp from rest at y[0]; its travel made monotone first.
+
+    A ramp that retreats by up to `tol` or a tenth of its travel (a few quanta of
+    an encoder, noise) is taken on its monotone envelope: s is the isotonic
+    (nondecreasing, least-squares) fit of the travel |y − y[0]|. A larger
+    retreat is a reversal: the record is a loop, not a ramp.
+    """
+    from scipy.optimize import isotonic_regression
+
     sign = np.sign(y[-1] - y[0])
     if sign == 0:
         raise ValueError(f"{which}: a virgin loading must end away from its start; got none.")
-    s = sign * (y - y[0])
-    retreat = np.maximum.accumulate(s) - s
-    if float(np.max(retreat)) > tol:
-        i = int(np.argmax(retreat > tol))
+    raw = sign * (y - y[0])
+    retreat = np.maximum.accumulate(raw) - raw
+    allowed = max(tol, RAMP_RETREAT * float(np.max(raw)))
+    if float(np.max(retreat)) > allowed:
+        i = int(np.argmax(retreat > allowed))
         raise ValueError(
-            f"{which} must be a monotone loading for loops=False (quantisation allowed up to "
-            f"`reversal_tolerance` {fmt(tol)}); it reverses by {fmt(float(retreat[i]))} at "
-            f"index {i}."
+            f"{which} must be a loading ramp for loops=False (retreats up to "
+            f"{fmt(allowed)} are taken on its monotone envelope); it reverses by "
+            f"{fmt(float(retreat[i]))} at index {i}: fit it with loops=True."
         )
+    s = isotonic_regression(raw, increasing=True).x
     keep = s > 0
     return s[keep], sign * f[keep]
 
@@ -181,7 +197,7 @@ def fit_virgin_curve(
     thresholds: ArrayLike | None = None,
     *,
     loops: bool = True,
-    reversal_tolerance: float | None = 0.0,
+    reversal_tolerance: float | None = None,
     envelope: bool = True,
     fixed: Mapping[str, float] | None = None,
     tied: Mapping[str, Tie] | None = None,
@@ -202,9 +218,11 @@ def fit_virgin_curve(
         (where the force is taken as zero); s = |y − y[0]|, F_v = ±F.
     n_elements, thresholds : as in `fit_presliding`
     reversal_tolerance : float or None
-        Travel [m] a turning point must be left by to count (loops), or by
-        which a ramp may retreat (quantisation); None: each record's own
-        `reversal_tolerance` (three times its quantum or noise).
+        Travel [m] a turning point must be left by to count (loops); None
+        (default): each record's own `reversal_tolerance` (three times its
+        quantum or noise). A ramp (``loops=False``) is taken on the monotone
+        envelope of its travel: retreats up to this tolerance or a tenth of its
+        travel are quantisation and noise, not reversals.
     envelope : bool
         Also start from the thresholds fitted to the monotone envelope of the
         pooled samples (module notes), keeping the better fit to the samples.

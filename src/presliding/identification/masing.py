@@ -40,8 +40,8 @@ from presliding._validation import (
 from presliding.friction.pi_friction import PIFriction
 from presliding.identification import _pi_regression as pr
 from presliding.identification.fit_result import FitResult
-from presliding.identification.measurement import Measurement
 from presliding.identification.prediction import reversal_tolerance as auto_tolerance
+from presliding.measurement.measurement import Measurement
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes

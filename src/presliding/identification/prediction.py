@@ -26,7 +26,7 @@ from presliding.identification.fit_result import fit_statistics
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
 
-__all__ = ["Prediction", "count_reversals", "reversal_tolerance"]
+__all__ = ["Prediction", "count_reversals", "counted", "position_quantum", "reversal_tolerance"]
 
 FloatArray = NDArray[np.float64]
 
@@ -51,6 +51,37 @@ def reversal_tolerance(position: ArrayLike) -> float:
     quantum = float(np.min(steps))
     noise = float(np.sqrt(np.mean(np.diff(y, 2) ** 2)) / np.sqrt(6)) if y.shape[0] > 2 else 0.0
     return 3.0 * max(quantum, min(noise, 0.05 * float(np.ptp(y))))
+
+
+def position_quantum(position: ArrayLike) -> float | None:
+    """The quantum of a quantised position record (an encoder count) [m], None if not quantised.
+
+    The smallest nonzero step, when every step is a whole multiple of it.
+    """
+    y = np.asarray(position, dtype=float)
+    steps = np.abs(np.diff(y))
+    steps = steps[steps > 0]
+    if not steps.size:
+        return None
+    q = float(np.min(steps))
+    ratio = steps / q
+    return q if np.allclose(ratio, np.round(ratio), rtol=0.0, atol=1e-6) else None
+
+
+def counted(initial: str, tolerance: float, position: ArrayLike) -> dict[str, Any]:
+    """The `Prediction` fields stating how it started and at which tolerance it counted."""
+    return {"initial": initial, "reversal_tolerance": float(tolerance),
+            "quantum": position_quantum(position)}  # fmt: skip
+
+
+def tolerance_text(tolerance: float | None, quantum: float | None, unit: str = "m") -> str:
+    """``"3e-06 m (3 encoder counts of 1e-06 m)"``, or the tolerance alone."""
+    if tolerance is None:
+        return "—"
+    text = f"{tolerance:.3g} {unit}"
+    if quantum:
+        text += f" ({tolerance / quantum:.3g} encoder counts of {quantum:.3g} {unit})"
+    return text
 
 
 def count_reversals(position: ArrayLike, tolerance: float | None = None) -> int:
@@ -97,6 +128,13 @@ class Prediction:
         "success", or "failed" when the record's initial conditions could not be
         estimated or its simulation failed.
     message : str
+    initial : {"fit", "measured"}
+        How the record's own start was set: fitted to the record with every
+        shared parameter held, or taken from its first samples.
+    reversal_tolerance : float or None
+        The travel [m or rad] by which reversals were counted (both counts).
+    quantum : float or None
+        The position's quantum (an encoder count) when it is quantised.
     """
 
     abscissa: FloatArray
@@ -112,6 +150,15 @@ class Prediction:
     parameters: dict[str, float]
     status: str = "success"
     message: str = ""
+    initial: str = "fit"
+    reversal_tolerance: float | None = None
+    quantum: float | None = None
+
+    @property
+    def from_record(self) -> dict[str, str]:
+        """Every parameter taken from the predicted record itself, and how it was taken."""
+        how = "fitted to the record" if self.initial == "fit" else "its first samples"
+        return {name: how for name in self.parameters}
 
     @property
     def success(self) -> bool:
@@ -151,6 +198,8 @@ class Prediction:
             "predicted_reversals": self.predicted_reversals, "measured_rest": self.measured_rest,
             "predicted_rest": self.predicted_rest, "parameters": dict(self.parameters),
             "status": self.status, "success": self.success, "message": self.message,
+            "initial": self.initial, "reversal_tolerance": self.reversal_tolerance,
+            "quantum": self.quantum,
         }  # fmt: skip
 
     def to_pandas(self) -> Any:
@@ -183,9 +232,15 @@ class Prediction:
         """A one-paragraph summary."""
         lines = [f"prediction: {self.status}{' — ' + self.message if self.message else ''}",
                  f"  NRMSE {100 * self.nrmse:.3f} % ({self.signal_label})"]  # fmt: skip
+        start = "fitted to the record" if self.initial == "fit" else "measured (first samples)"
+        lines.append(f"  start: {start}")
+        if self.parameters:
+            lines.append("  taken from the record: " + ", ".join(
+                f"{k} = {v:.6g}" for k, v in self.parameters.items()))  # fmt: skip
         if self.measured_reversals is not None:
             lines.append(f"  reversals: measured {self.measured_reversals}, predicted "
-                         f"{self.predicted_reversals}")  # fmt: skip
+                         f"{self.predicted_reversals} (tolerance "
+                         f"{tolerance_text(self.reversal_tolerance, self.quantum)})")  # fmt: skip
         if self.rest_error is not None:
             lines.append(f"  rest position: measured {self.measured_rest:.6g}, predicted "
                          f"{self.predicted_rest:.6g}")  # fmt: skip

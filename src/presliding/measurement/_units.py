@@ -25,7 +25,16 @@ import re
 from dataclasses import dataclass
 from typing import Any
 
-__all__ = ["SI_UNITS", "UnitConversion", "parameter_units", "parse_header", "si_factor"]
+__all__ = [
+    "SI_UNITS",
+    "UnitConversion",
+    "header_unit",
+    "is_quantity",
+    "parameter_units",
+    "parse_header",
+    "quantity_to_si",
+    "si_factor",
+]
 
 #: SI unit of each signal: (translational, rotary).
 SI_UNITS: dict[str, tuple[str, str]] = {
@@ -125,6 +134,38 @@ def parse_header(name: str) -> tuple[str, str | None]:
     unit = match.group("sq") if match.group("sq") is not None else match.group("par")
     unit = unit.strip()
     return match.group("base").strip(), unit or None
+
+
+def header_unit(name: str, where: str = "") -> str | None:
+    """The unit of a column header (`parse_header`); an unclosed bracket is an error.
+
+    ``"Position [mm"`` would otherwise be read as a column without a unit, in
+    SI, a factor of 1000 off without a word.
+    """
+    unit = parse_header(name)[1]
+    if unit is None and any(mark in name for mark in "[]()"):
+        raise ValueError(
+            f"{where}column {name!r}: its unit's brackets do not pair up; write the unit as "
+            "'Name [unit]' or 'Name (unit)', or give it with `units` (--units)."
+        )
+    return unit
+
+
+def is_quantity(value: Any) -> bool:
+    """True for a pint Quantity (of any registry)."""
+    return all(hasattr(value, a) for a in ("magnitude", "units", "dimensionality", "to"))
+
+
+def quantity_to_si(signal: str, value: Any) -> tuple[Any, str]:
+    """The magnitude of a pint Quantity `value` in the SI unit of `signal`, and that unit.
+
+    The dimension is checked (a length for a position, a force or a torque for
+    a force, ...): ``Q_(y_mm, "mm")`` becomes metres, never millimetres taken
+    as metres.
+    """
+    unit = str(value.units)
+    factor, si = si_factor(signal, unit if unit != "dimensionless" else "1", f"`{signal}`")
+    return value.magnitude * factor, si
 
 
 @functools.lru_cache(maxsize=1)

@@ -8,7 +8,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from presliding.identification._units import parse_header
+from presliding.measurement._units import header_unit
 
 __all__ = ["dataframe_columns"]
 
@@ -67,5 +67,5 @@ def dataframe_columns(
                 f"`df` column {label!r} of `{sig}`: row {series.index[i]!r} holds "
                 f"{series.iloc[i]!r}, not a finite number."
             )
-        raw[sig] = (label, values.to_numpy(dtype=np.float64), parse_header(label)[1])
+        raw[sig] = (label, values.to_numpy(dtype=np.float64), header_unit(label))
     return raw

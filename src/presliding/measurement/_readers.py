@@ -6,8 +6,16 @@ Delimited text (`read_text`):
   the first line that is not a comment (``#``) or blank (or given);
 - a header line is detected when any cell of that first line is not a number
   (``header=None``); a file without one has its columns chosen by 0-based index;
-- a UTF-8 byte-order mark is skipped; a file that is not UTF-8 is read as
+- a delimiter at the end of every line (rig software that ends each value
+  with a tab) is not a column: the cells before it are the row;
+- a UTF-8 byte-order mark is skipped; UTF-16 text with its byte-order mark
+  (Excel's "Unicode text") is read; a file that is not UTF-8 is read as
   Windows-1252 (``µ`` from older rig software);
+- ``decimal=","`` reads decimal commas (European exports, ``1,5;2,25``), with
+  a tab, semicolon or whitespace between the cells;
+- rows are parsed by pandas' C parser when pandas is installed (else numpy);
+  whenever a row does not parse cleanly, the rows are read one by one so that
+  the error names the line and the column;
 - every row must have as many cells as the header: a row with a missing cell
   is an error naming the file, line and column, never a shifted column, and so
   is an empty or non-numeric cell, or a non-finite value, in a column used;
@@ -16,6 +24,7 @@ Delimited text (`read_text`):
 
 from __future__ import annotations
 
+import io
 import os
 import re
 from dataclasses import dataclass
@@ -25,7 +34,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from presliding._validation import fmt
-from presliding.identification._units import parse_header
+from presliding.measurement._units import parse_header
 
 __all__ = ["TextTable", "check_path", "read_bytes", "read_text"]
 
@@ -75,6 +84,12 @@ class TextTable:
     delimiter: str | None
     rows: list[str]
     first_line: int  # 1-based line number in the file of rows[0]
+    decimal: str = "."
+
+    def row_lines(self) -> NDArray[np.int64]:
+        """1-based line numbers in the file of the data rows (blank and comment lines skipped)."""
+        keep = [i for i, r in enumerate(self.rows) if _is_row(r)]
+        return np.asarray(keep, dtype=np.int64) + self.first_line
 
     @property
     def n_columns(self) -> int:
@@ -84,7 +99,10 @@ class TextTable:
 
     def _split(self, row: str) -> list[str]:
         cells = row.split(self.delimiter) if self.delimiter else row.split()
-        return [c.strip().strip('"').strip() for c in cells]
+        cells = [c.strip().strip('"').strip() for c in cells]
+        if self.decimal != ".":
+            cells = [c.replace(self.decimal, ".") for c in cells]
+        return cells
 
     def label(self, j: int) -> str:
         """The header name of column j, or ``column j`` in a headerless file."""
@@ -127,18 +145,40 @@ class TextTable:
     def values(self, indices: list[int]) -> dict[int, FloatArray]:
         """The columns `indices` as finite float arrays; clear errors naming line and column."""
         n = self.n_columns
-        data = None
-        try:
-            data = np.loadtxt(self.rows, delimiter=self.delimiter, ndmin=2, dtype=np.float64,
-                              comments="#", quotechar='"')  # fmt: skip
-        except ValueError:
-            data = None
-        if data is None or data.shape[1] != n:
+        data = self._fast_values()
+        if data is None or data.ndim != 2 or data.shape[1] != n:
             return self._slow_values(indices)
-        out = {j: np.ascontiguousarray(data[:, j]) for j in indices}
-        if not all(np.all(np.isfinite(a)) for a in out.values()):
-            return self._slow_values(indices)  # names the line of the first bad value
-        return out
+        if not np.all(np.isfinite(data)):  # a gap, a short row or a bad value: named below
+            return self._slow_values(indices)
+        return {j: np.ascontiguousarray(data[:, j]) for j in indices}
+
+    def _fast_values(self) -> FloatArray | None:
+        """Every row parsed at once (pandas' C parser, else numpy); None when a row fails."""
+        rows = (
+            self.rows if self.decimal == "." else [r.replace(self.decimal, ".") for r in self.rows]
+        )
+        try:
+            import pandas as pd
+        except ImportError:
+            pd = None
+        try:
+            if pd is not None:
+                frame = pd.read_csv(
+                    io.StringIO("\n".join(rows)), sep=self.delimiter or r"\s+", header=None,
+                    comment="#", dtype=np.float64, engine="c", quotechar='"',
+                    skip_blank_lines=True, skipinitialspace=True,
+                )  # fmt: skip
+                return np.asarray(frame.to_numpy(dtype=np.float64), dtype=np.float64)
+            return np.loadtxt(rows, delimiter=self.delimiter, ndmin=2, dtype=np.float64,
+                              comments="#", quotechar='"')  # fmt: skip
+        except (ValueError, TypeError, IndexError):
+            return None
+        except Exception as exc:  # pandas' ParserError and EmptyDataError
+            if pd is not None and isinstance(
+                exc, (pd.errors.ParserError, pd.errors.EmptyDataError)
+            ):
+                return None
+            raise
 
     def _slow_values(self, indices: list[int]) -> dict[int, FloatArray]:
         n = self.n_columns
@@ -189,6 +229,13 @@ def _decode(path: str, raw: bytes) -> str:
             f"{path}: is a MATLAB file, not delimited text; read it with Measurement.from_mat "
             "(the command line reads .mat files by their suffix)."
         )
+    if head.startswith((b"\xff\xfe", b"\xfe\xff")):  # UTF-16 with its byte-order mark
+        try:
+            return raw.decode("utf-16")
+        except UnicodeDecodeError:
+            raise ValueError(
+                f"{path}: is not valid UTF-16 text although it starts as such."
+            ) from None
     if b"\x00" in head:
         raise ValueError(
             f"{path}: is not a text file (it holds binary data); a data file must be delimited "
@@ -200,7 +247,9 @@ def _decode(path: str, raw: bytes) -> str:
         return raw.decode("cp1252", errors="replace")
 
 
-def read_text(path: Any, *, delimiter: str | None = None, header: bool | None = None) -> TextTable:
+def read_text(
+    path: Any, *, delimiter: str | None = None, header: bool | None = None, decimal: str = "."
+) -> TextTable:
     """Open a delimited text file (see the module notes); rows are parsed by `TextTable.values`.
 
     Parameters
@@ -211,6 +260,9 @@ def read_text(path: Any, *, delimiter: str | None = None, header: bool | None = 
     header : bool, optional
         True: the first line names the columns; False: there is none; None:
         detected (a header when any cell of the first line is not a number).
+    decimal : {".", ","}
+        The decimal mark of the numbers; with ``","`` the cells must be
+        separated by a tab, a semicolon or whitespace.
     """
     path = check_path(path)
     if delimiter is not None and (not isinstance(delimiter, str) or delimiter not in _DELIMITERS):
@@ -220,6 +272,8 @@ def read_text(path: Any, *, delimiter: str | None = None, header: bool | None = 
         )
     if header is not None and not isinstance(header, bool):
         raise TypeError(f"`header` must be True, False or None; got {fmt(header)}.")
+    if decimal not in (".", ","):
+        raise ValueError(f"`decimal` must be '.' or ','; got {fmt(decimal)}.")
     text = _decode(path, read_bytes(path))
     lines = text.splitlines()
     start = 0  # leading blank and comment lines
@@ -229,11 +283,21 @@ def read_text(path: Any, *, delimiter: str | None = None, header: bool | None = 
         raise ValueError(f"{path}: holds no data (it is empty or only comments).")
     first = lines[start]
     if delimiter is None:
-        delim = next((d for d in ("\t", ";", ",") if d in first), None)
+        marks = ("\t", ";", ",") if decimal == "." else ("\t", ";")
+        delim = next((d for d in marks if d in first), None)
     else:
         delim = _DELIMITERS[delimiter]
+    if decimal == "," and delim == ",":
+        raise ValueError(
+            f"{path}: `decimal` ',' needs cells separated by a tab, a semicolon or whitespace; "
+            "got the delimiter ','."
+        )
+    if delim is not None and first.rstrip("\r\n").endswith(delim):  # not a column
+        first = first.rstrip("\r\n")[: -len(delim)]
+        lines = [_drop_trailing(ln, delim) for ln in lines]
     cells = [c.strip().strip('"').strip() for c in (first.split(delim) if delim else first.split())]
-    has_header = (not all(_is_number(c) for c in cells)) if header is None else header
+    numbers = [c.replace(",", ".") for c in cells] if decimal == "," else cells
+    has_header = (not all(_is_number(c) for c in numbers)) if header is None else header
     if has_header and delim is None:  # "Time [s] Position [mm]": units stay with their names
         cells = _WS_HEADER.findall(first)
     begin = start + 1 if has_header else start
@@ -241,4 +305,9 @@ def read_text(path: Any, *, delimiter: str | None = None, header: bool | None = 
     if not any(_is_row(r) for r in rows):
         raise ValueError(f"{path}: has a header line but no data rows.")
     names = tuple(cells) if has_header else None
-    return TextTable(path, names, delim, rows, begin + 1)
+    return TextTable(path, names, delim, rows, begin + 1, decimal)
+
+
+def _drop_trailing(line: str, delim: str) -> str:
+    text = line.rstrip("\r\n")
+    return text[: -len(delim)] if text.endswith(delim) else text

@@ -25,6 +25,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from presliding._axes import as_axis, axis_unit
 from presliding._validation import (
     as_choice,
     as_positive_scalar,
@@ -34,11 +35,12 @@ from presliding._validation import (
     check_size,
     fmt,
 )
-from presliding.identification._filters import estimate_derivatives, lowpass
-from presliding.identification._measurement_readers import MeasurementReaders
-from presliding.identification._source import Source
+from presliding.measurement._filters import estimate_derivatives, lowpass
+from presliding.measurement._measurement_readers import MeasurementReaders
+from presliding.measurement._source import Source
+from presliding.measurement._units import is_quantity, quantity_to_si
 
-__all__ = ["Measurement", "estimate_derivatives", "lowpass"]
+__all__ = ["Measurement", "common_axis", "estimate_derivatives", "lowpass"]
 
 FloatArray = NDArray[np.float64]
 
@@ -51,7 +53,7 @@ _UNIFORM_TOL = 1e-3
 
 @dataclass(frozen=True, eq=False)
 class Measurement(MeasurementReaders):
-    """Signals sampled on one time base (units: s, m, m/s, m/s², N).
+    """Signals sampled on one time base (units: s, m, m/s, m/s², N; rad and N m on a rotary axis).
 
     Parameters
     ----------
@@ -71,6 +73,12 @@ class Measurement(MeasurementReaders):
     source : Source, optional
         Where the signals came from (set by the readers; kept by `window`,
         `resample` and `differentiate`).
+    axis : {'linear', 'rotary'}, optional
+        The kind of axis: linear (m, N, kg) or rotary (rad, N m, kg m²; the
+        position an angle, the forces torques). Default: from the units read
+        (``deg`` or ``rad`` positions, ``N m`` torques make it rotary), else
+        linear. Given explicitly, it must agree with the units read. Fits,
+        reports, figures and model files label their quantities in its units.
 
     All given signals must be finite and have the same length as `time`; at
     least one signal must be given. Arrays are stored read-only.
@@ -83,8 +91,10 @@ class Measurement(MeasurementReaders):
     applied_force: FloatArray | None = None
     friction_force: FloatArray | None = None
     source: Source | None = None
+    axis: str | None = None
 
     def __post_init__(self) -> None:
+        rotary_quantity = self._convert_quantities()
         t = as_signal("time", self.time, min_length=2)
         steps = np.diff(t)
         if not np.all(steps > 0):
@@ -113,6 +123,44 @@ class Measurement(MeasurementReaders):
                 + ", ".join(f"`{s}`" for s in SIGNALS)
                 + "."
             )
+        self._settle_axis(rotary_quantity)
+
+    def _convert_quantities(self) -> bool | None:
+        """pint Quantities to SI magnitudes (dimension checked); whether one was rotary."""
+        rotary = None
+        for name in ("time", *SIGNALS):
+            value = getattr(self, name)
+            if is_quantity(value):
+                magnitude, si = quantity_to_si(name, value)
+                object.__setattr__(self, name, magnitude)
+                if name != "time":
+                    rotary = bool(rotary) or si in ("rad", "rad/s", "rad/s^2", "N m")
+        return rotary
+
+    def _settle_axis(self, rotary_quantity: bool | None = None) -> None:
+        read = None if self.source is None else self.source.axis_read
+        if read is None and rotary_quantity is not None:
+            read = "rotary" if rotary_quantity else "linear"
+        axis = (read or "linear") if self.axis is None else as_axis(self.axis)
+        if read is not None and axis != read:
+            conversions = self.source.all_conversions() if self.source is not None else ()
+            given = [f"{c.signal} in {c.unit}" for c in conversions
+                     if c.unit is not None and c.signal != "time"]  # fmt: skip
+            units = ", ".join(given) or "pint units"
+            raise ValueError(
+                f"`axis` {axis!r} contradicts the units read ({units}: a {read} axis); "
+                "leave `axis` out or correct the units."
+            )
+        object.__setattr__(self, "axis", axis)
+        if self.source is not None and axis == "rotary":
+            object.__setattr__(self, "source", self.source.on_axis(axis))
+
+    def unit(self, quantity: str) -> str:
+        """The SI unit of `quantity` (``"position"``, ``"force"``, ``"mass"``, ...) on this axis.
+
+        ``Measurement(..., axis="rotary").unit("stiffness")`` is ``"N m/rad"``.
+        """
+        return axis_unit(quantity, self.axis or "linear")
 
     # ------------------------------------------------------------------ properties
     @property
@@ -287,6 +335,53 @@ class Measurement(MeasurementReaders):
             out = replace(out, source=self.source.with_note(note))
         return out
 
+    def segments(
+        self,
+        kind: str = "stops",
+        *,
+        lead_in: float | None = None,
+        rest_speed: float | None = None,
+        tolerance: float | None = None,
+        min_samples: int = 10,
+    ) -> Any:
+        """Cut the record into stops, loops or ramps: the pieces and a table of what was cut.
+
+        Parameters
+        ----------
+        kind : {'stops', 'loops', 'ramps'}
+            ``"stops"``: each arrival at rest, from where the applied force drops
+            to its final level (else from the speed's peak), less a lead-in, to
+            after the rest; ``"loops"``: one closed cycle of the position each
+            (turning point to the second turning point after it); ``"ramps"``:
+            one monotone run each (turning point to turning point).
+        lead_in : float, optional
+            Stops: time [s] kept before the drop (default: a fifth of the
+            deceleration).
+        rest_speed : float, optional
+            Stops: the speed [m/s or rad/s] below which the record is at rest
+            (default: 2 % of its 99th-percentile speed, smoothed).
+        tolerance : float, optional
+            Loops and ramps: the retreat [m or rad] that makes a turning point
+            (default: three quanta of a quantised position, else 1 % of its span).
+        min_samples : int
+            Shorter pieces are left out.
+
+        Returns
+        -------
+        Segments
+            ``.records`` (the pieces, each a `Measurement` whose source notes the
+            cut), ``.table()`` and ``.report()``; iterable and indexable.
+
+        Examples
+        --------
+        ``fit_response(list(m.segments("stops")), 2)`` fits every stop of a file
+        as a pooled record.
+        """
+        from presliding.measurement.segments import segment
+
+        return segment(self, kind, lead_in=lead_in, rest_speed=rest_speed, tolerance=tolerance,
+                       min_samples=min_samples)  # fmt: skip
+
     def _require_uniform(self, what: str) -> None:
         if not self.is_uniform:
             steps = np.diff(self.time)
@@ -297,5 +392,18 @@ class Measurement(MeasurementReaders):
 
     def _map(self, fn: Any, time: FloatArray) -> Measurement:
         return Measurement(
-            time, **{n: fn(a) for n, a in self.signals().items()}, source=self.source
+            time, **{n: fn(a) for n, a in self.signals().items()}, source=self.source,
+            axis=self.axis,
+        )  # fmt: skip
+
+
+def common_axis(records: Any) -> str:
+    """The axis shared by a `Measurement` or a sequence of them (an error if they differ)."""
+    items = [records] if isinstance(records, Measurement) else list(records)
+    axes = {getattr(r, "axis", None) or "linear" for r in items}
+    if len(axes) > 1:
+        raise ValueError(
+            "`records` must all be on one kind of axis; got linear and rotary records "
+            "(check the units read, or give `axis` when reading)."
         )
+    return axes.pop() if axes else "linear"

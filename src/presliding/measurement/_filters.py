@@ -55,10 +55,10 @@ def lowpass(
         ``"butter"``; the approximate −3 dB point for ``"savgol"``).
     method : {"butter", "savgol"}
         ``"butter"``: Butterworth filter of `order`, run forwards and backwards
-        (scipy.signal.filtfilt), so the phase is zero and the magnitude is
-        squared. ``"savgol"``: Savitzky–Golay smoothing, polynomial degree
-        `order`, with the longest window whose gain at the cut-off is still
-        at least 1/√2 (−3 dB).
+        (scipy.signal.sosfiltfilt, in second-order sections), so the phase
+        is zero and the magnitude is squared. ``"savgol"``: Savitzky–Golay
+        smoothing, polynomial degree `order`, with the longest window whose
+        gain at the cut-off is still at least 1/√2 (−3 dB).
     order : int
         Filter order or polynomial degree, 1 to `MAX_ORDER` (10).
     """
@@ -97,8 +97,11 @@ def _smooth(y: FloatArray, h: float, wn: float, method: str, order: int, deriv: 
     method = as_choice("method", method, ("butter", "savgol"))
     order = as_count("order", order, minimum=1, maximum=MAX_ORDER)
     if method == "butter":
-        b, a = signal.butter(int(order), wn)
-        need = 3 * max(len(a), len(b)) + 1
+        # second-order sections: the (b, a) form loses the filter to rounding at low cut-offs
+        # (order 6 at 2e-4 of Nyquist gave velocities of 1e48)
+        sos = signal.butter(int(order), wn, output="sos")
+        trivial = min(int(np.sum(sos[:, 2] == 0)), int(np.sum(sos[:, 5] == 0)))
+        need = 3 * (2 * len(sos) + 1 - trivial) + 1  # sosfiltfilt's default padding + 1
         if y.shape[0] < need:
             raise ValueError(
                 f"the signal must have at least {need} samples for a Butterworth filter of "
@@ -109,7 +112,7 @@ def _smooth(y: FloatArray, h: float, wn: float, method: str, order: int, deriv: 
         line = np.linspace(y[0], y[-1], y.shape[0])
         try:
             with np.errstate(all="ignore"):  # an unstable filter is reported below
-                out = signal.filtfilt(b, a, y - line) + line
+                out = signal.sosfiltfilt(sos, y - line) + line
         except ValueError:  # newer scipy refuses an unstable filter itself
             out = np.full(y.shape, np.nan)
         if not np.all(np.isfinite(out)):

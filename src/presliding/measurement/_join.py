@@ -25,7 +25,7 @@ from typing import Any
 import numpy as np
 
 from presliding._validation import fmt
-from presliding.identification._source import Source
+from presliding.measurement._source import Source
 
 __all__ = ["join_records"]
 
@@ -85,7 +85,8 @@ def join_records(records: Sequence[Any], interpolate: bool, cls: type) -> Any:
             notes.append(f"record {i}: {dropped} samples outside the overlap dropped")
     parts = tuple(r.source if r.source is not None else Source(None, "arrays") for r in records)
     source = Source(None, "join", parts=parts, notes=tuple(notes))
-    return cls(base, **signals, source=source)
+    axis = "rotary" if any(getattr(r, "axis", None) == "rotary" for r in records) else None
+    return cls(base, **signals, source=source, axis=axis)
 
 
 def _mismatch(i: int, times: np.ndarray, base: np.ndarray, tol: float) -> str:

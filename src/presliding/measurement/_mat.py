@@ -1,8 +1,9 @@
 """MATLAB files for `Measurement.from_mat` and the command line.
 
-Versions 4 to 7.2 are read through scipy.io.loadmat, with clear errors naming
-the file for a text file, an HDF5-based v7.3 file, a file scipy cannot parse,
-and variables that are not numeric vectors (signals) or scalars (scales).
+Versions 4 to 7.2 are read through scipy.io.loadmat, version 7.3 (HDF5) through
+h5py (the `h5py` extra; an ImportError naming it otherwise), with clear errors
+naming the file for a text file, a file that cannot be parsed, and variables
+that are not numeric vectors (signals) or scalars (scales).
 """
 
 from __future__ import annotations
@@ -13,7 +14,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from presliding._validation import fmt
-from presliding.identification._readers import check_path, read_bytes
+from presliding.measurement._readers import check_path, read_bytes
 
 __all__ = ["MatFile", "read_mat"]
 
@@ -32,11 +33,9 @@ class MatFile:
         self.path = check_path(path)
         raw = read_bytes(self.path)[:_SNIFF]
         if raw.startswith(b"MATLAB 7.3 MAT-file") or raw.startswith(b"\x89HDF"):
-            raise ValueError(
-                f"{self.path}: is a MATLAB 7.3 (HDF5) file, which scipy cannot read; save it "
-                "with save(..., '-v7') in MATLAB, or read it with h5py and pass the arrays to "
-                "Measurement."
-            )
+            self.contents = _read_hdf5(self.path)
+            self.names = sorted(self.contents)
+            return
         if b"\x00" not in raw:
             raise ValueError(
                 f"{self.path}: is a text file, not a MATLAB file; read it with "
@@ -90,6 +89,36 @@ class MatFile:
                 f"shape {np.shape(self.contents[name])}."
             )
         return float(arr)
+
+
+def _read_hdf5(path: str) -> dict[str, Any]:
+    """The top-level variables of a MATLAB 7.3 file (HDF5, through h5py; arrays transposed)."""
+    try:
+        import h5py
+    except ImportError:
+        raise ImportError(
+            f"{path}: is a MATLAB 7.3 (HDF5) file; reading it needs h5py, the `h5py` extra "
+            "(pip install 'presliding[h5py]'), or save it with save(..., '-v7') in MATLAB."
+        ) from None
+    out: dict[str, Any] = {}
+    try:
+        with h5py.File(path, "r") as fh:
+            for name, item in fh.items():
+                if name.startswith("#"):  # MATLAB's references and subsystem
+                    continue
+                kind = item.attrs.get("MATLAB_class", b"")
+                kind = kind.decode() if isinstance(kind, bytes) else str(kind)
+                if not isinstance(item, h5py.Dataset) or kind in ("cell", "struct"):
+                    out[name] = np.empty(0, dtype=object)  # named as a cell or struct
+                elif kind == "char":
+                    out[name] = np.asarray("".join(map(chr, np.ravel(item[()]))))
+                elif kind == "logical":
+                    out[name] = np.asarray(item[()], dtype=bool)
+                else:  # MATLAB writes column-major: transpose back
+                    out[name] = np.asarray(item[()]).T
+    except OSError as exc:
+        raise ValueError(f"{path}: cannot be read as a MATLAB 7.3 (HDF5) file ({exc}).") from None
+    return out
 
 
 def read_mat(path: Any) -> MatFile:

@@ -16,14 +16,17 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from presliding._axes import AXES
 from presliding._validation import as_real_scalar, fmt
-from presliding.identification._units import SI_UNITS, UnitConversion, si_factor
+from presliding.measurement._units import SI_UNITS, UnitConversion, si_factor
 
 __all__ = [
     "Source",
     "assemble",
     "build",
+    "check_distinct_columns",
     "check_signal_names",
+    "check_time_lines",
     "time_from_rate",
     "with_time",
 ]
@@ -71,6 +74,25 @@ class Source:
         for part in self.parts:
             out.update({k: v for k, v in part.units.items() if k not in out})
         return out
+
+    @property
+    def axis_read(self) -> str | None:
+        """The axis the units read show: ``"rotary"`` (an angle or a torque),
+        ``"linear"`` (a length or a force), None when no unit says."""
+        given = [c for c in self.all_conversions() if c.signal != "time" and c.unit is not None]
+        if not given:
+            return None
+        return "rotary" if any(c.rotary for c in given) else "linear"
+
+    def on_axis(self, axis: str) -> Source:
+        """The same source with the signals read without a unit labelled in `axis`'s SI units."""
+        kind = AXES.index(axis)
+        conversions = tuple(
+            replace(c, si_unit=SI_UNITS[c.signal][kind]) if c.unit is None else c
+            for c in self.conversions
+        )
+        parts = tuple(p.on_axis(axis) for p in self.parts)
+        return replace(self, conversions=conversions, parts=parts)
 
     @property
     def rotary(self) -> bool:
@@ -194,7 +216,7 @@ def time_from_rate(sample_rate: Any, n: int) -> FloatArray:
     return np.arange(n, dtype=np.float64) / rate
 
 
-def build(cls: type, raw, path, kind, scale, units, sample_rate, lookup=None) -> Any:
+def build(cls: type, raw, path, kind, scale, units, sample_rate, lookup=None, axis=None) -> Any:
     """A `Measurement` (`cls`) of the columns `raw` read from `path`, converted by `assemble`.
 
     Errors of the constructor (time not increasing, ...) are prefixed with the file.
@@ -207,7 +229,7 @@ def build(cls: type, raw, path, kind, scale, units, sample_rate, lookup=None) ->
     if sample_rate is not None:
         source = replace(source, conversions=source.conversions[1:])
     try:
-        return cls(**signals, source=source)
+        return cls(**signals, source=source, axis=axis)
     except ValueError as exc:
         raise ValueError(f"{path or 'df'}: {exc}") from None
 
@@ -232,3 +254,28 @@ def check_signal_names(names: Mapping[str, Any]) -> None:
     for name in names:
         if name not in SIGNALS[1:]:
             raise ValueError(f"signal names must be among {', '.join(SIGNALS[1:])}; got {name!r}.")
+
+
+def check_distinct_columns(index: Mapping[str, Any], label: Any = str) -> None:
+    """One column for one signal: the same column given to two signals is an error."""
+    seen: dict[Any, str] = {}
+    for sig, col in index.items():
+        if col in seen:
+            raise ValueError(
+                f"column {label(col)!r} is given to both `{seen[col]}` and `{sig}`; each signal "
+                "needs its own column."
+            )
+        seen[col] = sig
+
+
+def check_time_lines(table: Any, t: FloatArray, label: str) -> None:
+    """Time that does not increase, named by the file's line (not the array index)."""
+    bad = ~(np.diff(t) > 0)
+    if bad.any():
+        i = int(np.argmax(bad)) + 1
+        lines = table.row_lines()
+        raise ValueError(
+            f"{table.path}: line {lines[i]}, column {label!r}: time {fmt(t[i])} does not "
+            f"increase (line {lines[i - 1]} has {fmt(t[i - 1])}); time must be strictly "
+            "increasing."
+        )

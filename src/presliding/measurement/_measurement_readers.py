@@ -12,8 +12,14 @@ import os
 from collections.abc import Mapping, Sequence
 from typing import Any
 
-from presliding.identification._source import build, check_signal_names, with_time
-from presliding.identification._units import parse_header
+from presliding.measurement._source import (
+    build,
+    check_distinct_columns,
+    check_signal_names,
+    check_time_lines,
+    with_time,
+)
+from presliding.measurement._units import header_unit
 
 __all__ = ["MeasurementReaders"]
 
@@ -30,8 +36,10 @@ class MeasurementReaders:
         sample_rate: float | None = None,
         delimiter: str | None = None,
         header: bool | None = None,
+        decimal: str = ".",
         units: Mapping[str, str | None] | None = None,
         scale: Mapping[str, float] | None = None,
+        axis: str | None = None,
         **columns: str | int,
     ) -> Any:
         """Read a delimited text file (comma, tab, semicolon or whitespace separated).
@@ -50,11 +58,16 @@ class MeasurementReaders:
             Whether the first line names the columns; default: detected (a header
             when any of its cells is not a number). Without a header, columns are
             chosen by 0-based index.
+        decimal : {".", ","}
+            The decimal mark (``","`` for European exports such as ``0,5;1,25``).
         units : mapping, optional
             Unit per signal name (``{"position": "mm"}``), overriding the header's;
             None or "" takes the values as SI.
         scale : mapping, optional
             Factor per signal name applied after the unit conversion.
+        axis : {'linear', 'rotary'}, optional
+            The kind of axis (default: from the units read, else linear); see
+            `Measurement`.
         **columns : str or int
             Columns of the signals, by signal name, e.g. ``position="Position [mm]"``
             or ``position=1``.
@@ -76,18 +89,22 @@ class MeasurementReaders:
         A headerless two-column file sampled at 1 kHz: ``from_csv(path, sample_rate=1e3,
         position=0, applied_force=1)``.
         """
-        from presliding.identification._readers import read_text
+        from presliding.measurement._readers import read_text
 
         check_signal_names(columns)
-        table = read_text(path, delimiter=delimiter, header=header)
+        table = read_text(path, delimiter=delimiter, header=header, decimal=decimal)
         wanted = with_time(columns, time, sample_rate)
         index = {sig: table.index(sig, col) for sig, col in wanted.items()}
+        check_distinct_columns(index, table.label)
         values = table.values(sorted(set(index.values())))
+        where = f"{table.path}: "
         raw = {}
         for sig, j in index.items():
             label = table.label(j)
-            raw[sig] = (label, values[j], parse_header(label)[1] if table.names else None)
-        return build(cls, raw, table.path, "csv", scale, units, sample_rate)
+            raw[sig] = (label, values[j], header_unit(label, where) if table.names else None)
+        if "time" in index:
+            check_time_lines(table, values[index["time"]], table.label(index["time"]))
+        return build(cls, raw, table.path, "csv", scale, units, sample_rate, axis=axis)
 
     @classmethod
     def from_mat(
@@ -98,9 +115,10 @@ class MeasurementReaders:
         sample_rate: float | None = None,
         units: Mapping[str, str | None] | None = None,
         scale: Mapping[str, float | str] | None = None,
+        axis: str | None = None,
         **variables: str,
     ) -> Any:
-        """Read a MATLAB file (versions 4 to 7.2, through scipy.io.loadmat).
+        """Read a MATLAB file (versions 4 to 7.2 through scipy.io.loadmat; 7.3 through h5py).
 
         Parameters
         ----------
@@ -114,6 +132,8 @@ class MeasurementReaders:
         scale : mapping, optional
             Factor per signal name; a string names a scalar variable of the file
             (e.g. ``{"applied_force": "gtau"}`` for force = gtau · voltage).
+        axis : {'linear', 'rotary'}, optional
+            The kind of axis (variables carry no units: give it for a joint).
         **variables : str
             Variables of the signals, by signal name, e.g. ``position="qm"``.
 
@@ -124,13 +144,14 @@ class MeasurementReaders:
             Measurement.from_mat(path, position="qm", applied_force="vir",
                                  scale={"applied_force": "gtau"})
         """
-        from presliding.identification._mat import read_mat
+        from presliding.measurement._mat import read_mat
 
         check_signal_names(variables)
         mat = read_mat(path)
         wanted = with_time(variables, time if sample_rate is None else None, sample_rate)
+        check_distinct_columns(wanted)
         raw = {sig: (var, mat.vector(var, sig), None) for sig, var in wanted.items()}
-        return build(cls, raw, mat.path, "mat", scale, units, sample_rate, mat.scalar)
+        return build(cls, raw, mat.path, "mat", scale, units, sample_rate, mat.scalar, axis)
 
     @classmethod
     def from_dataframe(
@@ -141,6 +162,7 @@ class MeasurementReaders:
         sample_rate: float | None = None,
         units: Mapping[str, str | None] | None = None,
         scale: Mapping[str, float] | None = None,
+        axis: str | None = None,
         **columns: str | int,
     ) -> Any:
         """Read columns of a pandas DataFrame (pandas is needed only for this).
@@ -152,7 +174,7 @@ class MeasurementReaders:
             Column of the time, or ``"index"`` for the DataFrame's index (numeric
             [s, or the unit in its name], TimedeltaIndex or DatetimeIndex: seconds
             since the first entry). Default: the index, unless `sample_rate` is given.
-        sample_rate, units, scale : as in `from_csv`
+        sample_rate, units, scale, axis : as in `from_csv`
             A unit at the end of a column name (``"x [mm]"``) is converted to SI.
         **columns : str or int
             Columns of the signals by signal name (a name, or a position).
@@ -161,13 +183,15 @@ class MeasurementReaders:
         --------
         ``Measurement.from_dataframe(df, "t [ms]", position="x [um]", friction_force="F [mN]")``
         """
-        from presliding.identification._frames import dataframe_columns
+        from presliding.measurement._frames import dataframe_columns
 
         check_signal_names(columns)
         if time is None and sample_rate is None:
             time = "index"
-        raw = dataframe_columns(df, with_time(columns, time, sample_rate))
-        return build(cls, raw, None, "dataframe", scale, units, sample_rate)
+        wanted = with_time(columns, time, sample_rate)
+        raw = dataframe_columns(df, wanted)
+        check_distinct_columns({k: v for k, v in wanted.items() if v != "index"})
+        return build(cls, raw, None, "dataframe", scale, units, sample_rate, axis=axis)
 
     @classmethod
     def join(cls, records: Sequence[Any], *, interpolate: bool = False) -> Any:
@@ -186,6 +210,6 @@ class MeasurementReaders:
         interpolate : bool
             Interpolate records on other clocks onto the first record's times.
         """
-        from presliding.identification._join import join_records
+        from presliding.measurement._join import join_records
 
         return join_records(records, interpolate, cls)

@@ -8,7 +8,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy import io
 
-from presliding.identification.measurement import Measurement
+from presliding.measurement.measurement import Measurement
 
 
 def _write(tmp_path, text, name="data.csv", encoding="utf-8"):
@@ -129,7 +129,8 @@ def test_a_byte_order_mark_and_windows_encoding_are_read(tmp_path):
         ("0,1,2\n1,,3\n2,3,4\n", r"line 3, column 'x \[mm\]': empty cell"),
         ("0,1,2\n1,abc,3\n2,3,4\n", r"line 3, column 'x \[mm\]': 'abc' is not a number"),
         ("0,1,2\n1,nan,3\n2,3,4\n", r"line 3, column 'x \[mm\]': 'nan' is not a finite number"),
-        ("0,1,2\n1,2,3\n1,3,4\n", r"`time` must be strictly increasing"),
+        ("0,1,2\n1,2,3\n1,3,4\n", r"line 4, column 't': time 1(\.0)? does not increase \(line 3"),
+        ("0,1,2\n\n# pause\n1,2,3\n0.5,3,4\n", r"line 6, column 't': time 0\.5 does not incr"),
     ],
 )
 def test_bad_rows_name_file_line_and_column(tmp_path, body, needle):
