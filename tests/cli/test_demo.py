@@ -105,7 +105,8 @@ def test_demo_prints_where_and_shows_progress(tmp_path, capsys):
     assert parts[0] == "presliding demo: [1/6] the paper's Figure 3 loops"
     assert parts[-1] == "presliding demo: [6/6] continuous densities (section 3)"
     others = [ln for ln in captured.err.splitlines() if ln not in parts]
-    assert set(others) <= {"presliding demo: compiling (first run only)"}
+    # on a cold cache: the note, and a heartbeat at least every 5 s while kernels compile
+    assert all(ln.startswith("presliding demo: compiling (first run only)") for ln in others)
 
 
 def test_free_stop_prediction_equals_simulation():
