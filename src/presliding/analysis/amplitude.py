@@ -103,11 +103,6 @@ class AmplitudeResponse(ResultMixin):
             f"status={self.status!r})"
         )
 
-    def _repr_html_(self) -> str:
-        import html
-
-        return "<pre>" + html.escape(self.report()) + "</pre>"
-
     def report(self) -> str:
         """A readable table of the quantities at (up to 12 of) the amplitudes."""
         lines = [f"amplitude response of {self.model!r}: {self.status}", self.message]
