@@ -28,7 +28,7 @@ __all__ = [
     "as_bounds", "as_choice", "as_count", "as_list", "as_nonnegative_scalar", "as_parameter_matrix",
     "as_parameter_vector", "as_positive_scalar", "as_real_array", "as_real_scalar",
     "as_real_vector", "as_si", "as_signal", "as_state_vector", "check_derived",
-    "check_finite_derived", "check_has_friction", "check_increasing", "check_same_length",
+    "check_finite_derived", "check_increasing", "check_same_length",
     "check_size", "check_time_span", "check_type", "fmt", "renamed", "size_limit"
 ]  # fmt: skip
 
@@ -407,25 +407,3 @@ def as_bounds(name: str, value: Any, names: Any) -> dict[str, tuple[float, float
             raise ValueError(f"`{name}` must map {key!r} to lower < upper; got {fmt(pair)}.")
         out[key] = (lo, hi)
     return out
-
-
-def check_has_friction(c1: np.ndarray, n_elements: int) -> None:
-    """A model without elements needs a positive Coulomb element."""
-    if n_elements == 0 and np.any(c1 == 0):
-        i = int(np.argmax(c1 == 0))
-        where = "" if c1.shape[0] == 1 else f" at index {i}"
-        raise ValueError(
-            "`coulomb` must be positive when `stiffness` is empty (a model without elements); "
-            f"got 0.0{where}."
-        )
-
-
-def check_finite_stiffness(stiffness: float, where: str, density: Any) -> None:
-    """A motion needs a finite stiffness μ([0, R]) at reversals (eq. 7)."""
-    if not math.isfinite(stiffness):
-        raise ValueError(
-            f"{where} needs a finite stiffness μ([0, R]) at reversals (eq. 7); got the infinitely "
-            f"stiff density {type(density).__name__} (a contact that sticks rigidly, such as the "
-            f"microslip bar): use its force, branches and `amplitude_response`, or model it as a "
-            f"`SliderNetwork` chain."
-        )

@@ -106,7 +106,7 @@ def test_result_convention_and_plots():
 
     res = amplitude_response(MODELS["segalman"], np.geomspace(1e-7, 1e-3, 20))
     assert "AmplitudeResponse(n=20" in repr(res) and len(repr(res)) < 120
-    assert "<pre>" in res._repr_html_()
+    assert "<table>" in res._repr_html_() and res.status in res._repr_html_()
     frame = res.to_pandas()
     assert frame.shape[0] == 20 and frame.attrs["status"] == "success"
     np.testing.assert_array_equal(frame["dissipation"].to_numpy(), res.dissipation)

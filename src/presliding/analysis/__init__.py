@@ -5,6 +5,7 @@ Files
 amplitude.py  D(a), secant stiffness, damping ratio, loss factor, backbone and their slopes
 stops.py      Φ (eq. 14), y_e (eq. 15), the stop test (eq. 16) and `turning_points`
 energy.py     stored, kinetic and dissipated energy (the energy after eq. 12), viscous loss
+_turning_result.py  `TurningPoints`, the result of `turning_points`
 _walks.py     exact half swings by the work-energy balance (finite elements, densities)
 
 May import: `presliding.friction`, `presliding.hysteresis` and the root's shared modules.

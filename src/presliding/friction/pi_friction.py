@@ -36,9 +36,9 @@ from presliding._validation import (
     as_signal,
     check_derived,
     check_finite_derived,
-    check_has_friction,
     fmt,
 )
+from presliding.friction._model_checks import check_has_friction
 from presliding.hysteresis import _kernels
 from presliding.hysteresis.densities import Density, Discrete
 from presliding.hysteresis.general_pi import GeneralPIOperator, MemoryState, run_density

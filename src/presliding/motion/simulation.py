@@ -66,8 +66,8 @@ from presliding._validation import (
     as_positive_scalar,
     as_real_scalar,
     as_si,
-    check_finite_stiffness,
 )
+from presliding.friction._model_checks import check_finite_stiffness
 from presliding.friction.pi_friction import PIFriction
 from presliding.hysteresis.general_pi import MemoryState
 from presliding.hysteresis.operators import PIState
