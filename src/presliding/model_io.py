@@ -7,6 +7,10 @@ Schema (units in brackets; any consistent unit set works, SI shown)::
     stiffness = [500.0, 10.0, 4.0] # k_j [N/m]
     breakaway = [1.0, 1.0, 1.0]    # c_j [N]; or threshold = [...] r_j [m] (eq. 6)
     viscous = 0.0                  # σ [N s/m], optional viscous term σ·ẏ (default 0)
+    # asymmetric friction (optional): the levels for sliding in −y; the ones above are +y
+    # coulomb_negative = 0.4       # c1⁻ [N]
+    # breakaway_negative = [...]   # c_j⁻ [N]; or threshold_negative = [...] r_j⁻ [m]
+    # viscous_negative = 0.0       # σ⁻ [N s/m]
 
     [friction.density]             # instead of stiffness/breakaway: a continuous μ (eq. 10)
     kind = "uniform"               # height a [N/m²], max_threshold R [m]
@@ -69,7 +73,9 @@ __all__ = [
     "save_model",
 ]
 
-_FRICTION_KEYS = {"coulomb", "stiffness", "breakaway", "threshold", "density", "viscous"}
+_FRICTION_KEYS = {"coulomb", "stiffness", "breakaway", "threshold", "density", "viscous",
+                  "coulomb_negative", "breakaway_negative", "threshold_negative",
+                  "viscous_negative"}  # fmt: skip
 #: Density kinds of ``[friction.density]``: class and its keys (required, optional).
 _DENSITIES: dict[str, tuple[type[Density], tuple[str, ...], tuple[str, ...]]] = {
     "uniform": (Uniform, ("height", "max_threshold"), ()),
@@ -221,6 +227,10 @@ def model_from_tables(path: str | Path, data: dict[str, Any]) -> ModelFile:
                 fr.get("breakaway"),
                 threshold=fr.get("threshold"),
                 viscous=fr.get("viscous", 0.0),
+                coulomb_negative=fr.get("coulomb_negative"),
+                breakaway_negative=fr.get("breakaway_negative"),
+                threshold_negative=fr.get("threshold_negative"),
+                viscous_negative=fr.get("viscous_negative"),
             )
     except (TypeError, ValueError) as exc:
         if isinstance(exc, ModelFileError):
@@ -365,6 +375,7 @@ def model_to_toml(
         ]
     if model.viscous:
         lines.append(f"viscous = {_toml_value(model.viscous)}  # σ [N s/m]")
+    lines += _negative_lines(model)
     if not model.is_discrete:
         lines += _density_lines(density_of(model))
     if motion is not None:
@@ -375,6 +386,19 @@ def model_to_toml(
         note = "F_0 [N]: measured force = model force + F_0; simulate applies u - F_0"
         lines += ["", "[measurement]", f"force_offset = {offset}  # {note}"]
     return "\n".join(lines) + "\n"
+
+
+def _negative_lines(model: PIFriction) -> list[str]:
+    """The negative sides of an asymmetric model (none for a symmetric one)."""
+    out = []
+    if model.coulomb_negative is not None:
+        out.append(f"coulomb_negative = {_toml_value(model.coulomb_negative)}  # c1⁻ [N]")
+    if model.breakaway_negative is not None:
+        value = _toml_value(model.breakaway_negative.tolist())
+        out.append(f"breakaway_negative = {value}  # c_j⁻ [N]")
+    if model.viscous_negative is not None:
+        out.append(f"viscous_negative = {_toml_value(model.viscous_negative)}  # σ⁻ [N s/m]")
+    return out
 
 
 def save_model(

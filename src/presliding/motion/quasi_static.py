@@ -28,6 +28,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from presliding._validation import as_signal, check_increasing, check_same_length, renamed
 from presliding.friction._parts import elements
+from presliding.friction._sides import require_symmetric
 from presliding.friction.pi_friction import PIFriction
 from presliding.hysteresis.inverse import PIInverse
 from presliding.hysteresis.operators import PIOperator, PIState
@@ -140,6 +141,7 @@ def friction_inverse(model: PIFriction) -> PIInverse:
     """
     if not isinstance(model, PIFriction):
         raise TypeError(f"`model` must be a PIFriction; got {type(model).__name__}.")
+    require_symmetric(model, "the quasi-static inverse (quasi_static_response, fit_quasi_static)")
     if not model.is_discrete or model.n_elements == 0:
         what = "a continuous density" if not model.is_discrete else "no elements"
         raise ValueError(

@@ -61,6 +61,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from presliding._validation import as_choice, as_count, as_positive_scalar, as_real_scalar
+from presliding.friction import _sides
 from presliding.friction.pi_friction import PIFriction
 from presliding.hysteresis.general_pi import MemoryState
 from presliding.hysteresis.operators import PIState
@@ -179,7 +180,7 @@ def simulate(
     >>> round(res.stop_time, 12), round(float(res.energy.viscous[-1]), 6)
     (0.972955074528, 3.486478)
     """
-    _run.check_model(model, density_ok=True)
+    _run.check_model(model, density_ok=True, asymmetric_ok=True)
     m = as_positive_scalar("mass", mass)
     y0 = as_real_scalar("initial_position", initial_position)
     v0 = as_real_scalar("initial_velocity", initial_velocity)
@@ -198,6 +199,11 @@ def simulate(
         )
     if method == "auto":
         method = "event" if forcing.piecewise_constant and model.is_discrete else "implicit"
+    if method == "implicit" and not model.is_symmetric:
+        raise NotImplementedError(
+            "`method` 'implicit' supports only symmetric friction; got an asymmetric model: "
+            "use method='event' with a piecewise-constant `applied_force` (hold='zoh')."
+        )
     if method == "event" and not forcing.piecewise_constant:
         raise ValueError(
             "`method` 'event' needs a piecewise-constant `applied_force` (a constant, or "
@@ -232,8 +238,9 @@ def simulate(
         e0 = 0.5 * m * v0 * v0 + 0.5 * float(np.dot(k * f0, f0))
         _run.check_energy(m, v0, e0)
         if method == "event":
+            sides = None if model.is_symmetric else _sides.sides_of(model)
             out = _run.run_event(m, c1, k, r, f0, y0, v0, traj_dir, forcing, times, t0, t_end,
-                                 max_events, sigma, resume)  # fmt: skip
+                                 max_events, sigma, resume, sides)  # fmt: skip
         else:
             out = _run.run_implicit(m, c1, k, r, f0, y0, v0, traj_dir, forcing, times, t0,
                                     t_end, n_steps, sigma)  # fmt: skip
