@@ -337,7 +337,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     except KeyboardInterrupt:
         print(f"presliding {args.command}: interrupted", file=sys.stderr)
         return 130
-    except (UserError, ValueError, TypeError, OSError) as exc:
+    except (UserError, ValueError, TypeError, OSError, NotImplementedError) as exc:
         if args.debug:
             raise
         text = " ".join(str(exc).split()) or type(exc).__name__
