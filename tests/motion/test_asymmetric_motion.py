@@ -14,10 +14,11 @@ T_U = np.array([0.0, 0.7, 1.5, 2.2, 3.1])
 U = np.array([2.5, -2.0, 0.4, -3.0, 0.0])
 
 
-def _digest(res) -> str:
+def _digest(res, *extra) -> str:
+    """The digest of a run's main arrays (with the acceleration: the one of implicit runs)."""
     h = hashlib.sha256()
-    for a in (res.position, res.velocity, res.friction_force, res.energy.dissipated,
-              res.energy.elastic):  # fmt: skip
+    first = (res.position, res.velocity, *extra)
+    for a in (*first, res.friction_force, res.energy.dissipated, res.energy.elastic):
         h.update(np.ascontiguousarray(a).tobytes())
     return h.hexdigest()[:16]
 
@@ -28,12 +29,20 @@ def _run(model, u=U, v0=0.3, **kw):
 
 
 @pytest.mark.parametrize(
-    ("viscous", "digest"), [(0.0, "0f9717837f7d90be"), (1.5, "f9bd91e230d1bfcc")]
+    ("viscous", "digest", "digest_implicit"),
+    [(0.0, "0f9717837f7d90be", "086684f2a006db72"), (1.5, "f9bd91e230d1bfcc", "d89e69966ee2d8b3")],
 )
-def test_symmetric_motion_is_bit_identical_to_the_symmetric_code(viscous, digest):
-    """Digests of the symmetric event run recorded before asymmetric friction existed."""
+def test_symmetric_motion_is_bit_identical_to_the_symmetric_code(viscous, digest,
+                                                                 digest_implicit):  # fmt: skip
+    """Digests of symmetric event and implicit runs recorded before asymmetric friction
+    existed."""
     model = ps.PIFriction(0.5, K, [1.0, 1.0, 1.0], viscous=viscous)
     assert _digest(_run(model)) == digest
+    t = np.linspace(0, 4, 41)
+    u = 3 * np.sin(2 * t) + 0.5 * np.cos(7 * t)
+    implicit = ps.simulate(model, 1.0, applied_force=(t, u), hold="linear", t_end=4.0,
+                           initial_velocity=-0.3, method="implicit", step=1e-3)  # fmt: skip
+    assert _digest(implicit, implicit.acceleration) == digest_implicit
     equal_sides = ps.PIFriction(0.5, K, [1.0, 1.0, 1.0], viscous=viscous,
                                 coulomb_negative=0.5, breakaway_negative=[1.0, 1.0, 1.0],
                                 viscous_negative=viscous)  # fmt: skip
@@ -129,9 +138,48 @@ def test_continuation_follows_the_whole_run_and_states_keep_the_band():
 
 def test_routes_without_asymmetric_friction_say_so():
     model = ps.PIFriction(0.6, K, [1.0, 1.0, 1.0], coulomb_negative=0.2)
-    with pytest.raises(NotImplementedError, match="implicit"):
-        ps.simulate(model, 1.0, applied_force=lambda t: np.sin(t), t_end=1.0)
     with pytest.raises(NotImplementedError, match="simulate_batch"):
         ps.simulate_batch([model, model], 1.0, t_end=1.0)
     with pytest.raises(NotImplementedError, match="quasi-static"):
         ps.quasi_static_response(model, [0.0, 0.5])
+    with pytest.raises(NotImplementedError, match="describing_function"):
+        ps.describing_function(model, 0.01)
+    with pytest.raises(NotImplementedError, match="dissipated_energy"):
+        ps.dissipated_energy(model, [0.0, 0.5])
+    damped = ps.PIFriction(0.6, viscous=1.0, viscous_negative=3.0)
+    t = np.array([0.0, 1.0, 2.0])
+    # σ⁺·1² over the first second, σ⁻·1² over the second (trapezoid on constant pieces)
+    np.testing.assert_allclose(ps.viscous_dissipation(damped, t[:2], [1.0, 1.0]), [0.0, 1.0])
+    np.testing.assert_allclose(ps.viscous_dissipation(damped, t[:2], [-1.0, -1.0]), [0.0, 3.0])
+
+
+@pytest.mark.parametrize(("sigma_pos", "sigma_neg"), [(0.0, 0.0), (1.0, 3.0)])
+def test_implicit_method_converges_to_the_exact_motion(sigma_pos, sigma_neg):
+    """First order in the step; the energy balance misses only the scheme's numerical loss;
+    the mirror model on the mirrored force gives the mirrored motion."""
+    model = ps.PIFriction(0.6, K, [1.0, 1.0, 1.0], coulomb_negative=0.2,
+                          breakaway_negative=[0.5, 2.0, 0.75], viscous=sigma_pos,
+                          viscous_negative=sigma_neg)  # fmt: skip
+    exact = _run(model)
+    errors = []
+    for step in (4e-4, 2e-4):
+        res = ps.simulate(model, 1.0, applied_force=(T_U, U), hold="zoh", t_end=4.0,
+                          initial_velocity=0.3, method="implicit", step=step)  # fmt: skip
+        errors.append(float(np.max(np.abs(res.position - exact.position))))
+    assert errors[1] < 0.7 * errors[0] and errors[1] < 2e-3 * np.ptp(exact.position)
+    mirror = ps.simulate(_swapped(model), 1.0, applied_force=(T_U, -U), hold="zoh", t_end=4.0,
+                         initial_velocity=-0.3, method="implicit", step=2e-4)  # fmt: skip
+    np.testing.assert_allclose(mirror.position, -res.position, rtol=0, atol=1e-12)
+    assert np.all(np.diff(res.energy.dissipated) >= -1e-12)
+
+
+def test_implicit_coulomb_only_sticks_inside_the_band():
+    model = ps.PIFriction(1.0, coulomb_negative=0.5)
+    for u, moves in ((-0.45, False), (0.95, False), (-0.55, True), (1.05, True)):
+        res = ps.simulate(model, 2.0, applied_force=lambda t, u=u: np.full_like(t, u),
+                          t_end=1.0, step=1e-3)  # fmt: skip
+        assert res.method == "implicit"
+        assert (res.position[-1] != 0.0) == moves, u
+        if moves:  # uniformly accelerated from rest at (u − c1±)/m
+            a = (u - 1.0) / 2.0 if u > 0 else (u + 0.5) / 2.0
+            assert res.position[-1] == pytest.approx(0.5 * a, rel=2e-3)

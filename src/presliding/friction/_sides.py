@@ -71,8 +71,8 @@ def require_symmetric(model: Any, route: str) -> None:
         return
     raise NotImplementedError(
         f"{route} supports only symmetric friction; got an asymmetric model (coulomb_negative, "
-        "breakaway_negative/threshold_negative or viscous_negative set): `simulate` (method "
-        "'event'), `PIFriction.force`, model files and `fit_motion` take both sides."
+        "breakaway_negative/threshold_negative or viscous_negative set): `simulate`, "
+        "`simulate_loop`, `PIFriction.force`, model files and `fit_motion` take both sides."
     )
 
 

@@ -361,18 +361,24 @@ def implicit_grid(t0: float, t_end: float, times: FloatArray, h: float):
 
 
 def run_implicit(
-    m, c1, k, r, f0, y0, v0, last_dir, forcing: Forcing, times, t0, t_end, n_steps, sigma=0.0
-):
-    """Run the implicit stepper: n_steps equal steps, samples read off the steps."""
+    m, c1, k, r, f0, y0, v0, last_dir, forcing: Forcing, times, t0, t_end, n_steps, sigma=0.0,
+    sides: _sides.Sides | None = None,
+):  # fmt: skip
+    """Run the implicit stepper: n_steps equal steps, samples read off the steps.
+
+    `sides` (asymmetric friction) gives the negative Coulomb element, thresholds
+    and viscous coefficient; None: equal sides."""
+    c1n, rn, sigman = (c1, r, sigma) if sides is None else (
+        sides.coulomb[1], _event.kernel_array(sides.threshold[1]), sides.viscous[1])  # fmt: skip
     u_kind, u_t, u_val, u_mid = forcing.loop_form(t0, t_end, n_steps)
     cap = REVERSAL_CAPACITY
     while True:
         f = f0.copy()
         o = _buffers(times.shape[0], 9)
         rev = _buffers(cap, 2)
-        n_rev, stop, y, v, d, _, _, _ = _loop.run_uniform(
-            m, c1, sigma, k, r, f, y0, v0, last_dir, t0, t_end, n_steps, u_kind, u_t, u_val,
-            u_mid, times, *o, *rev,
+        n_rev, stop, y, v, d, _, _, _ = _loop.run_uniform_sided(
+            m, c1, c1n, sigma, sigman, k, r, rn, f, y0, v0, last_dir, t0, t_end, n_steps, u_kind,
+            u_t, u_val, u_mid, times, *o, *rev,
         )  # fmt: skip
         if n_rev <= cap:
             break
@@ -380,7 +386,7 @@ def run_implicit(
     y_o, v_o, a_o, fric_o, fel_o, eel_o, dis_o, vis_o, work_o = o
     applied = applied_force_at(forcing, u_kind, u_t, u_val, times)
     start_implicit_samples(times, t0, a_o, fric_o, applied, m, c1, float(np.dot(k, f0)), v0,
-                           sigma)  # fmt: skip
+                           sigma, sides)  # fmt: skip
     h = (t_end - t0) / n_steps
     return {
         "n": times.shape[0], "time": times, "position": y_o, "velocity": v_o, "acceleration": a_o,
@@ -402,10 +408,13 @@ def applied_force_at(forcing: Forcing, u_kind: int, u_t, u_val, times: FloatArra
     return out
 
 
-def start_implicit_samples(times, t0, a_o, fric_o, applied, m, c1, fel0, v0, sigma) -> None:
+def start_implicit_samples(times, t0, a_o, fric_o, applied, m, c1, fel0, v0, sigma,
+                           sides: _sides.Sides | None = None) -> None:  # fmt: skip
     """Acceleration and friction force of the samples at t0 (from eq. 17 at the start)."""
     n0 = int(np.searchsorted(times, t0, side="right"))
     if n0:
         u0 = applied[0]
+        if sides is not None and (v0 < 0 or (v0 == 0 and u0 - fel0 < 0)):
+            c1, sigma = sides.coulomb[1], sides.viscous[1]  # the negative side acts
         a_o[:n0] = initial_acceleration(m, c1, fel0, v0, u0, sigma)
         fric_o[:n0] = u0 - m * a_o[:n0]

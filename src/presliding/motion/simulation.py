@@ -199,11 +199,6 @@ def simulate(
         )
     if method == "auto":
         method = "event" if forcing.piecewise_constant and model.is_discrete else "implicit"
-    if method == "implicit" and not model.is_symmetric:
-        raise NotImplementedError(
-            "`method` 'implicit' supports only symmetric friction; got an asymmetric model: "
-            "use method='event' with a piecewise-constant `applied_force` (hold='zoh')."
-        )
     if method == "event" and not forcing.piecewise_constant:
         raise ValueError(
             "`method` 'event' needs a piecewise-constant `applied_force` (a constant, or "
@@ -237,13 +232,13 @@ def simulate(
         c1 = float(model.coulomb)
         e0 = 0.5 * m * v0 * v0 + 0.5 * float(np.dot(k * f0, f0))
         _run.check_energy(m, v0, e0)
+        sides = None if model.is_symmetric else _sides.sides_of(model)
         if method == "event":
-            sides = None if model.is_symmetric else _sides.sides_of(model)
             out = _run.run_event(m, c1, k, r, f0, y0, v0, traj_dir, forcing, times, t0, t_end,
                                  max_events, sigma, resume, sides)  # fmt: skip
         else:
             out = _run.run_implicit(m, c1, k, r, f0, y0, v0, traj_dir, forcing, times, t0,
-                                    t_end, n_steps, sigma)  # fmt: skip
+                                    t_end, n_steps, sigma, sides)  # fmt: skip
         if not (np.isfinite(out["y"]) and np.isfinite(out["v"])):
             _run.motion_overflow(t_end)
         y_end = float(out["y"])
