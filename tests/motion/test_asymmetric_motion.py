@@ -140,8 +140,8 @@ def test_routes_without_asymmetric_friction_say_so():
     model = ps.PIFriction(0.6, K, [1.0, 1.0, 1.0], coulomb_negative=0.2)
     with pytest.raises(NotImplementedError, match="simulate_batch"):
         ps.simulate_batch([model, model], 1.0, t_end=1.0)
-    with pytest.raises(NotImplementedError, match="quasi-static"):
-        ps.quasi_static_response(model, [0.0, 0.5])
+    with pytest.raises(NotImplementedError, match="friction_inverse"):
+        ps.friction_inverse(model)
     with pytest.raises(NotImplementedError, match="describing_function"):
         ps.describing_function(model, 0.01)
     with pytest.raises(NotImplementedError, match="dissipated_energy"):
@@ -183,3 +183,25 @@ def test_implicit_coulomb_only_sticks_inside_the_band():
         if moves:  # uniformly accelerated from rest at (u − c1±)/m
             a = (u - 1.0) / 2.0 if u > 0 else (u + 0.5) / 2.0
             assert res.position[-1] == pytest.approx(0.5 * a, rel=2e-3)
+
+
+def test_quasi_static_response_of_an_asymmetric_model():
+    """Moving samples balance u against the friction force along the response; at rest u stays
+    inside the stick band; the mirror model on −u gives −y."""
+    model = ps.PIFriction(0.3, K, [1.0, 1.0, 1.0], coulomb_negative=0.1,
+                          breakaway_negative=[0.5, 2.0, 0.75])  # fmt: skip
+    fp, fn = model.coulomb_levels
+    u = ps.signals.piecewise_linear([0.0, 0.9 * fp, -0.9 * fn, 0.5 * fp, -0.2], step=1e-3)
+    res = ps.quasi_static_response(model, u)
+    force, _ = model.force(res.position)
+    moving = np.flatnonzero(np.diff(res.position) != 0) + 1
+    assert moving.size > 100
+    np.testing.assert_allclose(force[moving], u[moving], rtol=0, atol=1e-9)
+    gap = u - res.elastic_force
+    assert np.all(gap <= model.coulomb + 1e-9) and np.all(gap >= -model.coulomb_negative - 1e-9)
+    mirror = ps.quasi_static_response(_swapped(model), -u)
+    np.testing.assert_allclose(mirror.position, -res.position, rtol=0, atol=1e-12)
+    f = res.final_state.deformation
+    assert np.all(f <= model.threshold + 1e-12) and np.all(f >= -model.threshold_negative - 1e-12)
+    with pytest.raises(ValueError, match="F_c"):
+        ps.quasi_static_response(model, [0.0, -fn])

@@ -72,7 +72,8 @@ def require_symmetric(model: Any, route: str) -> None:
     raise NotImplementedError(
         f"{route} supports only symmetric friction; got an asymmetric model (coulomb_negative, "
         "breakaway_negative/threshold_negative or viscous_negative set): `simulate`, "
-        "`simulate_loop`, `PIFriction.force`, model files and `fit_motion` take both sides."
+        "`simulate_loop`, `quasi_static_response`, `PIFriction.force`, model files and "
+        "`fit_motion` take both sides."
     )
 
 
