@@ -7,10 +7,8 @@ Schema (units in brackets; any consistent unit set works, SI shown)::
     stiffness = [500.0, 10.0, 4.0] # k_j [N/m]
     breakaway = [1.0, 1.0, 1.0]    # c_j [N]; or threshold = [...] r_j [m] (eq. 6)
     viscous = 0.0                  # σ [N s/m], optional viscous term σ·ẏ (default 0)
-    # asymmetric friction (optional): the levels for sliding in −y; the ones above are +y
-    # coulomb_negative = 0.4       # c1⁻ [N]
-    # breakaway_negative = [...]   # c_j⁻ [N]; or threshold_negative = [...] r_j⁻ [m]
-    # viscous_negative = 0.0       # σ⁻ [N s/m]
+    # optional, asymmetric friction (the values above are then for sliding in +y): for −y
+    # coulomb_negative = 0.4, breakaway_negative (or threshold_negative) = [...], viscous_negative
 
     [friction.density]             # instead of stiffness/breakaway: a continuous μ (eq. 10)
     kind = "uniform"               # height a [N/m²], max_threshold R [m]
@@ -73,9 +71,9 @@ __all__ = [
     "save_model",
 ]
 
+_NEGATIVE = ("coulomb_negative", "breakaway_negative", "threshold_negative", "viscous_negative")
 _FRICTION_KEYS = {"coulomb", "stiffness", "breakaway", "threshold", "density", "viscous",
-                  "coulomb_negative", "breakaway_negative", "threshold_negative",
-                  "viscous_negative"}  # fmt: skip
+                  *_NEGATIVE}  # fmt: skip
 #: Density kinds of ``[friction.density]``: class and its keys (required, optional).
 _DENSITIES: dict[str, tuple[type[Density], tuple[str, ...], tuple[str, ...]]] = {
     "uniform": (Uniform, ("height", "max_threshold"), ()),
@@ -227,10 +225,7 @@ def model_from_tables(path: str | Path, data: dict[str, Any]) -> ModelFile:
                 fr.get("breakaway"),
                 threshold=fr.get("threshold"),
                 viscous=fr.get("viscous", 0.0),
-                coulomb_negative=fr.get("coulomb_negative"),
-                breakaway_negative=fr.get("breakaway_negative"),
-                threshold_negative=fr.get("threshold_negative"),
-                viscous_negative=fr.get("viscous_negative"),
+                **{name: fr.get(name) for name in _NEGATIVE},  # asymmetric friction
             )
     except (TypeError, ValueError) as exc:
         if isinstance(exc, ModelFileError):
@@ -390,15 +385,11 @@ def model_to_toml(
 
 def _negative_lines(model: PIFriction) -> list[str]:
     """The negative sides of an asymmetric model (none for a symmetric one)."""
-    out = []
-    if model.coulomb_negative is not None:
-        out.append(f"coulomb_negative = {_toml_value(model.coulomb_negative)}  # c1⁻ [N]")
-    if model.breakaway_negative is not None:
-        value = _toml_value(model.breakaway_negative.tolist())
-        out.append(f"breakaway_negative = {value}  # c_j⁻ [N]")
-    if model.viscous_negative is not None:
-        out.append(f"viscous_negative = {_toml_value(model.viscous_negative)}  # σ⁻ [N s/m]")
-    return out
+    units = {"coulomb_negative": "c1⁻ [N]", "breakaway_negative": "c_j⁻ [N]",
+             "viscous_negative": "σ⁻ [N s/m]"}  # fmt: skip
+    values = {name: getattr(model, name) for name in units}
+    return [f"{name} = {_toml_value(v.tolist() if hasattr(v, 'tolist') else v)}  # {units[name]}"
+            for name, v in values.items() if v is not None]  # fmt: skip
 
 
 def save_model(

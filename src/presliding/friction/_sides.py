@@ -20,15 +20,22 @@ how `PIFriction.force` evaluates an asymmetric bank).
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
-from presliding._validation import as_nonnegative_scalar, as_parameter_vector, check_derived
+from presliding._validation import (
+    as_nonnegative_scalar,
+    as_parameter_vector,
+    check_derived,
+    check_finite_derived,
+)
+from presliding.hysteresis import _kernels
+from presliding.hysteresis.operators import PIState
 
-if TYPE_CHECKING:
-    from presliding.friction.pi_friction import PIFriction
+#: a `PIFriction` (not imported here: `presliding.friction.pi_friction` imports this module)
+PIFriction = Any
 
 __all__ = ["Sides", "require_symmetric", "sides_of"]
 
@@ -144,9 +151,6 @@ def run_bank(model: PIFriction, y: FloatArray, state: Any) -> tuple[FloatArray, 
     The shifted memory x_j + δ_j runs through the symmetric stop sum of threshold r̄_j
     (see the module's note); the force adds Σ k_j δ_j and the final play drops δ_j.
     """
-    from presliding.hysteresis import _kernels
-    from presliding.hysteresis.operators import PIState
-
     k = np.asarray(model.stiffness)
     r_mid, delta, offset = shifted_bank(model)
     if state is None:
@@ -187,8 +191,6 @@ def virgin_curve(model: PIFriction, y: FloatArray, elastic_only: bool) -> FloatA
 
 def take_negative_elements(model: PIFriction, k: FloatArray, c: FloatArray, r: FloatArray) -> None:
     """Set the validated c⁻ and r⁻ of a finite-element model (None when equal to c and r)."""
-    from presliding._validation import check_finite_derived
-
     cn, rn = negative_elements(k, model.breakaway_negative, model.threshold_negative)
     if cn is not None and rn is not None and np.array_equal(cn, c) and np.array_equal(rn, r):
         cn = rn = None
@@ -219,3 +221,28 @@ def same_sides(a: PIFriction, b: PIFriction) -> bool:
         if (x is None) != (y is None) or (x is not None and not np.array_equal(x, y)):
             return False
     return True
+
+
+def levels(model: PIFriction) -> tuple[float, float]:
+    """(F_c⁺, F_c⁻) = (c1⁺ + Σ c_j⁺, c1⁻ + Σ c_j⁻) (eq. 9 for each direction)."""
+    if model.is_symmetric:
+        return model.coulomb_level, model.coulomb_level
+    s = sides_of(model)
+    return (s.coulomb[0] + float(np.sum(s.breakaway[0])),
+            s.coulomb[1] + float(np.sum(s.breakaway[1])))  # fmt: skip
+
+
+def force(model: PIFriction, y: FloatArray, state: Any, out: FloatArray) -> tuple[FloatArray, Any]:
+    """c1^s·s + Σ k_j (y − x_j) of an asymmetric model into `out`, and the final PIState."""
+    elastic, final, prev, d0 = run_bank(model, y, state)
+    _kernels.motion_direction(y, prev, d0, out)
+    c1p, c1n = sides_of(model).coulomb
+    np.copyto(out, np.where(out > 0, c1p, np.where(out < 0, -c1n, 0.0)) + elastic)
+    return out, final
+
+
+def steady_force(model: PIFriction, v: Any) -> Any:
+    """F_c⁺ + σ⁺·v for v > 0, −F_c⁻ + σ⁻·v for v < 0, 0 at rest."""
+    fp, fn = levels(model)
+    out = np.where(v > 0, fp, np.where(v < 0, -fn, 0.0)) + model.viscous_force(v)
+    return float(out) if np.ndim(out) == 0 else out

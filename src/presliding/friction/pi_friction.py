@@ -19,11 +19,9 @@ assumption (i) ("no viscous friction effects"), and is the only rate-dependent t
 `PIFriction.force`, `elastic_force` and `virgin_curve` return the rate-independent
 part, `viscous_force` gives σ·ẏ, and `presliding.simulate` includes σ (eq. 17).
 
-Asymmetric friction (``coulomb_negative``, ``breakaway_negative`` or
-``threshold_negative``, ``viscous_negative``) gives the two directions of sliding
-their own levels, with the play operator's band generalised to
-[y − r_j⁺, y + r_j⁻] (`presliding.friction._sides`). Without them the model is
-symmetric and every result is the one of the symmetric code, bit for bit.
+Asymmetric friction (the ``*_negative`` fields) gives sliding in −y its own levels, the play
+band becoming [y − r_j⁺, y + r_j⁻] (`presliding.friction._sides`); without them every result
+is the symmetric one, bit for bit.
 """
 
 from __future__ import annotations
@@ -36,18 +34,13 @@ from numpy.typing import ArrayLike, NDArray
 
 from presliding._out import as_output
 from presliding._validation import (
-    as_nonnegative_scalar,
-    as_parameter_vector,
     as_real_array,
     as_signal,
-    check_derived,
-    check_finite_derived,
-    check_has_friction,
     fmt,
 )
-from presliding.friction import _sides
+from presliding.friction import _pi_setup, _sides
 from presliding.hysteresis import _kernels
-from presliding.hysteresis.densities import Density, Discrete
+from presliding.hysteresis.densities import Density
 from presliding.hysteresis.general_pi import GeneralPIOperator, MemoryState, run_density
 from presliding.hysteresis.operators import PIOperator, PIState, start_memory
 
@@ -98,9 +91,8 @@ class PIFriction:
     viscous_negative : float, optional, keyword only
         Asymmetric friction: σ⁻ >= 0 [N·s/m] for ẏ < 0 (`viscous` is then σ⁺).
 
-    A negative side equal to the positive one is stored as None, so a model
-    given equal sides is the symmetric model (``==`` and every result).
-    Finite elements only: a continuous density takes no negative side.
+    A negative side equal to the positive one is stored as None (equal sides give the
+    symmetric model); a continuous density takes no negative side.
 
     Notes
     -----
@@ -144,64 +136,11 @@ class PIFriction:
         def __init__(self, coulomb: float, stiffness: ArrayLike = ..., breakaway: ArrayLike | None
                      = None, *, threshold: ArrayLike | None = None, density: Density | None =
                      None, viscous: float = 0.0, coulomb_negative: float | None = None,
-                     breakaway_negative: ArrayLike | None = None, threshold_negative:
-                     ArrayLike | None = None, viscous_negative: float | None = None
-                     ) -> None: ...  # fmt: skip
+                     breakaway_negative: ArrayLike | None = None, threshold_negative: ArrayLike
+                     | None = None, viscous_negative: float | None = None) -> None: ...  # fmt: skip
 
     def __post_init__(self) -> None:
-        c1 = as_nonnegative_scalar("coulomb", self.coulomb)
-        object.__setattr__(self, "viscous", as_nonnegative_scalar("viscous", self.viscous))
-        object.__setattr__(
-            self,
-            "coulomb_negative",
-            _sides.negative_scalar("coulomb_negative", self.coulomb_negative, c1),
-        )
-        object.__setattr__(self, "viscous_negative", _sides.negative_scalar(
-            "viscous_negative", self.viscous_negative, self.viscous))  # fmt: skip
-        if self.density is not None and _take_density(self, c1):
-            if self.threshold_negative is not None or not self.is_symmetric:
-                raise ValueError(
-                    "asymmetric friction (a `*_negative` argument) needs finite elements; got a "
-                    f"continuous density {type(self.density).__name__}."
-                )
-            check_finite_derived(
-                "Coulomb level F_c = c1 + F_m (eq. 9)",
-                c1 + self.density.max_elastic_force,
-                ("coulomb", "density"),
-            )
-            return
-        k = as_parameter_vector("stiffness", self.stiffness, allow_empty=True)
-        if (self.breakaway is None) == (self.threshold is None):
-            if self.breakaway is None and k.shape[0] == 0:
-                c = r = k
-            else:
-                raise TypeError(
-                    "`breakaway` or `threshold` must be given, not both; got "
-                    + ("both." if self.breakaway is not None else "neither.")
-                )
-        elif self.breakaway is not None:
-            c = as_parameter_vector("breakaway", self.breakaway, allow_empty=True)
-            _same_length(k, c, "breakaway")
-            with np.errstate(over="ignore", under="ignore"):  # reported below
-                r = c / k
-        else:
-            r = as_parameter_vector("threshold", self.threshold, allow_empty=True)
-            _same_length(k, r, "threshold")
-            with np.errstate(over="ignore", under="ignore"):  # reported below
-                c = k * r
-        given = "threshold" if self.threshold is not None else "breakaway"
-        check_derived(k, c, r, coulomb=c1, given=given)
-        check_has_friction(np.array([c1]), k.shape[0])
-        for arr in (c, r):
-            arr = np.asarray(arr)
-            arr.setflags(write=False)
-        object.__setattr__(self, "coulomb", c1)
-        object.__setattr__(self, "stiffness", k)
-        object.__setattr__(self, "breakaway", c)
-        object.__setattr__(self, "threshold", r)
-        if self.density is None:
-            object.__setattr__(self, "density", Discrete(k, r))
-        _sides.take_negative_elements(self, k, c, r)
+        _pi_setup.setup(self)
 
     # ------------------------------------------------------------------ properties
     @property
@@ -234,11 +173,7 @@ class PIFriction:
 
         Both equal `coulomb_level` for a symmetric model.
         """
-        if self.is_symmetric:
-            return self.coulomb_level, self.coulomb_level
-        s = _sides.sides_of(self)
-        return (s.coulomb[0] + float(np.sum(s.breakaway[0])),
-                s.coulomb[1] + float(np.sum(s.breakaway[1])))  # fmt: skip
+        return _sides.levels(self)
 
     @property
     def max_elastic_force(self) -> float:
@@ -341,9 +276,7 @@ class PIFriction:
         """
         v = as_real_array("velocity", velocity)
         if not self.is_symmetric:
-            fp, fn = self.coulomb_levels
-            out = np.where(v > 0, fp, np.where(v < 0, -fn, 0.0)) + self.viscous_force(v)
-            return float(out) if np.ndim(out) == 0 else out
+            return _sides.steady_force(self, v)
         out = self.coulomb_level * np.sign(v) + self.viscous * v
         return float(out) if np.ndim(out) == 0 else out
 
@@ -456,11 +389,7 @@ class PIFriction:
         y = as_signal("displacement", displacement, copy=False)  # only read
         out = as_output("out", out, y.shape)
         if not self.is_symmetric:
-            elastic, final, prev, d0 = self._run(y, state)
-            _kernels.motion_direction(y, prev, d0, out)
-            c1p, c1n = _sides.sides_of(self).coulomb
-            np.copyto(out, np.where(out > 0, c1p, np.where(out < 0, -c1n, 0.0)) + elastic)
-            return out, final
+            return _sides.force(self, y, state, out)
         if self.is_discrete:
             # one fused pass: the Coulomb term c1·sign(ẏ) is added in the time loop
             return self._run(y, state, self.coulomb, out)[:2]
@@ -484,37 +413,8 @@ class PIFriction:
             prev, d0 = (float(y[0]), 0.0) if state is None else (state.last_input, state.direction)
             return elastic, final, prev, d0
         if not self.is_symmetric:
-            elastic, final, prev, d0 = _sides.run_bank(self, y, state)
-            return elastic, final, prev, d0
+            return _sides.run_bank(self, y, state)
         x, prev, d0 = start_memory(y, self.threshold, state)
         elastic = np.empty(y.shape[0]) if out is None else out
         d = _kernels.stop_sum(y, self.threshold, self.stiffness, x, elastic, 0.0, coulomb, prev, d0)
         return elastic, PIState(float(y[-1]), x, d), prev, d0
-
-
-def _take_density(model: PIFriction, c1: float) -> bool:
-    """Set up a model given by `density`; True when it is continuous (no elements)."""
-    dens = model.density
-    if not isinstance(dens, Density):
-        raise TypeError(f"`density` must be a Density; got {type(dens).__name__}.")
-    if np.size(model.stiffness) or model.breakaway is not None or model.threshold is not None:
-        raise TypeError(
-            "give either `density` or the elements (`stiffness` with `breakaway` or "
-            "`threshold`), not both; got both."
-        )
-    if isinstance(dens, Discrete):
-        object.__setattr__(model, "stiffness", dens.stiffness)
-        object.__setattr__(model, "threshold", dens.threshold)
-        return False
-    object.__setattr__(model, "coulomb", c1)
-    for name in ("stiffness", "breakaway", "threshold"):
-        object.__setattr__(model, name, None)
-    return True
-
-
-def _same_length(k: FloatArray, other: FloatArray, name: str) -> None:
-    if other.shape != k.shape:
-        raise ValueError(
-            f"`{name}` must have the same length as `stiffness` ({k.shape[0]}); "
-            f"got {other.shape[0]}."
-        )
