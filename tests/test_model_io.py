@@ -279,3 +279,19 @@ def test_long_element_arrays_are_read_exactly_and_by_numpy(tmp_path, monkeypatch
     path.write_text(text.replace(", ", ", , ", 1), encoding="utf-8")
     with pytest.raises(model_io.ModelFileError, match="not valid TOML"):
         model_io.load_model(path)
+
+
+def test_asymmetric_round_trip(tmp_path):
+    model = PIFriction(0.5, [500.0, 10.0], [1.0, 0.75], viscous=2.0, coulomb_negative=0.3,
+                       breakaway_negative=[0.5, 1.5], viscous_negative=4.0)  # fmt: skip
+    text = model_to_toml(model)
+    assert "coulomb_negative = 0.3" in text and "viscous_negative = 4.0" in text
+    path = tmp_path / "m.toml"
+    save_model(path, model)
+    assert load_model(path).model == model
+    by_threshold = _write(tmp_path, "t.toml", "[friction]\ncoulomb = 0.5\nstiffness = [100.0]\n"
+                          "breakaway = [1.0]\nthreshold_negative = [0.002]\n")  # fmt: skip
+    loaded = load_model(by_threshold).model
+    assert loaded.coulomb_levels == pytest.approx((1.5, 0.7))
+    symmetric = PIFriction(0.5, [500.0, 10.0], [1.0, 0.75])
+    assert "negative" not in model_to_toml(symmetric)

@@ -7,6 +7,8 @@ Schema (units in brackets; any consistent unit set works, SI shown)::
     stiffness = [500.0, 10.0, 4.0] # k_j [N/m]
     breakaway = [1.0, 1.0, 1.0]    # c_j [N]; or threshold = [...] r_j [m] (eq. 6)
     viscous = 0.0                  # σ [N s/m], optional viscous term σ·ẏ (default 0)
+    # optional, asymmetric friction (the values above are then for sliding in +y): for −y
+    # coulomb_negative = 0.4, breakaway_negative (or threshold_negative) = [...], viscous_negative
 
     [friction.density]             # instead of stiffness/breakaway: a continuous μ (eq. 10)
     kind = "uniform"               # height a [N/m^2], max_threshold R [m]
@@ -39,7 +41,6 @@ of ``--applied-force``, minus `force_offset`).
 
 from __future__ import annotations
 
-import contextlib
 import json
 import math
 import sys
@@ -47,12 +48,12 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from presliding._axes import as_axis, axis_unit
 from presliding._io import loads_toml, write_text
+from presliding._model_toml import DENSITIES as _DENSITIES
+from presliding._model_toml import MOTION_DEFAULTS as _MOTION_DEFAULTS
+from presliding._model_toml import model_to_toml
 from presliding._validation import check_time_span, check_type
-from presliding.friction._parts import density_of, elements
 from presliding.friction.pi_friction import PIFriction
-from presliding.hysteresis.densities import Density, Exponential, PiecewiseConstant, Uniform
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -71,25 +72,12 @@ __all__ = [
     "save_model",
 ]
 
-_FRICTION_KEYS = {"coulomb", "stiffness", "breakaway", "threshold", "density", "viscous"}
-#: Density kinds of ``[friction.density]``: class and its keys (required, optional).
-_DENSITIES: dict[str, tuple[type[Density], tuple[str, ...], tuple[str, ...]]] = {
-    "uniform": (Uniform, ("height", "max_threshold"), ()),
-    "exponential": (Exponential, ("height", "length"), ("max_threshold",)),
-    "piecewise_constant": (PiecewiseConstant, ("breaks", "heights"), ()),
-}
+_NEGATIVE = ("coulomb_negative", "breakaway_negative", "threshold_negative", "viscous_negative")
+_FRICTION_KEYS = {"coulomb", "stiffness", "breakaway", "threshold", "density", "viscous",
+                  *_NEGATIVE}  # fmt: skip
 #: Most output samples a model file may ask for (each is 6 floats in memory and a CSV row).
 MAX_SAMPLES = 10_000_000
 _MEASUREMENT_KEYS = {"force_offset"}
-_MOTION_DEFAULTS: dict[str, Any] = {
-    "mass": 1.0,
-    "initial_velocity": 0.0,
-    "initial_position": 0.0,
-    "initial_state": "relaxed",
-    "applied_force": 0.0,
-    "t_end": 1.0,
-    "samples": 2001,
-}
 
 
 class ModelFileError(ValueError):
@@ -225,6 +213,7 @@ def model_from_tables(path: str | Path, data: dict[str, Any]) -> ModelFile:
                 fr.get("breakaway"),
                 threshold=fr.get("threshold"),
                 viscous=fr.get("viscous", 0.0),
+                **{name: fr.get(name) for name in _NEGATIVE},  # asymmetric friction
             )
     except (TypeError, ValueError) as exc:
         if isinstance(exc, ModelFileError):
@@ -317,85 +306,6 @@ def _density_model(path: Path, fr: dict[str, Any]) -> PIFriction:
     except (TypeError, ValueError) as exc:
         raise ModelFileError(f"{path}: [friction.density] {exc}") from None
     return PIFriction(fr["coulomb"], density=density, viscous=fr.get("viscous", 0.0))
-
-
-def _density_lines(density: Density, axis: str = "linear") -> list[str]:
-    for kind, (cls, required, optional) in _DENSITIES.items():
-        if type(density) is cls:
-            lines = ["", "[friction.density]", f"kind = {_toml_value(kind)}"]
-            height, length = axis_unit("density_height", axis), axis_unit("position", axis)
-            units = {"height": f"[{height}]", "heights": f"[{height}]", "length": f"[{length}]",
-                     "max_threshold": f"[{length}]", "breaks": f"[{length}]"}  # fmt: skip
-            for key in (*required, *optional):
-                value = getattr(density, key)
-                if isinstance(value, float) and value == float("inf"):
-                    continue  # the default: untruncated
-                value = value.tolist() if hasattr(value, "tolist") else value
-                lines.append(f"{key} = {_toml_value(value)}  # {units[key]}")
-            return lines
-    raise ValueError(
-        f"`model` has a {type(density).__name__} density, which a model file cannot hold; "
-        f"use one of {', '.join(_DENSITIES)} (or its discretisation)."
-    )
-
-
-def _toml_value(value: Any) -> str:
-    if isinstance(value, str):
-        return json.dumps(value)
-    if isinstance(value, (list, tuple)):
-        with contextlib.suppress(TypeError):  # floats only (long element arrays): one join
-            return "[" + ", ".join(map(float.__repr__, value)) + "]"
-        return "[" + ", ".join(_toml_value(v) for v in value) + "]"
-    return repr(float(value)) if not isinstance(value, int) else str(value)
-
-
-#: The quantity of each `[motion]` key, for its unit comment.
-_MOTION_QUANTITIES = {"mass": "mass", "initial_velocity": "velocity", "t_end": "time",
-                      "initial_position": "position", "applied_force": "force"}  # fmt: skip
-
-
-def model_to_toml(
-    model: PIFriction,
-    motion: MotionSettings | None = None,
-    measurement: MeasurementTerms | None = None,
-    header: str = "",
-    axis: str = "linear",
-) -> str:
-    """The TOML text of a model (and optional motion settings and measurement terms).
-
-    Units are stated in comments, those of `axis` (``"rotary"``: rad, N m, kg m²);
-    `header` (lines of text) is written first as comments (the data, units, ...).
-    """
-    if not isinstance(model, PIFriction):
-        raise TypeError(f"`model` must be a PIFriction; got {type(model).__name__}.")
-    axis = as_axis(axis)
-    force, pos = axis_unit("force", axis), axis_unit("position", axis)
-    lines = [f"# {ln}".rstrip() for ln in header.splitlines()]
-    if axis == "rotary":
-        lines.append(f"# rotary axis: positions in {pos}, torques in {force}")
-    lines += [""] if lines else []
-    lines += ["[friction]", f"coulomb = {_toml_value(model.coulomb)}  # c1 [{force}]"]
-    if model.is_discrete:
-        k, _, c = elements(model)
-        lines += [
-            f"stiffness = {_toml_value(k.tolist())}  # k_j [{axis_unit('stiffness', axis)}]",
-            f"breakaway = {_toml_value(c.tolist())}  # c_j [{force}]",
-        ]
-    if model.viscous:
-        lines.append(f"viscous = {_toml_value(model.viscous)}  # σ [{axis_unit('viscous', axis)}]")
-    if not model.is_discrete:
-        lines += _density_lines(density_of(model), axis)
-    if motion is not None:
-        lines += ["", "[motion]"]
-        for key in _MOTION_DEFAULTS:
-            quantity = _MOTION_QUANTITIES.get(key)
-            unit = f"  # [{axis_unit(quantity, axis)}]" if quantity else ""
-            lines.append(f"{key} = {_toml_value(getattr(motion, key))}{unit}")
-    if measurement is not None:
-        offset = _toml_value(measurement.force_offset)
-        note = f"F_0 [{force}]: measured force = model force + F_0; simulate applies u - F_0"
-        lines += ["", "[measurement]", f"force_offset = {offset}  # {note}"]
-    return "\n".join(lines) + "\n"
 
 
 def save_model(

@@ -208,3 +208,28 @@ def test_progress_on_a_terminal_unless_quiet_and_the_same_model(tmp_path, capsys
     )
     assert loud == quiet
     assert (tmp_path / "piped" / "model.toml").read_text().split("[friction]")[1] == loud
+
+
+def test_motion_fit_with_asymmetric_friction(tmp_path, capsys):
+    """--asymmetric: c1⁺, c1⁻, σ⁺ and σ⁻ from a MAT file, written to the model file."""
+    true = ps.PIFriction(20.0, coulomb_negative=12.0, viscous=150.0, viscous_negative=220.0)
+    mass, gain = 95.0, 35.0
+    t = np.arange(0.0, 4.0, 1e-3)
+    u = 80.0 * np.sin(2 * np.pi * 0.5 * t)
+    res = ps.simulate(true, mass, applied_force=(t, u), hold="zoh", t_eval=t)
+    path = tmp_path / "rig.mat"
+    io.savemat(path, {"t": t[:, None], "qm": res.position[:, None], "vir": (u / gain)[:, None],
+                      "gtau": gain, "qd": res.velocity, "qdd": res.acceleration})  # fmt: skip
+    args = ["fit", str(path), "--kind", "motion", "--viscous", "--asymmetric", "--columns",
+            "time=t", "position=qm", "velocity=qd", "acceleration=qdd", "applied_force=vir",
+            "--scale", "applied_force=gtau", "-o", str(tmp_path / "fit")]  # fmt: skip
+    assert main(args) == 0
+    assert "coulomb_negative" in capsys.readouterr().out
+    spec = load_model(tmp_path / "fit" / "model.toml")
+    model = spec.model
+    assert spec.motion.mass == pytest.approx(mass, rel=1e-4)
+    assert (model.coulomb, model.coulomb_negative) == pytest.approx((20.0, 12.0), rel=1e-4)
+    assert (model.viscous, model.viscous_negative) == pytest.approx((150.0, 220.0), rel=1e-4)
+    text = (tmp_path / "fit" / "model.toml").read_text(encoding="utf-8")
+    assert "--asymmetric" in text and "coulomb_negative" in text
+    assert main([*args[:-1], str(tmp_path / "g"), "--offset"]) == 2

@@ -146,3 +146,38 @@ def test_prediction_checks_its_arguments():
         predict_motion_force(without_mass, m)
     with pytest.raises(TypeError, match=r"^`measurement` must be a Measurement; got ndarray\.$"):
         predict_motion_force(res, np.zeros(4))
+
+
+def test_asymmetric_round_trip():
+    """F_c⁺ ≠ F_c⁻ and σ⁺ ≠ σ⁻ recovered from noise-free data; the model carries both sides."""
+    elastic, _ = MODEL.elastic_force(Y)
+    pos, neg = V > 0, V < 0
+    u = 3.0 * A + 2.0 * pos - 1.2 * neg + np.where(pos, 15.0, 22.0) * V + elastic
+    m = Measurement(T, position=Y, velocity=V, acceleration=A, applied_force=u)
+    res = fit_motion(m, 2, viscous=True, asymmetric=True)
+    assert res.success, res.message
+    truth = {"mass": 3.0, "coulomb": 2.0, "coulomb_negative": 1.2, "viscous": 15.0,
+             "viscous_negative": 22.0, "threshold_1": 0.001, "threshold_2": 0.006}  # fmt: skip
+    for name, value in truth.items():
+        assert res.parameters[name] == pytest.approx(value, rel=1e-8), name
+    model = res.model
+    assert not model.is_symmetric
+    assert (model.coulomb, model.coulomb_negative) == pytest.approx((2.0, 1.2), rel=1e-8)
+    assert (model.viscous, model.viscous_negative) == pytest.approx((15.0, 22.0), rel=1e-8)
+    assert model.coulomb_levels[0] - model.coulomb_levels[1] == pytest.approx(0.8, rel=1e-6)
+    np.testing.assert_allclose(predict_motion_force(res, m), u, atol=1e-8)
+    # without viscous terms: only the Coulomb sides
+    coulomb_only = fit_motion(m, 2, asymmetric=True, refine_thresholds=False,
+                              thresholds=[0.001, 0.006])  # fmt: skip
+    assert "viscous_negative" not in coulomb_only.parameters
+
+
+def test_asymmetric_excludes_the_offset_and_needs_both_directions():
+    with pytest.raises(ValueError, match="offset"):
+        fit_motion(_measurement(), 0, asymmetric=True, offset=True)
+    with pytest.raises(TypeError, match="asymmetric"):
+        fit_motion(_measurement(), 0, asymmetric="yes")
+    one_way = Measurement(T, position=T + T**2, velocity=1.0 + 2 * T,
+                          acceleration=np.full_like(T, 2.0), applied_force=4.0 + 2 * T)  # fmt: skip
+    with pytest.raises(ValueError, match="two Coulomb levels"):
+        fit_motion(one_way, 0, asymmetric=True)

@@ -35,6 +35,7 @@ from presliding._validation import (
     check_same_length,
 )
 from presliding.friction._parts import density_of, elements
+from presliding.friction._sides import require_symmetric
 from presliding.friction.pi_friction import PIFriction
 from presliding.hysteresis.general_pi import GeneralPIOperator, MemoryState, run_density
 from presliding.hysteresis.operators import PIState, play, start_memory
@@ -137,6 +138,7 @@ def dissipated_energy(
         of a model with σ > 0 is not included (see `viscous_dissipation`).
     """
     model = _model(model)
+    require_symmetric(model, "dissipated_energy")
     y = as_signal("displacement", displacement)
     expected = PIState if model.is_discrete else MemoryState
     if state is not None and not isinstance(state, expected):
@@ -171,7 +173,8 @@ def viscous_dissipation(model: PIFriction, time: ArrayLike, velocity: ArrayLike)
     Parameters
     ----------
     model : PIFriction
-        Its ``viscous`` coefficient σ [N·s/m] is used (0 gives zeros).
+        Its ``viscous`` coefficient σ [N·s/m] is used (0 gives zeros); with
+        ``viscous_negative``, σ⁻ while ẏ < 0.
     time : array_like, shape (T,)
         Strictly increasing sample times [s].
     velocity : array_like, shape (T,)
@@ -187,7 +190,10 @@ def viscous_dissipation(model: PIFriction, time: ArrayLike, velocity: ArrayLike)
     v = as_signal("velocity", velocity)
     check_same_length(time=t, velocity=v)
     check_increasing("time", t)
-    power = model.viscous * v * v
+    if model.viscous_negative is None:
+        power = model.viscous * v * v
+    else:  # asymmetric: σ⁺ while ẏ > 0, σ⁻ while ẏ < 0
+        power = np.where(v < 0, model.viscous_negative, model.viscous) * v * v
     out = np.zeros(t.shape[0])
     np.cumsum(0.5 * (power[1:] + power[:-1]) * np.diff(t), out=out[1:])
     return out

@@ -408,7 +408,7 @@ def main(argv: Sequence[str] | None = None) -> int:
 
         print(f"presliding {args.command}: error: {missing_extra(exc)}", file=sys.stderr)
         return 2
-    except (UserError, ValueError, TypeError, OSError) as exc:
+    except (UserError, ValueError, TypeError, OSError, NotImplementedError) as exc:
         if args.debug:
             raise
         text = " ".join(str(exc).split()) or type(exc).__name__

@@ -254,7 +254,7 @@ def fit(args: argparse.Namespace, meas: Any, bar: Any = False) -> tuple[Any, Any
             cutoff = 0.1 / meas.sampling_step if args.cutoff is None else args.cutoff
             meas = meas.differentiate(cutoff)
         return fit_motion(meas, n, viscous=args.viscous, offset=args.offset, fixed=fixed,
-                          progress=bar), meas  # fmt: skip
+                          asymmetric=args.asymmetric, progress=bar), meas  # fmt: skip
     from presliding.identification.fit_response import fit_response
 
     signal = "velocity" if meas.velocity is not None else "position"
@@ -315,7 +315,7 @@ def _command_line(args: argparse.Namespace) -> str:
                           ("--mass", args.mass)):  # fmt: skip
         if value is not None:
             parts += [option, str(value)]
-    parts += [flag for flag in ("--viscous", "--offset") if getattr(args, flag[2:])]
+    parts += [flag for flag in ("--viscous", "--offset", "--asymmetric") if getattr(args, flag[2:])]
     return " ".join(parts)
 
 

@@ -85,6 +85,12 @@ def add_fit_parser(
     fit.add_argument("--viscous", action="store_true", help="motion: add a viscous term F_v·ẏ")
     fit.add_argument("--offset", action="store_true", help="add a constant force offset")
     fit.add_argument(
+        "--asymmetric",
+        action="store_true",
+        help="motion: separate Coulomb (and with --viscous viscous) levels for the two "
+        "directions of sliding (excludes --offset)",
+    )
+    fit.add_argument(
         "--search",
         choices=("grid", "global"),
         default="grid",

@@ -22,7 +22,7 @@ import numba as nb
 import numpy as np
 
 from presliding.hysteresis._jit import JitFlags, njit
-from presliding.motion._event import run_events
+from presliding.motion._event import run_events, run_events_sided
 
 _JIT: JitFlags = {"cache": True, "error_model": "numpy"}
 _JIT_PARALLEL: JitFlags = {"cache": True, "error_model": "numpy", "parallel": True}
@@ -92,6 +92,20 @@ def acceleration(m, c1, sigma, fel, v, u):  # pragma: no cover - compiled
 
 
 @njit(**_JIT)
+def acceleration_sided(m, c1p, c1n, sp, sn, fel, v, u):  # pragma: no cover - compiled
+    """`acceleration` with asymmetric friction: c1⁺, σ⁺ while v > 0, c1⁻, σ⁻ while v < 0, and
+    rest while −c1⁻ <= u − F_el <= c1⁺ (equal sides: the same arithmetic as `acceleration`)."""
+    if v > 0.0:
+        return (u - c1p - sp * v - fel) / m
+    if v < 0.0:
+        return (u + c1n - sn * v - fel) / m
+    g = u - fel
+    if -c1n <= g and g <= c1p:
+        return 0.0
+    return (g - c1p) / m if g > 0.0 else (g + c1n) / m
+
+
+@njit(**_JIT)
 def plant_period(m, c1, sigma, k, r, f, y, v, last_dir, u, t0, t1, max_events):  # pragma: no cover
     """The exact motion over [t0, t1] under a constant u (viscous σ); f updated in place.
 
@@ -111,8 +125,12 @@ def plant_period(m, c1, sigma, k, r, f, y, v, last_dir, u, t0, t1, max_events): 
 def run_loop(  # pragma: no cover - compiled
     m, c1, sigma, k, r, f, y, v, last_dir, kind, p, s, a, b, c, d, x, ref, ff, t0, dt, sub,
     max_events, o_y, o_v, o_a, o_fel, o_u, o_eel, o_dis, o_work, o_vis, o_ctrl, rev_t, rev_y,
+    c1n, sigman, rn,
 ):  # fmt: skip
     """K = ref.shape[0] − 1 periods of the closed loop; samples at t0 + (k + j/sub)·dt.
+
+    ``c1``, ``sigma``, ``r`` act while the mass slides in +y, ``c1n``, ``sigman``,
+    ``rn`` in −y (asymmetric friction; the same values for a symmetric model).
 
     ``ref`` and ``ff`` hold r_k, u_ff,k at the K + 1 instants. Outputs have
     K·sub + 1 entries; ``o_ctrl`` holds u_k at the K + 1 instants (NaN after a
@@ -130,7 +148,7 @@ def run_loop(  # pragma: no cover - compiled
     return _loop_body(
         m, c1, sigma, k, r, f, y, v, last_dir, kind, p, s, a, b, c, d, x, ref, ff, t0, dt, sub,
         max_events, o_y, o_v, o_a, o_fel, o_u, o_eel, o_dis, o_work, o_vis, o_ctrl, rev_t,
-        rev_y, w, tmp, rt, ry, u_t, u_val, te, none,
+        rev_y, w, tmp, rt, ry, u_t, u_val, te, none, c1n, sigman, rn,
     )  # fmt: skip
 
 
@@ -140,7 +158,7 @@ def run_loop(  # pragma: no cover - compiled
 def _loop_body(  # pragma: no cover - compiled
     m, c1, sigma, k, r, f, y, v, last_dir, kind, p, s, a, b, c, d, x, ref, ff, t0, dt, sub,
     max_events, o_y, o_v, o_a, o_fel, o_u, o_eel, o_dis, o_work, o_vis, o_ctrl, rev_t, rev_y,
-    w, tmp, rt, ry, u_t, u_val, te, none,
+    w, tmp, rt, ry, u_t, u_val, te, none, c1n, sigman, rn,
 ):  # fmt: skip
     """The periods of `run_loop`, with its scratch arrays handed in."""
     n_k = ref.shape[0] - 1
@@ -167,10 +185,10 @@ def _loop_body(  # pragma: no cover - compiled
         i0 = kk * sub
         u_t[0] = tk
         u_val[0] = u
-        res = run_events(m, c1, k, r, f, y, v, last_dir, u_t, u_val, te, tk + dt,
-                         max_events - n_ev, o_y[i0:], o_v[i0:], o_a[i0:], o_fel[i0:],
-                         o_u[i0:], o_eel[i0:], o_dis[i0:], o_work[i0:], rt, ry, sigma,
-                         o_vis[i0:], none)  # fmt: skip
+        res = run_events_sided(m, c1, c1n, k, r, rn, f, y, v, last_dir, u_t, u_val, te,
+                               tk + dt, max_events - n_ev, o_y[i0:], o_v[i0:], o_a[i0:],
+                               o_fel[i0:], o_u[i0:], o_eel[i0:], o_dis[i0:], o_work[i0:], rt,
+                               ry, sigma, sigman, o_vis[i0:], none)  # fmt: skip
         st, n_s, nr, stop, y, v, last_dir, ne, dd, ww, _, vv = res
         for j in range(n_s):
             o_dis[i0 + j] += dis
@@ -203,7 +221,7 @@ def _loop_body(  # pragma: no cover - compiled
             eel += k[j] * f[j] * f[j]
         o_y[i] = y
         o_v[i] = v
-        o_a[i] = acceleration(m, c1, sigma, fel, v, o_ctrl[n_k])
+        o_a[i] = acceleration_sided(m, c1, c1n, sigma, sigman, fel, v, o_ctrl[n_k])
         o_fel[i] = fel
         o_u[i] = o_ctrl[n_k]
         o_eel[i] = 0.5 * eel

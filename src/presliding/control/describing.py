@@ -42,6 +42,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from presliding._validation import as_real_array, check_finite_derived
+from presliding.friction._sides import require_symmetric
 from presliding.friction.baselines import CoulombFriction
 from presliding.friction.pi_friction import PIFriction
 
@@ -59,6 +60,7 @@ def friction_model(model: Any) -> PIFriction:
         raise TypeError(
             f"`model` must be a PIFriction or CoulombFriction; got {type(model).__name__}."
         )
+    require_symmetric(model, "describing_function (and the friction nonlinearity)")
     return model
 
 

@@ -58,6 +58,7 @@ from presliding._validation import as_list, as_positive_scalar, as_real_scalar, 
 from presliding.control import _loop
 from presliding.control._optional import python_control as _control
 from presliding.control.controllers import PID, DiscreteController
+from presliding.friction._sides import require_symmetric
 from presliding.friction.baselines import CoulombFriction, DahlFriction, DahlState
 from presliding.friction.pi_friction import PIFriction
 from presliding.hysteresis.operators import PIState
@@ -76,6 +77,8 @@ FloatArray = NDArray[np.float64]
 def _pi_model(model: Any) -> PIFriction | DahlFriction:
     if isinstance(model, CoulombFriction):
         return model.as_pi_friction
+    if isinstance(model, PIFriction):
+        require_symmetric(model, "to_iosys")
     if isinstance(model, (PIFriction, DahlFriction)):
         return model
     raise TypeError(

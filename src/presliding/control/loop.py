@@ -39,6 +39,7 @@ from presliding._validation import (
 from presliding.control import _loop
 from presliding.control.controllers import PID, DiscreteController
 from presliding.control.results import LoopBatch, LoopResult
+from presliding.friction._sides import require_symmetric, sides_of
 from presliding.friction.pi_friction import PIFriction
 from presliding.hysteresis.operators import PIState
 from presliding.motion import _run
@@ -127,8 +128,11 @@ def _instants(t0: float, dt: float, t_end: Any, reference: Any, feedforward: Any
     )
 
 
-def _setup(model, mass, controller, reference, feedforward, t_end, t_start, y0, v0, state):
-    _run.check_model(model)
+def _setup(model, mass, controller, reference, feedforward, t_end, t_start, y0, v0, state,
+           asymmetric_ok=False):  # fmt: skip
+    if not asymmetric_ok:
+        require_symmetric(model, "simulate_loop_batch")
+    _run.check_model(model, asymmetric_ok=True)
     m = as_positive_scalar("mass", mass, kind="mass")
     ctrl = as_controller(controller)
     t0 = as_real_scalar("t_start", t_start, kind="time")
@@ -239,8 +243,12 @@ def simulate_loop(
     """
     m, ctrl, t0, y0, v0, times, ref, ff, f, last_dir, k, r = _setup(
         model, mass, controller, reference, feedforward, t_end, t_start, initial_position,
-        initial_velocity, initial_state,
+        initial_velocity, initial_state, asymmetric_ok=True,
     )  # fmt: skip
+    sides = sides_of(model)
+    c1n, sigman = sides.coulomb[1], sides.viscous[1]
+    rn = r if model.threshold_negative is None else np.array(sides.threshold[1], dtype=np.float64)
+    sides_tail = (c1n, sigman, rn)  # the negative side (the positive one for symmetric friction)
     sub = as_count("substeps", substeps, minimum=1)
     max_events = as_count("max_events", max_events, minimum=1)
     n = times.shape[0]
@@ -258,7 +266,7 @@ def simulate_loop(
         buffers = [*out, ctl, *rev]
         res = _loop.run_loop(m, float(model.coulomb), sigma, k, r, ff_, y0, v0, last_dir, kind,
                              p, s.copy(), a, b, c, d, x.copy(), ref, ff, t0, ctrl.dt, sub,
-                             max_events, *buffers)  # fmt: skip
+                             max_events, *[*buffers, *sides_tail])  # fmt: skip
         status, n_rev, rest, y_end, v_end, d_end, n_ev, done = res
         if n_rev <= cap:
             break

@@ -9,6 +9,8 @@ preload.py            `preloaded_state`: a memory with a given elastic force (a 
 batch.py              `friction_batch`: B finite-element models on one path as a `PIBatch`
 _baseline_kernels.py  compiled time loops of the Dahl and LuGre models
 _parts.py             a model's elements or its density, typed (`elements`, `density_of`)
+_pi_setup.py          validation and set-up of a `PIFriction` on construction
+_sides.py             asymmetric friction: the two sides' levels, the asymmetric play band
 
 May import: `presliding.hysteresis` and the package root's shared modules.
 """

@@ -18,6 +18,10 @@ The viscous coefficient σ >= 0 [N·s/m] (``viscous``) defaults to 0, the paper'
 assumption (i) ("no viscous friction effects"), and is the only rate-dependent term:
 `PIFriction.force`, `elastic_force` and `virgin_curve` return the rate-independent
 part, `viscous_force` gives σ·ẏ, and `presliding.simulate` includes σ (eq. 17).
+
+Asymmetric friction (the ``*_negative`` fields) gives sliding in −y its own levels, the play
+band becoming [y − r_j⁺, y + r_j⁻] (`presliding.friction._sides`); without them every result
+is the symmetric one, bit for bit.
 """
 
 from __future__ import annotations
@@ -30,17 +34,13 @@ from numpy.typing import ArrayLike, NDArray
 
 from presliding._out import as_output
 from presliding._validation import (
-    as_nonnegative_scalar,
-    as_parameter_vector,
     as_real_array,
     as_signal,
-    check_derived,
-    check_finite_derived,
     fmt,
 )
-from presliding.friction._model_checks import check_has_friction
+from presliding.friction import _pi_setup, _sides
 from presliding.hysteresis import _kernels
-from presliding.hysteresis.densities import Density, Discrete
+from presliding.hysteresis.densities import Density
 from presliding.hysteresis.general_pi import GeneralPIOperator, MemoryState, run_density
 from presliding.hysteresis.operators import PIOperator, PIState, start_memory
 
@@ -79,6 +79,20 @@ class PIFriction:
         sliding velocity. Default 0, the paper's assumption (i). It does not
         change the rate-independent quantities (F_c, F_m, eq. 7, the virgin
         curve, `force`); `presliding.simulate` and the batches include it.
+    coulomb_negative : float, optional, keyword only
+        Asymmetric friction: the Coulomb element c1⁻ >= 0 [N] for sliding in −y
+        (then `coulomb` is c1⁺, for sliding in +y). Default None: c1⁻ = c1⁺.
+    breakaway_negative, threshold_negative : array_like, shape (N,), optional, keyword only
+        Asymmetric friction: break-away forces c_j⁻ > 0 [N] (or thresholds
+        r_j⁻ = c_j⁻/k_j [m]) for sliding in −y; `breakaway`/`threshold` are
+        then c_j⁺/r_j⁺. The play operator keeps x_j in [y − r_j⁺, y + r_j⁻], so
+        element j carries k_j·(y − x_j) in [−c_j⁻, c_j⁺]. Default None: equal
+        sides.
+    viscous_negative : float, optional, keyword only
+        Asymmetric friction: σ⁻ >= 0 [N·s/m] for ẏ < 0 (`viscous` is then σ⁺).
+
+    A negative side equal to the positive one is stored as None (equal sides give the
+    symmetric model); a continuous density takes no negative side.
 
     Notes
     -----
@@ -98,6 +112,12 @@ class PIFriction:
 
     >>> PIFriction(3.0, viscous=2.0).steady_force(0.5)
     4.0
+
+    Asymmetric friction: F_c⁺ = 2 + 1, F_c⁻ = 1 + 0.5:
+
+    >>> PIFriction(2.0, [100.0], [1.0], coulomb_negative=1.0,
+    ...            breakaway_negative=[0.5]).coulomb_levels
+    (3.0, 1.5)
     """
 
     coulomb: float
@@ -106,54 +126,21 @@ class PIFriction:
     threshold: FloatArray | None = field(default=None, kw_only=True)
     density: Density | None = field(default=None, kw_only=True)
     viscous: float = field(default=0.0, kw_only=True)
+    coulomb_negative: float | None = field(default=None, kw_only=True)
+    breakaway_negative: FloatArray | None = field(default=None, kw_only=True)
+    threshold_negative: FloatArray | None = field(default=None, kw_only=True)
+    viscous_negative: float | None = field(default=None, kw_only=True)
 
     if TYPE_CHECKING:  # the constructor takes array_like; the fields hold float64 arrays
 
         def __init__(self, coulomb: float, stiffness: ArrayLike = ..., breakaway: ArrayLike | None
                      = None, *, threshold: ArrayLike | None = None, density: Density | None =
-                     None, viscous: float = 0.0) -> None: ...  # fmt: skip
+                     None, viscous: float = 0.0, coulomb_negative: float | None = None,
+                     breakaway_negative: ArrayLike | None = None, threshold_negative: ArrayLike
+                     | None = None, viscous_negative: float | None = None) -> None: ...  # fmt: skip
 
     def __post_init__(self) -> None:
-        c1 = as_nonnegative_scalar("coulomb", self.coulomb)
-        object.__setattr__(self, "viscous", as_nonnegative_scalar("viscous", self.viscous))
-        if self.density is not None and _take_density(self, c1):
-            check_finite_derived(
-                "Coulomb level F_c = c1 + F_m (eq. 9)",
-                c1 + self.density.max_elastic_force,
-                ("coulomb", "density"),
-            )
-            return
-        k = as_parameter_vector("stiffness", self.stiffness, allow_empty=True)
-        if (self.breakaway is None) == (self.threshold is None):
-            if self.breakaway is None and k.shape[0] == 0:
-                c = r = k
-            else:
-                raise TypeError(
-                    "`breakaway` or `threshold` must be given, not both; got "
-                    + ("both." if self.breakaway is not None else "neither.")
-                )
-        elif self.breakaway is not None:
-            c = as_parameter_vector("breakaway", self.breakaway, allow_empty=True)
-            _same_length(k, c, "breakaway")
-            with np.errstate(over="ignore", under="ignore"):  # reported below
-                r = c / k
-        else:
-            r = as_parameter_vector("threshold", self.threshold, allow_empty=True)
-            _same_length(k, r, "threshold")
-            with np.errstate(over="ignore", under="ignore"):  # reported below
-                c = k * r
-        given = "threshold" if self.threshold is not None else "breakaway"
-        check_derived(k, c, r, coulomb=c1, given=given)
-        check_has_friction(np.array([c1]), k.shape[0])
-        for arr in (c, r):
-            arr = np.asarray(arr)
-            arr.setflags(write=False)
-        object.__setattr__(self, "coulomb", c1)
-        object.__setattr__(self, "stiffness", k)
-        object.__setattr__(self, "breakaway", c)
-        object.__setattr__(self, "threshold", r)
-        if self.density is None:
-            object.__setattr__(self, "density", Discrete(k, r))
+        _pi_setup.setup(self)
 
     # ------------------------------------------------------------------ properties
     @property
@@ -172,15 +159,40 @@ class PIFriction:
         return int(self.stiffness.shape[0])
 
     @property
+    def is_symmetric(self) -> bool:
+        """True when both directions share every level (no negative side given)."""
+        return (
+            self.coulomb_negative is None
+            and self.breakaway_negative is None
+            and self.viscous_negative is None
+        )
+
+    @property
+    def coulomb_levels(self) -> tuple[float, float]:
+        """(F_c⁺, F_c⁻) = (c1⁺ + Σ c_j⁺, c1⁻ + Σ c_j⁻): the sliding levels in +y and −y (eq. 9).
+
+        Both equal `coulomb_level` for a symmetric model.
+        """
+        return _sides.levels(self)
+
+    @property
     def max_elastic_force(self) -> float:
-        """F_m = Σ c_j = ∫ r dμ(r), the largest force the elastic elements can carry."""
+        """F_m = Σ c_j = ∫ r dμ(r), the largest force the elastic elements can carry.
+
+        An asymmetric model has two (Σ c_j⁺ and Σ c_j⁻): use `coulomb_levels`.
+        """
+        _sides.require_symmetric(self, "max_elastic_force (one level)")
         if self.breakaway is None:
             return cast(Density, self.density).max_elastic_force
         return float(np.sum(self.breakaway))
 
     @property
     def coulomb_level(self) -> float:
-        """F_c = c1 + Σ c_j (eq. 9), the friction force at unidirectional sliding."""
+        """F_c = c1 + Σ c_j (eq. 9), the friction force at unidirectional sliding.
+
+        An asymmetric model has two: use `coulomb_levels`.
+        """
+        _sides.require_symmetric(self, "coulomb_level (one level)")
         return self.coulomb + self.max_elastic_force
 
     @property
@@ -197,6 +209,7 @@ class PIFriction:
     @property
     def operator(self) -> PIOperator | GeneralPIOperator:
         """The elastic part: a PI operator (eq. 4) with weights k_j, or the general one."""
+        _sides.require_symmetric(self, "PIFriction.operator (a symmetric PI operator)")
         if self.stiffness is None:
             return GeneralPIOperator(cast(Density, self.density))
         return PIOperator(cast(FloatArray, self.threshold), self.stiffness)
@@ -204,7 +217,7 @@ class PIFriction:
     def __eq__(self, other: object) -> bool:
         if not isinstance(other, PIFriction):
             return NotImplemented
-        if self.viscous != other.viscous:
+        if self.viscous != other.viscous or not _sides.same_sides(self, other):
             return False
         if not (self.is_discrete and other.is_discrete):
             return self.coulomb == other.coulomb and self.density == other.density
@@ -217,6 +230,7 @@ class PIFriction:
 
     def __repr__(self) -> str:
         visc = f", viscous={self.viscous!r}" if self.viscous else ""
+        visc += _sides.repr_suffix(self)
         if self.stiffness is None or self.breakaway is None:  # a continuous density
             return f"PIFriction(coulomb={self.coulomb!r}, density={self.density!r}{visc})"
         return (
@@ -242,7 +256,10 @@ class PIFriction:
             σ·ẏ, of the shape of `velocity` (0 everywhere when σ = 0).
         """
         v = as_real_array("velocity", velocity)
-        out = self.viscous * v
+        if self.viscous_negative is not None:
+            out = np.where(v < 0, self.viscous_negative, self.viscous) * v
+        else:
+            out = self.viscous * v
         return float(out) if np.ndim(out) == 0 else out
 
     def steady_force(self, velocity: ArrayLike) -> FloatArray | float:
@@ -258,6 +275,8 @@ class PIFriction:
             v [m/s], finite.
         """
         v = as_real_array("velocity", velocity)
+        if not self.is_symmetric:
+            return _sides.steady_force(self, v)
         out = self.coulomb_level * np.sign(v) + self.viscous * v
         return float(out) if np.ndim(out) == 0 else out
 
@@ -276,6 +295,8 @@ class PIFriction:
             return MemoryState.saturated(
                 position, direction, cast(Density, self.density).max_threshold
             )
+        if self.threshold_negative is not None and direction == -1:
+            return PIState.saturated(position, self.threshold_negative, direction)
         return PIState.saturated(position, cast(FloatArray, self.threshold), direction)
 
     # ------------------------------------------------------------------ curves
@@ -298,6 +319,9 @@ class PIFriction:
         scalar = (y := as_real_array("displacement", displacement)).ndim == 0
         y = as_signal("displacement", np.atleast_1d(y))
         ay = np.abs(y)
+        if not self.is_symmetric:
+            return _sides.virgin_curve(self, y, elastic_only)[0] if scalar else (
+                _sides.virgin_curve(self, y, elastic_only))  # fmt: skip
         if self.stiffness is None or self.threshold is None:  # a continuous density
             elastic = cast(Density, self.density).virgin_curve(ay)
         else:
@@ -364,6 +388,8 @@ class PIFriction:
         """
         y = as_signal("displacement", displacement, copy=False, kind="position")  # read only
         out = as_output("out", out, y.shape)
+        if not self.is_symmetric:
+            return _sides.force(self, y, state, out)
         if self.is_discrete:
             # one fused pass: the Coulomb term c1·sign(ẏ) is added in the time loop
             return self._run(y, state, self.coulomb, out)[:2]
@@ -386,35 +412,9 @@ class PIFriction:
             elastic, _, final = run_density(cast(Density, self.density), y, state)
             prev, d0 = (float(y[0]), 0.0) if state is None else (state.last_input, state.direction)
             return elastic, final, prev, d0
+        if not self.is_symmetric:
+            return _sides.run_bank(self, y, state)
         x, prev, d0 = start_memory(y, self.threshold, state)
         elastic = np.empty(y.shape[0]) if out is None else out
         d = _kernels.stop_sum(y, self.threshold, self.stiffness, x, elastic, 0.0, coulomb, prev, d0)
         return elastic, PIState(float(y[-1]), x, d), prev, d0
-
-
-def _take_density(model: PIFriction, c1: float) -> bool:
-    """Set up a model given by `density`; True when it is continuous (no elements)."""
-    dens = model.density
-    if not isinstance(dens, Density):
-        raise TypeError(f"`density` must be a Density; got {type(dens).__name__}.")
-    if np.size(model.stiffness) or model.breakaway is not None or model.threshold is not None:
-        raise TypeError(
-            "give either `density` or the elements (`stiffness` with `breakaway` or "
-            "`threshold`), not both; got both."
-        )
-    if isinstance(dens, Discrete):
-        object.__setattr__(model, "stiffness", dens.stiffness)
-        object.__setattr__(model, "threshold", dens.threshold)
-        return False
-    object.__setattr__(model, "coulomb", c1)
-    for name in ("stiffness", "breakaway", "threshold"):
-        object.__setattr__(model, name, None)
-    return True
-
-
-def _same_length(k: FloatArray, other: FloatArray, name: str) -> None:
-    if other.shape != k.shape:
-        raise ValueError(
-            f"`{name}` must have the same length as `stiffness` ({k.shape[0]}); "
-            f"got {other.shape[0]}."
-        )

@@ -44,10 +44,21 @@ __all__ = ["fit_motion", "predict_motion_force"]
 
 FloatArray = NDArray[np.float64]
 _NONNEGATIVE = (0.0, np.inf)
+_BOUNDED = ("mass", "coulomb", "viscous", "coulomb_negative", "viscous_negative")
 
 
-def _design(m: Measurement, viscous: bool, offset: bool) -> tuple[FloatArray, tuple[str, ...]]:
+def _design(
+    m: Measurement, viscous: bool, offset: bool, asymmetric: bool = False
+) -> tuple[FloatArray, tuple[str, ...]]:
     velocity, acceleration = m.require("velocity", "acceleration")
+    if asymmetric:  # c1⁺ while ẏ > 0, −c1⁻ while ẏ < 0; σ⁺·ẏ and σ⁻·ẏ likewise
+        pos, neg = velocity > 0, velocity < 0
+        columns = [acceleration, pos * 1.0, -1.0 * neg]
+        names = ["mass", "coulomb", "coulomb_negative"]
+        if viscous:
+            columns += [np.where(pos, velocity, 0.0), np.where(neg, velocity, 0.0)]
+            names += ["viscous", "viscous_negative"]
+        return np.column_stack(columns), tuple(names)
     columns = [acceleration, np.sign(velocity)]
     names = ["mass", "coulomb"]
     if viscous:
@@ -67,6 +78,7 @@ def fit_motion(
     *,
     viscous: bool = False,
     offset: bool = False,
+    asymmetric: bool = False,
     min_speed: float = 0.0,
     refine_thresholds: bool = True,
     fixed: Mapping[str, float] | None = None,
@@ -93,6 +105,13 @@ def fit_motion(
         Add F_v·ẏ (parameter ``viscous`` >= 0).
     offset : bool
         Add a constant force F_0 (parameter ``offset``).
+    asymmetric : bool
+        Asymmetric friction: separate Coulomb elements c1⁺ (``coulomb``, while
+        ẏ > 0) and c1⁻ (``coulomb_negative``, while ẏ < 0), and with `viscous`
+        separate σ⁺ (``viscous``) and σ⁻ (``viscous_negative``). The elements
+        stay symmetric. Excludes `offset`: while the mass slides, a constant
+        force is the same column as c1⁺ − c1⁻ (the offset is absorbed into
+        (c1⁺ − c1⁻)/2).
     min_speed : float
         Samples with |ẏ| <= min_speed are left out of the residual (at rest the
         Coulomb force is set-valued, and sign(ẏ) of a noisy estimate is
@@ -101,7 +120,8 @@ def fit_motion(
         False keeps the thresholds at their start (a purely linear fit).
     fixed, tied : mapping, optional
         Held or tied parameters: ``mass``, ``coulomb``, ``viscous``, ``offset``,
-        ``stiffness_j``, ``threshold_j``.
+        ``stiffness_j``, ``threshold_j`` (``coulomb_negative`` and
+        ``viscous_negative`` with `asymmetric`).
     level, grid_size, max_evaluations, tolerance : as in `fit_presliding`
         Confidence level in (0, 1), grid size >= 2, evaluation limit >= 1 (or
         None) and a positive tolerance.
@@ -122,6 +142,14 @@ def fit_motion(
         "position", "velocity", "acceleration", "applied_force", purpose="fit_motion"
     )
     n = element_count(n_elements, thresholds, 0)
+    if not isinstance(asymmetric, (bool, np.bool_)):
+        raise TypeError(f"`asymmetric` must be True or False; got {fmt(asymmetric)}.")
+    if asymmetric and offset:
+        raise ValueError(
+            "`offset` must be False with `asymmetric`=True: while the mass slides a constant "
+            "force is the same column as c1⁺ − c1⁻ (the fit absorbs it into the two Coulomb "
+            "levels); got offset=True."
+        )
     min_speed = as_nonnegative_scalar("min_speed", min_speed)
     fixed, tied, level, grid_size, max_evaluations, tolerance = check_fit_options(
         fixed, tied, level, grid_size, max_evaluations, tolerance
@@ -136,20 +164,20 @@ def fit_motion(
     check_varies("velocity", velocity)
     used = np.abs(velocity) > min_speed
     signs = np.sign(velocity[used])
-    if offset and not (np.any(signs > 0) and np.any(signs < 0)):
+    if (offset or asymmetric) and not (np.any(signs > 0) and np.any(signs < 0)):
         raise ValueError(
             "`velocity` must change sign (among the samples used) to separate the Coulomb force "
-            "from the offset; it keeps one sign."
+            "from the offset (or the two Coulomb levels of `asymmetric`); it keeps one sign."
         )
     if n and pr.reversal_indices(position, 0.0).shape[0] == 0:
         raise ValueError(
             "`position` must reverse at least once to identify presliding elements; got a "
             "monotone path."
         )
-    design, names = _design(m, viscous, offset)
+    design, names = _design(m, viscous, offset, asymmetric)
     check_enough(int(used.sum()), len(names) + 2 * n)
     fit = pr.fit_separable(
-        u, design, names, {k: _NONNEGATIVE for k in ("mass", "coulomb", "viscous") if k in names},
+        u, design, names, {k: _NONNEGATIVE for k in _BOUNDED if k in names},
         pr.stop_basis(position), n, grid=pr.threshold_grid(position, grid_size),
         thresholds=thresholds, refine_thresholds=refine_thresholds, used=used, fixed=fixed,
         tied=tied, level=level, max_evaluations=max_evaluations, tolerance=tolerance,
@@ -157,18 +185,34 @@ def fit_motion(
     )  # fmt: skip
     sol = fit.solution
     model, note = pi_model(sol.values, n, sol.values["coulomb"])
-    if model is not None and viscous:  # σ is part of the friction model (simulate honours it)
+    if model is not None and (viscous or asymmetric):  # σ and the sides are part of the model
+        v = sol.values
         model = PIFriction(model.coulomb, model.stiffness, model.breakaway,
-                           viscous=max(sol.values["viscous"], 0.0))  # fmt: skip
+                           viscous=max(v.get("viscous", 0.0), 0.0),
+                           coulomb_negative=_side(v, "coulomb_negative"),
+                           viscous_negative=_side(v, "viscous_negative"))  # fmt: skip
     rotary = m.axis == "rotary"
     return FitResult.from_solution(
         _with_note(sol, note), model, m.time[used], u[used], fit.fitted[used],
         kind="motion equation (eq. 17)", abscissa_label="time [s]",
         signal_label="applied force", signal_unit="N m" if rotary else "N",
-        derived=derived_quantities(model),
+        derived=_derived(model),
         hint=sign_hint(u, np.sign(velocity), "applied force"),
         rotary=rotary,
     )  # fmt: skip
+
+
+def _side(values: Mapping[str, float], name: str) -> float | None:
+    return max(values[name], 0.0) if name in values else None
+
+
+def _derived(model: PIFriction | None) -> dict[str, float]:
+    """F_c (eq. 9), F_m and Σ k_j (eq. 7); F_c⁺ and F_c⁻ of an asymmetric model."""
+    if model is None or model.is_symmetric:
+        return derived_quantities(model)
+    fp, fn = model.coulomb_levels
+    return {"coulomb_level": fp, "coulomb_level_negative": fn,
+            "initial_stiffness": model.initial_stiffness}  # fmt: skip
 
 
 def predict_motion_force(result: FitResult, measurement: Measurement) -> FloatArray:
@@ -183,7 +227,8 @@ def predict_motion_force(result: FitResult, measurement: Measurement) -> FloatAr
     result : FitResult
         A result of `fit_motion` (its parameters ``mass``, ``coulomb``, the
         elements' ``stiffness_j`` and ``threshold_j`` and the optional
-        ``viscous`` and ``offset``).
+        ``viscous`` and ``offset``; ``coulomb_negative`` and
+        ``viscous_negative`` of an asymmetric fit).
     measurement : Measurement
         Must hold `position`, `velocity` and `acceleration`.
 
@@ -199,8 +244,15 @@ def predict_motion_force(result: FitResult, measurement: Measurement) -> FloatAr
         raise TypeError(f"`measurement` must be a Measurement; got {type(measurement).__name__}.")
     y, v, a = measurement.require("position", "velocity", "acceleration", purpose="the prediction")
     p = result.parameters
-    force = p["mass"] * a + p["coulomb"] * np.sign(v)
-    force = force + p.get("viscous", 0.0) * v + p.get("offset", 0.0)
+    if "coulomb_negative" in p:  # asymmetric: each direction with its own levels
+        pos, neg = v > 0, v < 0
+        force = p["mass"] * a + p["coulomb"] * pos - p["coulomb_negative"] * neg
+        if "viscous" in p:
+            force = force + np.where(pos, p["viscous"], p.get("viscous_negative", 0.0)) * v
+    else:
+        force = p["mass"] * a + p["coulomb"] * np.sign(v)
+        force = force + p.get("viscous", 0.0) * v
+    force = force + p.get("offset", 0.0)
     n = sum(1 for k in p if k.startswith("stiffness_"))
     if n:
         k_names, r_names = pr.element_names(n)

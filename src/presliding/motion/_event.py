@@ -108,7 +108,26 @@ def run_events(  # pragma: no cover - compiled
     m, c1, k, r, f, y, v, last_dir, u_t, u_val, t_eval, t_end, max_events,
     o_y, o_v, o_a, o_fel, o_u, o_eel, o_dis, o_work, rev_t, rev_y, sigma, o_vis, piece,
 ):  # fmt: skip
+    """`run_events_sided` with equal sides: symmetric friction (c1, r_j and σ)."""
+    return run_events_sided(
+        m, c1, c1, k, r, r, f, y, v, last_dir, u_t, u_val, t_eval, t_end, max_events,
+        o_y, o_v, o_a, o_fel, o_u, o_eel, o_dis, o_work, rev_t, rev_y, sigma, sigma, o_vis,
+        piece,
+    )  # fmt: skip
+
+
+@njit(refcount=False, **_JIT)
+def run_events_sided(  # pragma: no cover - compiled
+    m, c1p, c1n, k, rp, rn, f, y, v, last_dir, u_t, u_val, t_eval, t_end, max_events,
+    o_y, o_v, o_a, o_fel, o_u, o_eel, o_dis, o_work, rev_t, rev_y, sigmap, sigman, o_vis, piece,
+):  # fmt: skip
     """Event-driven exact motion from time u_t[0]; samples written at t_eval.
+
+    Asymmetric friction: c1p/c1n, rp/rn and sigmap/sigman are the Coulomb
+    element, thresholds and viscous coefficient for sliding in +y and −y. The
+    mass sticks iff −c1n <= u − F_el <= c1p, and element j slides in +y at
+    f_j = rp_j, in −y at f_j = −rn_j. Equal sides give the symmetric motion bit
+    for bit (every operation picks a side, then computes as before).
 
     ``sigma`` is the viscous coefficient σ >= 0. ``f`` (deformations, shape
     (N,)) is updated in place to the final state. u is u_val[i] on
@@ -159,7 +178,7 @@ def run_events(  # pragma: no cover - compiled
         s = 1.0 if v > 0.0 else (-1.0 if v < 0.0 else 0.0)
         if s == 0.0:
             g = u - fel
-            if abs(g) <= c1 or frozen:  # sticks: exactly at rest until u changes
+            if (-c1n <= g and g <= c1p) or frozen:  # sticks: exactly at rest until u changes
                 if np.isnan(rest_start):
                     rest_start = t
                 t1 = min(t_u, t_end)
@@ -189,6 +208,10 @@ def run_events(  # pragma: no cover - compiled
                     rev_y[n_rev] = y
                 n_rev += 1
             last_dir = s
+        # the side of this piece: its Coulomb element, thresholds and viscous coefficient
+        c1 = c1p if s > 0.0 else c1n
+        r = rp if s > 0.0 else rn
+        sigma = sigmap if s > 0.0 else sigman
         rest_before = rest_start
         rest_start = np.nan
         if record_piece:
@@ -227,7 +250,7 @@ def run_events(  # pragma: no cover - compiled
                 # rounds to <= 0 (an order of operations the stick test does not use), which
                 # would give a piece of zero length and no progress; take the net force as
                 # the stick test computed it, > 0 in floating point
-                ap = (abs(u - fel) - c1) / m
+                ap = (s * (u - fel) - c1) / m
                 a0 = s * ap
             dmax = reach(vp, ap, w)
             kind = 0  # 0: element, 1: rest, 2: change of u, 3: end

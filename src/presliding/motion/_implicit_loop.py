@@ -63,8 +63,9 @@ def fill_applied(buf, i0, count, u_kind, u_t, u_val, u_mid, t0, h, ptr):  # prag
 
 
 @njit(**_JIT)
-def bank_sums(k, r, f):  # pragma: no cover - compiled
-    """F_el, Σk saturated at ±r, their counts and the nearest distances to ±r; f untouched.
+def bank_sums(k, r, rn, f):  # pragma: no cover - compiled
+    """F_el, Σk saturated at +r and −rn, their counts and the nearest distances to them;
+    f untouched (``rn`` is ``r`` for symmetric friction).
 
     Deformations at or beyond ±r_j (a given memory may exceed r_j by rounding)
     count as saturated; nothing is clipped, so a mass that never moves keeps
@@ -82,6 +83,7 @@ def bank_sums(k, r, f):  # pragma: no cover - compiled
             npos += 1
         else:
             dpos = min(dpos, rj - fj)
+        rj = rn[j]
         if fj <= -rj:
             kneg += k[j]
             nneg += 1
@@ -91,7 +93,7 @@ def bank_sums(k, r, f):  # pragma: no cover - compiled
 
 
 @njit(**_JIT)
-def _partial(k, r, f, delta):  # pragma: no cover - compiled
+def _partial(k, r, rn, f, delta):  # pragma: no cover - compiled
     """F_el, ½Σk f², plastic dissipation after the partial increment delta (f untouched)."""
     fel = eel = dpl = 0.0
     for j in range(k.shape[0]):
@@ -100,7 +102,8 @@ def _partial(k, r, f, delta):  # pragma: no cover - compiled
         if fj > rj:
             dpl += k[j] * rj * (fj - max(f[j], rj))
             fj = rj
-        elif fj < -rj:
+        elif fj < -rn[j]:
+            rj = rn[j]
             dpl += k[j] * rj * (min(f[j], -rj) - fj)
             fj = -rj
         fel += k[j] * fj
@@ -114,7 +117,25 @@ def run_uniform(  # pragma: no cover - compiled
     u_kind, u_t, u_val, u_mid, t_eval,
     o_y, o_v, o_a, o_fric, o_fel, o_eel, o_dis, o_vis, o_work, rev_t, rev_y,
 ):  # fmt: skip
+    """`run_uniform_sided` with equal sides: symmetric friction."""
+    return run_uniform_sided(
+        m, c1, c1, sigma, sigma, k, r, r, f, y, v, last_dir, t0, t_end, n_steps,
+        u_kind, u_t, u_val, u_mid, t_eval,
+        o_y, o_v, o_a, o_fric, o_fel, o_eel, o_dis, o_vis, o_work, rev_t, rev_y,
+    )  # fmt: skip
+
+
+@njit(**_JIT)
+def run_uniform_sided(  # pragma: no cover - compiled
+    m, c1p, c1n, sigmap, sigman, k, r, rn, f, y, v, last_dir, t0, t_end, n_steps,
+    u_kind, u_t, u_val, u_mid, t_eval,
+    o_y, o_v, o_a, o_fric, o_fel, o_eel, o_dis, o_vis, o_work, rev_t, rev_y,
+):  # fmt: skip
     """n_steps equal implicit steps from t0 to t_end; samples at t_eval (sorted, in range).
+
+    Asymmetric friction: c1p, sigmap and r act in +y, c1n, sigman and rn in −y;
+    the mass sticks while −c1n <= m·v/h + u − F_el <= c1p. Equal sides compute
+    exactly as the symmetric scheme.
 
     ``f`` is updated in place. ``last_dir`` is the direction of the trajectory's
     last motion (0: none), for counting reversals (sign changes of the velocity).
@@ -127,12 +148,16 @@ def run_uniform(  # pragma: no cover - compiled
     h = (t_end - t0) / n_steps
     inv_h = 1.0 / h
     m_h = m * inv_h
-    mh2 = m_h * inv_h + sigma * inv_h  # m/h² + σ/h
-    ktot = csum = 0.0  # Σk, Σ k·r
+    mh2p = m_h * inv_h + sigmap * inv_h  # m/h² + σ/h
+    mh2n = m_h * inv_h + sigman * inv_h
+    ktot = csum = csumn = 0.0  # Σk, Σ k·r⁺, Σ k·r⁻
     for j in range(n_el):
         ktot += k[j]
         csum += k[j] * r[j]
-    fel, kpos, kneg, npos, nneg, dpos, dneg = bank_sums(k, r, f)
+        csumn += k[j] * rn[j]
+    fel, kpos, kneg, npos, nneg, dpos, dneg = bank_sums(k, r, rn, f)
+    c1 = c1p
+    sigma = sigmap
     dis = vis = work = 0.0
     n_rev = 0
     cap = rev_t.shape[0]
@@ -154,24 +179,26 @@ def run_uniform(  # pragma: no cover - compiled
             g = m_h * v + u - fel
             s = 0.0
             d = 0.0
-            if abs(g) <= c1:  # sticks: y and the memory stay exactly as they are
+            if -c1n <= g and g <= c1p:  # sticks: y and the memory stay exactly as they are
                 v_new = 0.0
                 if rest_start != rest_start:
                     rest_start = t_i
             else:
                 if g > 0.0:
                     s = 1.0
+                    c1, sigma, mh2, rs = c1p, sigmap, mh2p, r
                     b = g - c1
                     slope = mh2 + ktot - kpos
                     dist = dpos
                 else:
                     s = -1.0
+                    c1, sigma, mh2, rs = c1n, sigman, mh2n, rn
                     b = -g - c1
                     slope = mh2 + ktot - kneg
                     dist = dneg
                 d = b / slope  # exact unless an element reaches its threshold on the way
                 if d >= dist:
-                    d = _newton_walk(mh2, k, r, f, s, b, slope, d)
+                    d = _newton_walk(mh2, k, rs, f, s, b, slope, d)
                 v_new = s * d * inv_h
             acc = (v_new - v) * inv_h
             delta = s * d
@@ -181,7 +208,7 @@ def run_uniform(  # pragma: no cover - compiled
                 if d == 0.0:
                     fel_p, eel_p, dpl_p = fel, _energy(k, f), 0.0
                 else:
-                    fel_p, eel_p, dpl_p = _partial(k, r, f, th * delta)
+                    fel_p, eel_p, dpl_p = _partial(k, r, rn, f, th * delta)
                 o_y[ie] = y + th * delta
                 o_v[ie] = v + th * (v_new - v)
                 o_a[ie] = acc
@@ -196,7 +223,7 @@ def run_uniform(  # pragma: no cover - compiled
                 if (npos if s > 0.0 else nneg) == n_el:
                     # every element slides on and stays at s·r_j: the memory, F_el and the
                     # stiffness sums are unchanged; each element dissipates c_j·d
-                    dplastic = csum * d
+                    dplastic = (csum if s > 0.0 else csumn) * d
                 else:
                     fel = kpos = kneg = dplastic = 0.0
                     dpos = dneg = np.inf
@@ -209,15 +236,16 @@ def run_uniform(  # pragma: no cover - compiled
                             fj = rj
                             kpos += k[j]
                             npos += 1
-                        elif fj <= -rj:
+                        elif fj <= -rn[j]:
+                            rj = rn[j]
                             dplastic += k[j] * rj * (min(f[j], -rj) - fj)
                             fj = -rj
                             kneg += k[j]
                             nneg += 1
                         f[j] = fj
                         fel += k[j] * fj
-                        dpos = min(dpos, rj - fj if fj < rj else np.inf)
-                        dneg = min(dneg, rj + fj if fj > -rj else np.inf)
+                        dpos = min(dpos, r[j] - fj if fj < r[j] else np.inf)
+                        dneg = min(dneg, rn[j] + fj if fj > -rn[j] else np.inf)
                 y += delta
                 dis += c1 * d + dplastic
                 vis += sigma * d * d * inv_h

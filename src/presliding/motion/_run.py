@@ -15,6 +15,7 @@ from presliding._validation import (
     check_time_span,
     fmt,
 )
+from presliding.friction import _sides
 from presliding.friction._parts import elements
 from presliding.friction.pi_friction import PIFriction
 from presliding.hysteresis.operators import PIState
@@ -29,10 +30,13 @@ DEFAULT_STEPS = 10_000  # implicit steps over the span when `step` is not given
 MAX_STEPS = 10**10  # implicit steps of one call (minutes of computing)
 
 
-def check_model(model: Any, *, density_ok: bool = False) -> None:
-    """A PIFriction; with finite elements unless `density_ok` (the implicit method)."""
+def check_model(model: Any, *, density_ok: bool = False, asymmetric_ok: bool = False) -> None:
+    """A PIFriction; with finite elements unless `density_ok` (the implicit method), symmetric
+    unless `asymmetric_ok` (`simulate`)."""
     if not isinstance(model, PIFriction):
         raise TypeError(f"`model` must be a PIFriction; got {type(model).__name__}.")
+    if not asymmetric_ok:
+        _sides.require_symmetric(model, "simulate_batch, free_response and simulate_loop")
     if not density_ok and not model.is_discrete:
         raise TypeError(
             "`model` has a continuous density; batches use the exact event method, which needs "
@@ -87,7 +91,11 @@ class Continuation(NamedTuple):
 
 def model_key(model: PIFriction, m: float) -> tuple:
     k, r, _ = elements(model)
-    return (m, float(model.coulomb), float(model.viscous), k.tobytes(), r.tobytes())
+    key = (m, float(model.coulomb), float(model.viscous), k.tobytes(), r.tobytes())
+    if model.is_symmetric:
+        return key
+    sd = _sides.sides_of(model)
+    return (*key, sd.coulomb[1], sd.viscous[1], sd.threshold[1].tobytes())
 
 
 def continuation_of(state: Any, model: PIFriction, m: float, y0: float, v0: float, t0: float):
@@ -118,6 +126,8 @@ def initial_deformation(
             return np.zeros(r.shape[0]), vdir
         if initial_state == "saturated":
             s = saturation_direction(vdir, u0)
+            if s < 0 and model.threshold_negative is not None:
+                return np.ascontiguousarray(-model.threshold_negative), s
             return np.ascontiguousarray(s * r), s
         raise ValueError(
             "`initial_state` must be 'relaxed', 'saturated' or a PIState; got "
@@ -128,7 +138,12 @@ def initial_deformation(
             "`initial_state` must be 'relaxed', 'saturated' or a PIState (a MemoryState for a "
             f"density model); got {type(initial_state).__name__}."
         )
-    initial_state.check_against(r, "initial_state")
+    if model.is_symmetric:
+        initial_state.check_against(r, "initial_state")
+    elif initial_state.play.shape != r.shape:
+        initial_state.check_against(r, "initial_state")  # the count's error
+    else:
+        _sides.check_band(model, initial_state.last_input, initial_state.play, "initial_state")
     if initial_state.last_input != y0:
         raise ValueError(
             "`initial_state.last_input` must equal `initial_position`; got "
@@ -259,15 +274,18 @@ def _buffers(n: int, count: int) -> list[FloatArray]:
 
 def run_event(
     m, c1, k, r, f0, y0, v0, last_dir, forcing: Forcing, times, t0, t_end, max_events, sigma=0.0,
-    resume: Continuation | None = None,
+    resume: Continuation | None = None, sides: _sides.Sides | None = None,
 ):  # fmt: skip
     """Run the exact event kernel; returns a dict of outputs.
 
     With `resume` (a continuation of the same motion) the kernel restarts the
     closed-form piece in progress at its own start, so that the motion is the
     whole run's bit for bit; dissipation, viscous loss and work are then
-    counted from t0 as usual.
+    counted from t0 as usual. `sides` (asymmetric friction) gives the negative
+    Coulomb element, thresholds and viscous coefficient; None: equal sides.
     """
+    c1n, rn, sigman = (c1, r, sigma) if sides is None else (
+        sides.coulomb[1], sides.threshold[1], sides.viscous[1])  # fmt: skip
     u_t, u_val = forcing.pieces(t0, t_end)
     t_eval = times
     y_start, v_start, f_start = y0, v0, f0
@@ -283,6 +301,7 @@ def run_event(
         piece = None
     n_out = t_eval.shape[0]
     k, r, u_t, u_val, t_eval = (_event.kernel_array(a) for a in (k, r, u_t, u_val, t_eval))
+    rn = r if sides is None else _event.kernel_array(rn)
     # room for a reversal per piece of u (pages are touched only when written); more
     # reversals than that run the kernel again with room for all of them (rare)
     cap = max(REVERSAL_CAPACITY, 2 * u_t.shape[0])
@@ -291,9 +310,9 @@ def run_event(
         o = _buffers(n_out, 9)
         rev = _buffers(cap, 2)
         p_out = np.empty(5 + k.shape[0])
-        tail = [*o[:7], o[8], *rev, sigma, o[7], p_out]  # output buffers, σ, the piece
-        res = _event.run_events(m, c1, k, r, f, y_start, v_start, last_dir, u_t, u_val,
-                                t_eval, t_end, max_events, *tail)  # fmt: skip
+        tail = [*o[:7], o[8], *rev, sigma, sigman, o[7], p_out]  # buffers, σ±, the piece
+        res = _event.run_events_sided(m, c1, c1n, k, r, rn, f, y_start, v_start, last_dir,
+                                      u_t, u_val, t_eval, t_end, max_events, *tail)  # fmt: skip
         status, n, n_rev, stop, y, v, d, n_ev, _, _, t_last, _ = res
         if n_rev <= cap:
             break
@@ -342,18 +361,24 @@ def implicit_grid(t0: float, t_end: float, times: FloatArray, h: float):
 
 
 def run_implicit(
-    m, c1, k, r, f0, y0, v0, last_dir, forcing: Forcing, times, t0, t_end, n_steps, sigma=0.0
-):
-    """Run the implicit stepper: n_steps equal steps, samples read off the steps."""
+    m, c1, k, r, f0, y0, v0, last_dir, forcing: Forcing, times, t0, t_end, n_steps, sigma=0.0,
+    sides: _sides.Sides | None = None,
+):  # fmt: skip
+    """Run the implicit stepper: n_steps equal steps, samples read off the steps.
+
+    `sides` (asymmetric friction) gives the negative Coulomb element, thresholds
+    and viscous coefficient; None: equal sides."""
+    c1n, rn, sigman = (c1, r, sigma) if sides is None else (
+        sides.coulomb[1], _event.kernel_array(sides.threshold[1]), sides.viscous[1])  # fmt: skip
     u_kind, u_t, u_val, u_mid = forcing.loop_form(t0, t_end, n_steps)
     cap = REVERSAL_CAPACITY
     while True:
         f = f0.copy()
         o = _buffers(times.shape[0], 9)
         rev = _buffers(cap, 2)
-        n_rev, stop, y, v, d, _, _, _ = _loop.run_uniform(
-            m, c1, sigma, k, r, f, y0, v0, last_dir, t0, t_end, n_steps, u_kind, u_t, u_val,
-            u_mid, times, *o, *rev,
+        n_rev, stop, y, v, d, _, _, _ = _loop.run_uniform_sided(
+            m, c1, c1n, sigma, sigman, k, r, rn, f, y0, v0, last_dir, t0, t_end, n_steps, u_kind,
+            u_t, u_val, u_mid, times, *o, *rev,
         )  # fmt: skip
         if n_rev <= cap:
             break
@@ -361,7 +386,7 @@ def run_implicit(
     y_o, v_o, a_o, fric_o, fel_o, eel_o, dis_o, vis_o, work_o = o
     applied = applied_force_at(forcing, u_kind, u_t, u_val, times)
     start_implicit_samples(times, t0, a_o, fric_o, applied, m, c1, float(np.dot(k, f0)), v0,
-                           sigma)  # fmt: skip
+                           sigma, sides)  # fmt: skip
     h = (t_end - t0) / n_steps
     return {
         "n": times.shape[0], "time": times, "position": y_o, "velocity": v_o, "acceleration": a_o,
@@ -383,10 +408,13 @@ def applied_force_at(forcing: Forcing, u_kind: int, u_t, u_val, times: FloatArra
     return out
 
 
-def start_implicit_samples(times, t0, a_o, fric_o, applied, m, c1, fel0, v0, sigma) -> None:
+def start_implicit_samples(times, t0, a_o, fric_o, applied, m, c1, fel0, v0, sigma,
+                           sides: _sides.Sides | None = None) -> None:  # fmt: skip
     """Acceleration and friction force of the samples at t0 (from eq. 17 at the start)."""
     n0 = int(np.searchsorted(times, t0, side="right"))
     if n0:
         u0 = applied[0]
+        if sides is not None and (v0 < 0 or (v0 == 0 and u0 - fel0 < 0)):
+            c1, sigma = sides.coulomb[1], sides.viscous[1]  # the negative side acts
         a_o[:n0] = initial_acceleration(m, c1, fel0, v0, u0, sigma)
         fric_o[:n0] = u0 - m * a_o[:n0]

@@ -29,6 +29,7 @@ from numpy.typing import ArrayLike, NDArray
 from presliding._display import figures_of, fill_attrs, result_html, short_repr
 from presliding._validation import as_signal, check_increasing, check_same_length, renamed
 from presliding.friction._parts import elements
+from presliding.friction._sides import check_band, require_symmetric, shifted_bank, sides_of
 from presliding.friction.pi_friction import PIFriction
 from presliding.hysteresis.inverse import PIInverse
 from presliding.hysteresis.operators import PIOperator, PIState
@@ -150,6 +151,8 @@ def friction_inverse(model: PIFriction) -> PIInverse:
     """
     if not isinstance(model, PIFriction):
         raise TypeError(f"`model` must be a PIFriction; got {type(model).__name__}.")
+    require_symmetric(model, "friction_inverse (one PIInverse; quasi_static_response takes both "
+                      "sides) and fit_quasi_static")  # fmt: skip
     if not model.is_discrete or model.n_elements == 0:
         what = "a continuous density" if not model.is_discrete else "no elements"
         raise ValueError(
@@ -213,7 +216,8 @@ def quasi_static_response(
         t = as_signal("time", time)
         check_same_length(applied_force=u, time=t)
         check_increasing("time", t)
-    inverse = friction_inverse(model)
+    if not isinstance(model, PIFriction) or model.is_symmetric:
+        inverse = friction_inverse(model)
     if isinstance(initial_state, str):
         if initial_state != "relaxed":
             raise ValueError(
@@ -225,8 +229,51 @@ def quasi_static_response(
             f"`initial_state` must be a PIState, 'relaxed' or None; "
             f"got {type(initial_state).__name__}."
         )
+    if not model.is_symmetric:
+        return _asymmetric_response(model, t, u, initial_state)
     start = initial_state if initial_state is not None else PIState.relaxed(0.0, model.n_elements)
     with renamed(force="applied_force", state="initial_state"):
         fel = inverse.elastic_force(u, start)
         y, final = inverse.apply(u, start)
     return QuasiStaticResponse(t, u, y, fel, final, model)
+
+
+def _asymmetric_response(
+    model: PIFriction, t: FloatArray | None, u: FloatArray, initial_state: PIState | None
+) -> QuasiStaticResponse:
+    """The quasi-static response of an asymmetric model, exactly, through the symmetric one.
+
+    With r̄_j = (r_j⁺ + r_j⁻)/2, δ_j = (r_j⁺ − r_j⁻)/2 and c̄1 = (c1⁺ + c1⁻)/2, the shifted
+    play x_j + δ_j is the symmetric play of r̄_j, and the balance −c1⁻ <= u − F_el <= c1⁺
+    reads |u − Δ − F̄_el| <= c̄1 with Δ = (F_c⁺ − F_c⁻)/2 (`presliding.friction._sides`): the
+    symmetric inverse under u − Δ gives the same positions.
+    """
+    fp, fn = model.coulomb_levels
+    bad = (u >= fp) | (u <= -fn)
+    if bad.any():
+        i = int(np.argmax(bad))
+        raise ValueError(
+            f"`applied_force` must stay inside (−F_c⁻, F_c⁺) = ({-fn!r}, {fp!r}) (gross "
+            f"sliding has no quasi-static position); got {u[i]!r} at index {i}."
+        )
+    if model.n_elements == 0:
+        friction_inverse(PIFriction(model.coulomb))  # its error: no elements
+    k = np.asarray(model.stiffness)
+    r_mid, delta, offset = shifted_bank(model)
+    c1p, c1n = sides_of(model).coulomb
+    mid = PIFriction(0.5 * (c1p + c1n), k, threshold=r_mid)
+    if initial_state is None:
+        initial_state = PIState.relaxed(0.0, model.n_elements)
+    if initial_state.play.shape != k.shape:
+        initial_state.check_against(r_mid, "initial_state")  # the count's error
+    check_band(model, initial_state.last_input, initial_state.play, "initial_state")
+    start = PIState(initial_state.last_input, initial_state.play + delta, initial_state.direction)
+    shift = 0.5 * (fp - fn)
+    inverse = friction_inverse(mid)
+    with renamed(force="applied_force", state="initial_state"):
+        fel = inverse.elastic_force(u - shift, start) + offset
+        y, final = inverse.apply(u - shift, start)
+    rp, rn = sides_of(model).threshold
+    yl = final.last_input
+    play = np.minimum(np.maximum(final.play - delta, yl - rp), yl + rn)
+    return QuasiStaticResponse(t, u, y, fel, PIState(yl, play, final.direction), model)

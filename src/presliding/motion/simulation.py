@@ -67,6 +67,7 @@ from presliding._validation import (
     as_real_scalar,
     as_si,
 )
+from presliding.friction import _sides
 from presliding.friction._model_checks import check_finite_stiffness
 from presliding.friction.pi_friction import PIFriction
 from presliding.hysteresis.general_pi import MemoryState
@@ -186,7 +187,7 @@ def simulate(
     >>> round(res.stop_time, 12), round(float(res.energy.viscous[-1]), 6)
     (0.972955074528, 3.486478)
     """
-    _run.check_model(model, density_ok=True)
+    _run.check_model(model, density_ok=True, asymmetric_ok=True)
     check_finite_stiffness(model.initial_stiffness, "`simulate`", model.density)
     m = as_positive_scalar("mass", mass, kind="mass")
     y0 = as_real_scalar("initial_position", initial_position, kind="position")
@@ -241,12 +242,13 @@ def simulate(
         c1 = float(model.coulomb)
         e0 = 0.5 * m * v0 * v0 + 0.5 * float(np.dot(k * f0, f0))
         _run.check_energy(m, v0, e0)
+        sides = None if model.is_symmetric else _sides.sides_of(model)
         if method == "event":
             out = _run.run_event(m, c1, k, r, f0, y0, v0, traj_dir, forcing, times, t0, t_end,
-                                 max_events, sigma, resume)  # fmt: skip
+                                 max_events, sigma, resume, sides)  # fmt: skip
         else:
             out = _run.run_implicit(m, c1, k, r, f0, y0, v0, traj_dir, forcing, times, t0,
-                                    t_end, n_steps, sigma)  # fmt: skip
+                                    t_end, n_steps, sigma, sides)  # fmt: skip
         if not (np.isfinite(out["y"]) and np.isfinite(out["v"])):
             _run.motion_overflow(t_end)
         y_end = float(out["y"])

@@ -15,6 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from presliding.friction._parts import elements
+from presliding.friction._sides import require_symmetric
 from presliding.friction.pi_friction import PIFriction
 from presliding.model_io import MotionSettings
 
@@ -28,6 +29,9 @@ class SweepTask:
     quantity: str
     method: str
     single_thread: bool = False
+
+    def __post_init__(self) -> None:
+        require_symmetric(self.model, "presliding sweep")
 
 
 def point_parameters(task: SweepTask, columns: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
