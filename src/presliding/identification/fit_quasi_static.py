@@ -33,11 +33,12 @@ from typing import Any
 import numpy as np
 
 from presliding._progress import Progress
-from presliding._validation import as_choice, as_count, as_positive_scalar, fmt
+from presliding._validation import as_bounds, as_choice, as_count, as_positive_scalar, fmt
 from presliding.identification import _pi_regression as pr
 from presliding.identification._fit_progress import FitProgress, as_reporter, shows_progress
 from presliding.identification._least_squares import check_constraints, check_options
 from presliding.identification._model_spec import DENSITIES, ModelSpec
+from presliding.identification._parameters import check_levels, resolve_parameters
 from presliding.identification._quasi_static_problem import QuasiStaticProblem
 from presliding.identification._response_checks import (
     bound_check,
@@ -124,6 +125,7 @@ def fit_quasi_static(
     initial: Mapping[str, float] | None = None,
     fixed: Mapping[str, float] | None = None,
     tied: Mapping[str, Tie] | None = None,
+    bounds: Mapping[str, tuple[float, float]] | None = None,
     bootstrap: int = 0,
     seed: int | None = None,
     level: float = 0.95,
@@ -147,7 +149,7 @@ def fit_quasi_static(
         The memory each record starts with: a fitted preload
         (``preload_fraction``; the record reverses at it), a branch its first
         motion continues (module notes), or relaxed.
-    initial, fixed, tied, bootstrap, seed, level, max_evaluations, tolerance, progress
+    initial, fixed, tied, bounds, bootstrap, seed, level, max_evaluations, tolerance, progress
         As in `fit_response`.
 
     Returns
@@ -169,6 +171,8 @@ def fit_quasi_static(
         raise ValueError(f"`n_elements` must be at least 1 (the position needs elements); got {n}.")
     cells = as_count("density_cells", density_cells, minimum=4)
     level, max_evaluations, tolerance = check_options(level, max_evaluations, tolerance)
+    initial, bounds, fixed, tied = resolve_parameters(initial, bounds, fixed, tied)
+    check_levels(None, min_coulomb_level, fixed)
     fixed, tied = check_constraints(fixed, tied)
     spec = ModelSpec(n, equal_breakaway, density, cells)
     check_model_values(spec, fixed, tied, initial)
@@ -197,6 +201,9 @@ def fit_quasi_static(
     if spec.has_level_parameter and floor > 0:
         box["coulomb_level"] = (floor, np.inf)
         start["coulomb_level"] = max(start["coulomb_level"], floor * 1.01)
+    for key, (lo, hi) in as_bounds("bounds", bounds, names).items():  # the user's, within
+        old = box.get(key, (-np.inf, np.inf))
+        box[key] = (max(old[0], lo), min(old[1], hi))
     box = {x: box.get(x, (-np.inf, np.inf)) for x in names}
     problem.set_typical(start)
     if max_evaluations is None:

@@ -35,6 +35,7 @@ from presliding.friction.pi_friction import PIFriction
 from presliding.identification._least_squares import STATUSES as STATUSES
 from presliding.identification._least_squares import Solution, solve_least_squares
 from presliding.identification._least_squares import Tie as Tie
+from presliding.identification._profile import profile_solution
 from presliding.identification._status import judge
 from presliding.identification._units import parameter_units
 
@@ -97,11 +98,17 @@ class FitResult:
         signal, and ‖measured − fitted‖/‖measured − mean‖ (see `fit_statistics`).
     status : str
         One of `STATUSES`: ``"converged"`` (the only success),
-        ``"not_identifiable"`` (the data do not determine some parameters),
-        ``"at_bound"`` (a parameter sits on a bound, where the linearised
+        ``"local_minimum"`` (the search found a better optimum than the one
+        returned, or the residual stays far above the noise floor),
+        ``"not_identifiable"`` (the data do not determine some parameters:
+        |ρ| >= 0.999, a standard error that is not finite, an interval that
+        is unbounded or spans orders of magnitude, a flat profile),
+        ``"at_bound"`` (a model parameter sits on a bound, where the linearised
         interval does not hold), ``"poor_fit"`` (the model explains less than
-        half of the variance, or every parameter sits on a bound: check units,
-        window and sign), ``"max_evaluations"`` or ``"failed"``.
+        half of the variance, or every parameter sits on a bound),
+        ``"max_evaluations"`` or ``"failed"``. The rules and their order are
+        those of `presliding.identification._status`; the message names the
+        rule that fired.
     message : str
     n_evaluations : int
     derived : dict name -> float
@@ -128,6 +135,18 @@ class FitResult:
     units : dict name -> str
         SI unit of each parameter and derived quantity (rotary units for an
         angle and a torque).
+    chisqr, ndata, var_names : float, int, tuple of str
+        The minimised sum of squared residuals χ² (of the residual the solver
+        saw, weights included), the number of residuals and the free
+        parameters (lmfit's names; ``nvarys = len(var_names)``).
+    nvarys, nfree, redchi, aic, bic, x, nfev : properties
+        lmfit's and scipy's names: the number of free parameters, ndata − nvarys,
+        χ²/(ndata − nvarys), n·ln(χ²/n) + 2·nvarys, n·ln(χ²/n) + ln(n)·nvarys,
+        the free parameter vector (order of `var_names`) and the evaluations.
+    interval_method : dict name -> str
+        How each free parameter's interval was formed: ``"profile"`` (profile
+        likelihood, `presliding.identification._profile`) or ``"wald"``
+        (value ± t·SE, on a log scale from a bound it would cross).
     """
 
     model: PIFriction | None
@@ -160,6 +179,47 @@ class FitResult:
     at_bounds: tuple[str, ...] = ()
     units: dict[str, str] = field(default_factory=dict)
     bounds: dict[str, tuple[float, float]] = field(default_factory=dict)
+    chisqr: float = float("nan")
+    ndata: int = 0
+    var_names: tuple[str, ...] = ()
+    interval_method: dict[str, str] = field(default_factory=dict)
+    ties: dict[str, tuple[str, float, float]] = field(default_factory=dict)
+
+    @property
+    def nvarys(self) -> int:
+        """Number of free (varied) parameters, lmfit's name (`var_names` lists them)."""
+        return len(self.var_names)
+
+    @property
+    def x(self) -> FloatArray:
+        """The free parameter vector, in the order of `var_names` (scipy's ``x``)."""
+        return np.array([self.parameters[n] for n in self.var_names], dtype=float)
+
+    @property
+    def nfree(self) -> int:
+        """Degrees of freedom, ``ndata − nvarys`` (lmfit's name)."""
+        return self.ndata - self.nvarys
+
+    @property
+    def redchi(self) -> float:
+        """Reduced chi-square ``chisqr / (ndata − nvarys)`` (lmfit's name)."""
+        return self.chisqr / self.nfree if self.nfree > 0 else float("nan")
+
+    @property
+    def aic(self) -> float:
+        """Akaike information criterion ``n·ln(χ²/n) + 2·nvarys`` (lmfit's definition)."""
+        return self._log_chi() + 2.0 * self.nvarys
+
+    @property
+    def bic(self) -> float:
+        """Bayesian information criterion ``n·ln(χ²/n) + ln(n)·nvarys`` (lmfit's definition)."""
+        return self._log_chi() + float(np.log(max(self.ndata, 1))) * self.nvarys
+
+    def _log_chi(self) -> float:
+        n = self.ndata
+        if n < 1 or not np.isfinite(self.chisqr):
+            return float("nan")
+        return n * float(np.log(max(self.chisqr, np.finfo(float).tiny) / n))
 
     @classmethod
     def from_solution(
@@ -172,11 +232,17 @@ class FitResult:
         likely cause to its message); `rotary` selects rotary parameter units.
         """
         rms, nrmse, relative = fit_statistics(measured, fitted)
+        if not sol.interval_method:
+            sol = profile_solution(sol, labels.pop("profile", "auto"))
         status, message = judge(
             sol.status, sol.message, np.asarray(measured, dtype=float),
             np.asarray(fitted, dtype=float), sol.free, sol.at_bounds,
-            labels.get("signal_label", "signal"), hint,
+            labels.get("signal_label", "signal"), hint, values=sol.values,
+            standard_error=sol.standard_error, intervals=sol.confidence_interval,
+            covariance=sol.covariance, bounds=sol.bounds,
+            model_hint=labels.pop("model_hint", ""),
         )  # fmt: skip
+        chisqr = float(sol.residual @ sol.residual) if sol.residual.size else float("nan")
         units = parameter_units([*sol.values, *labels.get("derived", {})], rotary)
         units.update(labels.pop("units", {}))
         return cls(
@@ -186,7 +252,9 @@ class FitResult:
             measured=np.asarray(measured, dtype=float), fitted=np.asarray(fitted, dtype=float),
             residual_rms=rms, nrmse=nrmse, relative_residual=relative, status=status,
             message=message, n_evaluations=sol.n_evaluations, at_bounds=sol.at_bounds,
-            units=units, covariance=sol.covariance, bounds=sol.bounds, **labels,
+            units=units, covariance=sol.covariance, bounds=sol.bounds, chisqr=chisqr,
+            ndata=int(sol.residual.size), var_names=sol.free,
+            interval_method=dict(sol.interval_method), ties=dict(sol.ties), **labels,
         )  # fmt: skip
 
     @property
@@ -227,6 +295,18 @@ class FitResult:
             )
         return self.predictor.predict(self, measurement, **options)
 
+    def to_lmfit(self) -> Any:
+        """The parameters as an ``lmfit.Parameters`` (value, bounds, vary, linear ties).
+
+        It can be passed back as `initial` to any fit. Needs lmfit (the extra
+        ``presliding[lmfit]``): an ImportError names it otherwise.
+        """
+        from presliding.identification._parameters import to_lmfit
+
+        ties = {n: self.ties[n] for n in self.tied if n in self.ties}
+        held = (*self.fixed, *(n for n in self.tied if n not in ties))  # tied to a fixed one
+        return to_lmfit(self.parameters, self.bounds, held, ties)
+
     def to_dict(self) -> dict[str, Any]:
         """Parameters, errors, intervals, fit quality and status as plain Python values."""
         return {
@@ -246,6 +326,14 @@ class FitResult:
             "nrmse": self.nrmse,
             "relative_residual": self.relative_residual,
             "nfev": self.n_evaluations,
+            "chisqr": self.chisqr,
+            "redchi": self.redchi,
+            "aic": self.aic,
+            "bic": self.bic,
+            "ndata": self.ndata,
+            "nvarys": self.nvarys,
+            "var_names": list(self.var_names),
+            "interval_method": dict(self.interval_method),
             "covariance": None if self.covariance is None else self.covariance.tolist(),
             "bootstrap": None if self.bootstrap is None else {
                 k: list(v) for k, v in self.bootstrap.items()},
@@ -305,7 +393,7 @@ class FitResult:
             if n in self.at_bounds:
                 note += f" (at its bound {_bound_text(self.bounds.get(n), v)})"
             unit = self.units.get(n, "")
-            line = f"{n:<{width}}{v:>14.6g} {unit:<10}{se:>11.3g}   [{lo:.6g}, {hi:.6g}]{note}"
+            line = f"{n:<{width}}{v:>14.6g} {unit:<10}{se:>11.3g}   {_interval_text(lo, hi)}{note}"
             if n in boot:
                 b_se, b_lo, b_hi = boot[n]
                 line = f"{line:<{width + 70}}   {b_se:.3g}  [{b_lo:.6g}, {b_hi:.6g}]"
@@ -362,6 +450,13 @@ class FitResult:
             xlabel=self.abscissa_label, ylabel=self._signal_text(),
             title=f"{self.kind} fit (NRMSE {100 * self.nrmse:.2f} %)",
         )  # fmt: skip
+
+
+def _interval_text(lo: float, hi: float) -> str:
+    """An interval with "unbounded" for an end the data do not bound (±inf)."""
+    a = "unbounded" if np.isinf(lo) else f"{lo:.6g}"
+    b = "unbounded" if np.isinf(hi) else f"{hi:.6g}"
+    return f"[{a}, {b}]"
 
 
 def _bound_text(bounds: tuple[float, float] | None, value: float) -> str:
