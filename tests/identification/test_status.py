@@ -184,3 +184,17 @@ def test_a_poor_fit_that_looks_right_names_model_inadequacy_not_units():
     )  # fmt: skip
     assert status == "poor_fit" and "model inadequacy" in message
     assert "units" not in message and "window" not in message
+
+
+def test_two_elements_fitted_to_data_from_one_are_not_identifiable():
+    """The second element is not in the data: its interval is unbounded or spans decades,
+    and the fit says so naming it, never "converged"."""
+    y = piecewise_linear([0.0, 0.8, -0.8, 0.4, -0.2, 0.6, -0.6], 1e-3) * 1e-3
+    model = ps.PIFriction(0.2, [500e3], [1.0])
+    f = model.force(y)[0] + np.random.default_rng(0).normal(0.0, 0.01, y.shape)
+    res = ps.fit_presliding(y, f, 2)
+    assert res.status == "not_identifiable" and not res.success
+    assert res.message.startswith("rule ") and "_2" in res.message.split(";")[0]
+    from presliding.identification._status import exit_code
+
+    assert exit_code(res.status) == 1

@@ -17,7 +17,7 @@ profile is the quadratic (θ − θ̂)²/h_jj and the interval is exactly the Wa
 Each end is found by walking out from the optimum in steps of the Wald half
 width, doubling, until the profile crosses P_crit, and then by Brent's method on
 √P − √P_crit. An end past a bound the profile stays below is the bound (the
-data do not exclude it); an end the profile never reaches within 2¹² Wald
+data do not exclude it); an end the profile never reaches within 2⁸ Wald
 half widths, with no bound there, is unbounded (±inf), and the fit is then not
 identifiable (`_status`). The inner optimisations use the structured
 Levenberg–Marquardt of `_structured_lm` (dense or pooled sparse Jacobians),
@@ -44,15 +44,18 @@ from presliding.identification._structured_lm import levenberg_marquardt
 FloatArray = NDArray[np.float64]
 
 #: Doublings of the Wald half width tried before an end is called unbounded.
-MAX_DOUBLINGS = 12
+MAX_DOUBLINGS = 8
 #: Relative departure of the cost from its quadratic model that asks for a profile.
 NONLINEAR = 0.1
 #: Wald half width, as a share of the value, above which an interval is profiled.
 WIDE = 0.25
 #: Relative accuracy of √P at an interval end (1e-5: the end to about 1e-5 of the half width).
 ROOT_TOL = 1e-5
+#: Wald half width, as a multiple of the value, beyond which no profile is tried (the data
+#: do not determine the parameter: the judge says so from the Wald interval).
+HOPELESS = 100.0
 #: Inner optimisations a profile step may spend (the rest keep their Wald interval).
-BUDGET = 40
+BUDGET = 30
 
 
 @dataclass(frozen=True, eq=False)
@@ -136,7 +139,7 @@ class _Walker:
         try:
             res = levenberg_marquardt(
                 fun, jac, z0, lo, hi, ftol=1e-10, xtol=1e-9, gtol=1e-9,
-                max_nfev=10 + 2 * keep.size, step_limit=limit,
+                max_nfev=5 + keep.size, step_limit=limit,
             )  # fmt: skip
         except (ValueError, np.linalg.LinAlgError, FloatingPointError):
             return np.inf, z0
@@ -262,6 +265,8 @@ def profile_solution(sol: Any, which: str | Sequence[str] = "auto", budget: int 
             continue
         half = q * se
         if half <= 1e-9 * abs(x[j]):  # noise-free data: the Wald interval is a point
+            continue
+        if half > HOPELESS * abs(x[j]):  # undetermined already: its Wald interval stays
             continue
         if which == "auto":
             if not wants_profile(prof, x, c0, hinv, j, half, ci[name]):
