@@ -29,8 +29,15 @@ def test_a_fit_that_explains_little_is_a_poor_fit_naming_the_causes():
     noise = np.random.default_rng(0).normal(size=y.shape)  # nothing a friction model explains
     res = ps.fit_presliding(y, noise, 2)
     assert res.status == "poor_fit" and not res.success
-    for cause in ("variance", "units", "window", "sign"):
-        assert cause in res.message
+    # units (a few N), window and sign look right: the message names model inadequacy
+    # and masing_check's verdict on the loops, not units, window or sign
+    assert "variance" in res.message and "model inadequacy" in res.message
+    assert "masing_check" in res.message
+    assert "units (" not in res.message and "the window (" not in res.message
+    # the same noise read in µN as N: the units are named
+    tiny = ps.fit_presliding(y, 1e-7 * noise, 2)
+    assert tiny.status == "poor_fit" and "units (" in tiny.message
+    assert "model inadequacy" not in tiny.message
 
 
 def test_a_flipped_sign_is_named_first():
@@ -183,7 +190,12 @@ def test_a_poor_fit_that_looks_right_names_model_inadequacy_not_units():
         model_hint="model inadequacy: the loops break Masing's rules",
     )  # fmt: skip
     assert status == "poor_fit" and "model inadequacy" in message
-    assert "units" not in message and "window" not in message
+    assert "the loops break Masing's rules" in message
+    assert "units (" not in message and "the window (" not in message
+    # a signal standing still over most samples: the window is named, not the model
+    idle = np.concatenate([_Y, np.full(200, _Y[-1])])
+    status, message = judge("converged", "ok", idle, 0 * idle, _FREE, (), "force")
+    assert "the window (the signal stands still" in message and "inadequacy" not in message
 
 
 def test_two_elements_fitted_to_data_from_one_are_not_identifiable():

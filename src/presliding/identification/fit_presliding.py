@@ -283,6 +283,7 @@ def fit_presliding(
         sol, model, y[used], f[used], fit.fitted[used], kind="presliding operator",
         abscissa_label="displacement [m]", signal_label="friction force", signal_unit="N",
         derived=derived_quantities(model), hint=sign_hint(f, _direction(y), "friction force"),
+        model_hint=lambda: _masing_note(model, y[used], f[used]),
     )  # fmt: skip
 
 
@@ -302,3 +303,9 @@ def _direction(y: FloatArray) -> FloatArray:
 
 def _with_note(sol: Any, note: str) -> Any:
     return replace(sol, message=sol.message + note) if note else sol
+
+
+def _masing_note(model: PIFriction | None, y: FloatArray, f: FloatArray) -> str:
+    from presliding.identification.masing import masing_verdict
+
+    return masing_verdict(model, (y, f))

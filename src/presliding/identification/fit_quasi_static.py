@@ -274,7 +274,7 @@ def fit_quasi_static(
         replace(sol, n_evaluations=count), spec.model(values), u_all,
         np.concatenate([r.position for r in recs]), o_y[0], kind="quasi-static",
         abscissa_label="applied force", signal_label="position", signal_unit="m",
-        units=units, derived=derived,
+        units=units, derived=derived, model_hint=lambda: _masing_note(spec.model(values), recs),
     )  # fmt: skip
     spans = tuple(zip(problem.t_off[:-1].tolist(), problem.t_off[1:].tolist(), strict=True))
     if floor > 0 and spec.has_level_parameter and values["coulomb_level"] <= floor * (1 + 1e-6):
@@ -283,3 +283,10 @@ def fit_quasi_static(
         result = replace(result, notes=(note,))
     return replace(result, records=spans if problem.n_rec > 1 else (), bootstrap=boot,
                    predictor=QuasiStaticPredictor(problem, values))  # fmt: skip
+
+
+def _masing_note(model: Any, recs: list) -> str:
+    """masing_check's verdict on the records' loops (position against applied force)."""
+    from presliding.identification.masing import masing_verdict
+
+    return masing_verdict(model, [(r.position, r.applied_force) for r in recs])

@@ -47,7 +47,7 @@ from presliding.identification.prediction import reversal_tolerance as auto_tole
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
 
-__all__ = ["MasingCheck", "masing_check"]
+__all__ = ["MasingCheck", "masing_check", "masing_verdict"]
 
 FloatArray = NDArray[np.float64]
 
@@ -266,3 +266,28 @@ def masing_check(
     )
     return MasingCheck(disp, meas, pred, per, total, tol, passed,
                        "passed" if passed else "failed", message)  # fmt: skip
+
+
+def masing_verdict(model: PIFriction | None, loops: Any) -> str:
+    """A poor fit's note: `masing_check`'s verdict on `loops` against `model`'s virgin curve.
+
+    "" when there is no model, no loop with a branch from a second turning point,
+    or the check cannot run.
+    """
+    if model is None or not model.is_discrete:
+        return ""
+    try:
+        check = masing_check(model, loops)
+    except (ValueError, TypeError):
+        return ""
+    pct = f"{100 * check.discrepancy:.3g} % of the force range"
+    if check.passed:
+        return (
+            f"masing_check: the loops follow Masing's rules against the fitted virgin curve "
+            f"({pct}), so the branches are consistent and another model order may fit"
+        )
+    return (
+        f"masing_check: the loops break Masing's rules against the fitted virgin curve "
+        f"({pct} > {100 * check.tolerance:g} %): no PI (Masing) model reproduces them "
+        "(creep, rate dependence or a preload changing between cycles)"
+    )
