@@ -142,3 +142,19 @@ def test_to_lmfit_names_the_extra_when_lmfit_is_missing(monkeypatch):
     monkeypatch.setattr(builtins, "__import__", fake)
     with pytest.raises(ImportError, match=r"presliding\[lmfit\]"):
         to_lmfit({"a": 1.0}, {}, (), {})
+
+
+def test_min_coulomb_level_far_above_the_data_is_a_poor_fit_naming_the_bound():
+    dt, n = 2.5e-4, 3000
+    t = np.arange(n) * dt
+    u = np.select([t < 0.15, t < 0.35, t < 0.5], [2.0, -2.0, 2.0], 0.0)
+    model = ps.PIFriction(0.3, [4000.0, 2000.0], breakaway=[0.35, 0.35])
+    res = ps.simulate(model, 2.0, applied_force=(t, u), initial_velocity=0.05,
+                      initial_state="saturated", t_eval=t)  # fmt: skip
+    noise = 1e-4 * np.random.default_rng(0).standard_normal(n)
+    fit = ps.fit_response(Measurement(t, velocity=res.velocity + noise, applied_force=u), 2,
+                          min_coulomb_level=1000.0)  # fmt: skip
+    assert fit.status in ("poor_fit", "failed") and not fit.success
+    assert "coulomb_level" in fit.message and "min_coulomb_level" in fit.message
+    assert all(np.isfinite(v) for v in fit.parameters.values())
+    assert np.isfinite(fit.residual_rms) and np.isfinite(fit.nrmse)

@@ -182,6 +182,32 @@ def _loose(value: float, interval: tuple[float, float] | None) -> bool:
     return not max(value - lo, hi - value) <= LOOSE * abs(value)
 
 
+def _held(
+    values: Mapping[str, float],
+    free: Sequence[str],
+    at_bounds: Sequence[str],
+    bounds: Mapping[str, tuple[float, float]],
+) -> str:
+    """A poor fit's cause: model parameters held on (or within 1e-5 of) a finite bound."""
+    held = []
+    for x in free:
+        if x.startswith(NATURAL) or x not in values:
+            continue
+        v = values[x]
+        for end in bounds.get(x, (-np.inf, np.inf)):
+            if np.isfinite(end) and (
+                x in at_bounds or abs(v - end) <= 1e-5 * max(abs(end), 1e-300)
+            ):
+                held.append(f"{x} = {v:.6g} on its bound {end:.6g}")
+                break
+    if not held:
+        return ""
+    return (
+        f"the bounds ({', '.join(held)}: the data ask for a value beyond it; check "
+        "`bounds`, `min_coulomb_level` and the fixed values)"
+    )
+
+
 def model_bounds(
     values: Mapping[str, float],
     free: Sequence[str],
@@ -231,6 +257,9 @@ def judge(
     share = explained_variance(measured, fitted)
     all_bound = bool(free) and set(free) <= set(at_bounds)
     if share < MIN_EXPLAINED or all_bound:
+        held = _held(values or {}, free, at_bounds, bounds or {})
+        if held:
+            hint = "; ".join(x for x in (hint, held) if x)
         return "poor_fit", _poor_fit_text(
             share, all_bound, measured, signal_label, hint, model_hint, message
         )

@@ -184,6 +184,17 @@ def hac_covariance(
     undetermined = set(np.flatnonzero(dead).tolist())
     for row in vt[~keep]:
         undetermined |= set(np.flatnonzero(np.abs(row) > 1e-3).tolist())
+    # A parameter whose scores vanish (its record's residuals are all 0, e.g. a quantised
+    # record the model reproduces exactly, or scores summing to 0 in the record-level
+    # sandwich) would get a variance of exactly 0; it is determined no better than the
+    # pooled noise allows: it takes the ordinary variance s²·(JᵀJ)⁻¹ instead.
+    s2 = float(r @ r) / (n - p)
+    zero = np.flatnonzero((np.diag(cov) <= 0) & ~dead)
+    zero = np.array([i for i in zero if i not in undetermined], dtype=int)
+    if zero.size and s2 > 0:
+        cov[zero, :] = 0.0
+        cov[:, zero] = 0.0
+        cov[zero, zero] = s2 * np.diag(bread)[zero]
     return cov, sorted(undetermined), widths
 
 
