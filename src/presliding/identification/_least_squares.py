@@ -45,6 +45,7 @@ from presliding.identification._profile import Profiler
 from presliding.identification._status import STATUSES as STATUSES
 from presliding.identification._structured_lm import free_limit, levenberg_marquardt
 from presliding.identification.uncertainty import (
+    bounded_interval,
     full_covariance,
     hac_covariance,
     ols_covariance,
@@ -377,41 +378,18 @@ def solve_least_squares(
             for n, a, b in zip(names, lower, upper, strict=True)
             if np.isfinite(a) or np.isfinite(b)
         },
-        ties=_ties(pm),
+        ties=_ties(tied),
         profiler=profiler,
     )
 
 
-def _ties(pm: _Map) -> dict[str, tuple[str, float, float]]:
-    """Each tied parameter as (free target, factor, offset), when it follows one free one."""
+def _ties(tied: Mapping[str, Tie]) -> dict[str, tuple[str, float, float]]:
+    """Each tie as (target, factor, offset): p = factor·target + offset."""
     out = {}
-    for i, n in enumerate(pm.names):
-        nz = np.flatnonzero(pm.matrix[i])
-        if n not in pm.free and nz.size == 1:
-            out[n] = (pm.free[int(nz[0])], float(pm.matrix[i, nz[0]]), float(pm.const[i]))
+    for n, spec in tied.items():
+        target, factor, shift = (spec, 1.0, 0.0) if isinstance(spec, str) else (*spec, 0.0)[:3]
+        out[n] = (str(target), float(factor), float(shift))
     return out
-
-
-def bounded_interval(value: float, half: float, lo: float, hi: float) -> tuple[float, float]:
-    """value ± half (Wald), unless that interval crosses a bound of the parameter: the data then
-    do not exclude the bound, so the interval reaches it, and its far end is taken on a log
-    scale from the bound, lo + d·exp(half/d) with d = value − lo (mirrored for hi), which agrees
-    with the Wald end to first order in half/d and lies beyond it. It never leaves [lo, hi]; a
-    value on its bound, or an infinite error, reaches out to the bound itself."""
-    a, b = value - half, value + half
-    with np.errstate(over="ignore", divide="ignore", invalid="ignore"):
-        if a < lo:
-            d = value - lo
-            a, b = lo, (lo + d * np.exp(half / d) if d > 0 else b)
-        if b > hi:
-            d = hi - value
-            a, b = (min(a, hi - d * np.exp(half / d)) if d > 0 else a), hi
-    a, b = float(max(a, lo)), float(min(b, hi))
-    if np.isfinite(half) and np.isfinite(value):  # beyond 6 decades: the data do not bound it
-        far = 1e6 * max(abs(value), half)
-        a = a if abs(a - value) <= far else -np.inf if lo == -np.inf else float(lo)
-        b = b if abs(b - value) <= far else np.inf if hi == np.inf else float(hi)
-    return (a if np.isfinite(half) else float(lo), b if np.isfinite(half) else float(hi))
 
 
 def _failed(pm: _Map, x: FloatArray, fixed: Any, tied: Any, level: float, msg: str) -> Solution:

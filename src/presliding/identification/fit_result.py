@@ -32,6 +32,12 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from presliding.friction.pi_friction import PIFriction
+from presliding.identification._fit_names import (
+    LmfitNames,
+    bound_text,
+    bounds_lines,
+    interval_text,
+)
 from presliding.identification._least_squares import STATUSES as STATUSES
 from presliding.identification._least_squares import Solution, solve_least_squares
 from presliding.identification._least_squares import Tie as Tie
@@ -77,7 +83,7 @@ def fit_statistics(measured: ArrayLike, fitted: ArrayLike) -> tuple[float, float
 
 # ---------------------------------------------------------------------- result
 @dataclass(frozen=True, eq=False)
-class FitResult:
+class FitResult(LmfitNames):
     """Outcome of a ``fit_*`` function.
 
     Attributes
@@ -185,42 +191,6 @@ class FitResult:
     interval_method: dict[str, str] = field(default_factory=dict)
     ties: dict[str, tuple[str, float, float]] = field(default_factory=dict)
 
-    @property
-    def nvarys(self) -> int:
-        """Number of free (varied) parameters, lmfit's name (`var_names` lists them)."""
-        return len(self.var_names)
-
-    @property
-    def x(self) -> FloatArray:
-        """The free parameter vector, in the order of `var_names` (scipy's ``x``)."""
-        return np.array([self.parameters[n] for n in self.var_names], dtype=float)
-
-    @property
-    def nfree(self) -> int:
-        """Degrees of freedom, ``ndata − nvarys`` (lmfit's name)."""
-        return self.ndata - self.nvarys
-
-    @property
-    def redchi(self) -> float:
-        """Reduced chi-square ``chisqr / (ndata − nvarys)`` (lmfit's name)."""
-        return self.chisqr / self.nfree if self.nfree > 0 else float("nan")
-
-    @property
-    def aic(self) -> float:
-        """Akaike information criterion ``n·ln(χ²/n) + 2·nvarys`` (lmfit's definition)."""
-        return self._log_chi() + 2.0 * self.nvarys
-
-    @property
-    def bic(self) -> float:
-        """Bayesian information criterion ``n·ln(χ²/n) + ln(n)·nvarys`` (lmfit's definition)."""
-        return self._log_chi() + float(np.log(max(self.ndata, 1))) * self.nvarys
-
-    def _log_chi(self) -> float:
-        n = self.ndata
-        if n < 1 or not np.isfinite(self.chisqr):
-            return float("nan")
-        return n * float(np.log(max(self.chisqr, np.finfo(float).tiny) / n))
-
     @classmethod
     def from_solution(
         cls, sol: Solution, model: PIFriction | None, abscissa: Any, measured: Any, fitted: Any,
@@ -294,18 +264,6 @@ class FitResult:
                 f"a {self.kind} fit cannot predict other records; got kind {self.kind!r}."
             )
         return self.predictor.predict(self, measurement, **options)
-
-    def to_lmfit(self) -> Any:
-        """The parameters as an ``lmfit.Parameters`` (value, bounds, vary, linear ties).
-
-        It can be passed back as `initial` to any fit. Needs lmfit (the extra
-        ``presliding[lmfit]``): an ImportError names it otherwise.
-        """
-        from presliding.identification._parameters import to_lmfit
-
-        ties = {n: self.ties[n] for n in self.tied if n in self.ties}
-        held = (*self.fixed, *(n for n in self.tied if n not in ties))  # tied to a fixed one
-        return to_lmfit(self.parameters, self.bounds, held, ties)
 
     def to_dict(self) -> dict[str, Any]:
         """Parameters, errors, intervals, fit quality and status as plain Python values."""
@@ -391,9 +349,9 @@ class FitResult:
             lo, hi = self.confidence_interval[n]
             note = " (fixed)" if n in self.fixed else (" (tied)" if n in self.tied else "")
             if n in self.at_bounds:
-                note += f" (at its bound {_bound_text(self.bounds.get(n), v)})"
+                note += f" (at its bound {bound_text(self.bounds.get(n), v)})"
             unit = self.units.get(n, "")
-            line = f"{n:<{width}}{v:>14.6g} {unit:<10}{se:>11.3g}   {_interval_text(lo, hi)}{note}"
+            line = f"{n:<{width}}{v:>14.6g} {unit:<10}{se:>11.3g}   {interval_text(lo, hi)}{note}"
             if n in boot:
                 b_se, b_lo, b_hi = boot[n]
                 line = f"{line:<{width + 70}}   {b_se:.3g}  [{b_lo:.6g}, {b_hi:.6g}]"
@@ -404,7 +362,7 @@ class FitResult:
                 f"{n:<{width}}{v:>14.6g} {self.units.get(n, '')}".rstrip()
                 for n, v in self.derived.items()
             ]
-        lines += _bounds_lines(self.bounds, list(self.parameters))
+        lines += bounds_lines(self.bounds, list(self.parameters))
         lines += self._correlation_lines()
         lines += [
             "",
@@ -450,30 +408,3 @@ class FitResult:
             xlabel=self.abscissa_label, ylabel=self._signal_text(),
             title=f"{self.kind} fit (NRMSE {100 * self.nrmse:.2f} %)",
         )  # fmt: skip
-
-
-def _interval_text(lo: float, hi: float) -> str:
-    """An interval with "unbounded" for an end the data do not bound (±inf)."""
-    a = "unbounded" if np.isinf(lo) else f"{lo:.6g}"
-    b = "unbounded" if np.isinf(hi) else f"{hi:.6g}"
-    return f"[{a}, {b}]"
-
-
-def _bound_text(bounds: tuple[float, float] | None, value: float) -> str:
-    if bounds is None:
-        return f"{value:.6g}"
-    return f"{bounds[0]:.6g}" if value == bounds[0] else f"{bounds[1]:.6g}"
-
-
-def _bounds_lines(bounds: dict[str, tuple[float, float]], order: list[str]) -> list[str]:
-    """Bounds grouped by range, parameters in their order (at most 8 named per range)."""
-    groups: dict[tuple[float, float], list[str]] = {}
-    for n in order:
-        if n in bounds:
-            groups.setdefault(bounds[n], []).append(n)
-    lines = []
-    for (lo, hi), names in groups.items():
-        rng = f"[{lo:.6g}, {hi:.6g}]".replace("[-inf", "(-inf").replace("inf]", "inf)")
-        more = f" and {len(names) - 8} more" if len(names) > 8 else ""
-        lines.append(f"  {rng}: {', '.join(names[:8])}{more}")
-    return ["", "bounds:", *lines] if lines else []
