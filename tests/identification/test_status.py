@@ -139,10 +139,13 @@ def test_a_clean_fit_is_converged_and_the_only_exit_code_zero():
 
 def test_rule_correlation_names_the_pair():
     cov = np.array([[1.0, 0.9995], [0.9995, 1.0]])
-    status, message = _judge(cov=cov)
+    wide = {"coulomb": (0.5, 1.5), "stiffness_1": (60.0, 140.0)}
+    status, message = _judge(cov=cov, ci=wide)
     assert status == "not_identifiable" and message.startswith("rule correlation:")
     assert "coulomb ~ stiffness_1" in message
-    assert _judge(cov=np.array([[1.0, 0.99], [0.99, 1.0]]))[0] == "converged"
+    assert _judge(cov=np.array([[1.0, 0.99], [0.99, 1.0]]), ci=wide)[0] == "converged"
+    # a ridge along which both are still tightly determined (noise-free data) is not flagged
+    assert _judge(cov=cov)[0] == "converged"
 
 
 def test_rule_error_names_the_parameter_with_an_infinite_standard_error():

@@ -19,8 +19,8 @@ status               rule that gives it (the first that fires wins)             
                      far above the noise floor (set by the search).
 ``not_identifiable`` ``singular``: a direction of parameter space the data do   1
                      not determine; ``correlation``: |ρ| ≥ 0.999 between two
-                     free parameters, one with an interval wider than 10 % of
-                     its value (a ridge the noise moves along); ``error``: a
+                     free parameters, both with an interval wider than 10 % of
+                     the value (a ridge the noise moves along); ``error``: a
                      standard error that is not finite; ``interval``: an
                      interval end the data do not bound, or one spanning more
                      than two orders of magnitude; ``profile``: a flat profile
@@ -141,14 +141,15 @@ def undetermined(
         d = np.sqrt(np.abs(np.diag(sub)))
         with np.errstate(divide="ignore", invalid="ignore"):
             rho = sub / np.outer(d, d)
-        loose = [_loose(values[x], intervals.get(x)) for x in inner]
+        loose = [_loose(values[x], intervals.get(x), bounds.get(x)) for x in inner]
         pairs = [
             f"{inner[i]} ~ {inner[j]} (ρ = {rho[i, j]:+.4f})"
             for i in range(len(inner))
             for j in range(i + 1, len(inner))
             if np.isfinite(rho[i, j])
             and abs(rho[i, j]) >= MAX_CORRELATION
-            and (loose[i] or loose[j])
+            and loose[i]
+            and loose[j]
         ]
         if pairs:
             return "correlation", (
@@ -174,12 +175,18 @@ def undetermined(
     return "", ""
 
 
-def _loose(value: float, interval: tuple[float, float] | None) -> bool:
-    """An interval wider than `LOOSE` of the value (either side): a ridge that matters."""
+def _loose(
+    value: float, interval: tuple[float, float] | None, bound: tuple[float, float] | None
+) -> bool:
+    """An interval wider than `LOOSE` of the value (of the range, for a parameter bounded on
+    both sides, such as a preload fraction in [−1, 1]): a ridge that matters."""
     if interval is None:
         return True
     lo, hi = interval
-    return not max(value - lo, hi - value) <= LOOSE * abs(value)
+    half = max(value - lo, hi - value)
+    if bound is not None and np.all(np.isfinite(bound)):
+        return not half <= LOOSE * float(bound[1] - bound[0])
+    return not half <= LOOSE * abs(value)
 
 
 def _held(
