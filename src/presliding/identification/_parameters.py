@@ -121,7 +121,7 @@ def resolve_parameters(
     against the fit's parameters later, by the solver.
     """
     init: dict[str, Any] = {}
-    bnd: dict[str, Any] = dict(bounds or {})
+    bnd: Any = dict(bounds or {}) if isinstance(bounds, Mapping) or bounds is None else bounds
     fix: dict[str, Any] = (
         dict(fixed or {}) if isinstance(fixed, Mapping) or fixed is None else fixed
     )
@@ -141,7 +141,7 @@ def resolve_parameters(
                 f"lmfit.Parameters; got {type(initial).__name__}."
             )
         init = {n: as_real_scalar(f"initial[{n!r}]", v) for n, v in initial.items()}
-    if not isinstance(fix, dict) or not isinstance(tie, dict):
+    if not isinstance(fix, dict) or not isinstance(tie, dict) or not isinstance(bnd, dict):
         return init, bnd, fix, tie  # the solver's checker names the wrong type
     for n, v in (explicit or {}).items():
         if v is not None and n in fix and float(fix[n]) != float(v):

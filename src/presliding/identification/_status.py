@@ -202,9 +202,9 @@ def _held(
             continue
         v = values[x]
         for end in bounds.get(x, (-np.inf, np.inf)):
-            if np.isfinite(end) and (
-                x in at_bounds or abs(v - end) <= 1e-5 * max(abs(end), 1e-300)
-            ):
+            if end == 0 or not np.isfinite(end):  # 0: the natural "none" of a nonnegative one
+                continue
+            if x in at_bounds or abs(v - end) <= 1e-5 * abs(end):
                 held.append(f"{x} = {v:.6g} on its bound {end:.6g}")
                 break
     if not held:

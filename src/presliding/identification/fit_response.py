@@ -243,7 +243,7 @@ def fit_response(
     check_levels(coulomb_level, min_coulomb_level, fixed)
     prune = check_flag("prune", prune)
     fixed, tied = check_constraints(fixed, tied)
-    given = {"fixed": dict(fixed), "tied": dict(tied), "bounds": dict(bounds)}
+    given = {"fixed": dict(fixed), "tied": dict(tied), "bounds": bounds or {}}
     spec = ModelSpec(n, equal_breakaway, density, cells)
     check_model_values(spec, fixed, tied, initial)
     bootstrap = as_count("bootstrap", bootstrap, maximum=MAX_BOOTSTRAP)
