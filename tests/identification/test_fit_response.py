@@ -255,7 +255,8 @@ PAIR = "must be a parameter name, a (name, factor) pair or a (name, factor, offs
         (
             {"initial": [("mass", 1.0)]},
             TypeError,
-            "`initial` must be a mapping of parameter names to start values; got list.",
+            "`initial` must be a mapping of parameter names to start values or an "
+            "lmfit.Parameters; got list.",
         ),
         ({"tied": {"stiffness_1": 5}}, TypeError, f"`tied['stiffness_1']` {PAIR}; got 5."),
         (
