@@ -126,7 +126,8 @@ def test_monotone_position_with_elements_is_rejected():
         (
             {"tied": {"threshold_2": 6.0}},
             TypeError,
-            "`tied['threshold_2']` must be a parameter name or a (name, factor) pair; got 6.0.",
+            "`tied['threshold_2']` must be a parameter name, a (name, factor) pair or a "
+            "(name, factor, offset) triple; got 6.0.",
         ),
     ],
 )

@@ -144,7 +144,7 @@ def test_superfluous_elements_are_flagged_not_hidden():
         assert "do not determine" in res.message and "(singular Jacobian)" in res.report()
 
 
-PAIR = "must be a parameter name or a (name, factor) pair"
+PAIR = "must be a parameter name, a (name, factor) pair or a (name, factor, offset) triple"
 BAD_FIT_OPTIONS = [
     ({"max_evaluations": 2.5}, TypeError, "`max_evaluations` must be an integer; got 2.5."),
     ({"max_evaluations": -5}, ValueError, "`max_evaluations` must be a positive integer; got -5."),

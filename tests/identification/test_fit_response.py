@@ -194,7 +194,7 @@ def test_coulomb_on_its_bound_is_reported():
 
 # ---------------------------------------------------------------- options checked on entry
 SWING = Measurement(T, velocity=0.05 * np.cos(40.0 * T), applied_force=U)
-PAIR = "must be a parameter name or a (name, factor) pair"
+PAIR = "must be a parameter name, a (name, factor) pair or a (name, factor, offset) triple"
 
 
 @pytest.mark.parametrize(
@@ -255,7 +255,8 @@ PAIR = "must be a parameter name or a (name, factor) pair"
         (
             {"initial": [("mass", 1.0)]},
             TypeError,
-            "`initial` must be a mapping of parameter names to start values; got list.",
+            "`initial` must be a mapping of parameter names to start values or an "
+            "lmfit.Parameters; got list.",
         ),
         ({"tied": {"stiffness_1": 5}}, TypeError, f"`tied['stiffness_1']` {PAIR}; got 5."),
         (

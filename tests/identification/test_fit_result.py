@@ -124,7 +124,7 @@ def test_fit_result_report_and_plot():
     plt.close(ax.figure)
 
 
-PAIR = "must be a parameter name or a (name, factor) pair"
+PAIR = "must be a parameter name, a (name, factor) pair or a (name, factor, offset) triple"
 BAD_OPTIONS = [
     ({"max_evaluations": 2.5}, TypeError, "`max_evaluations` must be an integer; got 2.5."),
     ({"max_evaluations": True}, TypeError, "`max_evaluations` must be an integer; got True."),

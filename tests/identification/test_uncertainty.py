@@ -82,3 +82,26 @@ def test_correlation_matrix():
     corr = correlation_matrix(cov)
     assert corr[0, 1] == pytest.approx(2.0 / 6.0)
     assert corr[2, 2] == 0.0 and corr[0, 2] == 0.0 and corr[0, 0] == 1.0
+
+
+def test_a_record_fitted_exactly_gets_a_nonzero_standard_error_for_its_own_parameter():
+    """Pooled blocks: the second record's residuals are all 0 (reproduced exactly), so the
+    HAC meat of its own offset vanishes; its variance falls back to s²·(JᵀJ)⁻¹, never 0."""
+    from presliding.identification.uncertainty import hac_covariance
+
+    rng = np.random.default_rng(1)
+    n = 200
+    jac = np.zeros((2 * n, 3))
+    jac[:n, 0] = rng.standard_normal(n)  # shared, seen by record 1 only
+    jac[:n, 1] = 1.0  # record 1's offset
+    jac[n:, 2] = 1.0  # record 2's offset
+    r = np.concatenate([rng.standard_normal(n), np.zeros(n)])
+    r[:n] -= r[:n].mean()
+    blocks = [np.arange(n), np.arange(n, 2 * n)]
+    for clusters in (None, [0, 1]):
+        cov, undetermined, _ = hac_covariance(jac, r, blocks, clusters=clusters)
+        assert not undetermined
+        assert np.all(np.diag(cov) > 0)
+        s2 = float(r @ r) / (2 * n - 3)
+        expected = s2 * np.linalg.inv(jac.T @ jac)[2, 2]
+        assert cov[2, 2] == pytest.approx(expected, rel=1e-9)

@@ -70,8 +70,9 @@ def test_loops_close_and_follow_masing():
 
 
 def test_errors():
-    with pytest.raises(ValueError, match=r"below the Coulomb level F_c = .* = 0\.7 in magnitude"):
-        quasi_static_response(MODEL, [0.0, 0.5, 0.7])
+    above = np.nextafter(MODEL.coulomb_level, np.inf)  # the first value refused
+    with pytest.raises(ValueError, match=r"not exceed the Coulomb level F_c = .* = 0\.7 in mag"):
+        quasi_static_response(MODEL, [0.0, 0.5, above])
     with pytest.raises(ValueError, match="must have elasto-plastic elements"):
         quasi_static_response(PIFriction(1.0), [0.0, 0.5])
     with pytest.raises(ValueError, match="continuous density"):
@@ -104,3 +105,25 @@ def test_result_interface(tmp_path):
 
 def test_module_examples():
     assert doctest.testmod(qs_module).failed == 0
+
+
+@pytest.mark.parametrize(
+    "model",
+    [
+        MODEL,
+        PIFriction(0.1, [3e4, 7e3, 1.3e3], breakaway=[0.1, 0.37, 0.29]),
+        PIFriction(0.0, [3e4], breakaway=[0.1]),
+        PIFriction(0.3, [1e5, 3e3], threshold=[1e-6, 7e-5]),
+    ],
+)
+def test_the_coulomb_level_itself_is_accepted_as_the_end_of_presliding(model):
+    """u = ±F_c: every element saturated, the position where the largest threshold is reached."""
+    fc = model.coulomb_level
+    res = quasi_static_response(model, [0.0, fc, -fc, fc])
+    fm = fc - model.coulomb
+    np.testing.assert_allclose(res.elastic_force[1:], [fm, -fm, fm], rtol=1e-12)
+    assert np.all(np.isfinite(res.position))
+    # from relaxed, the virgin curve reaches F_m at the largest threshold r_max
+    assert res.position[1] == pytest.approx(float(np.max(model.threshold)), rel=1e-9)
+    with pytest.raises(ValueError, match="not exceed the Coulomb level"):
+        quasi_static_response(model, [0.0, -np.nextafter(fc, np.inf)])

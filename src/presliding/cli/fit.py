@@ -6,9 +6,10 @@ column headers are converted to SI; ``--units`` gives or overrides them and
 ``--scale`` applies a factor on top (for a MATLAB file, a number or the name of
 a scalar variable). ``--window START:STOP`` keeps the samples in that time span.
 
-Exit codes: 0 when the fit converged; 1 when it did not (status
+Exit codes, the same for every ``--kind`` (`identification._status.EXIT_CODES`):
+0 when the fit converged; 1 when it did not (status ``local_minimum``,
 ``not_identifiable``, ``at_bound``, ``poor_fit``, ``max_evaluations`` or
-``failed``: see the report); 2 for a user error. ``model.toml`` is written for
+``failed``: the report names the rule that fired); 2 for a user error. ``model.toml`` is written for
 a converged fit, and marked as not converged in its header for
 ``not_identifiable``, ``at_bound`` and ``max_evaluations``; a ``poor_fit`` or
 ``failed`` fit, or one with non-finite or absurd parameters, writes none.
@@ -397,7 +398,9 @@ def run(args: argparse.Namespace) -> int:
             print(note)
         for p in written:
             print(f"wrote {p}")
-    return 0 if result.success else 1
+    from presliding.identification._status import exit_code
+
+    return exit_code(result.status)
 
 
 __all__ = [

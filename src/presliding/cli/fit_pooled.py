@@ -182,4 +182,6 @@ def run_pooled(args: argparse.Namespace) -> int:
             print(note)
         for p in written:
             print(f"wrote {p}")
-    return 0 if result.success else 1
+    from presliding.identification._status import exit_code
+
+    return exit_code(result.status)

@@ -264,7 +264,7 @@ class PIInverse:
 
     @property
     def force_limit(self) -> float:
-        """F_c = c1 + F_m (eq. 9): the inverse is defined while |u| < F_c."""
+        """F_c = c1 + F_m (eq. 9): the inverse is defined while |u| <= F_c."""
         return self.coulomb + self.max_elastic_force
 
     def relaxed_state(self, position: float = 0.0) -> PIState:
@@ -295,7 +295,8 @@ class PIInverse:
         Parameters
         ----------
         force : array_like, shape (T,)
-            Applied force u [N], monotone between samples, |u| < `force_limit`.
+            Applied force u [N], monotone between samples, |u| <= `force_limit` (at F_c
+            every element is saturated: the end of presliding, a finite position).
         state : PIState, optional
             Memory of the forward bank before the first sample (its elastic
             force is where the play of c1 starts); default relaxed at y = 0.
@@ -310,17 +311,18 @@ class PIInverse:
         Raises
         ------
         ValueError
-            If some |u| >= F_c (gross sliding: no quasi-static position).
+            If some |u| > F_c (gross sliding: no quasi-static position); the first
+            value refused is one float step above F_c.
         """
         u = as_signal("force", force)
         state = self._state(state)
         limit = self.force_limit
-        bad = ~(np.abs(u) < limit)
+        bad = ~(np.abs(u) <= limit)
         if bad.any():
             i = int(np.argmax(bad))
             raise ValueError(
-                "`force` must stay below the Coulomb level F_c = c1 + Σ w_j r_j = "
-                f"{fmt(limit)} in magnitude (at F_c the contact slides: gross sliding has no "
+                "`force` must not exceed the Coulomb level F_c = c1 + Σ w_j r_j = "
+                f"{fmt(limit)} in magnitude (beyond F_c the contact slides: gross sliding has no "
                 f"quasi-static position); got {fmt(u[i])} at index {i}."
             )
         op = self.operator

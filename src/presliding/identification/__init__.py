@@ -2,7 +2,10 @@
 
 Files
 -----
-_status.py          the poor-fit test: explained variance, parameters on bounds, likely causes
+_status.py          the one status judge of every fit (its rules tabled), exit codes, hints
+_profile.py         profile-likelihood intervals on the least-squares core
+_parameters.py      initial, bounds, fixed, tied and lmfit.Parameters, checked together
+_fit_names.py       lmfit's and scipy's names on `FitResult` (aic, bic, redchi, x, to_lmfit)
 fit_presliding.py   `fit_presliding`: force against displacement (eqs. 4–9)
 fit_virgin.py       `fit_virgin_curve`: virgin curves from ramps or loops, pooled, quantised
 masing.py           `masing_check`, `MasingCheck`: do measured loops follow a virgin curve?

@@ -7,7 +7,7 @@ from typing import Any
 
 from presliding._validation import as_count, as_positive_scalar, as_real_scalar, fmt
 
-Tie = str | tuple[str, float]
+Tie = str | tuple[str, float] | tuple[str, float, float]
 
 
 def check_options(
@@ -55,8 +55,8 @@ def check_constraints(
     """`fixed` and `tied` checked entry by entry, as new dicts.
 
     Every fixed value must be a finite real number (returned as float); every
-    tie a parameter name or a (name, factor) pair with a finite real factor
-    (returned as a name or a (name, float) tuple). The names themselves are
+    tie a parameter name, a (name, factor) pair or a (name, factor, offset)
+    triple (p = factor·name + offset) of finite reals. The names themselves are
     checked against the parameters by `solve_least_squares`.
     """
     out_fixed: dict[str, float] = {}
@@ -73,9 +73,15 @@ def check_constraints(
         if isinstance(v, str):
             out_tied[n] = v
             continue
-        if not (isinstance(v, (tuple, list)) and len(v) == 2 and isinstance(v[0], str)):
+        if not (isinstance(v, (tuple, list)) and len(v) in (2, 3) and isinstance(v[0], str)):
             raise TypeError(
-                f"`tied[{n!r}]` must be a parameter name or a (name, factor) pair; got {fmt(v)}."
+                f"`tied[{n!r}]` must be a parameter name, a (name, factor) pair or a "
+                f"(name, factor, offset) triple; got {fmt(v)}."
             )
-        out_tied[n] = (v[0], as_real_scalar(f"tied[{n!r}][1]", v[1]))
+        factor = as_real_scalar(f"tied[{n!r}][1]", v[1])
+        out_tied[n] = (
+            (v[0], factor, as_real_scalar(f"tied[{n!r}][2]", v[2]))
+            if len(v) == 3 and v[2] != 0
+            else (v[0], factor)
+        )
     return out_fixed, out_tied

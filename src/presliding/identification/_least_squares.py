@@ -41,18 +41,19 @@ from presliding.identification._fit_options import (  # noqa: F401 (their home b
     check_constraints,
     check_options,
 )
+from presliding.identification._profile import Profiler
+from presliding.identification._status import STATUSES as STATUSES
 from presliding.identification._structured_lm import free_limit, levenberg_marquardt
 from presliding.identification.uncertainty import (
+    bounded_interval,
     full_covariance,
     hac_covariance,
     ols_covariance,
 )
 
 FloatArray = NDArray[np.float64]
-Tie = str | tuple[str, float]
+Tie = str | tuple[str, float] | tuple[str, float, float]
 
-#: Status values of a fit: only "converged" is a success (see `FitResult.status`).
-STATUSES = ("converged", "not_identifiable", "at_bound", "poor_fit", "max_evaluations", "failed")
 _LISTED = 6  # names listed in a message before "and N more"
 #: residuals × free parameters² above which a structured problem takes `levenberg_marquardt`
 LARGE_PROBLEM = 2e7
@@ -101,11 +102,11 @@ def _parameter_map(
             row[col[n]] = 1.0
             return row, 0.0
         spec = tied[n]
-        target, factor = (spec, 1.0) if isinstance(spec, str) else spec
+        target, factor, shift = (spec, 1.0, 0.0) if isinstance(spec, str) else (*spec, 0.0)[:3]
         if target not in names:
             raise ValueError(f"`tied` target of {n!r} must be a parameter; got {target!r}.")
         row, c = resolve(target, (*seen, n))
-        return float(factor) * row, float(factor) * c
+        return float(factor) * row, float(factor) * c + float(shift)
 
     for i, n in enumerate(names):
         matrix[i], const[i] = resolve(n, ())
@@ -147,6 +148,11 @@ class Solution:
     at_bounds: tuple[str, ...] = ()
     free: tuple[str, ...] = ()
     bounds: dict[str, tuple[float, float]] = field(default_factory=dict)  # the finite ones
+    #: how each free parameter's interval was formed ("profile" or "wald"; empty: not yet)
+    interval_method: dict[str, str] = field(default_factory=dict)
+    #: tied name -> (target, factor, offset)
+    ties: dict[str, tuple[str, float, float]] = field(default_factory=dict)
+    profiler: Any = field(default=None, repr=False, compare=False)  # `_profile.Profiler`
 
 
 def name_list(names: Any, order: tuple[str, ...]) -> str:
@@ -193,8 +199,9 @@ def solve_least_squares(
         ``jacobian(p) -> (len(r), len(p))`` array; default: 3-point differences.
     bounds : mapping name -> (lower, upper), optional
     fixed : mapping name -> value, optional
-    tied : mapping name -> target or (target, factor), optional
-        ``{"b": "a"}`` keeps b = a; ``{"b": ("a", 0.5)}`` keeps b = 0.5·a.
+    tied : mapping name -> target, (target, factor) or (target, factor, offset), optional
+        ``{"b": "a"}`` keeps b = a; ``{"b": ("a", 0.5)}`` keeps b = 0.5·a;
+        ``{"b": ("a", 0.5, 1.0)}`` keeps b = 0.5·a + 1.
     level : float
         Confidence level of the intervals, in (0, 1).
     max_evaluations : int, optional
@@ -342,6 +349,12 @@ def solve_least_squares(
         message = f"the data do not determine {name_list(which, names)} (singular Jacobian)"
     dof = max(r.shape[0] - len(pm.free), 1)
     q = float(stats.t.ppf(0.5 + level / 2, dof))
+    profiler = None
+    if pm.free:
+        profiler = Profiler(
+            lambda x: residual(pm.full(x)), jac if callable(jac) else None, pm.free, lo, hi, q,
+            free_limit(pm, step_limit),
+        )  # fmt: skip
     return Solution(
         values=dict(zip(names, full.tolist(), strict=True)),
         standard_error=dict(zip(names, se.tolist(), strict=True)),
@@ -365,25 +378,18 @@ def solve_least_squares(
             for n, a, b in zip(names, lower, upper, strict=True)
             if np.isfinite(a) or np.isfinite(b)
         },
+        ties=_ties(tied),
+        profiler=profiler,
     )
 
 
-def bounded_interval(value: float, half: float, lo: float, hi: float) -> tuple[float, float]:
-    """value ± half (Wald), unless that interval crosses a bound of the parameter: the data then
-    do not exclude the bound, so the interval reaches it, and its far end is taken on a log
-    scale from the bound, lo + d·exp(half/d) with d = value − lo (mirrored for hi), which agrees
-    with the Wald end to first order in half/d and lies beyond it. It never leaves [lo, hi]; a
-    value on its bound, or an infinite error, reaches out to the bound itself."""
-    a, b = value - half, value + half
-    with np.errstate(over="ignore", divide="ignore", invalid="ignore"):
-        if a < lo:
-            d = value - lo
-            a, b = lo, (lo + d * np.exp(half / d) if d > 0 else b)
-        if b > hi:
-            d = hi - value
-            a, b = (min(a, hi - d * np.exp(half / d)) if d > 0 else a), hi
-    a, b = float(max(a, lo)), float(min(b, hi))
-    return (a if np.isfinite(half) else float(lo), b if np.isfinite(half) else float(hi))
+def _ties(tied: Mapping[str, Tie]) -> dict[str, tuple[str, float, float]]:
+    """Each tie as (target, factor, offset): p = factor·target + offset."""
+    out = {}
+    for n, spec in tied.items():
+        target, factor, shift = (spec, 1.0, 0.0) if isinstance(spec, str) else (*spec, 0.0)[:3]
+        out[n] = (str(target), float(factor), float(shift))
+    return out
 
 
 def _failed(pm: _Map, x: FloatArray, fixed: Any, tied: Any, level: float, msg: str) -> Solution:

@@ -24,6 +24,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from presliding._validation import as_bounds
 from presliding.hysteresis._fused import batch_loss, batch_loss_parallel
 from presliding.hysteresis._jit import njit
 from presliding.identification.fit_result import Solution, Tie, solve_least_squares
@@ -247,6 +248,8 @@ def fit_separable(
     tolerance: float = 1e-8,
     smallest_threshold: float | None = None,
     progress: Any = None,
+    user_initial: Mapping[str, float] | None = None,
+    user_bounds: Mapping[str, tuple[float, float]] | None = None,
 ) -> SeparableFit:
     """Two-stage fit of target ≈ design·θ + Σ k_j g(r_j) on the `used` samples.
 
@@ -302,6 +305,13 @@ def fit_separable(
     bounds.update(dict.fromkeys(k_names, (0.0, np.inf)))
     r_min = float(grid[0]) / 4 if smallest_threshold is None else float(smallest_threshold)
     bounds.update(dict.fromkeys(r_names, (r_min, np.inf)))
+    for key, (lo, hi) in as_bounds("bounds", user_bounds, tuple(initial)).items():
+        old = bounds.get(key, (-np.inf, np.inf))  # the caller's, within the natural ones
+        bounds[key] = (max(old[0], lo), min(old[1], hi))
+    for key in user_initial or {}:
+        if key not in initial:
+            raise ValueError(f"`initial` must name parameters of the fit; got {key!r}.")
+    initial.update(user_initial or {})
     d = design[used]
 
     def unpack(q: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:

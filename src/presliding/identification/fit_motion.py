@@ -18,6 +18,7 @@ mass and every force are determined only up to a common factor. Fix the mass
 from __future__ import annotations
 
 from collections.abc import Mapping
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -27,6 +28,7 @@ from presliding._validation import as_nonnegative_scalar, fmt
 from presliding.friction.pi_friction import PIFriction
 from presliding.identification import _pi_regression as pr
 from presliding.identification._fit_progress import FitProgress, as_reporter, shows_progress
+from presliding.identification._parameters import resolve_parameters
 from presliding.identification._status import sign_hint
 from presliding.identification.fit_presliding import (
     _with_note,
@@ -83,6 +85,8 @@ def fit_motion(
     refine_thresholds: bool = True,
     fixed: Mapping[str, float] | None = None,
     tied: Mapping[str, Tie] | None = None,
+    initial: Mapping[str, float] | Any = None,
+    bounds: Mapping[str, tuple[float, float]] | None = None,
     level: float = 0.95,
     grid_size: int = pr.DEFAULT_GRID,
     max_evaluations: int | None = None,
@@ -122,6 +126,12 @@ def fit_motion(
         Held or tied parameters: ``mass``, ``coulomb``, ``viscous``, ``offset``,
         ``stiffness_j``, ``threshold_j`` (``coulomb_negative`` and
         ``viscous_negative`` with `asymmetric`).
+    initial : mapping or lmfit.Parameters, optional
+        Start values by name (others from the linear start); an
+        ``lmfit.Parameters`` gives values, bounds, fixed values and linear ties.
+    bounds : mapping name -> (lower, upper), optional
+        Bounds on any parameter, within its natural ones (stiffness >= 0, ...).
+        Contradictory arguments (a fixed or start value outside them) are refused.
     level, grid_size, max_evaluations, tolerance : as in `fit_presliding`
         Confidence level in (0, 1), grid size >= 2, evaluation limit >= 1 (or
         None) and a positive tolerance.
@@ -151,6 +161,7 @@ def fit_motion(
             "levels); got offset=True."
         )
     min_speed = as_nonnegative_scalar("min_speed", min_speed)
+    initial, bounds, fixed, tied = resolve_parameters(initial, bounds, fixed, tied)
     fixed, tied, level, grid_size, max_evaluations, tolerance = check_fit_options(
         fixed, tied, level, grid_size, max_evaluations, tolerance
     )
@@ -182,6 +193,7 @@ def fit_motion(
         thresholds=thresholds, refine_thresholds=refine_thresholds, used=used, fixed=fixed,
         tied=tied, level=level, max_evaluations=max_evaluations, tolerance=tolerance,
         progress=as_reporter(progress),
+        user_initial=initial, user_bounds=bounds,
     )  # fmt: skip
     sol = fit.solution
     model, note = pi_model(sol.values, n, sol.values["coulomb"])

@@ -42,6 +42,7 @@ from presliding.identification._least_squares import (
     check_constraints,
     check_options,
 )
+from presliding.identification._parameters import resolve_parameters
 from presliding.identification._status import sign_hint
 from presliding.identification.fit_result import FitResult, Tie
 
@@ -136,6 +137,8 @@ def fit_presliding(
     burn_in: int = 0,
     fixed: Mapping[str, float] | None = None,
     tied: Mapping[str, Tie] | None = None,
+    initial: Mapping[str, float] | Any = None,
+    bounds: Mapping[str, tuple[float, float]] | None = None,
     level: float = 0.95,
     grid_size: int = pr.DEFAULT_GRID,
     max_evaluations: int | None = None,
@@ -172,6 +175,12 @@ def fit_presliding(
         Parameters held at a value (a finite real), or tied to another: a
         parameter name or a (name, factor) pair (see `solve_least_squares`);
         names: ``coulomb``, ``offset``, ``stiffness_j``, ``threshold_j`` (j from 1).
+    initial : mapping or lmfit.Parameters, optional
+        Start values by name (others from the linear start); an
+        ``lmfit.Parameters`` gives values, bounds, fixed values and linear ties.
+    bounds : mapping name -> (lower, upper), optional
+        Bounds on any parameter, within its natural ones (stiffness >= 0, ...).
+        Contradictory arguments (a fixed or start value outside them) are refused.
     level : float
         Confidence level of the intervals, in (0, 1).
     grid_size : int
@@ -210,6 +219,7 @@ def fit_presliding(
     check_same_length(displacement=y, force=f)
     n = element_count(n_elements, thresholds, 3)
     burn_in = as_count("burn_in", burn_in)
+    initial, bounds, fixed, tied = resolve_parameters(initial, bounds, fixed, tied)
     fixed, tied, level, grid_size, max_evaluations, tolerance = check_fit_options(
         fixed, tied, level, grid_size, max_evaluations, tolerance
     )
@@ -248,7 +258,8 @@ def fit_presliding(
             grid=grid, thresholds=start, refine_thresholds=refine_thresholds, used=used,
             fixed=fixed, tied=tied, level=level, max_evaluations=max_evaluations,
             tolerance=tolerance, progress=shown,
-        )  # fmt: skip
+            user_initial=initial, user_bounds=bounds,
+    )  # fmt: skip
 
     with reporting(progress, "fit_presliding") as shown:
         fit, how = separable(thresholds, shown), ""
@@ -272,6 +283,7 @@ def fit_presliding(
         sol, model, y[used], f[used], fit.fitted[used], kind="presliding operator",
         abscissa_label="displacement [m]", signal_label="friction force", signal_unit="N",
         derived=derived_quantities(model), hint=sign_hint(f, _direction(y), "friction force"),
+        model_hint=lambda: _masing_note(model, y[used], f[used]),
     )  # fmt: skip
 
 
@@ -291,3 +303,9 @@ def _direction(y: FloatArray) -> FloatArray:
 
 def _with_note(sol: Any, note: str) -> Any:
     return replace(sol, message=sol.message + note) if note else sol
+
+
+def _masing_note(model: PIFriction | None, y: FloatArray, f: FloatArray) -> str:
+    from presliding.identification.masing import masing_verdict
+
+    return masing_verdict(model, (y, f))

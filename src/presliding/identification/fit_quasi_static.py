@@ -33,11 +33,12 @@ from typing import Any
 import numpy as np
 
 from presliding._progress import Progress
-from presliding._validation import as_choice, as_count, as_positive_scalar, fmt
+from presliding._validation import as_bounds, as_choice, as_count, as_positive_scalar, fmt
 from presliding.identification import _pi_regression as pr
 from presliding.identification._fit_progress import FitProgress, as_reporter, shows_progress
 from presliding.identification._least_squares import check_constraints, check_options
 from presliding.identification._model_spec import DENSITIES, ModelSpec
+from presliding.identification._parameters import check_levels, resolve_parameters
 from presliding.identification._quasi_static_problem import QuasiStaticProblem
 from presliding.identification._response_checks import (
     bound_check,
@@ -124,6 +125,7 @@ def fit_quasi_static(
     initial: Mapping[str, float] | None = None,
     fixed: Mapping[str, float] | None = None,
     tied: Mapping[str, Tie] | None = None,
+    bounds: Mapping[str, tuple[float, float]] | None = None,
     bootstrap: int = 0,
     seed: int | None = None,
     level: float = 0.95,
@@ -147,7 +149,7 @@ def fit_quasi_static(
         The memory each record starts with: a fitted preload
         (``preload_fraction``; the record reverses at it), a branch its first
         motion continues (module notes), or relaxed.
-    initial, fixed, tied, bootstrap, seed, level, max_evaluations, tolerance, progress
+    initial, fixed, tied, bounds, bootstrap, seed, level, max_evaluations, tolerance, progress
         As in `fit_response`.
 
     Returns
@@ -169,6 +171,8 @@ def fit_quasi_static(
         raise ValueError(f"`n_elements` must be at least 1 (the position needs elements); got {n}.")
     cells = as_count("density_cells", density_cells, minimum=4)
     level, max_evaluations, tolerance = check_options(level, max_evaluations, tolerance)
+    initial, bounds, fixed, tied = resolve_parameters(initial, bounds, fixed, tied)
+    check_levels(None, min_coulomb_level, fixed)
     fixed, tied = check_constraints(fixed, tied)
     spec = ModelSpec(n, equal_breakaway, density, cells)
     check_model_values(spec, fixed, tied, initial)
@@ -197,6 +201,9 @@ def fit_quasi_static(
     if spec.has_level_parameter and floor > 0:
         box["coulomb_level"] = (floor, np.inf)
         start["coulomb_level"] = max(start["coulomb_level"], floor * 1.01)
+    for key, (lo, hi) in as_bounds("bounds", bounds, names).items():  # the user's, within
+        old = box.get(key, (-np.inf, np.inf))
+        box[key] = (max(old[0], lo), min(old[1], hi))
     box = {x: box.get(x, (-np.inf, np.inf)) for x in names}
     problem.set_typical(start)
     if max_evaluations is None:
@@ -268,6 +275,7 @@ def fit_quasi_static(
         np.concatenate([r.position for r in recs]), o_y[0], kind="quasi-static",
         abscissa_label="applied force", signal_label="position", signal_unit="m",
         units=units, derived=derived, rotary=common_axis(records) == "rotary",
+        model_hint=lambda: _masing_note(spec.model(values), recs),
     )  # fmt: skip
     spans = tuple(zip(problem.t_off[:-1].tolist(), problem.t_off[1:].tolist(), strict=True))
     if floor > 0 and spec.has_level_parameter and values["coulomb_level"] <= floor * (1 + 1e-6):
@@ -276,3 +284,10 @@ def fit_quasi_static(
         result = replace(result, notes=(note,))
     return replace(result, records=spans if problem.n_rec > 1 else (), bootstrap=boot,
                    predictor=QuasiStaticPredictor(problem, values))  # fmt: skip
+
+
+def _masing_note(model: Any, recs: list) -> str:
+    """masing_check's verdict on the records' loops (position against applied force)."""
+    from presliding.identification.masing import masing_verdict
+
+    return masing_verdict(model, [(r.position, r.applied_force) for r in recs])

@@ -49,6 +49,12 @@ from presliding.identification._least_squares import (
     check_options,
 )
 from presliding.identification._model_spec import DENSITIES, ModelSpec
+from presliding.identification._parameters import (
+    check_flag,
+    check_levels,
+    kept_parameters,
+    resolve_parameters,
+)
 from presliding.identification._pooled_start import pooled_start
 from presliding.identification._response_checks import (
     bound_check,
@@ -172,8 +178,12 @@ def fit_response(
         direction of the first motion; a fitted preload per record (the branch
         family of `preloaded_state`, ``preload_fraction`` in [−1, 1], 1 =
         saturated); or relaxed.
-    initial : mapping, optional, keyword only
+    initial : mapping or lmfit.Parameters, optional, keyword only
         Start values by parameter name (others from the pooled regression start).
+        An ``lmfit.Parameters`` gives start values, bounds (min, max), fixed
+        values (vary=False) and linear ties (expr ``a*name + b``) at once. An
+        argument that contradicts another (``mass=1`` with ``fixed={"mass": 2}``,
+        a start or fixed value outside `bounds`) is refused.
     fit_initial : bool, keyword only
         Estimate initial velocities and (when the position is compared)
         positions; False holds them at each record's first sample.
@@ -185,7 +195,8 @@ def fit_response(
         Bounds on any parameter, intersected with its natural ones.
     prune : bool, keyword only
         Drop elements that never slide in the data (their k_j → 0, or 2·r_j
-        beyond the largest swing) and refit; the derived values
+        beyond the largest swing) and refit, with the `fixed`, `tied` and
+        `bounds` given (those of dropped elements left out); the derived values
         ``effective_elements`` and ``reachable_coulomb_level`` are always given.
     bootstrap : int, keyword only
         Record-level bootstrap resamples (used with three or more records; 0: none).
@@ -226,7 +237,13 @@ def fit_response(
             + ("a density." if density else "equal_breakaway=False.")
         )
     level, max_evaluations, tolerance = check_options(level, max_evaluations, tolerance)
+    initial, bounds, fixed, tied = resolve_parameters(
+        initial, bounds, fixed, tied, {"mass": mass, "coulomb_level": coulomb_level}
+    )
+    check_levels(coulomb_level, min_coulomb_level, fixed)
+    prune = check_flag("prune", prune)
     fixed, tied = check_constraints(fixed, tied)
+    given = {"fixed": dict(fixed), "tied": dict(tied), "bounds": bounds or {}}
     spec = ModelSpec(n, equal_breakaway, density, cells)
     check_model_values(spec, fixed, tied, initial)
     bootstrap = as_count("bootstrap", bootstrap, maximum=MAX_BOOTSTRAP)
@@ -352,6 +369,7 @@ def fit_response(
             fit_initial=fit_initial, level=level, max_evaluations=max_evaluations,
             tolerance=tolerance, multistart=multistart, bootstrap=bootstrap, seed=seed,
             initial=pruned.start(sol.values, problem), progress=shown,
+            **kept_parameters(given, spec.n - len(pruned.dead)),
         )  # fmt: skip
         shown.stage(f"refit without {len(pruned.dead)} element(s) that never slide")
         refit = fit_response(records, **kw)

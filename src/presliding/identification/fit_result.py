@@ -34,9 +34,16 @@ from numpy.typing import ArrayLike, NDArray
 from presliding._axes import as_axis, on_axis
 from presliding._display import fill_attrs, fit_html, short_repr
 from presliding.friction.pi_friction import PIFriction
+from presliding.identification._fit_names import (
+    LmfitNames,
+    bound_text,
+    bounds_lines,
+    interval_text,
+)
 from presliding.identification._least_squares import STATUSES as STATUSES
 from presliding.identification._least_squares import Solution, solve_least_squares
 from presliding.identification._least_squares import Tie as Tie
+from presliding.identification._profile import profile_solution
 from presliding.identification._status import judge
 from presliding.measurement._units import parameter_units
 
@@ -78,7 +85,7 @@ def fit_statistics(measured: ArrayLike, fitted: ArrayLike) -> tuple[float, float
 
 # ---------------------------------------------------------------------- result
 @dataclass(frozen=True, eq=False)
-class FitResult:
+class FitResult(LmfitNames):
     """Outcome of a ``fit_*`` function.
 
     Attributes
@@ -99,11 +106,17 @@ class FitResult:
         signal, and ‖measured − fitted‖/‖measured − mean‖ (see `fit_statistics`).
     status : str
         One of `STATUSES`: ``"converged"`` (the only success),
-        ``"not_identifiable"`` (the data do not determine some parameters),
-        ``"at_bound"`` (a parameter sits on a bound, where the linearised
+        ``"local_minimum"`` (the search found a better optimum than the one
+        returned, or the residual stays far above the noise floor),
+        ``"not_identifiable"`` (the data do not determine some parameters:
+        |ρ| >= 0.999, a standard error that is not finite, an interval that
+        is unbounded or spans orders of magnitude, a flat profile),
+        ``"at_bound"`` (a model parameter sits on a bound, where the linearised
         interval does not hold), ``"poor_fit"`` (the model explains less than
-        half of the variance, or every parameter sits on a bound: check units,
-        window and sign), ``"max_evaluations"`` or ``"failed"``.
+        half of the variance, or every parameter sits on a bound),
+        ``"max_evaluations"`` or ``"failed"``. The rules and their order are
+        those of `presliding.identification._status`; the message names the
+        rule that fired.
     message : str
     n_evaluations : int
     derived : dict name -> float
@@ -133,6 +146,18 @@ class FitResult:
     axis : {'linear', 'rotary'}
         The axis of the data fitted (`presliding.measurement.Measurement.axis`);
         `units` and `signal_unit` are in its units.
+    chisqr, ndata, var_names : float, int, tuple of str
+        The minimised sum of squared residuals χ² (of the residual the solver
+        saw, weights included), the number of residuals and the free
+        parameters (lmfit's names; ``nvarys = len(var_names)``).
+    nvarys, nfree, redchi, aic, bic, x, nfev : properties
+        lmfit's and scipy's names: the number of free parameters, ndata − nvarys,
+        χ²/(ndata − nvarys), n·ln(χ²/n) + 2·nvarys, n·ln(χ²/n) + ln(n)·nvarys,
+        the free parameter vector (order of `var_names`) and the evaluations.
+    interval_method : dict name -> str
+        How each free parameter's interval was formed: ``"profile"`` (profile
+        likelihood, `presliding.identification._profile`) or ``"wald"``
+        (value ± t·SE, on a log scale from a bound it would cross).
     """
 
     model: PIFriction | None
@@ -166,6 +191,11 @@ class FitResult:
     units: dict[str, str] = field(default_factory=dict)
     bounds: dict[str, tuple[float, float]] = field(default_factory=dict)
     axis: str = "linear"
+    chisqr: float = float("nan")
+    ndata: int = 0
+    var_names: tuple[str, ...] = ()
+    interval_method: dict[str, str] = field(default_factory=dict)
+    ties: dict[str, tuple[str, float, float]] = field(default_factory=dict)
 
     @classmethod
     def from_solution(
@@ -178,11 +208,17 @@ class FitResult:
         likely cause to its message); `rotary` selects rotary parameter units.
         """
         rms, nrmse, relative = fit_statistics(measured, fitted)
+        if not sol.interval_method:
+            sol = profile_solution(sol, labels.pop("profile", "auto"))
         status, message = judge(
             sol.status, sol.message, np.asarray(measured, dtype=float),
             np.asarray(fitted, dtype=float), sol.free, sol.at_bounds,
-            labels.get("signal_label", "signal"), hint,
+            labels.get("signal_label", "signal"), hint, values=sol.values,
+            standard_error=sol.standard_error, intervals=sol.confidence_interval,
+            covariance=sol.covariance, bounds=sol.bounds,
+            model_hint=labels.pop("model_hint", ""),
         )  # fmt: skip
+        chisqr = float(sol.residual @ sol.residual) if sol.residual.size else float("nan")
         units = parameter_units([*sol.values, *labels.get("derived", {})], rotary)
         units.update(labels.pop("units", {}))
         if rotary:
@@ -197,7 +233,9 @@ class FitResult:
             measured=np.asarray(measured, dtype=float), fitted=np.asarray(fitted, dtype=float),
             residual_rms=rms, nrmse=nrmse, relative_residual=relative, status=status,
             message=message, n_evaluations=sol.n_evaluations, at_bounds=sol.at_bounds,
-            units=units, covariance=sol.covariance, bounds=sol.bounds, **labels,
+            units=units, covariance=sol.covariance, bounds=sol.bounds, chisqr=chisqr,
+            ndata=int(sol.residual.size), var_names=sol.free,
+            interval_method=dict(sol.interval_method), ties=dict(sol.ties), **labels,
         )  # fmt: skip
 
     def on_axis(self, axis: str) -> FitResult:
@@ -271,6 +309,14 @@ class FitResult:
             "nrmse": self.nrmse,
             "relative_residual": self.relative_residual,
             "nfev": self.n_evaluations,
+            "chisqr": self.chisqr,
+            "redchi": self.redchi,
+            "aic": self.aic,
+            "bic": self.bic,
+            "ndata": self.ndata,
+            "nvarys": self.nvarys,
+            "var_names": list(self.var_names),
+            "interval_method": dict(self.interval_method),
             "covariance": None if self.covariance is None else self.covariance.tolist(),
             "bootstrap": None if self.bootstrap is None else {
                 k: list(v) for k, v in self.bootstrap.items()},
@@ -342,9 +388,9 @@ class FitResult:
             lo, hi = self.confidence_interval[n]
             note = " (fixed)" if n in self.fixed else (" (tied)" if n in self.tied else "")
             if n in self.at_bounds:
-                note += f" (at its bound {_bound_text(self.bounds.get(n), v)})"
+                note += f" (at its bound {bound_text(self.bounds.get(n), v)})"
             unit = self.units.get(n, "")
-            line = f"{n:<{width}}{v:>14.6g} {unit:<10}{se:>11.3g}   [{lo:.6g}, {hi:.6g}]{note}"
+            line = f"{n:<{width}}{v:>14.6g} {unit:<10}{se:>11.3g}   {interval_text(lo, hi)}{note}"
             if n in boot:
                 b_se, b_lo, b_hi = boot[n]
                 line = f"{line:<{width + 70}}   {b_se:.3g}  [{b_lo:.6g}, {b_hi:.6g}]"
@@ -355,7 +401,7 @@ class FitResult:
                 f"{n:<{width}}{v:>14.6g} {self.units.get(n, '')}".rstrip()
                 for n, v in self.derived.items()
             ]
-        lines += _bounds_lines(self.bounds, list(self.parameters))
+        lines += bounds_lines(self.bounds, list(self.parameters))
         lines += self._correlation_lines()
         lines += [
             "",
@@ -412,23 +458,3 @@ class FitResult:
             title=f"{self.kind} fit (NRMSE {100 * self.nrmse:.2f} %)",
             records=self.records, labels=labels,
         )  # fmt: skip
-
-
-def _bound_text(bounds: tuple[float, float] | None, value: float) -> str:
-    if bounds is None:
-        return f"{value:.6g}"
-    return f"{bounds[0]:.6g}" if value == bounds[0] else f"{bounds[1]:.6g}"
-
-
-def _bounds_lines(bounds: dict[str, tuple[float, float]], order: list[str]) -> list[str]:
-    """Bounds grouped by range, parameters in their order (at most 8 named per range)."""
-    groups: dict[tuple[float, float], list[str]] = {}
-    for n in order:
-        if n in bounds:
-            groups.setdefault(bounds[n], []).append(n)
-    lines = []
-    for (lo, hi), names in groups.items():
-        rng = f"[{lo:.6g}, {hi:.6g}]".replace("[-inf", "(-inf").replace("inf]", "inf)")
-        more = f" and {len(names) - 8} more" if len(names) > 8 else ""
-        lines.append(f"  {rng}: {', '.join(names[:8])}{more}")
-    return ["", "bounds:", *lines] if lines else []

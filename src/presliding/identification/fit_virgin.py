@@ -39,6 +39,7 @@ from presliding._progress import Progress
 from presliding._validation import as_nonnegative_scalar, as_signal, check_same_length, fmt
 from presliding.identification import _pi_regression as pr
 from presliding.identification._fit_progress import FitProgress, as_reporter, shows_progress
+from presliding.identification._parameters import resolve_parameters
 from presliding.identification.fit_presliding import (
     check_enough,
     check_fit_options,
@@ -201,6 +202,8 @@ def fit_virgin_curve(
     envelope: bool = True,
     fixed: Mapping[str, float] | None = None,
     tied: Mapping[str, Tie] | None = None,
+    initial: Mapping[str, float] | Any = None,
+    bounds: Mapping[str, tuple[float, float]] | None = None,
     level: float = 0.95,
     grid_size: int = pr.DEFAULT_GRID,
     max_evaluations: int | None = None,
@@ -226,7 +229,8 @@ def fit_virgin_curve(
     envelope : bool
         Also start from the thresholds fitted to the monotone envelope of the
         pooled samples (module notes), keeping the better fit to the samples.
-    fixed, tied, level, grid_size, max_evaluations, tolerance, progress : as in `fit_presliding`
+    fixed, tied, initial, bounds, level, grid_size, max_evaluations, tolerance, progress
+        As in `fit_presliding`.
 
     Returns
     -------
@@ -240,6 +244,7 @@ def fit_virgin_curve(
     n = element_count(n_elements, thresholds, 3)
     if reversal_tolerance is not None:
         reversal_tolerance = as_nonnegative_scalar("reversal_tolerance", reversal_tolerance)
+    initial, bounds, fixed, tied = resolve_parameters(initial, bounds, fixed, tied)
     fixed, tied, level, grid_size, max_evaluations, tolerance = check_fit_options(
         fixed, tied, level, grid_size, max_evaluations, tolerance
     )
@@ -265,7 +270,8 @@ def fit_virgin_curve(
             pr.virgin_basis(s), n, grid=grid, thresholds=start, fixed=fixed, tied=tied,
             level=level, max_evaluations=max_evaluations, tolerance=tolerance,
             smallest_threshold=float(s[0]), progress=as_reporter(progress),
-        )  # fmt: skip
+            user_initial=initial, user_bounds=bounds,
+    )  # fmt: skip
 
     fit = separable(fv, thresholds)
     if envelope and thresholds is None and n:

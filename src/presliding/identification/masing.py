@@ -7,10 +7,12 @@ follows
     F = F_r + d·2·V(|y − y_r|/2),     d = the sign of the new motion,
 
 until the branch returns to the turning point before (Masing's rule, section
-1). F_r is the force where the contact stopped at the turning point (the first
-sample of a plateau there: a driven force goes on changing by up to 2·c1
-before the contact moves back), and a branch is compared only until the
-contact reaches its next turning point. Creep (a force relaxing at rest or a
+1). F_r is the force where the contact stopped at the turning point: the
+extreme force over the samples at the turn (a driven force goes on changing by
+up to 2·c1 before the contact moves back, so there it is the first sample of
+the plateau; a driven displacement is still approaching the turn within the
+reversal tolerance, so there it is the turning point itself), and a branch is
+compared only until the contact reaches its next turning point. Creep (a force relaxing at rest or a
 slow drift of the contact), a preload that changes between cycles, or a
 rate-dependent contact break this; a model fitted anyway predicts loops that
 are silently wrong. `masing_check` measures the discrepancy between each
@@ -46,7 +48,7 @@ from presliding.measurement.measurement import Measurement
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
 
-__all__ = ["MasingCheck", "masing_check"]
+__all__ = ["MasingCheck", "masing_check", "masing_verdict"]
 
 FloatArray = NDArray[np.float64]
 
@@ -230,12 +232,18 @@ def masing_check(
         marks = np.concatenate([idx, [y.shape[0] - 1]])
         for k in range(1, idx.shape[0]):
             i0, i1 = marks[k], marks[k + 1]
-            # the force where the contact stopped: the first sample of the plateau at the
-            # turning point (under a driven force it keeps changing there, by up to 2·c1)
+            # F_r, the force where the contact stopped at the turning point: the extreme
+            # force (in the direction of the motion that ends there) over the samples at
+            # the turn. Under a driven force the contact rests there while the force
+            # falls back by up to 2·c1 (the extreme is the first such sample); under a
+            # driven displacement the samples within the tolerance before the turn are
+            # still on the way up (the extreme is at the turning point itself)
             first = i0
             while first > marks[k - 1] + 1 and abs(y[first - 1] - y[i0]) <= rt:
                 first -= 1
-            yr, fr = y[i0], f[first]
+            back = np.sign(y[i0] - y[marks[k - 1]]) or 1.0
+            yr = y[i0]
+            fr = f[first + int(np.argmax(back * f[first : i0 + 1]))]
             d = np.sign(y[i1] - yr)
             span = abs(yr - y[marks[k - 1]])
             seg_y, seg_f = y[i0 + 1 : i1 + 1], f[i0 + 1 : i1 + 1]
@@ -274,3 +282,28 @@ def masing_check(
     )
     return MasingCheck(disp, meas, pred, per, total, tol, passed,
                        "passed" if passed else "failed", message)  # fmt: skip
+
+
+def masing_verdict(model: PIFriction | None, loops: Any) -> str:
+    """A poor fit's note: `masing_check`'s verdict on `loops` against `model`'s virgin curve.
+
+    "" when there is no model, no loop with a branch from a second turning point,
+    or the check cannot run.
+    """
+    if model is None or not model.is_discrete:
+        return ""
+    try:
+        check = masing_check(model, loops)
+    except (ValueError, TypeError):
+        return ""
+    pct = f"{100 * check.discrepancy:.3g} % of the force range"
+    if check.passed:
+        return (
+            f"masing_check: the loops follow Masing's rules against the fitted virgin curve "
+            f"({pct}), so the branches are consistent and another model order may fit"
+        )
+    return (
+        f"masing_check: the loops break Masing's rules against the fitted virgin curve "
+        f"({pct} > {100 * check.tolerance:g} %): no PI (Masing) model reproduces them "
+        "(creep, rate dependence or a preload changing between cycles)"
+    )

@@ -34,6 +34,7 @@ from presliding._validation import as_count, as_real_array, fmt
 
 __all__ = [
     "andrews_bandwidth",
+    "bounded_interval",
     "correlation_matrix",
     "full_covariance",
     "hac_covariance",
@@ -184,6 +185,17 @@ def hac_covariance(
     undetermined = set(np.flatnonzero(dead).tolist())
     for row in vt[~keep]:
         undetermined |= set(np.flatnonzero(np.abs(row) > 1e-3).tolist())
+    # A parameter whose scores vanish (its record's residuals are all 0, e.g. a quantised
+    # record the model reproduces exactly, or scores summing to 0 in the record-level
+    # sandwich) would get a variance of exactly 0; it is determined no better than the
+    # pooled noise allows: it takes the ordinary variance s²·(JᵀJ)⁻¹ instead.
+    s2 = float(r @ r) / (n - p)
+    zero = np.flatnonzero((np.diag(cov) <= 0) & ~dead)
+    zero = np.array([i for i in zero if i not in undetermined], dtype=int)
+    if zero.size and s2 > 0:
+        cov[zero, :] = 0.0
+        cov[:, zero] = 0.0
+        cov[zero, zero] = s2 * np.diag(bread)[zero]
     return cov, sorted(undetermined), widths
 
 
@@ -258,3 +270,25 @@ def correlation_matrix(covariance: FloatArray) -> FloatArray:
         out[np.ix_(ok, ok)] = c[np.ix_(ok, ok)] / np.outer(d[ok], d[ok])
     np.fill_diagonal(out, np.where(ok, 1.0, 0.0))
     return np.clip(out, -1.0, 1.0)
+
+
+def bounded_interval(value: float, half: float, lo: float, hi: float) -> tuple[float, float]:
+    """value ± half (Wald), unless that interval crosses a bound of the parameter: the data then
+    do not exclude the bound, so the interval reaches it, and its far end is taken on a log
+    scale from the bound, lo + d·exp(half/d) with d = value − lo (mirrored for hi), which agrees
+    with the Wald end to first order in half/d and lies beyond it. It never leaves [lo, hi]; a
+    value on its bound, or an infinite error, reaches out to the bound itself."""
+    a, b = value - half, value + half
+    with np.errstate(over="ignore", divide="ignore", invalid="ignore"):
+        if a < lo:
+            d = value - lo
+            a, b = lo, (lo + d * np.exp(half / d) if d > 0 else b)
+        if b > hi:
+            d = hi - value
+            a, b = (min(a, hi - d * np.exp(half / d)) if d > 0 else a), hi
+    a, b = float(max(a, lo)), float(min(b, hi))
+    if np.isfinite(half) and np.isfinite(value):  # beyond 6 decades: the data do not bound it
+        far = 1e6 * max(abs(value), half)
+        a = a if abs(a - value) <= far else -np.inf if lo == -np.inf else float(lo)
+        b = b if abs(b - value) <= far else np.inf if hi == np.inf else float(hi)
+    return (a if np.isfinite(half) else float(lo), b if np.isfinite(half) else float(hi))

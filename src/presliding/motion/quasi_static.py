@@ -9,9 +9,11 @@ The contact moves only while |u − F_el| > c1, and then F_el(y) = u ∓ c1: the
 elastic force is a play operator of threshold c1 acting on u, and the position
 follows from the inverse of the elastic bank on its range |F_el| < F_m
 (`presliding.hysteresis.PIInverse`). The result is exact (no time stepping), and
-the Coulomb element c1 is included exactly. For |u| >= F_c = c1 + F_m (eq. 9)
+the Coulomb element c1 is included exactly. At |u| = F_c = c1 + F_m (eq. 9)
+every element is saturated (the end of presliding, a finite position); beyond it
 the contact slides without bound: there is no quasi-static position, and
-`quasi_static_response` raises.
+`quasi_static_response` raises (the first value refused is one float step above
+``model.coulomb_level``).
 
 This is the torque-in/position-out model of a joint driven by a slow torque
 below break-away; `presliding.identification.fit_quasi_static` fits it to
@@ -178,7 +180,7 @@ def quasi_static_response(
         Finite elements (at least one) and the Coulomb element c1.
     applied_force : array_like, shape (T,)
         u [N], monotone between samples (the response is rate independent),
-        with |u| < F_c = ``model.coulomb_level`` throughout.
+        with |u| <= F_c = ``model.coulomb_level`` throughout.
     initial_state : PIState or "relaxed", optional
         The friction memory before the first sample (default: relaxed at y = 0).
         A memory with a preload comes from
@@ -195,7 +197,7 @@ def quasi_static_response(
     Raises
     ------
     ValueError
-        If some |u| >= F_c (gross sliding has no quasi-static position), the
+        If some |u| > F_c (gross sliding has no quasi-static position), the
         model has no elements or a continuous density, or an argument is
         malformed.
 
@@ -232,9 +234,16 @@ def quasi_static_response(
     if not model.is_symmetric:
         return _asymmetric_response(model, t, u, initial_state)
     start = initial_state if initial_state is not None else PIState.relaxed(0.0, model.n_elements)
+    # u = ±F_c exactly is the end of presliding: F_c of the model and of the inverse
+    # (c1 + Σ k_j·(c_j/k_j)) may differ in the last bit, so that value is the inverse's
+    at_limit = np.abs(u) == model.coulomb_level
+    if at_limit.any():
+        u_in = np.where(at_limit, np.sign(u) * min(model.coulomb_level, inverse.force_limit), u)
+    else:
+        u_in = u
     with renamed(force="applied_force", state="initial_state"):
-        fel = inverse.elastic_force(u, start)
-        y, final = inverse.apply(u, start)
+        fel = inverse.elastic_force(u_in, start)
+        y, final = inverse.apply(u_in, start)
     return QuasiStaticResponse(t, u, y, fel, final, model)
 
 
