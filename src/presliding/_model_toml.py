@@ -9,15 +9,12 @@ from __future__ import annotations
 
 import contextlib
 import json
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 from presliding._axes import as_axis, axis_unit
 from presliding.friction._parts import density_of, elements
 from presliding.friction.pi_friction import PIFriction
 from presliding.hysteresis.densities import Density, Exponential, PiecewiseConstant, Uniform
-
-if TYPE_CHECKING:  # pragma: no cover
-    from presliding.model_io import MeasurementTerms, MotionSettings
 
 __all__ = ["DENSITIES", "MOTION_DEFAULTS", "model_to_toml"]
 
@@ -75,8 +72,8 @@ _MOTION_QUANTITIES = {"mass": "mass", "initial_velocity": "velocity", "t_end": "
 
 def model_to_toml(
     model: PIFriction,
-    motion: MotionSettings | None = None,
-    measurement: MeasurementTerms | None = None,
+    motion: Any = None,
+    measurement: Any = None,
     header: str = "",
     axis: str = "linear",
 ) -> str:

@@ -10,6 +10,7 @@ simulate.py     ``presliding simulate``
 analyze.py      ``presliding analyze``
 fit.py          ``presliding fit``: reading the data, one-file kinds, model file
 fit_options.py  the options of ``presliding fit``
+_parsers.py     the options of ``demo``, ``simulate``, ``analyze``, ``sweep``, ``precompile``
 fit_pooled.py   ``presliding fit FILE ...`` for response, quasi-static and virgin fits
 fit_figure.py   the figure of a fit
 records.py      records from files, --join groups and --segments; --header, --decimal, --axis

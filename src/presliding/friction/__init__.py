@@ -11,6 +11,7 @@ _baseline_kernels.py  compiled time loops of the Dahl and LuGre models
 _parts.py             a model's elements or its density, typed (`elements`, `density_of`)
 _pi_setup.py          validation and set-up of a `PIFriction` on construction
 _sides.py             asymmetric friction: the two sides' levels, the asymmetric play band
+_model_checks.py      checks the layers above make of a model (Coulomb element, finite stiffness)
 
 May import: `presliding.hysteresis` and the package root's shared modules.
 """

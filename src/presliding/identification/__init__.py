@@ -6,6 +6,7 @@ _status.py          the one status judge of every fit (its rules tabled), exit c
 _profile.py         profile-likelihood intervals on the least-squares core
 _parameters.py      initial, bounds, fixed, tied and lmfit.Parameters, checked together
 _fit_names.py       lmfit's and scipy's names on `FitResult` (aic, bic, redchi, x, to_lmfit)
+_fit_report.py      how a `FitResult` shows itself: report, notebook table, pandas, figure
 fit_presliding.py   `fit_presliding`: force against displacement (eqs. 4–9)
 fit_virgin.py       `fit_virgin_curve`: virgin curves from ramps or loops, pooled, quantised
 masing.py           `masing_check`, `MasingCheck`: do measured loops follow a virgin curve?
