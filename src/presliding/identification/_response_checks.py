@@ -184,7 +184,9 @@ def bound_check(sol, start, names, fixed, tied, equal_breakaway) -> Solution:
 
 def smallest_threshold_first(sol: Solution, k_names: list[str], c_names: list[str]) -> Solution:
     """Relabel free elements (k_j, c_j) by increasing threshold r_j = c_j/k_j (eq. 6)."""
-    r = [sol.values[c] / sol.values[k] for k, c in zip(k_names, c_names, strict=True)]
+    # an element whose stiffness sits on its bound 0 never yields: its threshold is infinite
+    r = [sol.values[c] / sol.values[k] if sol.values[k] > 0 else np.inf
+         for k, c in zip(k_names, c_names, strict=True)]  # fmt: skip
     order = np.argsort(r, kind="stable")
     rename = {}
     for i, j in enumerate(order):
