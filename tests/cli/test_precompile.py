@@ -82,3 +82,32 @@ def test_the_precompile_command_runs_the_demo_into_nothing_but_the_cache(
     assert list(tmp_path.iterdir()) == []
     assert main(["--help"]) == 0
     assert "presliding precompile" in capsys.readouterr().out
+
+
+def test_the_demo_starts_each_task_early_and_waits_before_its_part(monkeypatch, tmp_path):
+    """Density from the start; the closed loop once the free stop has cached the event kernel."""
+    from presliding.cli import demo, demo_hunting
+
+    log: list[str] = []
+    monkeypatch.setattr(_precompile, "start", lambda task: log.append(f"start {task}") or True)
+    monkeypatch.setattr(_precompile, "wait", lambda task: log.append(f"wait {task}"))
+    free_stop = demo.free_stop
+    monkeypatch.setattr(demo, "free_stop", lambda: log.append("free stop") or free_stop())
+
+    class Done(Exception):
+        pass
+
+    def hunting_part():
+        log.append("hunting")
+        raise Done
+
+    monkeypatch.setattr(demo_hunting, "hunting_part", hunting_part)
+    with pytest.raises(Done):
+        demo.run_demo(tmp_path)
+    assert log == [
+        "start demo-density",
+        "free stop",
+        "start demo-hunting",
+        "wait demo-hunting",
+        "hunting",
+    ]

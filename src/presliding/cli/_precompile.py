@@ -31,10 +31,12 @@ __all__ = ["start", "stop_all", "wait"]
 #: task name -> "module:function" run once in the second process
 TASKS = {
     "demo-density": "presliding.cli.demo_sections:density_part",
+    "demo-hunting": "presliding.cli.demo_hunting:hunting_part",
 }
 #: kernel whose cache entry tells whether a task's kernels are compiled already
 _SENTINELS = {
     "demo-density": "presliding.motion._density_loop:run_fused",
+    "demo-hunting": "presliding.control._loop:run_loop",
 }
 #: seconds `wait` gives a second process before stopping it
 WAIT_LIMIT = 600.0

@@ -63,7 +63,7 @@ def _trial(yv, s, last, base_t, n_t, pend, p_out, p_m1, p_p, stack, kind, big_r,
         e = base_t
         outer = math.inf
         rho = abs(yv - base_t)
-        m1, _, slope = _prim(kind, big_r, p1, p2, tab, rho, False)
+        m1, _, slope = _prim(kind, big_r, p1, p2, tab, rho, np.bool_(False))
         force = s * m1
     else:
         if top > n_t:
@@ -71,7 +71,7 @@ def _trial(yv, s, last, base_t, n_t, pend, p_out, p_m1, p_p, stack, kind, big_r,
         else:
             m1o, p = stack[top - 1, 2], stack[top - 1, 3]
         rho = 0.5 * abs(yv - e)
-        m1, _, slope = _prim(kind, big_r, p1, p2, tab, rho, False)
+        m1, _, slope = _prim(kind, big_r, p1, p2, tab, rho, np.bool_(False))
         force = s * (2.0 * m1 - m1o) + p
     if rho < big_r:
         force += (yv - e) * slope
@@ -118,7 +118,7 @@ def _commit(yv, s, last, base, n, base_t, n_t, pend, p_out, p_m1, p_p, q_front, 
     if top == 0:
         e = base_t
         rho = abs(yv - base_t)
-        m1, m2, slope = _prim(kind, big_r, p1, p2, tab, rho, True)
+        m1, m2, slope = _prim(kind, big_r, p1, p2, tab, rho, np.bool_(True))
         force = s * m1
         q_rho = _q_of(rho, m1, m2, m1r, m2r, big_r)
         if rho0 == math.inf:
@@ -135,7 +135,7 @@ def _commit(yv, s, last, base, n, base_t, n_t, pend, p_out, p_m1, p_p, q_front, 
         else:
             e, m1o, p = stack[top - 1, 0], stack[top - 1, 2], stack[top - 1, 3]
         rho = 0.5 * abs(yv - e)
-        m1, m2, slope = _prim(kind, big_r, p1, p2, tab, rho, True)
+        m1, m2, slope = _prim(kind, big_r, p1, p2, tab, rho, np.bool_(True))
         force = s * (2.0 * m1 - m1o) + p
         q_rho = _q_of(rho, m1, m2, m1r, m2r, big_r)
         diss += 2.0 * (q_rho - q0)
@@ -167,8 +167,10 @@ def run_fused(  # pragma: no cover - compiled
     reference counting every step): the stack grows between runs of steps.
     """
     big_r, p1, p2 = _unpack(par)
-    m1r, m2r, _ = _prim(kind, big_r, p1, p2, tab, big_r, True)
-    t_total = _prim(kind, big_r, p1, p2, tab, 0.0, False)[2]  # μ([0, R]): slope after a reversal
+    m1r, m2r, _ = _prim(kind, big_r, p1, p2, tab, big_r, np.bool_(True))
+    t_total = _prim(kind, big_r, p1, p2, tab, 0.0, np.bool_(False))[
+        2
+    ]  # μ([0, R]): slope after a reversal
     last, d, base, n = head[0], head[1], head[2], int(head[3])
     fel, slope = gk.force_at(last, head, stack, kind, par, tab)
     # The stops' dissipation telescopes along a level: from an anchor on the top level
@@ -189,13 +191,15 @@ def run_fused(  # pragma: no cover - compiled
     cap = rev_t.shape[0]
     n_rev = 0
     rest_start = np.nan
-    ptr = 0
+    # the counters start as int64, not as the literal 0: a literal would compile
+    # `_sample` and `fill_applied` a second time, for that literal argument
+    ptr = np.int64(0)
     u_blk = np.empty(BLOCK)
-    ie = 0
+    ie = np.int64(0)
     while ie < n_eval and t_eval[ie] <= t0:
         ie = _sample(ie, last, v, fel, _energy(last, d, base, n, stack, kind, par, tab), dis_s,
                      vis, work, o_y, o_v, o_fel, o_eel, o_dis, o_vis, o_work)  # fmt: skip
-    i = 0
+    i = np.int64(0)
     t_i = t0
     while i < n_steps:
         if n >= stack.shape[0]:  # room for the level a reversal opens
@@ -279,11 +283,11 @@ def run_fused(  # pragma: no cover - compiled
                     e = base if n == 0 else stack[n - 1, 0]
                     if n == 0:
                         rho = abs(y_new - base)
-                        m1, _, slope = _prim(kind, big_r, p1, p2, tab, rho, False)
+                        m1, _, slope = _prim(kind, big_r, p1, p2, tab, rho, np.bool_(False))
                         fel = s * m1
                     else:
                         rho = 0.5 * abs(y_new - e)
-                        m1, _, slope = _prim(kind, big_r, p1, p2, tab, rho, False)
+                        m1, _, slope = _prim(kind, big_r, p1, p2, tab, rho, np.bool_(False))
                         fel = s * (2.0 * m1 - stack[n - 1, 2]) + stack[n - 1, 3]
                     if rho < big_r:
                         fel += (y_new - e) * slope
