@@ -50,7 +50,14 @@ def scan(fun: Any, horizon: float, omega_max: float) -> tuple[float, NDArray[np.
             i = int(rows[0])
             a = lo if i == 0 else float(grid[i - 1])
             b = float(grid[i])
-            return _refine(fun, a, b, trig[i])
+            # the candidate whose linear interpolation crosses first is refined first
+            prev = fun(np.array([a]))[0][0] if i == 0 else vals[i - 1]
+            cand = trig[i]
+            with np.errstate(divide="ignore", invalid="ignore"):
+                frac = np.where(cand, prev / (prev - vals[i]), np.inf)
+            first = np.zeros_like(cand)
+            first[int(np.argmin(np.nan_to_num(frac, nan=0.0, posinf=np.inf)))] = True
+            return _refine(fun, a, b, first)
         lo = float(grid[-1])
     return None
 

@@ -117,6 +117,8 @@ class Piece:
             w2 = np.where(w2 > 1e-13 * max(float(np.max(np.abs(w2))), 0.0), w2, 0.0)
             self.omega = np.sqrt(w2)
             self.omega_max = float(np.max(self.omega))
+            self.rigid = self.omega == 0.0
+            self.inv_omega = np.where(self.rigid, 0.0, 1.0 / np.where(self.rigid, 1.0, self.omega))
         else:
             d = self.dim
             minv = np.linalg.inv(mr)
@@ -144,14 +146,17 @@ class Piece:
         if d == 0:
             return np.zeros((tau.shape[0], 0))
         if not self.damped:
-            om = self.omega
-            wt = om * tau
-            safe = np.where(om > 0.0, om, 1.0)
-            s1 = np.where(om > 0.0, np.sin(wt) / safe, tau)
-            sh = np.where(om > 0.0, np.sin(0.5 * wt) / safe, 0.5 * tau)
-            eta = self.vm * s1 + self.a0 * 2.0 * sh * sh
-            etad = self.vm * np.cos(wt) + self.a0 * s1
-            return np.hstack([eta, etad])
+            wt = self.omega * tau
+            s1 = np.sin(wt) * self.inv_omega
+            sh = np.sin(0.5 * wt) * self.inv_omega
+            if self.rigid.any():  # ω = 0: the parabola, without cancellation
+                rows = np.broadcast_to(tau, s1.shape)
+                s1[:, self.rigid] = rows[:, self.rigid]
+                sh[:, self.rigid] = 0.5 * rows[:, self.rigid]
+            out = np.empty((tau.shape[0], 2 * d))
+            out[:, :d] = self.vm * s1 + self.a0 * 2.0 * sh * sh
+            out[:, d:] = self.vm * np.cos(wt) + self.a0 * s1
+            return out
         return self._first_order(tau[:, 0])[0]
 
     def maps(self) -> tuple[FloatArray, FloatArray]:
