@@ -177,7 +177,13 @@ class Network:
 
     def event_functions(self, pc: Piece, info: dict[str, Any], st: RunState
                         ) -> Any:  # fmt: skip
-        """h(τ) for `scan`: the event functions and which are strict."""
+        """h(τ) for `scan`: the event functions and which are strict (built once per piece)."""
+        if "event_fun" in info:
+            return info["event_fun"]
+        info["event_fun"] = fun = self._event_functions(pc, info, st)
+        return fun
+
+    def _event_functions(self, pc: Piece, info: dict[str, Any], st: RunState) -> Any:
         sl = np.flatnonzero(info["sliding"])
         thr = sl[np.isfinite(info["dmin"][sl])]
         s = st.s
@@ -231,7 +237,16 @@ class Network:
                 vals[:, n_lin:] = c1s - np.abs(vals[:, n_lin:])
             return vals, strict
 
+        def column(j: int) -> Any:
+            """Function j alone, at one time (for the root refinement)."""
+            cj = h0[j]  # the same products as `fun` (no change of rounding)
+            if j < n_lin:
+                return lambda t: float((pc.native_one(t)[None, :] @ hmat)[0, j] + cj)
+            c1j = c1s[j - n_lin]
+            return lambda t: float(c1j - abs((pc.native_one(t)[None, :] @ hmat)[0, j] + cj))
+
         fun.layout = (sl, thr)  # type: ignore[attr-defined]
+        fun.column = column  # type: ignore[attr-defined]
         return fun
 
     def advance(self, pc: Piece, info: dict[str, Any], st: RunState, tau: float,

@@ -124,6 +124,7 @@ class Piece:
             self.omega = np.sqrt(w2)
             self.omega_max = float(np.max(self.omega))
             self.rigid = self.omega == 0.0
+            self.any_rigid = bool(self.rigid.any())
             self.inv_omega = np.where(self.rigid, 0.0, 1.0 / np.where(self.rigid, 1.0, self.omega))
         else:
             d = self.dim
@@ -161,7 +162,7 @@ class Piece:
             wt = self.omega * tau
             s1 = np.sin(wt) * self.inv_omega
             sh = np.sin(0.5 * wt) * self.inv_omega
-            if self.rigid.any():  # ω = 0: the parabola, without cancellation
+            if self.any_rigid:  # ω = 0: the parabola, without cancellation
                 rows = np.broadcast_to(tau, s1.shape)
                 s1[:, self.rigid] = rows[:, self.rigid]
                 sh[:, self.rigid] = 0.5 * rows[:, self.rigid]
@@ -170,6 +171,22 @@ class Piece:
             out[:, d:] = self.vm * np.cos(wt) + self.a0 * s1
             return out
         return self._first_order(tau[:, 0])[0]
+
+    def native_one(self, t: float) -> FloatArray:
+        """ξ(t) at one time, shape (2·dim,) (as a row of `native`)."""
+        d = self.dim
+        if d == 0 or self.damped:
+            return self.native(np.array([t]))[0]
+        wt = self.omega * t
+        s1 = np.sin(wt) * self.inv_omega
+        sh = np.sin(0.5 * wt) * self.inv_omega
+        if self.any_rigid:
+            s1[self.rigid] = t
+            sh[self.rigid] = 0.5 * t
+        out = np.empty(2 * d)
+        out[:d] = self.vm * s1 + self.a0 * 2.0 * sh * sh
+        out[d:] = self.vm * np.cos(wt) + self.a0 * s1
+        return out
 
     def maps(self) -> tuple[FloatArray, FloatArray]:
         """(A_z, A_ż), shapes (2·dim, dim): z = ξ·A_z, ż = ξ·A_ż."""
