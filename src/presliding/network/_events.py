@@ -56,7 +56,7 @@ def scan(fun: Any, horizon: float, omega_max: float) -> tuple[float, NDArray[np.
             with np.errstate(divide="ignore", invalid="ignore"):
                 frac = np.where(cand, prev / (prev - vals[i]), np.inf)
             first = np.zeros_like(cand)
-            first[int(np.argmin(np.nan_to_num(frac, nan=0.0, posinf=np.inf)))] = True
+            first[int(np.argmin(np.where(np.isnan(frac), 0.0, frac)))] = True
             return _refine(fun, a, b, first)
         lo = float(grid[-1])
     return None

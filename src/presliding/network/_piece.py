@@ -115,7 +115,7 @@ class Piece:
                 if cache is not None and key in cache:  # the same modes, met before
                     w2, self.phi = cache[key]
                 else:
-                    w2, self.phi = scipy.linalg.eigh(kr, mr)
+                    w2, self.phi = scipy.linalg.eigh(kr, mr, check_finite=False)
                     if cache is not None:
                         cache[key] = (w2, self.phi)
                 self.a0 = self.phi.T @ br
@@ -125,6 +125,7 @@ class Piece:
             self.omega_max = float(np.max(self.omega))
             self.rigid = self.omega == 0.0
             self.any_rigid = bool(self.rigid.any())
+            self.a2 = self.a0 * 2.0  # exact: the products below are unchanged
             self.inv_omega = np.where(self.rigid, 0.0, 1.0 / np.where(self.rigid, 1.0, self.omega))
         else:
             d = self.dim
@@ -167,7 +168,7 @@ class Piece:
                 s1[:, self.rigid] = rows[:, self.rigid]
                 sh[:, self.rigid] = 0.5 * rows[:, self.rigid]
             out = np.empty((tau.shape[0], 2 * d))
-            out[:, :d] = self.vm * s1 + self.a0 * 2.0 * sh * sh
+            out[:, :d] = self.vm * s1 + self.a2 * sh * sh
             out[:, d:] = self.vm * np.cos(wt) + self.a0 * s1
             return out
         return self._first_order(tau[:, 0])[0]
@@ -184,7 +185,7 @@ class Piece:
             s1[self.rigid] = t
             sh[self.rigid] = 0.5 * t
         out = np.empty(2 * d)
-        out[:d] = self.vm * s1 + self.a0 * 2.0 * sh * sh
+        out[:d] = self.vm * s1 + self.a2 * sh * sh
         out[d:] = self.vm * np.cos(wt) + self.a0 * s1
         return out
 
