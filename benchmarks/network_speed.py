@@ -68,9 +68,10 @@ def main():
         )
     hs, ts, es = (np.array(c) for c in zip(*rows, strict=True))
     slope = np.polyfit(np.log(hs), np.log(es), 1)[0]
-    # cost ≈ a·h^(−b) and error ≈ c·h^slope, fitted; the step where the cost equals the
+    # cost ≈ a·h^b (from the two smallest steps, past the fixed costs) and error ≈ c·h^slope,
+    # fitted; the step where the cost equals the
     # exact path's (extrapolated when it lies beyond the steps measured)
-    b, a = np.polyfit(np.log(hs), np.log(ts), 1)
+    b, a = np.polyfit(np.log(hs[-2:]), np.log(ts[-2:]), 1)  # the small steps: cost ∝ 1/h
     log_cross = (np.log(t_exact) - a) / b
     err_cross = np.exp(np.polyval(np.polyfit(np.log(hs), np.log(es), 1), log_cross))
     print(

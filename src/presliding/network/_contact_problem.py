@@ -28,6 +28,9 @@ def solve_box_qp(g: FloatArray, b: FloatArray, c1: FloatArray) -> tuple[FloatArr
         tau = np.clip(np.array([b[0] / g[0, 0]]), -c1, c1)
         return tau, b - g @ tau
     tau = np.clip(np.linalg.lstsq(g, b, rcond=None)[0], -c1, c1)
+    exact, acc, ok = _polish(g, b, c1, tau)  # often the clipped solution's active set is right
+    if ok:
+        return exact, acc
     diag = np.diag(g)
     for _ in range(2000):
         old = tau.copy()
@@ -36,12 +39,14 @@ def solve_box_qp(g: FloatArray, b: FloatArray, c1: FloatArray) -> tuple[FloatArr
             tau[i] = min(max(t, -c1[i]), c1[i])
         if np.max(np.abs(tau - old)) <= 1e-15 * max(float(np.max(c1)), 1.0):
             break
-    return _polish(g, b, c1, tau)
+    exact, acc, _ = _polish(g, b, c1, tau)
+    return exact, acc
 
 
 def _polish(g: FloatArray, b: FloatArray, c1: FloatArray, tau: FloatArray
-            ) -> tuple[FloatArray, FloatArray]:  # fmt: skip
-    """The exact solution on the active set of `tau`, if it satisfies KKT; else `tau`."""
+            ) -> tuple[FloatArray, FloatArray, bool]:  # fmt: skip
+    """The exact solution on the active set of `tau` if it satisfies KKT (True); else
+    `tau` itself (False)."""
     acc = b - g @ tau
     scale = float(np.max(np.abs(b))) + float(np.max(np.abs(g))) * float(np.max(c1)) + 1e-300
     tol = 1e-9 * scale
@@ -65,8 +70,8 @@ def _polish(g: FloatArray, b: FloatArray, c1: FloatArray, tau: FloatArray
     if ok:
         exact = np.clip(exact, -c1, c1)
         acc2[free] = 0.0
-        return exact, acc2
-    return tau, acc
+        return exact, acc2, True
+    return tau, acc, False
 
 
 def redundant_margin(lam_p: FloatArray, z: FloatArray, fel: FloatArray, c1: FloatArray

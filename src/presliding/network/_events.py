@@ -50,7 +50,14 @@ def scan(fun: Any, horizon: float, omega_max: float) -> tuple[float, NDArray[np.
             i = int(rows[0])
             a = lo if i == 0 else float(grid[i - 1])
             b = float(grid[i])
-            return _refine(fun, a, b, trig[i])
+            # the candidate whose linear interpolation crosses first is refined first
+            prev = fun(np.array([a]))[0][0] if i == 0 else vals[i - 1]
+            cand = trig[i]
+            with np.errstate(divide="ignore", invalid="ignore"):
+                frac = np.where(cand, prev / (prev - vals[i]), np.inf)
+            first = np.zeros_like(cand)
+            first[int(np.argmin(np.where(np.isnan(frac), 0.0, frac)))] = True
+            return _refine(fun, a, b, first)
         lo = float(grid[-1])
     return None
 
@@ -73,14 +80,16 @@ def _refine(fun: Any, a: float, b: float, cand: NDArray[np.bool_]
     done = np.zeros(cand.shape[0], bool)
     fa_all = fun(np.array([a]))[0][0] if a > 0.0 else None
     todo = cand.copy()
-    while todo.any():
+    while True:
         for j in (int(i) for i in np.flatnonzero(todo)):
             done[j] = True
             t = _root(fun, j, a, best, fa_all)
             if t < best or best_j < 0:
                 best, best_j = t, j
-        todo = _triggered(fun, best) & ~done
-    mask = _triggered(fun, best)
+        mask = _triggered(fun, best)
+        todo = mask & ~done
+        if not todo.any():
+            break
     if best_j >= 0:
         mask[best_j] = True
     return best, mask
@@ -89,9 +98,13 @@ def _refine(fun: Any, a: float, b: float, cand: NDArray[np.bool_]
 def _root(fun: Any, j: int, a: float, b: float, fa_all: Any) -> float:
     """The first time in (a, b] where function j triggers (b if only there)."""
     lo, hi = a, b
+    column = getattr(fun, "column", None)
+    if column is not None:
+        h = column(j)
+    else:
 
-    def h(t: float) -> float:
-        return float(fun(np.array([t]))[0][0, j])
+        def h(t: float) -> float:
+            return float(fun(np.array([t]))[0][0, j])
 
     fa = h(lo) if fa_all is None else float(fa_all[j])
     fb = h(hi)

@@ -52,6 +52,9 @@ class Network:
         self.cts = Contacts.of(structure.friction)
         self.minv_w = np.linalg.solve(self.m, self.w)
         self.n_c = self.w.shape[1]
+        # decompositions by stick/slip/elastic pattern: patterns recur in oscillations
+        self.cache: dict[bytes, Any] = {}
+        self.stick_cache: dict[bytes, Any] = {}
 
     # ---------------------------------------------------------------- contact forces
     def elastic_forces(self, e: FloatArray) -> FloatArray:
@@ -111,23 +114,34 @@ class Network:
         dmin = np.full(self.n_c, np.inf)
         np.minimum.at(dmin, cts.owner, dist)
         stuck = np.flatnonzero(~sliding)
-        ns, rank = null_space(self.w[:, stuck], self.w.shape[0])
-        if ns is not None and ns.shape[1] == 0:
-            ns = np.zeros((self.w.shape[0], 0))
+        skey = sliding.tobytes()
+        if len(self.cache) > 4096:
+            self.cache.clear()
+            self.stick_cache.clear()
+        if skey not in self.stick_cache:
+            ns, rank = null_space(self.w[:, stuck], self.w.shape[0])
+            if ns is not None and ns.shape[1] == 0:
+                ns = np.zeros((self.w.shape[0], 0))
+            smap = snull = None
+            if stuck.size:
+                mw = self.minv_w[:, stuck]
+                smap = np.linalg.pinv(self.w[:, stuck].T @ mw) @ mw.T
+                if stuck.size > rank:
+                    snull = np.linalg.svd(self.w[:, stuck])[2][rank:].T
+            self.stick_cache[skey] = (ns, rank, smap, snull)
+        ns, rank, smap, snull = self.stick_cache[skey]
+        key = skey + elastic.tobytes()
         pc = Piece(self.m, self.c, self.k, self.w, f, st.q, st.v, sliding, st.s, kel, lam0,
-                   cts.sigma, ns)  # fmt: skip
+                   cts.sigma, ns, self.cache, key)  # fmt: skip
         info: dict[str, Any] = {
             "sliding": sliding, "elastic": elastic, "kel": kel, "csat": csat, "fel0": fel0,
             "lam0": lam0, "dmin": dmin, "stuck": stuck,
             "redundant": stuck.size > rank,
         }  # fmt: skip
         if stuck.size:
-            mw = self.minv_w[:, stuck]
-            gmat = self.w[:, stuck].T @ mw
-            info["stick_map"] = np.linalg.pinv(gmat) @ mw.T  # λ_S = P·(f − Cq̇ − Kq − W_L λ_L)
+            info["stick_map"] = smap  # λ_S = P·(f − Cq̇ − Kq − W_L λ_L)
             if info["redundant"]:
-                _, _, vt = np.linalg.svd(self.w[:, stuck])
-                info["stick_null"] = vt[rank:].T
+                info["stick_null"] = snull
         return pc, info
 
     def contact_values(self, pc: Piece, info: dict[str, Any], st: RunState, tau: FloatArray
@@ -163,7 +177,13 @@ class Network:
 
     def event_functions(self, pc: Piece, info: dict[str, Any], st: RunState
                         ) -> Any:  # fmt: skip
-        """h(τ) for `scan`: the event functions and which are strict."""
+        """h(τ) for `scan`: the event functions and which are strict (built once per piece)."""
+        if "event_fun" in info:
+            return info["event_fun"]
+        info["event_fun"] = fun = self._event_functions(pc, info, st)
+        return fun
+
+    def _event_functions(self, pc: Piece, info: dict[str, Any], st: RunState) -> Any:
         sl = np.flatnonzero(info["sliding"])
         thr = sl[np.isfinite(info["dmin"][sl])]
         s = st.s
@@ -217,7 +237,16 @@ class Network:
                 vals[:, n_lin:] = c1s - np.abs(vals[:, n_lin:])
             return vals, strict
 
+        def column(j: int) -> Any:
+            """Function j alone, at one time (for the root refinement)."""
+            cj = h0[j]  # the same products as `fun` (no change of rounding)
+            if j < n_lin:
+                return lambda t: float((pc.native_one(t)[None, :] @ hmat)[0, j] + cj)
+            c1j = c1s[j - n_lin]
+            return lambda t: float(c1j - abs((pc.native_one(t)[None, :] @ hmat)[0, j] + cj))
+
         fun.layout = (sl, thr)  # type: ignore[attr-defined]
+        fun.column = column  # type: ignore[attr-defined]
         return fun
 
     def advance(self, pc: Piece, info: dict[str, Any], st: RunState, tau: float,

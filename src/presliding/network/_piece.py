@@ -82,7 +82,8 @@ class Piece:
     def __init__(self, m: FloatArray, c: FloatArray, k: FloatArray, w: FloatArray,
                  f: FloatArray, q0: FloatArray, v0: FloatArray, sliding: NDArray[np.bool_],
                  s: FloatArray, kel: FloatArray, lam0: FloatArray, sigma: FloatArray,
-                 nullsp: FloatArray | None) -> None:  # fmt: skip
+                 nullsp: FloatArray | None, cache: dict | None = None,
+                 key: bytes = b"") -> None:  # fmt: skip
         self.q0, self.v0, self.f, self.w, self.c = q0, v0, f, w, c
         wl = w[:, sliding]
         self.sliding = sliding
@@ -111,15 +112,25 @@ class Piece:
                 self.a0 = br / mr[0, 0]
                 self.vm = zd0.copy()
             else:
-                w2, self.phi = scipy.linalg.eigh(kr, mr)
+                if cache is not None and key in cache:  # the same modes, met before
+                    w2, self.phi = cache[key]
+                else:
+                    w2, self.phi = scipy.linalg.eigh(kr, mr, check_finite=False)
+                    if cache is not None:
+                        cache[key] = (w2, self.phi)
                 self.a0 = self.phi.T @ br
                 self.vm = self.phi.T @ (mr @ zd0)
             w2 = np.where(w2 > 1e-13 * max(float(np.max(np.abs(w2))), 0.0), w2, 0.0)
             self.omega = np.sqrt(w2)
             self.omega_max = float(np.max(self.omega))
+            self.rigid = self.omega == 0.0
+            self.any_rigid = bool(self.rigid.any())
+            self.a2 = self.a0 * 2.0  # exact: the products below are unchanged
+            self.inv_omega = np.where(self.rigid, 0.0, 1.0 / np.where(self.rigid, 1.0, self.omega))
         else:
             d = self.dim
-            minv = np.linalg.inv(mr)
+            entry: Any = cache.get(key) if cache is not None else None
+            minv = np.linalg.inv(mr) if entry is None else entry[0]
             a = np.zeros((2 * d, 2 * d))
             a[:d, d:] = np.eye(d)
             a[d:, :d] = -minv @ kr
@@ -127,11 +138,16 @@ class Piece:
             h = np.concatenate([np.zeros(d), minv @ br])
             x0 = np.concatenate([np.zeros(d), zd0])
             self.amat, self.h, self.x0 = a, h, x0
-            lam, vec = np.linalg.eig(a)
+            if entry is None:
+                lam, vec = np.linalg.eig(a)
+                modal = bool(np.linalg.cond(vec) < 1e8)
+                entry = (minv, lam, vec, modal, np.linalg.inv(vec) if modal else None)
+                if cache is not None:
+                    cache[key] = entry
+            lam, vec, vinv = entry[1], entry[2], entry[4]
+            self.modal: bool = entry[3]
             self.omega_max = float(np.max(np.abs(lam)))
-            self.modal = bool(np.linalg.cond(vec) < 1e8)
             if self.modal:  # x(t) = V·(e^{Λt}·c0 + t·φ1(Λt)·d), φ1(z) = (e^z − 1)/z
-                vinv = np.linalg.inv(vec)
                 self.lam, self.vec, self.c0, self.dd = lam, vec, vinv @ x0, vinv @ h
         self.kr, self.cr, self.br = kr, cr, br
 
@@ -144,15 +160,34 @@ class Piece:
         if d == 0:
             return np.zeros((tau.shape[0], 0))
         if not self.damped:
-            om = self.omega
-            wt = om * tau
-            safe = np.where(om > 0.0, om, 1.0)
-            s1 = np.where(om > 0.0, np.sin(wt) / safe, tau)
-            sh = np.where(om > 0.0, np.sin(0.5 * wt) / safe, 0.5 * tau)
-            eta = self.vm * s1 + self.a0 * 2.0 * sh * sh
-            etad = self.vm * np.cos(wt) + self.a0 * s1
-            return np.hstack([eta, etad])
+            wt = self.omega * tau
+            s1 = np.sin(wt) * self.inv_omega
+            sh = np.sin(0.5 * wt) * self.inv_omega
+            if self.any_rigid:  # ω = 0: the parabola, without cancellation
+                rows = np.broadcast_to(tau, s1.shape)
+                s1[:, self.rigid] = rows[:, self.rigid]
+                sh[:, self.rigid] = 0.5 * rows[:, self.rigid]
+            out = np.empty((tau.shape[0], 2 * d))
+            out[:, :d] = self.vm * s1 + self.a2 * sh * sh
+            out[:, d:] = self.vm * np.cos(wt) + self.a0 * s1
+            return out
         return self._first_order(tau[:, 0])[0]
+
+    def native_one(self, t: float) -> FloatArray:
+        """ξ(t) at one time, shape (2·dim,) (as a row of `native`)."""
+        d = self.dim
+        if d == 0 or self.damped:
+            return self.native(np.array([t]))[0]
+        wt = self.omega * t
+        s1 = np.sin(wt) * self.inv_omega
+        sh = np.sin(0.5 * wt) * self.inv_omega
+        if self.any_rigid:
+            s1[self.rigid] = t
+            sh[self.rigid] = 0.5 * t
+        out = np.empty(2 * d)
+        out[:d] = self.vm * s1 + self.a2 * sh * sh
+        out[d:] = self.vm * np.cos(wt) + self.a0 * s1
+        return out
 
     def maps(self) -> tuple[FloatArray, FloatArray]:
         """(A_z, A_ż), shapes (2·dim, dim): z = ξ·A_z, ż = ξ·A_ż."""

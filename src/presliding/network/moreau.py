@@ -57,7 +57,7 @@ def simulate_network_moreau(
     initial_velocity: ArrayLike | None = None,
     initial_state: str | NetworkState = "relaxed",
     *,
-    theta: float = 0.5,
+    theta: float = 1.0,
     samples: int = 1001,
     t_start: float | None = None,
     tolerance: float = 1e-12,
@@ -75,8 +75,13 @@ def simulate_network_moreau(
     initial_position, initial_velocity, initial_state, t_start
         As for `simulate_network`.
     theta : float
-        θ ∈ [1/2, 1] of the θ-method for the smooth forces (1/2: no numerical damping
-        of the linear structure; 1: backward Euler).
+        θ ∈ [1/2, 1] of the θ-method for the smooth forces. The default 1 (backward
+        Euler) never creates energy: the energy residual is never positive beyond
+        rounding, on any structure and step. 1/2 has no numerical damping of the linear
+        structure (closer on lightly damped vibration at a given step), but the
+        velocity-level contact impulses combined with it can create a little energy
+        (up to ~5e-4 of the initial energy at h = 1e-3 s on small random structures,
+        shrinking with the step); use it only where that is acceptable.
     samples : int
         About this many samples (every k-th step, k = max(1, steps // (samples − 1))).
     tolerance : float
@@ -90,7 +95,7 @@ def simulate_network_moreau(
     NetworkResult
         ``method`` "moreau"; stick intervals and reversals are read off the samples
         (to the sample spacing); the energy ``residual`` is the scheme's numerical
-        dissipation (O(h)).
+        dissipation (O(h); never positive with θ = 1).
     """
     check_type("structure", structure, NetworkStructure)
     n, n_c = structure.n_coordinates, structure.n_contacts
