@@ -101,7 +101,7 @@ def test_result_convention():
     assert repr(res).startswith("QuasiStaticNetworkResult(") and len(repr(res)) < 100
     frame = res.to_pandas()
     assert list(frame.columns) == ["x0", "x1", "force0"] and frame.attrs["status"] == "success"
-    assert "node 0" in res.report() and "<pre>" in res._repr_html_()
+    assert "node 0" in res.report() and "<table>" in res._repr_html_()
     ax = res.plot()
     assert "[m]" in ax.get_xlabel() and "[N]" in ax.get_ylabel()
     plt.close(ax.figure)

@@ -79,7 +79,7 @@ def fit_statistics(measured: ArrayLike, fitted: ArrayLike) -> tuple[float, float
 
 
 # ---------------------------------------------------------------------- result
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, repr=False)
 class FitResult(FitReport, LmfitNames):
     """Outcome of a ``fit_*`` function.
 

@@ -17,6 +17,7 @@ import numpy as np
 from numpy.typing import NDArray
 from threadpoolctl import threadpool_limits
 
+from presliding._display import fill_attrs
 from presliding._validation import as_count, as_signal, check_type, fmt
 from presliding.hysteresis._results import ResultMixin
 from presliding.network._qs_solver import EventLimit, EventSolver, Path
@@ -89,11 +90,6 @@ class QuasiStaticNetworkResult(ResultMixin):
             f"events={self.n_events}, status={self.status!r})"
         )
 
-    def _repr_html_(self) -> str:
-        import html
-
-        return "<pre>" + html.escape(self.report()) + "</pre>"
-
     def report(self) -> str:
         """A readable summary."""
         lines = [
@@ -123,8 +119,8 @@ class QuasiStaticNetworkResult(ResultMixin):
         for j, node in enumerate(self.displacement_nodes):
             cols[f"force{node}"] = self.forces[:, j]
         frame = pd.DataFrame(cols, index=pd.Index(self.sample, name="sample"))
-        frame.attrs.update(success=self.success, status=str(self.status), message=self.message)
-        return frame
+        units = {c: ("m" if c.startswith("x") else "N") for c in cols}
+        return fill_attrs(frame, self, units={**units, "sample": "index"})
 
     def plot(self, ax: Axes | None = None) -> Axes:
         """Force against displacement at the first driven node, through every breakpoint."""

@@ -218,11 +218,6 @@ class NetworkResult(ResultMixin):
             f"samples={self.time.shape[0]}, n_events={self.n_events})"
         )
 
-    def _repr_html_(self) -> str:
-        import html
-
-        return "<pre>" + html.escape(self.report()) + "</pre>"
-
     def plot(self, ax: Axes | None = None, *, kind: str = "time") -> Axes:
         """Contact displacements over time ("time"), contact force against displacement
         per contact ("hysteresis"), the stick/slip timeline ("timeline") or the energy
