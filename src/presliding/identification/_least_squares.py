@@ -52,7 +52,8 @@ FloatArray = NDArray[np.float64]
 Tie = str | tuple[str, float]
 
 #: Status values of a fit: only "converged" is a success (see `FitResult.status`).
-STATUSES = ("converged", "not_identifiable", "at_bound", "poor_fit", "max_evaluations", "failed")
+STATUSES = ("converged", "local_minimum", "not_identifiable", "at_bound", "poor_fit",
+            "max_evaluations", "failed")  # fmt: skip
 _LISTED = 6  # names listed in a message before "and N more"
 #: residuals × free parameters² above which a structured problem takes `levenberg_marquardt`
 LARGE_PROBLEM = 2e7

@@ -58,7 +58,7 @@ def as_record(m: Measurement) -> Record:
     v = m.velocity if m.velocity is not None else np.gradient(m.require("position")[0], t)
     y = m.position if m.position is not None else rt.integral(t, v)
     u = m.applied_force if m.applied_force is not None else np.zeros_like(t)
-    return Record(t, y, v, u, bool(np.any(u)), rt.initial_direction(v, u))
+    return Record(t, y, v, u, bool(np.any(u)), rt.initial_direction(v, u, y))
 
 
 class PooledProblem:
@@ -215,8 +215,8 @@ class PooledProblem:
         v0 = np.ascontiguousarray(sets[:, per + 1])
         if self.initial_state == "preload":
             frac = np.clip(sets[:, per + 2], -1.0, 1.0)
-        else:
-            frac = np.ones((n_par, self.n_rec))
+        else:  # saturated: steady sliding in the direction of the first motion, F_el = d·F_m
+            frac = np.repeat(self.direction[None, :], n_par, axis=0)
         return mass, c1_all, sigma, k_arr, r_arr, offset, y0, v0, np.ascontiguousarray(frac)
 
     def simulate(self, sets: FloatArray, rigid: bool = False) -> tuple:

@@ -110,6 +110,21 @@ def quasi_static_start(recs: list, spec: ModelSpec, offset: bool) -> dict[str, f
     return start
 
 
+def lift_density(spec: ModelSpec, start: dict[str, float], level: float,
+                 fixed: Mapping[str, float]) -> dict[str, float]:  # fmt: skip
+    """A density start whose F_c reaches `level`: its heights scaled (a start whose F_c
+    is not above every |u| has no quasi-static response, and the solver could not begin)."""
+    heights = [x for x in spec.names if x.startswith("height") and x not in fixed]
+    fc = spec.coulomb_level(start)
+    c1 = max(start.get("coulomb", 0.0), 0.0)
+    if fc >= level or not heights or not fc > c1:
+        return start
+    if c1 >= 0.9 * level and "coulomb" not in fixed:
+        c1 = start["coulomb"] = 0.5 * level
+    factor = (level - c1) / (fc - c1)
+    return {x: v * factor if x in heights else v for x, v in start.items()}
+
+
 @shows_progress("fit_quasi_static")
 def fit_quasi_static(
     records: Measurement | Sequence[Measurement],
@@ -197,6 +212,8 @@ def fit_quasi_static(
     if spec.has_level_parameter and floor > 0:
         box["coulomb_level"] = (floor, np.inf)
         start["coulomb_level"] = max(start["coulomb_level"], floor * 1.01)
+    elif floor > 0:  # a density: F_c = c1 + F_m is derived; F_m is linear in the heights
+        start = lift_density(spec, start, 1.2 * floor, fixed)
     box = {x: box.get(x, (-np.inf, np.inf)) for x in names}
     problem.set_typical(start)
     if max_evaluations is None:

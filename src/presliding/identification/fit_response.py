@@ -52,7 +52,6 @@ from presliding.identification._model_spec import DENSITIES, ModelSpec
 from presliding.identification._pooled_start import pooled_start
 from presliding.identification._response_checks import (
     bound_check,
-    cost,
     escape_corner,
     polish_initial_velocity,
     rigid_check,
@@ -73,6 +72,12 @@ from presliding.identification._response_setup import (
     signal_weights,
     with_penalty,
 )
+from presliding.identification._search import (
+    SearchSummary,
+    floor_test,
+    global_start,
+)
+from presliding.identification._search import multistart as run_starts
 from presliding.identification.fit_presliding import check_enough, element_count
 from presliding.identification.fit_result import FitResult, Tie, solve_least_squares
 from presliding.identification.measurement import Measurement
@@ -271,7 +276,9 @@ def fit_response(
         start[problem.nuisance("initial_position", i)] = float(rec.position[0])
         start[problem.nuisance("initial_velocity", i)] = float(rec.velocity[0])
         if initial_state == "preload":
-            start[problem.nuisance("preload_fraction", i)] = 1.0 if rec.velocity[0] else 0.0
+            start[problem.nuisance("preload_fraction", i)] = (
+                float(problem.direction[i]) if rec.velocity[0] else 0.0
+            )
     for key, val in dict(initial or {}).items():
         if key not in names:
             raise ValueError(f"`initial` must name parameters of the fit; got {key!r}.")
@@ -317,12 +324,15 @@ def fit_response(
         {"coulomb", *spec.k_names, *spec.c_names} & shaped)  # fmt: skip
     starts = [start] + ([spread_start(start, spec.k_names)] if search and discrete_equal else [])
     large = problem.n_rec > 1 or problem.n_res * (len(names) - len(fixed)) ** 2 > LARGE_PROBLEM
-    if len(starts) > 1 and large:  # compare the starts after a few steps, refine the best
-        short = min(max_evaluations, 12 + 2 * len(problem.shared))
-        best = min((solve(s, max_evaluations=short) for s in starts), key=cost)
-        sol = solve(best.values if np.isfinite(cost(best)) else start)
-    else:
-        sol = min((solve(s) for s in starts), key=cost)
+    short = min(max_evaluations, 12 + 2 * len(problem.shared))
+    if multistart and not tied:
+        shown.stage("search: the shared parameters' global start")
+        extra, count = global_start(problem, start, fixed, box)
+        evaluations[0] += count
+        starts += [{x: e[x] for x in names} for e in extra]
+    shown.stage(f"search: {len(starts)} start(s), each record's own parameters searched")
+    sol, n_starts, at_best, count = run_starts(problem, solve, starts, fixed, box, short)
+    evaluations[0] += count
     if search and discrete_equal:
         shown.stage("checks: a rigid stiffest element, coalesced elements")
         sol = escape_corner(sol, solve, spec.k_names)
@@ -365,5 +375,8 @@ def fit_response(
         settings = {**options, "fixed": fixed}
         sol, boot, count = record_bootstrap(sol, problem, settings, bootstrap, seed)
         evaluations[0] += count
+    sol, ratios, floor, over = floor_test(problem, sol)
     sol = replace(sol, n_evaluations=evaluations[0])
-    return response_result(sol, problem, spec, pruned, notes, boot, per_unit_mass, signal)
+    summary = SearchSummary(n_starts, at_best, floor, over, ratios, count)
+    result = response_result(sol, problem, spec, pruned, notes, boot, per_unit_mass, signal)
+    return replace(result, search=summary)

@@ -160,6 +160,7 @@ class FitResult:
     at_bounds: tuple[str, ...] = ()
     units: dict[str, str] = field(default_factory=dict)
     bounds: dict[str, tuple[float, float]] = field(default_factory=dict)
+    search: Any = None  # the pooled fits' `_search.SearchSummary` (starts, noise floor, order)
 
     @classmethod
     def from_solution(
@@ -188,6 +189,16 @@ class FitResult:
             message=message, n_evaluations=sol.n_evaluations, at_bounds=sol.at_bounds,
             units=units, covariance=sol.covariance, bounds=sol.bounds, **labels,
         )  # fmt: skip
+
+    @property
+    def n_starts(self) -> int | None:
+        """Starts of the shared parameters the search ran (pooled fits; None otherwise)."""
+        return None if self.search is None else self.search.n_starts
+
+    @property
+    def n_starts_at_best(self) -> int | None:
+        """How many of those starts reached the best optimum (pooled fits; None otherwise)."""
+        return None if self.search is None else self.search.n_starts_at_best
 
     @property
     def nfev(self) -> int:
@@ -326,6 +337,7 @@ class FitResult:
             f"explained variance {100 * (1 - self.relative_residual**2):.3f} %",
             f"model: {self.model!r}",
         ]
+        lines += self.search.lines() if self.search is not None else []
         lines += [f"note: {n}" for n in self.notes]
         if self.cross_validation is not None:
             lines += ["", self.cross_validation.report()]

@@ -1,0 +1,196 @@
+"""The search step of the pooled fits: several starts, nuisance search, the noise-floor test.
+
+`multistart` runs every start of the shared parameters through the same
+stages: each record's own parameters searched globally with the shared ones
+held (`_nuisance_search`), a short solve of everything, the nuisance search
+again (alternation) and, when it found better blocks, another short solve. The
+starts that end within a factor 1.2 of the best are solved to convergence; the
+best is the answer, and the number of starts that reached it (cost within
+0.1 %) is reported.
+
+The starts: the regression start and the spread start the caller gives, and
+the best two of a cheap global search (`global_start`): the regression
+start with its mass alone or its forces alone scaled (eq. 17's scale is the
+least determined direction), and random log-normal perturbations of all its
+shared parameters, each scored by the nuisance grid alone (one batched
+compiled call per candidate).
+
+Noise floor (`_noise_floor`). The rule: a fit the solver calls converged
+whose pooled residual RMS is more than `FLOOR_FACTOR` times the floor
+estimated from the data, while at least one record is fitted within that
+factor of its own floor (so the model family reaches the floor on these
+data), is a ``"local_minimum"``; the message names the records furthest
+above their floors.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, replace
+from typing import Any
+
+import numpy as np
+
+from presliding.identification._least_squares import Solution
+from presliding.identification._noise_floor import floor_ratios, record_floors
+from presliding.identification._nuisance_search import search_nuisance
+from presliding.identification._pooled_problem import PooledProblem
+
+#: residual RMS over the noise floor above which a fit is not at the floor
+FLOOR_FACTOR = 3.0
+#: relative cost within which two starts reached the same optimum
+SAME_OPTIMUM = 1e-3
+#: starts whose short solve ends within this factor of the best are solved to convergence
+REFINE_WITHIN = 1.2
+#: candidates of the cheap global search of the shared parameters
+GLOBAL_CANDIDATES = 12
+#: spread (log-normal σ) of those candidates around the regression start
+GLOBAL_SPREAD = 0.6
+#: factors of the structured candidates
+GLOBAL_SCALES = (0.5, 0.7, 1.4, 2.0, 2.8)
+
+
+@dataclass(frozen=True)
+class SearchSummary:
+    """What the search did and how the best residual compares with the noise floor."""
+
+    n_starts: int
+    n_starts_at_best: int
+    noise_floor: float  # RMS of the weighted residual that the noise alone leaves
+    residual_over_floor: float  # pooled residual RMS / noise floor
+    record_ratios: tuple[float, ...]  # each record's residual RMS over its floor
+    search_evaluations: int = 0  # residual evaluations of the nuisance searches
+    order_table: tuple[tuple[int, float, float, str], ...] = ()  # (N, cost, BIC, note)
+    chosen_order: int | None = None
+
+    def lines(self) -> list[str]:
+        """Report lines."""
+        out = [
+            f"search: {self.n_starts_at_best} of {self.n_starts} start(s) reached the best "
+            f"optimum; residual RMS {self.residual_over_floor:.3g} × the noise floor estimated "
+            f"from the data",
+        ]
+        if self.order_table:
+            out.append("model order (n_elements='auto', by BIC):")
+            out.append(f"  {'N':>3} {'cost ‖r‖²':>14} {'BIC':>14}")
+            for n, c, bic, note in self.order_table:
+                mark = "  <- chosen" if n == self.chosen_order else ""
+                out.append(f"  {n:>3} {c:>14.6g} {bic:>14.6g}{mark}{'  ' + note if note else ''}")
+        return out
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "n_starts": self.n_starts,
+            "n_starts_at_best": self.n_starts_at_best,
+            "noise_floor": self.noise_floor,
+            "residual_over_floor": self.residual_over_floor,
+            "record_ratios": list(self.record_ratios),
+            "order_table": [list(row) for row in self.order_table],
+            "chosen_order": self.chosen_order,
+        }
+
+
+def cost(sol: Solution) -> float:
+    c = float(sol.residual @ sol.residual) if sol.status != "failed" else np.inf
+    return c if np.isfinite(c) else np.inf
+
+
+def global_start(
+    problem: PooledProblem,
+    start: Mapping[str, float],
+    fixed: Mapping[str, float],
+    bounds: Mapping[str, tuple[float, float]],
+    seed: int = 0,
+    keep: int = 2,
+) -> tuple[list[dict[str, float]], int]:
+    """The `keep` best of random perturbations of the start's shared parameters (module notes)."""
+    rng = np.random.default_rng(seed)
+    scored: list[tuple[float, dict[str, float]]] = []
+    count = 0
+    movable = [x for x in problem.shared if x not in fixed and x != "offset" and start[x] > 0]
+    forces = [x for x in movable if x != "mass"]
+    factors = []  # structured: the mass alone, the forces alone (the scale of eq. 17)
+    for scale in GLOBAL_SCALES:
+        factors.append({"mass": scale} if "mass" in movable else {})
+        factors.append(dict.fromkeys(forces, scale))
+    for _ in range(GLOBAL_CANDIDATES):  # and random log-normal ones
+        factors.append({x: float(np.exp(GLOBAL_SPREAD * rng.standard_normal())) for x in movable})
+    for factor in factors:
+        if not factor:
+            continue
+        cand = dict(start)
+        for x, f in factor.items():
+            lo, hi = bounds.get(x, (-np.inf, np.inf))
+            cand[x] = float(np.clip(start[x] * f, lo, hi))
+        if problem.spec.has_level_parameter and "coulomb" in cand:
+            cand["coulomb"] = min(cand["coulomb"], 0.95 * cand["coulomb_level"])
+        values, c, ev = search_nuisance(problem, cand, fixed, bounds, polish=False)
+        count += ev
+        if np.isfinite(c):
+            scored.append((c, values))
+    scored.sort(key=lambda item: item[0])
+    return [v for _, v in scored[:keep]], count
+
+
+def multistart(
+    problem: PooledProblem,
+    solve: Callable[..., Solution],
+    starts: list[dict[str, float]],
+    fixed: Mapping[str, float],
+    bounds: Mapping[str, tuple[float, float]],
+    short: int,
+) -> tuple[Solution, int, int, int]:
+    """The best solution over `starts` (module notes).
+
+    Returns it, the number of starts, how many reached it, and the residual
+    evaluations of the nuisance searches.
+    """
+    evaluations = 0
+
+    def alternate(sol: Solution, limit: int | None) -> Solution:
+        nonlocal evaluations
+        for _ in range(2):
+            if sol.status == "failed":
+                return sol
+            values, c, ev = search_nuisance(problem, sol.values, fixed, bounds, polish=False)
+            evaluations += ev
+            if not c < cost(sol) * (1.0 - SAME_OPTIMUM):
+                break
+            sol = solve(values, max_evaluations=limit) if limit else solve(values)
+        return sol
+
+    tries = []
+    for s in starts:
+        values, _, ev = search_nuisance(problem, s, fixed, bounds, polish=False)
+        evaluations += ev
+        tries.append(alternate(solve(values, max_evaluations=short), short))
+    lowest = min(cost(t) for t in tries)
+    finals = []
+    for t in tries:
+        if np.isfinite(cost(t)) and cost(t) <= REFINE_WITHIN * lowest:
+            finals.append(alternate(solve(t.values), None))
+        else:
+            finals.append(t)
+    best = min(finals, key=cost)
+    target = cost(best)
+    at_best = sum(1 for f in finals if cost(f) <= target * (1.0 + SAME_OPTIMUM) + 1e-300)
+    return best, len(starts), at_best, evaluations
+
+
+def floor_test(problem: PooledProblem, sol: Solution) -> tuple[Solution, tuple, float, float]:
+    """The noise-floor rule (module notes): the status, and the ratios it rests on."""
+    ratios, pooled = floor_ratios(problem, sol.residual)
+    sizes = np.array([problem.record_rows(i).shape[0] for i in range(problem.n_rec)])
+    floor = float(np.sqrt(np.sum(record_floors(problem) * sizes) / np.sum(sizes)))
+    reach = bool(np.any(ratios <= FLOOR_FACTOR))
+    if sol.status == "converged" and pooled > FLOOR_FACTOR and reach:
+        worst = [int(i) for i in np.argsort(-ratios) if ratios[i] > FLOOR_FACTOR]
+        named = ", ".join(f"{i + 1} ({ratios[i]:.3g}×)" for i in worst[:5])
+        more = f" and {len(worst) - 5} more" if len(worst) > 5 else ""
+        message = (
+            f"local minimum: the residual RMS is {pooled:.3g} times the noise floor estimated "
+            f"from the data (rule: more than {FLOOR_FACTOR:g} times while some records are "
+            f"fitted within it); record(s) {named}{more} do not fit"
+        )
+        sol = replace(sol, status="local_minimum", message=message)
+    return sol, tuple(float(r) for r in ratios), floor, pooled
