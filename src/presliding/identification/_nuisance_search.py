@@ -15,9 +15,10 @@ for some records. `search_nuisance` therefore
    batched compiled call (`PooledProblem.residuals`); the initial position,
    which shifts a record's positions only, is set in closed form per candidate
    (the mean of the position residual);
-2. keeps, per record, the candidate of the lowest cost of that record;
-3. polishes all records' blocks together with the shared parameters held
-   (Levenberg–Marquardt on the block-diagonal normal equations).
+2. ranks, per record, the candidates by that record's cost;
+3. polishes the best three ranks (all records' blocks of one rank together,
+   the shared parameters held: Levenberg–Marquardt on the block-diagonal
+   normal equations) and keeps, per record, the best polished block.
 
 The result is never worse than the values it started from.
 """
@@ -37,6 +38,8 @@ FloatArray = NDArray[np.float64]
 
 #: preload fractions of the grid (both ends: saturated in either direction)
 FRACTIONS = np.linspace(-1.0, 1.0, 11)
+#: candidates of each record polished (the best ranks of the grid)
+POLISHED = 3
 #: residual evaluations of the polish (per call, all records together)
 POLISH_EVALUATIONS = 40
 
@@ -125,27 +128,43 @@ def search_nuisance(
     _shift_positions(problem, sets, res, free_y0)
     costs = record_costs(problem, res)
     costs[~np.isfinite(costs)] = np.inf
-    best = np.argmin(costs, axis=0)
-    chosen = sets[0].copy()
-    per = len(problem.shared)
-    width = len(problem.kinds)
+    ranked = np.argsort(costs, axis=0, kind="stable")[: min(POLISHED, costs.shape[0])]
+    per, width = len(problem.shared), len(problem.kinds)
+    evaluations = sets.shape[0]
+    blocks = []  # (per-record costs (R,), full vector) of each polished rank
+    for rank in range(ranked.shape[0] if polish else 1):
+        chosen = sets[0].copy()
+        for i in range(problem.n_rec):
+            cols = slice(per + i * width, per + (i + 1) * width)
+            chosen[cols] = sets[ranked[rank, i], cols]
+        rec_costs = costs[ranked[rank], np.arange(problem.n_rec)]
+        if polish and np.all(np.isfinite(rec_costs)):
+            chosen, rec_costs, ev = _polish(problem, chosen, free, bounds, rec_costs)
+            evaluations += ev
+        blocks.append((rec_costs, chosen))
+    out_vec = blocks[0][1].copy()
+    total = 0.0
     for i in range(problem.n_rec):
         cols = slice(per + i * width, per + (i + 1) * width)
-        chosen[cols] = sets[best[i], cols]
-    total = float(np.sum(costs[best, np.arange(problem.n_rec)]))
-    evaluations = sets.shape[0]
-    out = dict(zip(problem.names, chosen.tolist(), strict=True))
-    if not np.isfinite(total):
-        return values, _cost(res[0]), evaluations
-    if not polish:
-        return out, total, evaluations
-    held = {x: out[x] for x in problem.names if x not in free}
+        m = int(np.argmin([b[0][i] for b in blocks]))
+        out_vec[cols] = blocks[m][1][cols]
+        total += float(blocks[m][0][i])
+    base = _cost(res[0])
+    if not np.isfinite(total) or total > base:
+        return values, base, evaluations
+    return dict(zip(problem.names, out_vec.tolist(), strict=True)), total, evaluations
+
+
+def _polish(problem: PooledProblem, vec: FloatArray, free: set[str],
+            bounds: Mapping[str, tuple[float, float]], rec_costs: FloatArray) -> tuple:  # fmt: skip
+    """Every record's block polished together, the shared parameters held (LM)."""
+    held = {x: float(v) for x, v in zip(problem.names, vec, strict=True) if x not in free}
     pm = _parameter_map(tuple(problem.names), held, {})
     flo = np.array([bounds.get(x, (-np.inf, np.inf))[0] for x in pm.free])
     fhi = np.array([bounds.get(x, (-np.inf, np.inf))[1] for x in pm.free])
     jac = problem.free_jacobian(sparse_output=True)
     fun = problem.residual()
-    x0 = np.array([out[x] for x in pm.free])
+    x0 = np.array([vec[problem.index[x]] for x in pm.free])
     try:
         lm = levenberg_marquardt(
             lambda x: fun(pm.full(x)), lambda x: jac(pm, x, flo, fhi), x0, flo, fhi,
@@ -153,13 +172,16 @@ def search_nuisance(
             step_limit=free_limit(pm, problem.step_limit),
         )  # fmt: skip
     except (ValueError, np.linalg.LinAlgError, FloatingPointError):
-        return out, total, evaluations
-    evaluations += lm.nfev
-    polished = float(lm.fun @ lm.fun)
-    if polished < total:
-        out = dict(zip(problem.names, pm.full(lm.x).tolist(), strict=True))
-        total = polished
-    return out, total, evaluations
+        return vec, rec_costs, 0
+    polished = record_costs(problem, lm.fun[None])[0]
+    better = polished < rec_costs
+    out = vec.copy()
+    full = pm.full(lm.x)
+    per, width = len(problem.shared), len(problem.kinds)
+    for i in np.flatnonzero(better):
+        cols = slice(per + i * width, per + (i + 1) * width)
+        out[cols] = full[cols]
+    return out, np.where(better, polished, rec_costs), lm.nfev
 
 
 def _cost(r: FloatArray) -> float:

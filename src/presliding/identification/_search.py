@@ -4,9 +4,11 @@
 stages: each record's own parameters searched globally with the shared ones
 held (`_nuisance_search`), a short solve of everything, the nuisance search
 again (alternation) and, when it found better blocks, another short solve. The
-starts that end within a factor 1.2 of the best are solved to convergence; the
-best is the answer, and the number of starts that reached it (cost within
-0.1 %) is reported.
+best start is then solved to convergence; every other start that ended
+within a factor 1.2 of it is solved on (three short budgets), unless its
+shared parameters already agree with the best's to 1 % (the same basin).
+The best is the answer, and the number of starts that reached it (cost
+within 0.1 %, or the same basin) is reported.
 
 The starts: the regression start and the spread start the caller gives, and
 the best two of a cheap global search (`global_start`): the regression
@@ -19,8 +21,10 @@ Noise floor (`_noise_floor`). The rule: a fit the solver calls converged
 whose pooled residual RMS is more than `FLOOR_FACTOR` times the floor
 estimated from the data, while at least one record is fitted within that
 factor of its own floor (so the model family reaches the floor on these
-data), is a ``"local_minimum"``; the message names the records furthest
-above their floors.
+data) or the starts did not all reach the best optimum (the cost has
+several minima there), is a ``"local_minimum"``; the message names the
+records furthest above their floors. Otherwise a fit far above the floor
+keeps its status, with a note that the model may not describe the data.
 """
 
 from __future__ import annotations
@@ -40,6 +44,10 @@ from presliding.identification._pooled_problem import PooledProblem
 FLOOR_FACTOR = 3.0
 #: relative cost within which two starts reached the same optimum
 SAME_OPTIMUM = 1e-3
+#: shared parameters within this relative distance after the short solves: one basin
+SAME_POINT = 0.01
+#: evaluations of another start's solve on, in short budgets (the best is solved fully)
+OTHER_BUDGET = 3
 #: starts whose short solve ends within this factor of the best are solved to convergence
 REFINE_WITHIN = 1.2
 #: candidates of the cheap global search of the shared parameters
@@ -161,28 +169,44 @@ def multistart(
 
     tries = []
     for s in starts:
-        values, _, ev = search_nuisance(problem, s, fixed, bounds, polish=False)
+        values, _, ev = search_nuisance(problem, s, fixed, bounds)
         evaluations += ev
         tries.append(alternate(solve(values, max_evaluations=short), short))
-    lowest = min(cost(t) for t in tries)
-    finals = []
-    for t in tries:
-        if np.isfinite(cost(t)) and cost(t) <= REFINE_WITHIN * lowest:
-            finals.append(alternate(solve(t.values), None))
-        else:
-            finals.append(t)
-    best = min(finals, key=cost)
+    order = sorted(range(len(tries)), key=lambda j: cost(tries[j]))
+    lead = tries[order[0]]
+    best = alternate(solve(lead.values), None)
+    finals = {order[0]: best}
+    for j in order[1:]:  # the others: the same basin as the best, or solved on
+        t = tries[j]
+        if not (np.isfinite(cost(t)) and cost(t) <= REFINE_WITHIN * cost(lead)):
+            continue
+        if _same_point(problem, t.values, lead.values):
+            finals[j] = best
+            continue
+        finals[j] = solve(t.values, max_evaluations=OTHER_BUDGET * short)
+        if cost(finals[j]) < cost(best):
+            best = finals[j]
     target = cost(best)
-    at_best = sum(1 for f in finals if cost(f) <= target * (1.0 + SAME_OPTIMUM) + 1e-300)
+    at_best = sum(1 for f in finals.values() if cost(f) <= target * (1.0 + SAME_OPTIMUM) + 1e-300)
     return best, len(starts), at_best, evaluations
 
 
-def floor_test(problem: PooledProblem, sol: Solution) -> tuple[Solution, tuple, float, float]:
+def _same_point(problem: PooledProblem, a: Mapping[str, float], b: Mapping[str, float]) -> bool:
+    """Whether two solutions' shared parameters agree to `SAME_POINT` (one basin)."""
+    for x in problem.shared:
+        scale = max(abs(a[x]), abs(b[x]), 1e-300)
+        if abs(a[x] - b[x]) > SAME_POINT * scale:
+            return False
+    return True
+
+
+def floor_test(problem: PooledProblem, sol: Solution,
+               starts_agree: bool = True) -> tuple[Solution, tuple, float, float]:  # fmt: skip
     """The noise-floor rule (module notes): the status, and the ratios it rests on."""
     ratios, pooled = floor_ratios(problem, sol.residual)
     sizes = np.array([problem.record_rows(i).shape[0] for i in range(problem.n_rec)])
     floor = float(np.sqrt(np.sum(record_floors(problem) * sizes) / np.sum(sizes)))
-    reach = bool(np.any(ratios <= FLOOR_FACTOR))
+    reach = bool(np.any(ratios <= FLOOR_FACTOR)) or not starts_agree
     if sol.status == "converged" and pooled > FLOOR_FACTOR and reach:
         worst = [int(i) for i in np.argsort(-ratios) if ratios[i] > FLOOR_FACTOR]
         named = ", ".join(f"{i + 1} ({ratios[i]:.3g}×)" for i in worst[:5])
@@ -190,7 +214,7 @@ def floor_test(problem: PooledProblem, sol: Solution) -> tuple[Solution, tuple, 
         message = (
             f"local minimum: the residual RMS is {pooled:.3g} times the noise floor estimated "
             f"from the data (rule: more than {FLOOR_FACTOR:g} times while some records are "
-            f"fitted within it); record(s) {named}{more} do not fit"
+            f"fitted within it or the starts ended apart); record(s) {named}{more} fit worst"
         )
         sol = replace(sol, status="local_minimum", message=message)
     return sol, tuple(float(r) for r in ratios), floor, pooled

@@ -41,6 +41,7 @@ from presliding.identification._model_spec import DENSITIES, ModelSpec
 from presliding.identification._quasi_static_problem import QuasiStaticProblem
 from presliding.identification._response_checks import (
     bound_check,
+    consistent_level,
     cost,
     split_coalesced,
     spread_start,
@@ -52,8 +53,9 @@ from presliding.identification._response_setup import (
     check_quasi_static_records,
     nuisance_only,
     record_bootstrap,
-    record_starts,
 )
+from presliding.identification._search import SearchSummary, floor_test, global_start
+from presliding.identification._search import multistart as run_starts
 from presliding.identification.fit_presliding import check_enough, element_count
 from presliding.identification.fit_result import FitResult, Tie, solve_least_squares
 from presliding.identification.measurement import Measurement
@@ -224,8 +226,8 @@ def fit_quasi_static(
                                "progress": as_reporter(progress)}  # fmt: skip
     evaluations = [0]
 
-    def solve(begin: dict[str, float], limit: int | None = None) -> Any:
-        opts = {**options, "max_evaluations": limit or options["max_evaluations"]}
+    def solve(begin: dict[str, float], max_evaluations: int | None = None) -> Any:
+        opts = {**options, "max_evaluations": max_evaluations or options["max_evaluations"]}
         out = solve_least_squares(
             problem.residual(), begin, fixed=fixed, free_jacobian=problem.free_jacobian(),
             blocks=[rows for _, rows in problem.rows], residual_size=problem.n_res,
@@ -236,10 +238,9 @@ def fit_quasi_static(
         return out
 
     # the residual is far from convex in the records' preloads, in c1 against the
-    # stiffest element and in the element split: from the regression start and spread
-    # ones (the records' own starts fitted one by one for each), a few steps each; the
-    # best is refined, the records' own starts fitted again with its shared values
-    own = initial_state == "preload" and not any(x in fixed or x in tied for x in names)
+    # stiffest element and in the element split: the regression start, spread ones and
+    # the best of a global search, each record's own parameters searched with the
+    # shared ones held, alternating with the solve of everything (`_search`)
     shaped = set(spec.k_names) & (set(fixed) | set(tied))
     starts = [start]
     if density is None and equal_breakaway and spec.n > 1 and not shaped:
@@ -249,18 +250,22 @@ def fit_quasi_static(
             starts += [
                 {**spread, "coulomb": share * spread["coulomb_level"]} for share in (0.1, 0.4)
             ]
+    if not tied:
+        extra, count = global_start(problem, start, fixed, box, keep=1)
+        evaluations[0] += count
+        starts += [{x: e[x] for x in names} for e in extra]
     short = min(max_evaluations, 40)
-    tries = [solve(record_starts(problem, s) if own else s, short) for s in starts]
-    best = min(tries, key=cost)
-    begin = best.values if np.isfinite(cost(best)) else start
-    sol = solve(record_starts(problem, begin) if own else begin)
+    sol, n_starts, at_best, count = run_starts(problem, solve, starts, fixed, box, short)
+    evaluations[0] += count
     if density is None and equal_breakaway and not shaped:
         sol = split_coalesced(sol, solve, spec.k_names)
         sol = stiffest_first(sol, spec.k_names)
     sol = replace(sol, n_evaluations=evaluations[0])
     sol = bound_check(sol, {**start, "mass": 1.0}, names, fixed, tied,
                       equal_breakaway and density is None)  # fmt: skip
-    sol = nuisance_only(sol, problem, fixed)
+    sol = consistent_level(nuisance_only(sol, problem, fixed), spec)
+    sol, ratios, noise, over = floor_test(problem, sol, at_best == n_starts)
+    summary = SearchSummary(n_starts, at_best, noise, over, ratios, count)
     count, boot = sol.n_evaluations, None
     if bootstrap and len(recs) >= 3 and np.isfinite(cost(sol)):
         sol, boot, extra = record_bootstrap(sol, problem, {**options, "fixed": fixed},
@@ -292,4 +297,4 @@ def fit_quasi_static(
                 "`min_coulomb_level`): the loops do not determine it")  # fmt: skip
         result = replace(result, notes=(note,))
     return replace(result, records=spans if problem.n_rec > 1 else (), bootstrap=boot,
-                   predictor=QuasiStaticPredictor(problem, values))  # fmt: skip
+                   predictor=QuasiStaticPredictor(problem, values), search=summary)  # fmt: skip

@@ -52,6 +52,7 @@ from presliding.identification._model_spec import DENSITIES, ModelSpec
 from presliding.identification._pooled_start import pooled_start
 from presliding.identification._response_checks import (
     bound_check,
+    consistent_level,
     escape_corner,
     polish_initial_velocity,
     rigid_check,
@@ -225,6 +226,12 @@ def fit_response(
     n = element_count(n_elements, None, 4)
     if density == "piecewise_constant" and n < 1:
         raise ValueError(f"`n_elements` (the cells of the density) must be >= 1; got {n}.")
+    if n == 0 and density is None:  # Coulomb (+ viscous) friction: F_c = c1, one parameter
+        equal_breakaway = False
+        if coulomb_level is not None:
+            fixed_level = as_positive_scalar("coulomb_level", coulomb_level)
+            fixed = {**dict(fixed or {}), "coulomb": fixed_level}
+            coulomb_level = None
     if coulomb_level is not None and (not equal_breakaway or density is not None):
         raise ValueError(
             "`coulomb_level` can be given only with equal_breakaway=True and elements; got "
@@ -351,7 +358,7 @@ def fit_response(
         sol = rigid_check(sol, capped, problem, names, fixed, tied, level,
                           refine=solve if large else None)  # fmt: skip
     sol = bound_check(sol, start, names, fixed, tied, equal_breakaway and density is None)
-    sol = nuisance_only(sol, problem, fixed)
+    sol = consistent_level(nuisance_only(sol, problem, fixed), spec)
     notes = [PER_UNIT_MASS] if per_unit_mass else []
     pruned = prune_elements(problem, sol, spec)
     if prune and pruned.dead and density is None and spec.n - len(pruned.dead) >= 0:
@@ -375,7 +382,7 @@ def fit_response(
         settings = {**options, "fixed": fixed}
         sol, boot, count = record_bootstrap(sol, problem, settings, bootstrap, seed)
         evaluations[0] += count
-    sol, ratios, floor, over = floor_test(problem, sol)
+    sol, ratios, floor, over = floor_test(problem, sol, at_best == n_starts)
     sol = replace(sol, n_evaluations=evaluations[0])
     summary = SearchSummary(n_starts, at_best, floor, over, ratios, count)
     result = response_result(sol, problem, spec, pruned, notes, boot, per_unit_mass, signal)
