@@ -1,7 +1,7 @@
 """The search step of the pooled fits: several starts, nuisance search, the noise-floor test.
 
-`multistart` runs every start of the shared parameters through the same
-stages: each record's own parameters searched globally with the shared ones
+`multistart` runs every start of the shared parameters (the first also as
+given) through the same stages: each record's own parameters searched globally with the shared ones
 held (`_nuisance_search`), a short solve of everything, the nuisance search
 again (alternation) and, when it found better blocks, another short solve. The
 best start is then solved to convergence; every other start that ended
@@ -168,10 +168,12 @@ def multistart(
         return sol
 
     tries = []
-    for s in starts:
+    for j, s in enumerate(starts):
         values, _, ev = search_nuisance(problem, s, fixed, bounds)
         evaluations += ev
         tries.append(alternate(solve(values, max_evaluations=short), short))
+        if j == 0:  # the regression start as given, too (the search's paths differ)
+            tries.append(alternate(solve(dict(s), max_evaluations=short), short))
     order = sorted(range(len(tries)), key=lambda j: cost(tries[j]))
     lead = tries[order[0]]
     best = alternate(solve(lead.values), None)
@@ -188,7 +190,7 @@ def multistart(
             best = finals[j]
     target = cost(best)
     at_best = sum(1 for f in finals.values() if cost(f) <= target * (1.0 + SAME_OPTIMUM) + 1e-300)
-    return best, len(starts), at_best, evaluations
+    return best, len(tries), at_best, evaluations
 
 
 def _same_point(problem: PooledProblem, a: Mapping[str, float], b: Mapping[str, float]) -> bool:
