@@ -48,6 +48,7 @@ from presliding.identification._least_squares import (
     check_constraints,
     check_options,
 )
+from presliding.identification._model_order import choose_order
 from presliding.identification._model_spec import DENSITIES, ModelSpec
 from presliding.identification._pooled_start import pooled_start
 from presliding.identification._response_checks import (
@@ -105,7 +106,7 @@ STATES = ("saturated", "preload", "relaxed")
 @shows_progress("fit_response")
 def fit_response(
     records: Measurement | Sequence[Measurement],
-    n_elements: int = 4,
+    n_elements: int | str = 4,
     equal_breakaway: bool = True,
     mass: float | None = None,
     *,
@@ -142,9 +143,12 @@ def fit_response(
         Measurement the per-record parameters have no suffix; with a sequence
         they are ``initial_position_i``, ``initial_velocity_i`` and
         ``preload_fraction_i`` (i from 1).
-    n_elements : int
+    n_elements : int or "auto"
         Number N of elasto-plastic elements (the paper: 4); with
         ``density="piecewise_constant"`` the number of cells of the density.
+        ``"auto"``: N = 0..4 by the Bayesian information criterion, elements
+        the data cannot reach dropped (`_model_order`; the table is in
+        ``result.search.order_table`` and the report).
     equal_breakaway : bool
         ``coulomb_level`` F_c, ``coulomb`` c1, ``stiffness_j`` with
         c_j = (F_c − c1)/N (the paper's choice); False: ``coulomb``,
@@ -215,6 +219,23 @@ def fit_response(
         ranges), with the HAC `covariance`, `correlation`, `nfev`, the
         bootstrap when it ran, and `predict` for other records.
     """
+    if isinstance(n_elements, str):
+        if n_elements != "auto":
+            raise ValueError(f"`n_elements` must be a count or 'auto'; got {n_elements!r}.")
+        if density is not None:
+            raise ValueError("`n_elements='auto'` chooses a number of elements; got a density.")
+        return choose_order(fit_response, {
+            "records": records, "equal_breakaway": equal_breakaway, "mass": mass,
+            "coulomb_level": coulomb_level, "min_coulomb_level": min_coulomb_level,
+            "viscous": viscous, "offset": offset, "signal": signal, "weights": weights,
+            "initial_state": initial_state, "fit_initial": fit_initial, "bounds": bounds,
+            "bootstrap": bootstrap, "seed": seed, "level": level,
+            "max_evaluations": max_evaluations, "tolerance": tolerance,
+            "multistart": multistart, "progress": progress,
+            **{label: {x: v for x, v in dict(given or {}).items()  # element names vary with N
+                       if not x.startswith(("stiffness_", "breakaway_"))}
+               for label, given in (("initial", initial), ("fixed", fixed), ("tied", tied))},
+        })  # fmt: skip
     single = isinstance(records, Measurement)
     shown = as_reporter(progress)
     recs = check_records(records, signal, SIGNALS)
