@@ -42,7 +42,9 @@ def bic(result: Any) -> tuple[float, float]:
 def choose_order(fit: Callable[..., Any], options: dict[str, Any],
                  max_elements: int = MAX_ELEMENTS, minimum: int = 0) -> Any:  # fmt: skip
     """The fit of the order of smallest BIC, with the table of every order (module notes)."""
-    rows, candidates, result = [], [], None
+    rows: list[tuple] = []
+    candidates: list[tuple] = []
+    result: Any = None
     for n in range(minimum, max_elements + 1):
         result = fit(**{**options, "n_elements": n, "prune": n > 0})
         kept = _elements(result)

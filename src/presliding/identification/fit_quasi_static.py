@@ -268,9 +268,9 @@ def fit_quasi_static(
     summary = SearchSummary(n_starts, at_best, noise, over, ratios, count)
     count, boot = sol.n_evaluations, None
     if bootstrap and len(recs) >= 3 and np.isfinite(cost(sol)):
-        sol, boot, extra = record_bootstrap(sol, problem, {**options, "fixed": fixed},
-                                            bootstrap, seed)  # fmt: skip
-        count += extra
+        sol, boot, more = record_bootstrap(sol, problem, {**options, "fixed": fixed},
+                                           bootstrap, seed)  # fmt: skip
+        count += more
     values = sol.values
     full = np.array([values[x] for x in names])
     o_y, _, status, _ = problem.simulate(full)
