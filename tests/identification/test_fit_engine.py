@@ -145,3 +145,12 @@ def test_no_elements_is_coulomb_friction():
     known = fit_response(records, 0, signal="both", coulomb_level=0.5)
     assert known.parameters["coulomb"] == 0.5 and "coulomb" in known.fixed
     assert known.parameters["mass"] == pytest.approx(2.0, rel=1e-6)
+
+
+def test_predict_from_measured_start_follows_a_negative_first_motion():
+    """predict(initial="measured") starts a record saturated in its own first direction."""
+    fit = fit_response(_stop(1.0), 2, signal="both")
+    ahead = fit.predict(_stop(1.0), initial="measured")
+    back = fit.predict(_stop(-1.0), initial="measured")
+    assert back.nrmse == pytest.approx(ahead.nrmse, rel=1e-6, abs=1e-9)
+    assert back.nrmse < 1e-3
