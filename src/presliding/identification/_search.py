@@ -182,7 +182,7 @@ def multistart(
         t = tries[j]
         if not (np.isfinite(cost(t)) and cost(t) <= REFINE_WITHIN * cost(lead)):
             continue
-        if _same_point(problem, t.values, lead.values):
+        if same_point(problem, t.values, lead.values):
             finals[j] = best
             continue
         finals[j] = solve(t.values, max_evaluations=OTHER_BUDGET * short)
@@ -193,7 +193,7 @@ def multistart(
     return best, len(tries), at_best, evaluations
 
 
-def _same_point(problem: PooledProblem, a: Mapping[str, float], b: Mapping[str, float]) -> bool:
+def same_point(problem: PooledProblem, a: Mapping[str, float], b: Mapping[str, float]) -> bool:
     """Whether two solutions' shared parameters agree to `SAME_POINT` (one basin)."""
     for x in problem.shared:
         scale = max(abs(a[x]), abs(b[x]), 1e-300)

@@ -38,6 +38,7 @@ from presliding.identification import _pi_regression as pr
 from presliding.identification._fit_progress import FitProgress, as_reporter, shows_progress
 from presliding.identification._least_squares import check_constraints, check_options
 from presliding.identification._model_spec import DENSITIES, ModelSpec
+from presliding.identification._nuisance_search import search_nuisance
 from presliding.identification._quasi_static_problem import QuasiStaticProblem
 from presliding.identification._response_checks import (
     bound_check,
@@ -53,9 +54,15 @@ from presliding.identification._response_setup import (
     check_quasi_static_records,
     nuisance_only,
     record_bootstrap,
+    record_starts,
 )
-from presliding.identification._search import SearchSummary, floor_test, global_start
-from presliding.identification._search import multistart as run_starts
+from presliding.identification._search import (
+    SAME_OPTIMUM,
+    SearchSummary,
+    floor_test,
+    global_start,
+    same_point,
+)
 from presliding.identification.fit_presliding import check_enough, element_count
 from presliding.identification.fit_result import FitResult, Tie, solve_least_squares
 from presliding.identification.measurement import Measurement
@@ -239,9 +246,11 @@ def fit_quasi_static(
 
     # the residual is far from convex in the records' preloads, in c1 against the
     # stiffest element and in the element split: the regression start, spread ones and
-    # the best of a global search, each record's own parameters searched with the
-    # shared ones held, alternating with the solve of everything (`_search`)
+    # the best of a global search (`_search`), the records' own starts fitted one by one
+    # for each, a few steps each; the best is refined, the records' own starts fitted
+    # again, then searched on the grid of the fit engine (`_nuisance_search`)
     shaped = set(spec.k_names) & (set(fixed) | set(tied))
+    own = initial_state == "preload" and not any(x in fixed or x in tied for x in names)
     starts = [start]
     if density is None and equal_breakaway and spec.n > 1 and not shaped:
         spread = spread_start(start, spec.k_names)
@@ -255,8 +264,18 @@ def fit_quasi_static(
         evaluations[0] += count
         starts += [{x: e[x] for x in names} for e in extra]
     short = min(max_evaluations, 40)
-    sol, n_starts, at_best, count = run_starts(problem, solve, starts, fixed, box, short)
+    tries = [solve(record_starts(problem, s) if own else s, short) for s in starts]
+    best = min(tries, key=cost)
+    begin = best.values if np.isfinite(cost(best)) else start
+    sol = solve(record_starts(problem, begin) if own else begin)
+    values, found, count = search_nuisance(problem, sol.values, fixed, box)  # then the grid
+    if found < cost(sol) * (1.0 - SAME_OPTIMUM):
+        again = solve(values)
+        sol = again if cost(again) < cost(sol) else sol
     evaluations[0] += count
+    n_starts = len(tries)
+    at_best = sum(1 for t in tries if same_point(problem, t.values, sol.values)
+                  or cost(t) <= cost(sol) * (1.0 + SAME_OPTIMUM))  # fmt: skip
     if density is None and equal_breakaway and not shaped:
         sol = split_coalesced(sol, solve, spec.k_names)
         sol = stiffest_first(sol, spec.k_names)
