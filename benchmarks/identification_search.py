@@ -114,9 +114,9 @@ LOOP_TRUTH = {"coulomb_level": 0.5, "coulomb": 0.05, "stiffness_1": 2e4, "stiffn
 
 def random_loop(rng: np.random.Generator, samples: int = 600) -> tuple:
     t = np.linspace(0.0, 4.0, samples)
-    f0 = rng.uniform(-0.8, 0.8) * LOOP_MODEL.max_elastic_force * 0.5
+    f0 = rng.uniform(-0.8, 0.8) * 0.25 * LOOP_MODEL.max_elastic_force  # |u| < F_c = 0.5
     d = rng.choice([-1.0, 1.0])
-    amp = rng.uniform(0.3, 0.4)
+    amp = rng.uniform(0.25, 0.33)
     u = f0 + d * amp * np.sin(np.pi * t) * (1 - 0.1 * t / 4)
     y0 = rng.uniform(-1e-5, 1e-5)
     state = preloaded_state(LOOP_MODEL, f0, direction=-d, position=y0)
