@@ -30,6 +30,7 @@ from presliding.identification import _pooled_kernel as pk
 from presliding.identification import _response_tools as rt
 from presliding.identification._least_squares import _Map
 from presliding.identification._model_spec import TINY, ModelSpec
+from presliding.identification._pooled_banks import banks_one_by_one, element_banks
 from presliding.identification.measurement import Measurement
 from presliding.motion._forcing import as_forcing
 
@@ -194,13 +195,13 @@ class PooledProblem:
         n_par = sets.shape[0]
         col = self.index
         if self.spec.density is None and self.spec.n > 0:  # elements: all sets at once
-            c1_all, k_arr, r_arr = self._banks(sets)
+            c1_all, k_arr, r_arr = element_banks(self.spec, self.index, sets)
             if rigid:  # element 1 rigid-plastic (k_1 → ∞): its c_1 joins c1
                 c1_all = c1_all + k_arr[:, 0] * r_arr[:, 0]
                 k_arr, r_arr = k_arr[:, 1:], r_arr[:, 1:]
             k_arr, r_arr = np.ascontiguousarray(k_arr), np.ascontiguousarray(r_arr)
         else:
-            c1_all, k_arr, r_arr = self._banks_one_by_one(sets, rigid)
+            c1_all, k_arr, r_arr = banks_one_by_one(self.spec, self.names, sets, rigid)
         mass = np.maximum(sets[:, col["mass"]], TINY)
         offset = sets[:, col["offset"]] if "offset" in col else np.zeros(n_par)
         sigma = np.maximum(sets[:, col["viscous"]], 0.0) if "viscous" in col else np.zeros(n_par)
@@ -212,38 +213,6 @@ class PooledProblem:
         else:  # saturated: steady sliding in the direction of the first motion, F_el = d·F_m
             frac = np.repeat(self.direction[None, :], n_par, axis=0)
         return mass, c1_all, sigma, k_arr, r_arr, offset, y0, v0, np.ascontiguousarray(frac)
-
-    def _banks(self, sets: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
-        """c1, k_j and r_j of every parameter set of an element model (as `ModelSpec.bank`)."""
-        spec, col = self.spec, self.index
-        c1 = np.maximum(sets[:, col["coulomb"]], 0.0)
-        k = np.maximum(sets[:, [col[x] for x in spec.k_names]], TINY)
-        if spec.equal:
-            each = np.maximum((sets[:, col["coulomb_level"]] - c1) / spec.n, TINY)
-            c = np.repeat(each[:, None], spec.n, axis=1)
-        else:
-            c = np.maximum(sets[:, [col[x] for x in spec.c_names]], TINY)
-        with np.errstate(over="ignore"):
-            r = np.minimum(c / k, 1e300)
-        return c1, k, r
-
-    def _banks_one_by_one(self, sets: FloatArray, rigid: bool) -> tuple:
-        """c1, k_j and r_j of every parameter set (densities, no elements)."""
-        n_par = sets.shape[0]
-        banks = []
-        for p in range(n_par):
-            q = dict(zip(self.names, sets[p], strict=True))
-            c1, k, r = self.spec.bank(q)
-            if rigid:  # element 1 rigid-plastic (k_1 → ∞): its c_1 joins c1
-                c1, k, r = c1 + k[0] * r[0], k[1:], r[1:]
-            banks.append((c1, k, r))
-        n_el = max(b[1].shape[0] for b in banks)
-        k_arr = np.zeros((n_par, n_el))
-        r_arr = np.ones((n_par, n_el))
-        for p, (_, k, r) in enumerate(banks):
-            k_arr[p, : k.shape[0]], r_arr[p, : r.shape[0]] = k, r
-            r_arr[p, k.shape[0] :] = np.max(r) if r.shape[0] else 1.0
-        return np.array([b[0] for b in banks]), k_arr, r_arr
 
     def simulate(self, sets: FloatArray, rigid: bool = False) -> tuple:
         """Positions, velocities (P, S), status and reversal counts (P, R)."""
