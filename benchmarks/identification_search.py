@@ -192,7 +192,7 @@ def study_mirror() -> None:
               f"of the shared parameters {worst:.2e}")  # fmt: skip
 
 
-def study_speed(repeats: int = 2) -> None:
+def study_speed(repeats: int = 1) -> None:
     import presliding.identification._nuisance_search as ns
 
     records, _, _ = stop_records(0, 20)

@@ -16,7 +16,7 @@ for some records. `search_nuisance` therefore
    which shifts a record's positions only, is set in closed form per candidate
    (the mean of the position residual);
 2. ranks, per record, the candidates by that record's cost;
-3. polishes the best two ranks (all records' blocks of one rank together,
+3. polishes the best three ranks (all records' blocks of one rank together,
    the shared parameters held: Levenberg–Marquardt on the block-diagonal
    normal equations) and keeps, per record, the best polished block.
 
@@ -39,9 +39,9 @@ FloatArray = NDArray[np.float64]
 #: preload fractions of the grid (both ends: saturated in either direction)
 FRACTIONS = np.linspace(-1.0, 1.0, 11)
 #: candidates of each record polished (the best ranks of the grid)
-POLISHED = 2
+POLISHED = 3
 #: residual evaluations of the polish (per call, all records together)
-POLISH_EVALUATIONS = 25
+POLISH_EVALUATIONS = 40
 
 
 def record_costs(problem: PooledProblem, res: FloatArray) -> FloatArray:

@@ -51,7 +51,7 @@ OTHER_BUDGET = 3
 #: starts whose short solve ends within this factor of the best are solved to convergence
 REFINE_WITHIN = 1.2
 #: candidates of the cheap global search of the shared parameters
-GLOBAL_CANDIDATES = 6
+GLOBAL_CANDIDATES = 12
 #: spread (log-normal σ) of those candidates around the regression start
 GLOBAL_SPREAD = 0.6
 #: factors of the structured candidates
