@@ -29,7 +29,7 @@ keeps its status, with a note that the model may not describe the data.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass, replace
 from typing import Any
 
@@ -50,6 +50,10 @@ SAME_POINT = 0.01
 OTHER_BUDGET = 3
 #: starts whose short solve ends within this factor of the best are solved to convergence
 REFINE_WITHIN = 1.2
+#: after their own grid search, records within this many times their floor stop the search
+#: (a record's floor is an estimate: one that the grid cannot bring closer is not a reason
+#: for further shared starts while the pooled residual is at the floor)
+SEARCHED_RECORD_FACTOR = 2.0 * FLOOR_FACTOR
 #: candidates of the cheap global search of the shared parameters
 GLOBAL_CANDIDATES = 12
 #: spread (log-normal σ) of those candidates around the regression start
@@ -191,6 +195,141 @@ def multistart(
     target = cost(best)
     at_best = sum(1 for f in finals.values() if cost(f) <= target * (1.0 + SAME_OPTIMUM) + 1e-300)
     return best, len(tries), at_best, evaluations
+
+
+def at_floor(problem: PooledProblem, sol: Solution, record_factor: float = FLOOR_FACTOR) -> bool:
+    """Whether a solve converged within the floor rule: the pooled residual RMS within
+    `FLOOR_FACTOR` times the floor and every record within `record_factor` times its own."""
+    if sol.status != "converged" or not np.isfinite(cost(sol)):
+        return False
+    ratios, pooled = floor_ratios(problem, sol.residual)
+    return bool(pooled <= FLOOR_FACTOR and np.all(ratios <= record_factor))
+
+
+def unfit_records(problem: PooledProblem, sol: Solution) -> list[int]:
+    """The records whose residual RMS is above `FLOOR_FACTOR` times their own floor."""
+    ratios, _ = floor_ratios(problem, sol.residual)
+    return [i for i in range(problem.n_rec) if not ratios[i] <= FLOOR_FACTOR]
+
+
+def search_records(
+    problem: PooledProblem,
+    values: Mapping[str, float],
+    fixed: Mapping[str, float],
+    bounds: Mapping[str, tuple[float, float]],
+    chosen: list[int],
+) -> tuple[dict[str, float], float, int]:
+    """The nuisance search on the `chosen` records only (the others' blocks kept).
+
+    The chosen records form a sub-problem (`PooledProblem.subset`) so that the
+    batched compiled call simulates them alone. Returns the values, the full
+    cost ‖r‖² (estimated: the others' rows unchanged) and the evaluations.
+    """
+    if not chosen:
+        return dict(values), np.inf, 0
+    if len(chosen) == problem.n_rec:
+        return search_nuisance(problem, values, fixed, bounds)
+    sub = problem.subset([problem.records[i] for i in chosen])
+    rename = {sub.nuisance(k, j): problem.nuisance(k, i)
+              for j, i in enumerate(chosen) for k in problem.kinds}  # fmt: skip
+    back = {x: rename.get(x, x) for x in sub.names}
+    sub_values = {x: values[back[x]] for x in sub.names}
+    sub_fixed = {x: fixed[back[x]] for x in sub.names if back[x] in fixed}
+    sub_bounds = {x: bounds[back[x]] for x in sub.names if back[x] in bounds}
+    sub.set_typical(sub_values)
+    found, c, ev = search_nuisance(sub, sub_values, sub_fixed, sub_bounds)
+    out = dict(values)
+    out.update({back[x]: v for x, v in found.items()})
+    return out, c, ev
+
+
+def adaptive_search(
+    problem: PooledProblem,
+    solve: Callable[..., Solution],
+    start: Mapping[str, float],
+    more_starts: Callable[[], Iterator[tuple[dict[str, float], int]]],
+    fixed: Mapping[str, float],
+    bounds: Mapping[str, tuple[float, float]],
+    short: int,
+    prepare: Callable[[dict[str, float]], dict[str, float]] | None = None,
+) -> tuple[Solution, int, int, int]:
+    """The cheapest route first, further starts only while the fit is above the floor.
+
+    1. The regression start solved once (`prepare` may first set the records'
+       own starts). If it converged with every record within the floor rule
+       (`at_floor`), that is the answer: one start.
+    2. Otherwise the records that do not fit (`unfit_records`) are searched on
+       the nuisance grid (`search_records`, one batched compiled call on those
+       records alone) and everything is solved again, twice at most. After
+       their own search, records within `SEARCHED_RECORD_FACTOR` of their
+       floor count as fitted (the pooled residual must still be within
+       `FLOOR_FACTOR`).
+    3. Only while the fit is still above the floor, the further starts
+       (`more_starts`: produced lazily, with the evaluations they cost) run
+       through the stages of `multistart` (every record's grid search, a short
+       solve, alternation); one that ends within `REFINE_WITHIN` of the best
+       in another basin is solved on and its unfit records searched again. The
+       search stops as soon as the best reaches the floor.
+
+    Returns the best solution, the number of starts run, how many reached
+    the best optimum (cost within `SAME_OPTIMUM` or the same basin), and the
+    residual evaluations of the searches.
+    """
+    evaluations = 0
+    prep = prepare or (lambda v: dict(v))
+
+    def repair(sol: Solution) -> Solution:
+        nonlocal evaluations
+        for k in range(2):
+            factor = FLOOR_FACTOR if k == 0 else SEARCHED_RECORD_FACTOR
+            if sol.status == "failed" or at_floor(problem, sol, factor):
+                return sol
+            bad = unfit_records(problem, sol)
+            if not bad:
+                return sol
+            values, _, ev = search_records(problem, sol.values, fixed, bounds, bad)
+            evaluations += ev
+            again = solve(values)
+            if not cost(again) < cost(sol) * (1.0 - SAME_OPTIMUM):
+                return again if cost(again) < cost(sol) else sol
+            sol = again
+        return sol
+
+    def alternate(sol: Solution) -> Solution:
+        nonlocal evaluations
+        for _ in range(2):
+            if sol.status == "failed":
+                return sol
+            values, c, ev = search_nuisance(problem, sol.values, fixed, bounds, polish=False)
+            evaluations += ev
+            if not c < cost(sol) * (1.0 - SAME_OPTIMUM):
+                break
+            sol = solve(values, max_evaluations=short)
+        return sol
+
+    best = repair(solve(prep(dict(start))))
+    finals = [best]
+    if not at_floor(problem, best, SEARCHED_RECORD_FACTOR):
+        for s, ev in more_starts():
+            evaluations += ev
+            values, _, ev = search_nuisance(problem, prep(dict(s)), fixed, bounds)
+            evaluations += ev
+            t = alternate(solve(values, max_evaluations=short))
+            if (
+                np.isfinite(cost(t))
+                and cost(t) <= REFINE_WITHIN * cost(best)
+                and not same_point(problem, t.values, best.values)
+            ):
+                t = repair(solve(t.values))
+            finals.append(t)
+            if cost(t) < cost(best):
+                best = t
+            if at_floor(problem, best, SEARCHED_RECORD_FACTOR):
+                break
+    target = cost(best)
+    at_best = sum(1 for f in finals if cost(f) <= target * (1.0 + SAME_OPTIMUM) + 1e-300
+                  or same_point(problem, f.values, best.values))  # fmt: skip
+    return best, len(finals), at_best, evaluations
 
 
 def same_point(problem: PooledProblem, a: Mapping[str, float], b: Mapping[str, float]) -> bool:

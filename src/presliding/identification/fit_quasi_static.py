@@ -59,6 +59,7 @@ from presliding.identification._response_setup import (
 from presliding.identification._search import (
     SAME_OPTIMUM,
     SearchSummary,
+    at_floor,
     floor_test,
     global_start,
     same_point,
@@ -251,31 +252,38 @@ def fit_quasi_static(
     # again, then searched on the grid of the fit engine (`_nuisance_search`)
     shaped = set(spec.k_names) & (set(fixed) | set(tied))
     own = initial_state == "preload" and not any(x in fixed or x in tied for x in names)
-    starts = [start]
-    if density is None and equal_breakaway and spec.n > 1 and not shaped:
-        spread = spread_start(start, spec.k_names)
-        starts.append(spread)
-        if "coulomb" not in fixed and "coulomb" not in tied:  # c1 against the stiffest element
-            starts += [
-                {**spread, "coulomb": share * spread["coulomb_level"]} for share in (0.1, 0.4)
-            ]
-    if not tied:
-        extra, count = global_start(problem, start, fixed, box, keep=1)
+    # the cheapest route first: the regression start solved once; when it converged with
+    # every record within the floor rule, no further start runs (`_search.at_floor`)
+    first = solve(record_starts(problem, start) if own else dict(start))
+    sol, n_starts, at_best, count = first, 1, 1, 0
+    if not at_floor(problem, first):
+        starts = [start]
+        if density is None and equal_breakaway and spec.n > 1 and not shaped:
+            spread = spread_start(start, spec.k_names)
+            starts.append(spread)
+            if "coulomb" not in fixed and "coulomb" not in tied:  # c1 against the stiffest element
+                starts += [
+                    {**spread, "coulomb": share * spread["coulomb_level"]} for share in (0.1, 0.4)
+                ]
+        if not tied:
+            extra, count = global_start(problem, start, fixed, box, keep=1)
+            evaluations[0] += count
+            starts += [{x: e[x] for x in names} for e in extra]
+        short = min(max_evaluations, 40)
+        tries = [first] + [
+            solve(record_starts(problem, s) if own else s, short) for s in starts[1:]
+        ]
+        best = min(tries, key=cost)
+        begin = best.values if np.isfinite(cost(best)) else start
+        sol = solve(record_starts(problem, begin) if own else begin)
+        values, found, count = search_nuisance(problem, sol.values, fixed, box)  # then the grid
+        if found < cost(sol) * (1.0 - SAME_OPTIMUM):
+            again = solve(values)
+            sol = again if cost(again) < cost(sol) else sol
         evaluations[0] += count
-        starts += [{x: e[x] for x in names} for e in extra]
-    short = min(max_evaluations, 40)
-    tries = [solve(record_starts(problem, s) if own else s, short) for s in starts]
-    best = min(tries, key=cost)
-    begin = best.values if np.isfinite(cost(best)) else start
-    sol = solve(record_starts(problem, begin) if own else begin)
-    values, found, count = search_nuisance(problem, sol.values, fixed, box)  # then the grid
-    if found < cost(sol) * (1.0 - SAME_OPTIMUM):
-        again = solve(values)
-        sol = again if cost(again) < cost(sol) else sol
-    evaluations[0] += count
-    n_starts = len(tries)
-    at_best = sum(1 for t in tries if same_point(problem, t.values, sol.values)
-                  or cost(t) <= cost(sol) * (1.0 + SAME_OPTIMUM))  # fmt: skip
+        n_starts = len(tries)
+        at_best = sum(1 for t in tries if same_point(problem, t.values, sol.values)
+                      or cost(t) <= cost(sol) * (1.0 + SAME_OPTIMUM))  # fmt: skip
     if density is None and equal_breakaway and not shaped:
         sol = split_coalesced(sol, solve, spec.k_names)
         sol = stiffest_first(sol, spec.k_names)

@@ -33,7 +33,7 @@ rigid; if the cost rises by no more than s²·t² the status is
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import replace
 from typing import Any
 
@@ -76,10 +76,10 @@ from presliding.identification._response_setup import (
 )
 from presliding.identification._search import (
     SearchSummary,
+    adaptive_search,
     floor_test,
     global_start,
 )
-from presliding.identification._search import multistart as run_starts
 from presliding.identification.fit_presliding import check_enough, element_count
 from presliding.identification.fit_result import FitResult, Tie, solve_least_squares
 from presliding.identification.measurement import Measurement
@@ -350,16 +350,22 @@ def fit_response(
     discrete_equal = density is None and equal_breakaway and n >= 1
     search = multistart and density is None and n >= 1 and not (
         {"coulomb", *spec.k_names, *spec.c_names} & shaped)  # fmt: skip
-    starts = [start] + ([spread_start(start, spec.k_names)] if search and discrete_equal else [])
     large = problem.n_rec > 1 or problem.n_res * (len(names) - len(fixed)) ** 2 > LARGE_PROBLEM
     short = min(max_evaluations, 12 + 2 * len(problem.shared))
-    if multistart and not tied:
-        shown.stage("search: the shared parameters' global start")
-        extra, count = global_start(problem, start, fixed, box)
-        evaluations[0] += count
-        starts += [{x: e[x] for x in names} for e in extra]
-    shown.stage(f"search: {len(starts)} start(s), each record's own parameters searched")
-    sol, n_starts, at_best, count = run_starts(problem, solve, starts, fixed, box, short)
+
+    def more_starts() -> Iterator[tuple[dict[str, float], int]]:
+        """The further shared starts, made only when the search reaches them."""
+        if search and discrete_equal:
+            yield spread_start(start, spec.k_names), 0
+        if multistart and not tied:
+            shown.stage("search: the shared parameters' global start")
+            extra, spent = global_start(problem, start, fixed, box)
+            for j, e in enumerate(extra):
+                yield {x: e[x] for x in names}, spent if j == 0 else 0
+
+    shown.stage("search: the regression start, then the records that do not fit")
+    sol, n_starts, at_best, count = adaptive_search(problem, solve, start, more_starts, fixed,
+                                                    box, short)  # fmt: skip
     evaluations[0] += count
     if search and discrete_equal:
         shown.stage("checks: a rigid stiffest element, coalesced elements")
