@@ -42,6 +42,8 @@ from presliding.identification._pooled_problem import PooledProblem
 
 #: residual RMS over the noise floor above which a fit is not at the floor
 FLOOR_FACTOR = 3.0
+#: relative cost difference below which two solutions tie (round-off)
+TIE = 1e-10
 #: relative cost within which two starts reached the same optimum
 SAME_OPTIMUM = 1e-3
 #: shared parameters within this relative distance after the short solves: one basin
@@ -50,10 +52,6 @@ SAME_POINT = 0.01
 OTHER_BUDGET = 3
 #: starts whose short solve ends within this factor of the best are solved to convergence
 REFINE_WITHIN = 1.2
-#: after their own grid search, records within this many times their floor stop the search
-#: (a record's floor is an estimate: one that the grid cannot bring closer is not a reason
-#: for further shared starts while the pooled residual is at the floor)
-SEARCHED_RECORD_FACTOR = 2.0 * FLOOR_FACTOR
 #: candidates of the cheap global search of the shared parameters
 GLOBAL_CANDIDATES = 12
 #: spread (log-normal σ) of those candidates around the regression start
@@ -260,16 +258,15 @@ def adaptive_search(
        (`at_floor`), that is the answer: one start.
     2. Otherwise the records that do not fit (`unfit_records`) are searched on
        the nuisance grid (`search_records`, one batched compiled call on those
-       records alone) and everything is solved again, twice at most. After
-       their own search, records within `SEARCHED_RECORD_FACTOR` of their
-       floor count as fitted (the pooled residual must still be within
-       `FLOOR_FACTOR`).
+       records alone) and everything is solved again, twice at most.
     3. Only while the fit is still above the floor, the further starts
        (`more_starts`: produced lazily, with the evaluations they cost) run
        through the stages of `multistart` (every record's grid search, a short
        solve, alternation); one that ends within `REFINE_WITHIN` of the best
        in another basin is solved on and its unfit records searched again. The
-       search stops as soon as the best reaches the floor.
+       search stops as soon as the best reaches the floor, or as soon as a
+       further start reaches the best optimum again (two starts agree: the
+       records still above their floors are not a matter of the start).
 
     Returns the best solution, the number of starts run, how many reached
     the best optimum (cost within `SAME_OPTIMUM` or the same basin), and the
@@ -280,9 +277,8 @@ def adaptive_search(
 
     def repair(sol: Solution) -> Solution:
         nonlocal evaluations
-        for k in range(2):
-            factor = FLOOR_FACTOR if k == 0 else SEARCHED_RECORD_FACTOR
-            if sol.status == "failed" or at_floor(problem, sol, factor):
+        for _ in range(2):
+            if sol.status == "failed" or at_floor(problem, sol):
                 return sol
             bad = unfit_records(problem, sol)
             if not bad:
@@ -309,7 +305,7 @@ def adaptive_search(
 
     best = repair(solve(prep(dict(start))))
     finals = [best]
-    if not at_floor(problem, best, SEARCHED_RECORD_FACTOR):
+    if not at_floor(problem, best):
         for s, ev in more_starts():
             evaluations += ev
             values, _, ev = search_nuisance(problem, prep(dict(s)), fixed, bounds)
@@ -322,9 +318,12 @@ def adaptive_search(
             ):
                 t = repair(solve(t.values))
             finals.append(t)
-            if cost(t) < cost(best):
+            agree = cost(t) <= cost(best) * (1.0 + SAME_OPTIMUM) or same_point(
+                problem, t.values, best.values
+            )
+            if cost(t) < cost(best) * (1.0 - TIE):  # a tie keeps the earlier (mirror images agree)
                 best = t
-            if at_floor(problem, best, SEARCHED_RECORD_FACTOR):
+            if at_floor(problem, best) or (agree and best.status == "converged"):
                 break
     target = cost(best)
     at_best = sum(1 for f in finals if cost(f) <= target * (1.0 + SAME_OPTIMUM) + 1e-300
