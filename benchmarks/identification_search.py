@@ -218,7 +218,8 @@ def study_speed(repeats: int = 1) -> None:
             times.append(time.perf_counter() - t)
         print(f"20 × 1000 ({label}): median {np.median(times):.2f} s over {repeats} runs "
               f"(target 5 s); nuisance search {spent[0]:.2f} s of the last; status "
-              f"{fit.status}, RMS/floor {fit.search.residual_over_floor:.2f}")  # fmt: skip
+              f"{fit.status}, RMS/floor {fit.search.residual_over_floor:.2f}, starts "
+              f"{fit.n_starts_at_best}/{fit.n_starts}")  # fmt: skip
     search_module.search_nuisance = original
 
 

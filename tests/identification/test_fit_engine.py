@@ -103,7 +103,8 @@ def test_random_sign_preloads_reach_the_noise_floor():
     assert fit.search.residual_over_floor < 3.0
     assert fit.parameters["mass"] == pytest.approx(2.0, rel=0.02)
     assert fit.parameters["coulomb"] == pytest.approx(0.3, rel=0.02)
-    assert fit.n_starts >= 3 and 1 <= fit.n_starts_at_best <= fit.n_starts
+    # adaptive: further shared starts only while the fit is above the floor
+    assert fit.n_starts >= 1 and 1 <= fit.n_starts_at_best <= fit.n_starts
     assert "start(s) reached the best optimum" in fit.report()
     # F_c in the parameters is the model's (eq. 9), at bounds too
     assert fit.parameters["coulomb_level"] == fit.model.coulomb_level

@@ -1,10 +1,21 @@
 """The search step of the pooled fits: several starts, nuisance search, the noise-floor test.
 
-`multistart` runs every start of the shared parameters (the first also as
-given) through the same stages: each record's own parameters searched globally with the shared ones
-held (`_nuisance_search`), a short solve of everything, the nuisance search
-again (alternation) and, when it found better blocks, another short solve. The
-best start is then solved to convergence; every other start that ended
+`adaptive_search` (the pooled fits' search) runs the cheapest route first: the
+regression start solved once; when every record then fits within the floor
+rule it stops (one start). Otherwise only the records that do not fit get the
+nuisance grid search (one batched compiled call on those records alone) and
+everything is solved again; only while the fit stays above the floor do the
+further shared starts run (a spread start, the best of the cheap global
+search, made only when reached), each through the stages below, stopping as
+soon as one reaches the floor or the best optimum again. A 20-record fit
+whose records all fit after the first solve costs one solve.
+
+`multistart` (every start, no early stop) runs every start of the shared
+parameters (the first also as given) through the same stages: each record's
+own parameters searched globally with the shared ones held
+(`_nuisance_search`), a short solve of everything, the nuisance search again
+(alternation) and, when it found better blocks, another short solve. The best
+start is then solved to convergence; every other start that ended
 within a factor 1.2 of it is solved on (three short budgets), unless its
 shared parameters already agree with the best's to 1 % (the same basin).
 The best is the answer, and the number of starts that reached it (cost
