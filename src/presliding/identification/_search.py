@@ -315,6 +315,12 @@ def adaptive_search(
         return sol
 
     best = repair(solve(prep(dict(start))))
+    if at_floor(problem, best):  # every record's grid at once, unpolished: a cheap last check
+        values, c, ev = search_nuisance(problem, best.values, fixed, bounds, polish=False)
+        evaluations += ev
+        if c < cost(best) * (1.0 - SAME_OPTIMUM):
+            again = repair(solve(values))
+            best = again if cost(again) < cost(best) * (1.0 - TIE) else best
     finals = [best]
     if not at_floor(problem, best):
         for s, ev in more_starts():
