@@ -79,3 +79,32 @@ def test_continuing_memory_and_errors():
         fit_quasi_static(Measurement(records[0].time, applied_force=records[0].applied_force))
     with pytest.raises(ValueError, match="`n_elements` must be at least 1"):
         fit_quasi_static(records, 0)
+
+
+@pytest.mark.parametrize(
+    ("name", "density", "names"),
+    [
+        ("uniform", {"height": 5e4, "max_threshold": 4e-3}, ("height", "max_threshold")),
+        ("exponential", {"height": 1e5, "length": 1.5e-3}, ("height", "length")),
+    ],
+)
+def test_densities_are_recovered_from_torque_loops(name, density, names):
+    """A density fit starts where F_c exceeds every force (it used to end "the residual
+    is not finite at the start"); loops of a finely discretised density recover it."""
+    from presliding import Exponential, Uniform
+    from presliding.identification._model_spec import centroid_bank
+
+    dens = (Uniform if name == "uniform" else Exponential)(**density)
+    k, r = centroid_bank(dens, 2000)
+    joint = PIFriction(0.1, k, breakaway=k * r)
+    t = np.linspace(0.0, 8.0, 300)
+    records = []
+    for share in (0.6, 0.85):
+        u = share * joint.coulomb_level * np.sin(np.linspace(0.0, 4 * np.pi, 300))
+        y = quasi_static_response(joint, u).position
+        records.append(Measurement(t, position=y, applied_force=u))
+    fit = fit_quasi_static(records, density=name, initial_state="relaxed")
+    assert fit.status == "converged", fit.message
+    assert fit.parameters["coulomb"] == pytest.approx(0.1, rel=2e-3)
+    for x in names:  # the fit's 32-cell discretisation: O(1/32²) of F_m
+        assert fit.parameters[x] == pytest.approx(density[x], rel=5e-3), x

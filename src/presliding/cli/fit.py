@@ -237,7 +237,9 @@ def fit(args: argparse.Namespace, meas: Any, bar: Any = False) -> tuple[Any, Any
     `bar` (a `Progress`, or False) shows the fit's stages and evaluations.
     """
     n = DEFAULT_ELEMENTS[args.kind] if args.elements is None else args.elements
-    if n < 0:
+    if n == "auto" and args.kind != "response":
+        raise UserError(f"--elements auto is for --kind response; got --kind {args.kind}.")
+    if n != "auto" and n < 0:
         raise UserError(f"--elements must be 0 or more; got {n}.")
     if args.kind == "presliding":
         from presliding.identification.fit_presliding import fit_presliding

@@ -77,10 +77,11 @@ def add_fit_parser(
     )
     fit.add_argument(
         "--elements",
-        type=checked("--elements", integer=True, maximum=10_000),
+        type=_elements,
         default=None,
         metavar="N",
-        help="number of elasto-plastic elements (default: 3 presliding, 0 motion, 4 response)",
+        help="number of elasto-plastic elements (default: 3 presliding, 0 motion, 4 response); "
+        "response: 'auto' chooses N = 0..4 by BIC",
     )
     fit.add_argument("--viscous", action="store_true", help="motion: add a viscous term F_v·ẏ")
     fit.add_argument("--offset", action="store_true", help="add a constant force offset")
@@ -173,3 +174,10 @@ def _add_pooled_options(fit: argparse.ArgumentParser) -> None:
         action="store_true",
         help="skip the leave-one-record-out table (computed with two or more files)",
     )
+
+
+def _elements(text: str) -> Any:
+    """``--elements``: a count, or ``auto`` (the response fit chooses N)."""
+    if text.strip().lower() == "auto":
+        return "auto"
+    return checked("--elements", integer=True, maximum=10_000)(text)

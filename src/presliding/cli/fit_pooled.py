@@ -38,7 +38,9 @@ def _options(args: argparse.Namespace, records: list[Any]) -> dict[str, Any]:
     from presliding.cli.fit import DEFAULT_ELEMENTS
 
     n = DEFAULT_ELEMENTS[args.kind] if args.elements is None else args.elements
-    if n < 0:
+    if n == "auto" and args.kind != "response":
+        raise UserError(f"--elements auto is for --kind response; got --kind {args.kind}.")
+    if n != "auto" and n < 0:
         raise UserError(f"--elements must be 0 or more; got {n}.")
     if args.max_evaluations is not None and args.max_evaluations < 1:
         raise UserError(f"--max-evaluations must be 1 or more; got {args.max_evaluations}.")

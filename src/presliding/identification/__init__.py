@@ -25,8 +25,14 @@ _structured_lm.py   Levenberg–Marquardt on structured normal equations (large 
 _model_spec.py      the fitted models as named parameters (elements, densities)
 _pooled_kernel.py   compiled batched responses of many records and parameter sets
 _pooled_problem.py  the pooled residual and its structured Jacobian
+_pooled_banks.py    the banks (c1, k_j, r_j) of many parameter sets as kernel arrays
 _pooled_start.py    pooled start values (eq. 17 as a regression)
 _quasi_static_problem.py   the pooled quasi-static residual
+_quasi_static_kernel.py    compiled quasi-static positions of many records and parameter sets
+_nuisance_search.py  each record's own parameters searched on a grid, the shared ones held
+_search.py          the search step: starts, alternation, the noise-floor rule, its summary
+_noise_floor.py     the noise floor of the data: quantum and high-frequency noise
+_model_order.py     ``n_elements="auto"``: the number of elements by BIC
 _response_setup.py, _response_result.py   pooled-fit checks, pruning, bootstrap, result
 _predictors.py      how each fit predicts another record
 _pi_regression.py   separable least squares over the PI thresholds; the fused batch loss

@@ -51,6 +51,7 @@ class FitReport:
     n_evaluations: int
     model: Any
     correlation: Any
+    search: Any
 
     def to_pandas(self) -> Any:
         """A pandas DataFrame of the parameters: value, unit, standard error, interval,
@@ -124,6 +125,7 @@ class FitReport:
             f"explained variance {100 * (1 - self.relative_residual**2):.3f} %",
             f"model: {self.model!r}",
         ]
+        lines += self.search.lines() if self.search is not None else []
         lines += [f"note: {n}" for n in self.notes]
         if self.cross_validation is not None:
             lines += ["", self.cross_validation.report()]

@@ -168,6 +168,8 @@ class ModelSpec:
         from presliding.identification import _pi_regression as pr
         from presliding.identification._response_tools import equal_breakaway_stiffness
 
+        if self.density is None and self.n == 0 and not self.equal:
+            return {"coulomb": float(fc)}  # Coulomb friction alone: c1 = F_c
         fm = max(fc - c1, TINY)
         out = {"coulomb": float(c1)}
         if self.density is None:

@@ -30,6 +30,7 @@ from presliding.identification import _pooled_kernel as pk
 from presliding.identification import _response_tools as rt
 from presliding.identification._least_squares import _Map
 from presliding.identification._model_spec import TINY, ModelSpec
+from presliding.identification._pooled_banks import banks_one_by_one, element_banks
 from presliding.measurement.measurement import Measurement
 from presliding.motion._forcing import as_forcing
 
@@ -58,7 +59,7 @@ def as_record(m: Measurement) -> Record:
     v = m.velocity if m.velocity is not None else np.gradient(m.require("position")[0], t)
     y = m.position if m.position is not None else rt.integral(t, v)
     u = m.applied_force if m.applied_force is not None else np.zeros_like(t)
-    return Record(t, y, v, u, bool(np.any(u)), rt.initial_direction(v, u))
+    return Record(t, y, v, u, bool(np.any(u)), rt.initial_direction(v, u, y))
 
 
 class PooledProblem:
@@ -192,21 +193,15 @@ class PooledProblem:
     def unpack(self, sets: FloatArray, rigid: bool = False) -> tuple:
         """Kernel arrays for parameter sets (rows of full parameter vectors)."""
         n_par = sets.shape[0]
-        banks = []
-        for p in range(n_par):
-            q = dict(zip(self.names, sets[p], strict=True))
-            c1, k, r = self.spec.bank(q)
-            if rigid:  # element 1 rigid-plastic (k_1 → ∞): its c_1 joins c1
-                c1, k, r = c1 + k[0] * r[0], k[1:], r[1:]
-            banks.append((c1, k, r))
-        n_el = max(b[1].shape[0] for b in banks)
-        k_arr = np.zeros((n_par, n_el))
-        r_arr = np.ones((n_par, n_el))
-        for p, (_, k, r) in enumerate(banks):
-            k_arr[p, : k.shape[0]], r_arr[p, : r.shape[0]] = k, r
-            r_arr[p, k.shape[0] :] = np.max(r) if r.shape[0] else 1.0
-        c1_all = np.array([b[0] for b in banks])
         col = self.index
+        if self.spec.density is None and self.spec.n > 0:  # elements: all sets at once
+            c1_all, k_arr, r_arr = element_banks(self.spec, self.index, sets)
+            if rigid:  # element 1 rigid-plastic (k_1 → ∞): its c_1 joins c1
+                c1_all = c1_all + k_arr[:, 0] * r_arr[:, 0]
+                k_arr, r_arr = k_arr[:, 1:], r_arr[:, 1:]
+            k_arr, r_arr = np.ascontiguousarray(k_arr), np.ascontiguousarray(r_arr)
+        else:
+            c1_all, k_arr, r_arr = banks_one_by_one(self.spec, self.names, sets, rigid)
         mass = np.maximum(sets[:, col["mass"]], TINY)
         offset = sets[:, col["offset"]] if "offset" in col else np.zeros(n_par)
         sigma = np.maximum(sets[:, col["viscous"]], 0.0) if "viscous" in col else np.zeros(n_par)
@@ -215,8 +210,8 @@ class PooledProblem:
         v0 = np.ascontiguousarray(sets[:, per + 1])
         if self.initial_state == "preload":
             frac = np.clip(sets[:, per + 2], -1.0, 1.0)
-        else:
-            frac = np.ones((n_par, self.n_rec))
+        else:  # saturated: steady sliding in the direction of the first motion, F_el = d·F_m
+            frac = np.repeat(self.direction[None, :], n_par, axis=0)
         return mass, c1_all, sigma, k_arr, r_arr, offset, y0, v0, np.ascontiguousarray(frac)
 
     def simulate(self, sets: FloatArray, rigid: bool = False) -> tuple:

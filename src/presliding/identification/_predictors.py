@@ -56,7 +56,7 @@ class ResponsePredictor:
         start.update(initial_position=float(rec.position[0]),
                      initial_velocity=float(rec.velocity[0]))  # fmt: skip
         if p.initial_state == "preload":
-            start["preload_fraction"] = 1.0 if rec.velocity[0] else 0.0
+            start["preload_fraction"] = float(sub.direction[0]) if rec.velocity[0] else 0.0
         start = {x: start[x] for x in sub.names}
         status, message = "success", ""
         if initial == "fit":

@@ -7,8 +7,8 @@ its preload), or (``"continuing"``) from saturation opposite to its first
 motion, which the record continues (any memory whose last branch the first
 motion continues gives the same positions up to a shift, so no preload is
 fitted then): the exact quasi-static inverse of the friction
-model with c1 (`presliding.hysteresis.PIInverse`), run by compiled stop sums,
-one record after another (no Python work per sample). The residual layout,
+model with c1 (as `presliding.hysteresis.PIInverse`), every record and parameter
+set in one compiled call (`_quasi_static_kernel`). The residual layout,
 the structured Jacobian and the trust box are those of `PooledProblem`.
 
 A parameter set whose F_c is not above every |u − offset| has no quasi-static
@@ -20,9 +20,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-from presliding.friction.preload import preload_deformation
-from presliding.hysteresis.inverse import PIInverse
-from presliding.hysteresis.operators import PIOperator, PIState
+from presliding.identification import _quasi_static_kernel as qk
 from presliding.identification._model_spec import TINY, ModelSpec
 from presliding.identification._pooled_problem import PooledProblem, Record
 
@@ -53,6 +51,9 @@ class QuasiStaticProblem(PooledProblem):
         # position of its turning point, and the two could not be told apart)
         self.direction = -np.array([first_direction(r.applied_force, r.position) for r in records])
         self.u_max = max(float(np.max(np.abs(r.applied_force))) for r in records)
+        self.u_all = np.ascontiguousarray(np.concatenate([r.applied_force for r in records]))
+        modes = {"preload": qk.PRELOAD, "continuing": qk.CONTINUING, "relaxed": qk.RELAXED}
+        self.qs_mode = np.full(self.n_rec, modes[initial_state], dtype=np.int64)
 
     def subset(self, records: list[Record], suffix: bool = True) -> QuasiStaticProblem:
         """The same problem on other records."""
@@ -68,38 +69,36 @@ class QuasiStaticProblem(PooledProblem):
         return ["initial_position"] + (["preload_fraction"] if initial_state == "preload" else [])
 
     def simulate(self, sets: FloatArray, rigid: bool = False) -> tuple:
-        """Positions (P, S), zero velocities, status (−2: |u| >= F_c) and zero reversal counts."""
+        """Positions (P, S), zero velocities, status (−2: |u| >= F_c) and zero reversal counts.
+
+        All parameter sets and records in one compiled call (`_quasi_static_kernel`).
+        """
         sets = np.atleast_2d(sets)
         n_par, n_s = sets.shape[0], self.t_all.shape[0]
-        o_y = np.zeros((n_par, n_s))
-        status = np.zeros((n_par, self.n_rec), dtype=np.int64)
-        col = self.index
+        banks = []
         for p in range(n_par):
-            q = dict(zip(self.names, sets[p], strict=True))
-            c1, k, r = self.spec.bank(q)
+            c1, k, r = self.spec.bank(dict(zip(self.names, sets[p], strict=True)))
             if rigid:
                 c1, k, r = c1 + k[0] * r[0], k[1:], r[1:]
             keep = k > TINY
-            k, r = k[keep], np.minimum(r[keep], 1e300)
-            offset = q["offset"] if "offset" in col else 0.0
-            if k.shape[0] == 0 or not c1 + float(k @ r) > 0:
-                status[p] = -2
-                continue
-            inverse = PIInverse(PIOperator(r, k), coulomb=c1)
-            for i, rec in enumerate(self.records):
-                a, b = self.t_off[i], self.t_off[i + 1]
-                u = rec.applied_force - offset
-                if not np.max(np.abs(u)) < inverse.force_limit:
-                    status[p, i] = -2
-                    continue
-                y0 = q[self.nuisance("initial_position", i)]
-                f = np.zeros(k.shape[0])
-                d = self.direction[i]
-                if self.initial_state == "preload":
-                    frac = min(max(q[self.nuisance("preload_fraction", i)], -1.0), 1.0)
-                    preload_deformation(k, r, frac, d, True, f)
-                elif self.initial_state == "continuing":  # saturated, then moving on
-                    f[:] = -d * r
-                state = PIState(y0, y0 - f, d)
-                o_y[p, a:b] = inverse.apply(u, state)[0]
+            banks.append((c1, k[keep], np.minimum(r[keep], 1e300)))
+        n_el = max(1, max(b[1].shape[0] for b in banks))
+        k_arr, r_arr = np.zeros((n_par, n_el)), np.ones((n_par, n_el))
+        for p, (_, k, r) in enumerate(banks):
+            k_arr[p, : k.shape[0]], r_arr[p, : r.shape[0]] = k, r
+        c1_all = np.array([b[0] for b in banks])
+        col = self.index
+        offset = sets[:, col["offset"]] if "offset" in col else np.zeros(n_par)
+        per = len(self.shared) + np.arange(self.n_rec) * len(self.kinds)
+        y0 = np.ascontiguousarray(sets[:, per])
+        if self.initial_state == "preload":
+            frac = np.ascontiguousarray(np.clip(sets[:, per + 1], -1.0, 1.0))
+        else:
+            frac = np.zeros((n_par, self.n_rec))
+        o_y = np.zeros((n_par, n_s))
+        status = np.zeros((n_par, self.n_rec), dtype=np.int64)
+        qk.quasi_static_positions(c1_all, k_arr, r_arr, offset, y0, frac, self.qs_mode,
+                                  self.direction, self.u_all, self.t_off, o_y, status)  # fmt: skip
+        empty = np.array([b[1].shape[0] == 0 or not b[0] + float(b[1] @ b[2]) > 0 for b in banks])
+        status[empty] = qk.NO_RESPONSE
         return o_y, np.zeros_like(o_y), status, np.zeros_like(status)

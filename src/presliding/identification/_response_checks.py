@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import itertools
 from dataclasses import replace
+from typing import Any
 
 import numpy as np
 
@@ -170,7 +171,10 @@ def bound_check(sol, start, names, fixed, tied, equal_breakaway) -> Solution:
         if val[x] <= _BOUND * ref:
             at.append(f"{x} = 0")
     if equal_breakaway and "coulomb" in free and val["coulomb"] >= val["coulomb_level"]:
-        at.append("coulomb = coulomb_level (no force left for the elements)")
+        at.append(
+            "coulomb >= coulomb_level: the elements carry no force, the model is Coulomb "
+            "friction with F_c = coulomb (n_elements=0 fits it as such)"
+        )
     if at:
         message = (
             f"the solution sits on a bound ({', '.join(at)}), where the linearised intervals "
@@ -180,6 +184,22 @@ def bound_check(sol, start, names, fixed, tied, equal_breakaway) -> Solution:
     if "initial_velocity" in free and val.get("initial_velocity") == 0.0:
         sol = replace(sol, message=sol.message + "; initial_velocity sits on its bound 0")
     return sol
+
+
+def consistent_level(sol: Solution, spec: Any) -> Solution:
+    """F_c in the parameters equal to the model's `coulomb_level` (eq. 9).
+
+    With c1 at or above the parameter F_c the elements carry no force and the
+    model's F_c is c1 (plus their vanishing break-away forces): the parameter
+    is set to the model's value, so the two never disagree.
+    """
+    if not spec.has_level_parameter or spec.n == 0 or sol.status == "failed":
+        return sol
+    level = spec.model(sol.values).coulomb_level
+    if level == sol.values["coulomb_level"]:
+        return sol
+    values = {**sol.values, "coulomb_level": float(level)}
+    return replace(sol, values=values)
 
 
 def smallest_threshold_first(sol: Solution, k_names: list[str], c_names: list[str]) -> Solution:

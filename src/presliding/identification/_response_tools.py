@@ -14,9 +14,14 @@ from numpy.typing import NDArray
 FloatArray = NDArray[np.float64]
 
 
-def initial_direction(v: FloatArray, u: FloatArray) -> float:
-    """Direction of the motion before the first sample (for a saturated start)."""
-    for sig in (v[:1], u[:1], v):
+def initial_direction(v: FloatArray, u: FloatArray, y: FloatArray | None = None) -> float:
+    """Direction of the first motion (for a saturated start): the sign of the first
+    velocity; at rest, of the first displacement from the first position, else of
+    the first applied force, else of the first nonzero velocity."""
+    moved = None if y is None else y - y[0]
+    for sig in (v[:1], moved, u[:1], v):
+        if sig is None:
+            continue
         nz = np.flatnonzero(sig)
         if nz.size:
             return float(np.sign(sig[nz[0]]))

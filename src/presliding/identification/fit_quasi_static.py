@@ -38,10 +38,12 @@ from presliding.identification import _pi_regression as pr
 from presliding.identification._fit_progress import FitProgress, as_reporter, shows_progress
 from presliding.identification._least_squares import check_constraints, check_options
 from presliding.identification._model_spec import DENSITIES, ModelSpec
+from presliding.identification._nuisance_search import search_nuisance
 from presliding.identification._parameters import check_levels, resolve_parameters
 from presliding.identification._quasi_static_problem import QuasiStaticProblem
 from presliding.identification._response_checks import (
     bound_check,
+    consistent_level,
     cost,
     split_coalesced,
     spread_start,
@@ -54,6 +56,14 @@ from presliding.identification._response_setup import (
     nuisance_only,
     record_bootstrap,
     record_starts,
+)
+from presliding.identification._search import (
+    SAME_OPTIMUM,
+    SearchSummary,
+    at_floor,
+    floor_test,
+    global_start,
+    same_point,
 )
 from presliding.identification.fit_presliding import check_enough, element_count
 from presliding.identification.fit_result import FitResult, Tie, solve_least_squares
@@ -109,6 +119,21 @@ def quasi_static_start(recs: list, spec: ModelSpec, offset: bool) -> dict[str, f
     if offset:
         start["offset"] = off
     return start
+
+
+def lift_density(spec: ModelSpec, start: dict[str, float], level: float,
+                 fixed: Mapping[str, float]) -> dict[str, float]:  # fmt: skip
+    """A density start whose F_c reaches `level`: its heights scaled (a start whose F_c
+    is not above every |u| has no quasi-static response, and the solver could not begin)."""
+    heights = [x for x in spec.names if x.startswith("height") and x not in fixed]
+    fc = spec.coulomb_level(start)
+    c1 = max(start.get("coulomb", 0.0), 0.0)
+    if fc >= level or not heights or not fc > c1:
+        return start
+    if c1 >= 0.9 * level and "coulomb" not in fixed:
+        c1 = start["coulomb"] = 0.5 * level
+    factor = (level - c1) / (fc - c1)
+    return {x: v * factor if x in heights else v for x, v in start.items()}
 
 
 @shows_progress("fit_quasi_static")
@@ -201,6 +226,8 @@ def fit_quasi_static(
     if spec.has_level_parameter and floor > 0:
         box["coulomb_level"] = (floor, np.inf)
         start["coulomb_level"] = max(start["coulomb_level"], floor * 1.01)
+    elif floor > 0:  # a density: F_c = c1 + F_m is derived; F_m is linear in the heights
+        start = lift_density(spec, start, 1.2 * floor, fixed)
     for key, (lo, hi) in as_bounds("bounds", bounds, names).items():  # the user's, within
         old = box.get(key, (-np.inf, np.inf))
         box[key] = (max(old[0], lo), min(old[1], hi))
@@ -214,8 +241,8 @@ def fit_quasi_static(
                                "progress": as_reporter(progress)}  # fmt: skip
     evaluations = [0]
 
-    def solve(begin: dict[str, float], limit: int | None = None) -> Any:
-        opts = {**options, "max_evaluations": limit or options["max_evaluations"]}
+    def solve(begin: dict[str, float], max_evaluations: int | None = None) -> Any:
+        opts = {**options, "max_evaluations": max_evaluations or options["max_evaluations"]}
         out = solve_least_squares(
             problem.residual(), begin, fixed=fixed, free_jacobian=problem.free_jacobian(),
             blocks=[rows for _, rows in problem.rows], residual_size=problem.n_res,
@@ -226,36 +253,58 @@ def fit_quasi_static(
         return out
 
     # the residual is far from convex in the records' preloads, in c1 against the
-    # stiffest element and in the element split: from the regression start and spread
-    # ones (the records' own starts fitted one by one for each), a few steps each; the
-    # best is refined, the records' own starts fitted again with its shared values
-    own = initial_state == "preload" and not any(x in fixed or x in tied for x in names)
+    # stiffest element and in the element split: the regression start, spread ones and
+    # the best of a global search (`_search`), the records' own starts fitted one by one
+    # for each, a few steps each; the best is refined, the records' own starts fitted
+    # again, then searched on the grid of the fit engine (`_nuisance_search`)
     shaped = set(spec.k_names) & (set(fixed) | set(tied))
-    starts = [start]
-    if density is None and equal_breakaway and spec.n > 1 and not shaped:
-        spread = spread_start(start, spec.k_names)
-        starts.append(spread)
-        if "coulomb" not in fixed and "coulomb" not in tied:  # c1 against the stiffest element
-            starts += [
-                {**spread, "coulomb": share * spread["coulomb_level"]} for share in (0.1, 0.4)
-            ]
-    short = min(max_evaluations, 40)
-    tries = [solve(record_starts(problem, s) if own else s, short) for s in starts]
-    best = min(tries, key=cost)
-    begin = best.values if np.isfinite(cost(best)) else start
-    sol = solve(record_starts(problem, begin) if own else begin)
+    own = initial_state == "preload" and not any(x in fixed or x in tied for x in names)
+    # the cheapest route first: the regression start solved once; when it converged with
+    # every record within the floor rule, no further start runs (`_search.at_floor`)
+    first = solve(record_starts(problem, start) if own else dict(start))
+    sol, n_starts, at_best, count = first, 1, 1, 0
+    if not at_floor(problem, first):
+        starts = [start]
+        if density is None and equal_breakaway and spec.n > 1 and not shaped:
+            spread = spread_start(start, spec.k_names)
+            starts.append(spread)
+            if "coulomb" not in fixed and "coulomb" not in tied:  # c1 against the stiffest element
+                starts += [
+                    {**spread, "coulomb": share * spread["coulomb_level"]} for share in (0.1, 0.4)
+                ]
+        if not tied:
+            extra, count = global_start(problem, start, fixed, box, keep=1)
+            evaluations[0] += count
+            starts += [{x: e[x] for x in names} for e in extra]
+        short = min(max_evaluations, 40)
+        tries = [first] + [
+            solve(record_starts(problem, s) if own else s, short) for s in starts[1:]
+        ]
+        best = min(tries, key=cost)
+        begin = best.values if np.isfinite(cost(best)) else start
+        sol = solve(record_starts(problem, begin) if own else begin)
+        values, found, count = search_nuisance(problem, sol.values, fixed, box)  # then the grid
+        if found < cost(sol) * (1.0 - SAME_OPTIMUM):
+            again = solve(values)
+            sol = again if cost(again) < cost(sol) else sol
+        evaluations[0] += count
+        n_starts = len(tries)
+        at_best = sum(1 for t in tries if same_point(problem, t.values, sol.values)
+                      or cost(t) <= cost(sol) * (1.0 + SAME_OPTIMUM))  # fmt: skip
     if density is None and equal_breakaway and not shaped:
         sol = split_coalesced(sol, solve, spec.k_names)
         sol = stiffest_first(sol, spec.k_names)
     sol = replace(sol, n_evaluations=evaluations[0])
     sol = bound_check(sol, {**start, "mass": 1.0}, names, fixed, tied,
                       equal_breakaway and density is None)  # fmt: skip
-    sol = nuisance_only(sol, problem, fixed)
+    sol = consistent_level(nuisance_only(sol, problem, fixed), spec)
+    sol, ratios, noise, over = floor_test(problem, sol, at_best == n_starts)
+    summary = SearchSummary(n_starts, at_best, noise, over, ratios, count)
     count, boot = sol.n_evaluations, None
     if bootstrap and len(recs) >= 3 and np.isfinite(cost(sol)):
-        sol, boot, extra = record_bootstrap(sol, problem, {**options, "fixed": fixed},
-                                            bootstrap, seed)  # fmt: skip
-        count += extra
+        sol, boot, more = record_bootstrap(sol, problem, {**options, "fixed": fixed},
+                                           bootstrap, seed)  # fmt: skip
+        count += more
     values = sol.values
     full = np.array([values[x] for x in names])
     o_y, _, status, _ = problem.simulate(full)
@@ -283,7 +332,7 @@ def fit_quasi_static(
                 "`min_coulomb_level`): the loops do not determine it")  # fmt: skip
         result = replace(result, notes=(note,))
     return replace(result, records=spans if problem.n_rec > 1 else (), bootstrap=boot,
-                   predictor=QuasiStaticPredictor(problem, values))  # fmt: skip
+                   predictor=QuasiStaticPredictor(problem, values), search=summary)  # fmt: skip
 
 
 def _masing_note(model: Any, recs: list) -> str:

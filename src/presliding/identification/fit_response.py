@@ -33,7 +33,7 @@ rigid; if the cost rises by no more than s²·t² the status is
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import replace
 from typing import Any
 
@@ -48,6 +48,7 @@ from presliding.identification._least_squares import (
     check_constraints,
     check_options,
 )
+from presliding.identification._model_order import choose_order
 from presliding.identification._model_spec import DENSITIES, ModelSpec
 from presliding.identification._parameters import (
     check_flag,
@@ -58,7 +59,7 @@ from presliding.identification._parameters import (
 from presliding.identification._pooled_start import pooled_start
 from presliding.identification._response_checks import (
     bound_check,
-    cost,
+    consistent_level,
     escape_corner,
     polish_initial_velocity,
     rigid_check,
@@ -78,6 +79,12 @@ from presliding.identification._response_setup import (
     record_bootstrap,
     signal_weights,
     with_penalty,
+)
+from presliding.identification._search import (
+    SearchSummary,
+    adaptive_search,
+    floor_test,
+    global_start,
 )
 from presliding.identification.fit_presliding import check_enough, element_count
 from presliding.identification.fit_result import FitResult, Tie, solve_least_squares
@@ -105,7 +112,7 @@ STATES = ("saturated", "preload", "relaxed")
 @shows_progress("fit_response")
 def fit_response(
     records: Measurement | Sequence[Measurement],
-    n_elements: int = 4,
+    n_elements: int | str = 4,
     equal_breakaway: bool = True,
     mass: float | None = None,
     *,
@@ -142,9 +149,12 @@ def fit_response(
         Measurement the per-record parameters have no suffix; with a sequence
         they are ``initial_position_i``, ``initial_velocity_i`` and
         ``preload_fraction_i`` (i from 1).
-    n_elements : int
+    n_elements : int or "auto"
         Number N of elasto-plastic elements (the paper: 4); with
         ``density="piecewise_constant"`` the number of cells of the density.
+        ``"auto"``: N = 0..4 by the Bayesian information criterion, elements
+        the data cannot reach dropped (`_model_order`; the table is in
+        ``result.search.order_table`` and the report).
     equal_breakaway : bool
         ``coulomb_level`` F_c, ``coulomb`` c1, ``stiffness_j`` with
         c_j = (F_c − c1)/N (the paper's choice); False: ``coulomb``,
@@ -220,6 +230,23 @@ def fit_response(
         ranges), with the HAC `covariance`, `correlation`, `nfev`, the
         bootstrap when it ran, and `predict` for other records.
     """
+    if isinstance(n_elements, str):
+        if n_elements != "auto":
+            raise ValueError(f"`n_elements` must be a count or 'auto'; got {n_elements!r}.")
+        if density is not None:
+            raise ValueError("`n_elements='auto'` chooses a number of elements; got a density.")
+        return choose_order(fit_response, {
+            "records": records, "equal_breakaway": equal_breakaway, "mass": mass,
+            "coulomb_level": coulomb_level, "min_coulomb_level": min_coulomb_level,
+            "viscous": viscous, "offset": offset, "signal": signal, "weights": weights,
+            "initial_state": initial_state, "fit_initial": fit_initial, "bounds": bounds,
+            "bootstrap": bootstrap, "seed": seed, "level": level,
+            "max_evaluations": max_evaluations, "tolerance": tolerance,
+            "multistart": multistart, "progress": progress,
+            **{label: {x: v for x, v in dict(given or {}).items()  # element names vary with N
+                       if not x.startswith(("stiffness_", "breakaway_"))}
+               for label, given in (("initial", initial), ("fixed", fixed), ("tied", tied))},
+        })  # fmt: skip
     single = isinstance(records, Measurement)
     shown = as_reporter(progress)
     recs = check_records(records, signal, SIGNALS)
@@ -231,6 +258,12 @@ def fit_response(
     n = element_count(n_elements, None, 4)
     if density == "piecewise_constant" and n < 1:
         raise ValueError(f"`n_elements` (the cells of the density) must be >= 1; got {n}.")
+    if n == 0 and density is None:  # Coulomb (+ viscous) friction: F_c = c1, one parameter
+        equal_breakaway = False
+        if coulomb_level is not None:
+            fixed_level = as_positive_scalar("coulomb_level", coulomb_level)
+            fixed = {**dict(fixed or {}), "coulomb": fixed_level}
+            coulomb_level = None
     if coulomb_level is not None and (not equal_breakaway or density is not None):
         raise ValueError(
             "`coulomb_level` can be given only with equal_breakaway=True and elements; got "
@@ -288,7 +321,9 @@ def fit_response(
         start[problem.nuisance("initial_position", i)] = float(rec.position[0])
         start[problem.nuisance("initial_velocity", i)] = float(rec.velocity[0])
         if initial_state == "preload":
-            start[problem.nuisance("preload_fraction", i)] = 1.0 if rec.velocity[0] else 0.0
+            start[problem.nuisance("preload_fraction", i)] = (
+                float(problem.direction[i]) if rec.velocity[0] else 0.0
+            )
     for key, val in dict(initial or {}).items():
         if key not in names:
             raise ValueError(f"`initial` must name parameters of the fit; got {key!r}.")
@@ -332,14 +367,23 @@ def fit_response(
     discrete_equal = density is None and equal_breakaway and n >= 1
     search = multistart and density is None and n >= 1 and not (
         {"coulomb", *spec.k_names, *spec.c_names} & shaped)  # fmt: skip
-    starts = [start] + ([spread_start(start, spec.k_names)] if search and discrete_equal else [])
     large = problem.n_rec > 1 or problem.n_res * (len(names) - len(fixed)) ** 2 > LARGE_PROBLEM
-    if len(starts) > 1 and large:  # compare the starts after a few steps, refine the best
-        short = min(max_evaluations, 12 + 2 * len(problem.shared))
-        best = min((solve(s, max_evaluations=short) for s in starts), key=cost)
-        sol = solve(best.values if np.isfinite(cost(best)) else start)
-    else:
-        sol = min((solve(s) for s in starts), key=cost)
+    short = min(max_evaluations, 12 + 2 * len(problem.shared))
+
+    def more_starts() -> Iterator[tuple[dict[str, float], int]]:
+        """The further shared starts, made only when the search reaches them."""
+        if search and discrete_equal:
+            yield spread_start(start, spec.k_names), 0
+        if multistart and not tied:
+            shown.stage("search: the shared parameters' global start")
+            extra, spent = global_start(problem, start, fixed, box)
+            for j, e in enumerate(extra):
+                yield {x: e[x] for x in names}, spent if j == 0 else 0
+
+    shown.stage("search: the regression start, then the records that do not fit")
+    sol, n_starts, at_best, count = adaptive_search(problem, solve, start, more_starts, fixed,
+                                                    box, short)  # fmt: skip
+    evaluations[0] += count
     if search and discrete_equal:
         shown.stage("checks: a rigid stiffest element, coalesced elements")
         sol = escape_corner(sol, solve, spec.k_names)
@@ -358,7 +402,7 @@ def fit_response(
         sol = rigid_check(sol, capped, problem, names, fixed, tied, level,
                           refine=solve if large else None)  # fmt: skip
     sol = bound_check(sol, start, names, fixed, tied, equal_breakaway and density is None)
-    sol = nuisance_only(sol, problem, fixed)
+    sol = consistent_level(nuisance_only(sol, problem, fixed), spec)
     notes = [PER_UNIT_MASS] if per_unit_mass else []
     pruned = prune_elements(problem, sol, spec)
     if prune and pruned.dead and density is None and spec.n - len(pruned.dead) >= 0:
@@ -383,6 +427,8 @@ def fit_response(
         settings = {**options, "fixed": fixed}
         sol, boot, count = record_bootstrap(sol, problem, settings, bootstrap, seed)
         evaluations[0] += count
+    sol, ratios, floor, over = floor_test(problem, sol, at_best == n_starts)
     sol = replace(sol, n_evaluations=evaluations[0])
+    summary = SearchSummary(n_starts, at_best, floor, over, ratios, count)
     result = response_result(sol, problem, spec, pruned, notes, boot, per_unit_mass, signal)
-    return result.on_axis(common_axis(records))
+    return replace(result, search=summary).on_axis(common_axis(records))

@@ -191,6 +191,7 @@ class FitResult(FitReport, LmfitNames):
     var_names: tuple[str, ...] = ()
     interval_method: dict[str, str] = field(default_factory=dict)
     ties: dict[str, tuple[str, float, float]] = field(default_factory=dict)
+    search: Any = None  # the pooled fits' `_search.SearchSummary` (starts, noise floor, order)
 
     @classmethod
     def from_solution(
@@ -246,6 +247,16 @@ class FitResult(FitReport, LmfitNames):
             signal_unit=on_axis(self.signal_unit, axis),
             abscissa_label=on_axis(self.abscissa_label, axis),
         )  # fmt: skip
+
+    @property
+    def n_starts(self) -> int | None:
+        """Starts of the shared parameters the search ran (pooled fits; None otherwise)."""
+        return None if self.search is None else self.search.n_starts
+
+    @property
+    def n_starts_at_best(self) -> int | None:
+        """How many of those starts reached the best optimum (pooled fits; None otherwise)."""
+        return None if self.search is None else self.search.n_starts_at_best
 
     @property
     def nfev(self) -> int:

@@ -1,0 +1,242 @@
+"""Studies of the fit engine's search (local minima, noise floor, coverage, mirror, speed).
+
+Data generated with the library (exact event method) with a 1 µm encoder,
+0.2 µm noise, velocity from differences, per-record preload:
+
+* ``stops``: pooled stops, each record's preload anywhere in ±0.8 F_m of either
+  sign, initial velocities of both signs, random initial positions (8 records
+  × 1000 samples, the model of `_stops.py`). Per seed: the status, the residual
+  RMS over the noise floor, that ratio at the truth (the fit started from the
+  true values), and whether each 95 % interval holds the truth. Printed: the
+  share of fits at the noise floor (best cost within 5 % of the cost reached
+  from the truth, or lower), the share of wrong ``converged`` (converged and
+  not at the floor), coverage per parameter.
+* ``loops``: the same for torque-driven loops with preload (`fit_quasi_static`).
+* ``guide``: the user guide's 3-stop example (docs/user_guide/pooled_fits.rst):
+  status and coverage of the two stiffnesses over seeds of encoder noise.
+* ``mirror``: a pooled fit and the fit of its mirror image (y, v, u negated).
+* ``speed``: 20 records × 1000 samples: time of the default fit, of the fit
+  without the multi-start, and of the nuisance search alone.
+
+Run: python benchmarks/identification_search.py [study] [seeds]
+"""
+
+from __future__ import annotations
+
+import sys
+import time
+from collections import Counter
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+from _stops import MASS, TRUTH, model, stop_records
+
+from presliding import (
+    Measurement,
+    PIFriction,
+    fit_quasi_static,
+    fit_response,
+    preloaded_state,
+    quasi_static_response,
+    simulate,
+)
+
+QUANTUM, NOISE = 1e-6, 2e-7
+OPTIONS = {"signal": "both", "initial_state": "preload"}
+
+
+def random_stop(rng: np.random.Generator, samples: int = 1000) -> tuple:
+    fric = model()
+    v0 = rng.choice([-1.0, 1.0]) * rng.uniform(0.02, 0.06)
+    d = float(np.sign(v0))
+    fraction = rng.uniform(-0.8, 0.8)
+    y0 = rng.uniform(-1e-3, 1e-3)
+    state = preloaded_state(fric, fraction * fric.max_elastic_force, direction=d, position=y0)
+    t = np.arange(samples) * 1e-3
+    u = np.where(t < rng.uniform(0.03, 0.08), -d * rng.uniform(0.1, 0.6), 0.0)
+    res = simulate(fric, MASS, applied_force=(t, u), initial_position=y0, initial_velocity=v0,
+                   initial_state=state, t_eval=t)  # fmt: skip
+    y = QUANTUM * np.round((res.position + NOISE * rng.standard_normal(samples)) / QUANTUM)
+    meas = Measurement(t, position=y, velocity=np.gradient(y, t), applied_force=u)
+    return meas, {"initial_position": y0, "initial_velocity": v0, "preload_fraction": fraction}
+
+
+def _cost(fit) -> float:
+    r = fit.fitted - fit.measured
+    return float(r @ r)
+
+
+def _summary(label, statuses, at_floor, wrong, inside, seeds, elapsed) -> None:
+    print(f"{label}: {seeds} seeds, {elapsed:.0f} s")
+    print(f"  statuses: {dict(statuses)}")
+    print(f"  at the noise floor: {at_floor}/{seeds} = {100 * at_floor / seeds:.0f} %")
+    print(f"  wrong 'converged' (converged, not at the floor): {wrong}/{seeds}")
+    print(
+        "  95 % coverage: " + ", ".join(f"{k} {100 * v / seeds:.0f} %" for k, v in inside.items())
+    )
+
+
+def study_stops(seeds: int, n_records: int = 8) -> None:
+    t0 = time.perf_counter()
+    statuses, inside = Counter(), Counter()
+    at_floor = wrong = 0
+    for seed in range(seeds):
+        rng = np.random.default_rng(5000 + seed)
+        pairs = [random_stop(rng) for _ in range(n_records)]
+        records = [p[0] for p in pairs]
+        fit = fit_response(records, **OPTIONS)
+        truth = dict(TRUTH)
+        for i, (_, nu) in enumerate(pairs):
+            truth.update({f"{k}_{i + 1}": v for k, v in nu.items()})
+        ref = fit_response(records, **OPTIONS, initial=truth, multistart=False)
+        floor = _cost(fit) <= 1.05 * _cost(ref)
+        statuses[fit.status] += 1
+        at_floor += floor
+        wrong += fit.status == "converged" and not floor
+        for name, value in truth.items():
+            lo, hi = fit.confidence_interval[name]
+            key = name.rsplit("_", 1)[0] if name not in TRUTH else name
+            inside[key] += (lo <= value <= hi) / (1 if name in TRUTH else n_records)
+        print(f"  seed {seed}: {fit.status}, RMS/floor {fit.search.residual_over_floor:.2f} "
+              f"(truth {ref.search.residual_over_floor:.2f}), mass {fit.parameters['mass']:.4g}, "
+              f"starts {fit.n_starts_at_best}/{fit.n_starts}", flush=True)  # fmt: skip
+    _summary("pooled stops, random preloads", statuses, at_floor, wrong, inside, seeds,
+             time.perf_counter() - t0)  # fmt: skip
+
+
+LOOP_MODEL = PIFriction(0.05, [2e4, 6e3, 2e3], breakaway=[0.15, 0.15, 0.15])
+LOOP_TRUTH = {"coulomb_level": 0.5, "coulomb": 0.05, "stiffness_1": 2e4, "stiffness_2": 6e3,
+              "stiffness_3": 2e3}  # fmt: skip
+
+
+def random_loop(rng: np.random.Generator, samples: int = 600) -> tuple:
+    t = np.linspace(0.0, 4.0, samples)
+    f0 = rng.uniform(-0.8, 0.8) * 0.25 * LOOP_MODEL.max_elastic_force  # |u| < F_c = 0.5
+    d = rng.choice([-1.0, 1.0])
+    amp = rng.uniform(0.25, 0.33)
+    u = f0 + d * amp * np.sin(np.pi * t) * (1 - 0.1 * t / 4)
+    y0 = rng.uniform(-1e-5, 1e-5)
+    state = preloaded_state(LOOP_MODEL, f0, direction=-d, position=y0)
+    y = quasi_static_response(LOOP_MODEL, u, state).position
+    y = 1e-8 * np.round((y + 2e-9 * rng.standard_normal(samples)) / 1e-8)
+    return Measurement(t, position=y, applied_force=u), f0
+
+
+def study_loops(seeds: int, n_records: int = 4) -> None:
+    t0 = time.perf_counter()
+    statuses, inside = Counter(), Counter()
+    at_floor = wrong = 0
+    for seed in range(seeds):
+        rng = np.random.default_rng(7000 + seed)
+        pairs = [random_loop(rng) for _ in range(n_records)]
+        records = [p[0] for p in pairs]
+        fit = fit_quasi_static(records, 3)
+        ref = fit_quasi_static(records, 3, initial=LOOP_TRUTH)
+        floor = _cost(fit) <= 1.05 * _cost(ref)
+        statuses[fit.status] += 1
+        at_floor += floor
+        wrong += fit.status == "converged" and not floor
+        for name, value in LOOP_TRUTH.items():
+            lo, hi = fit.confidence_interval[name]
+            inside[name] += lo <= value <= hi
+        print(f"  seed {seed}: {fit.status}, RMS/floor {fit.search.residual_over_floor:.2f} "
+              f"(truth start {ref.search.residual_over_floor:.2f}), F_c "
+              f"{fit.parameters['coulomb_level']:.4g}", flush=True)  # fmt: skip
+    _summary("torque loops with preload", statuses, at_floor, wrong, inside, seeds,
+             time.perf_counter() - t0)  # fmt: skip
+
+
+def guide_records(seed: int) -> list:
+    truth = PIFriction(coulomb=0.3, stiffness=[4000.0, 1000.0], breakaway=[0.35, 0.35])
+    rng = np.random.default_rng(seed)
+    t = np.arange(600) * 1e-3
+    out = []
+    for v0 in (0.03, -0.045, 0.06):
+        d = np.sign(v0)
+        u = np.where(t < 0.05, -0.3 * d, 0.0)
+        memory = preloaded_state(truth, 0.5 * d, direction=d)
+        res = simulate(truth, 2.0, applied_force=(t, u), initial_velocity=v0,
+                       initial_state=memory, t_eval=t)  # fmt: skip
+        y = 1e-7 * np.round((res.position + 2e-8 * rng.standard_normal(600)) / 1e-7)
+        out.append(Measurement(t, position=y, applied_force=u))
+    return out
+
+
+def study_guide(seeds: int) -> None:
+    t0 = time.perf_counter()
+    statuses, inside = Counter(), Counter()
+    for seed in range(seeds):
+        fit = fit_response(guide_records(seed), n_elements=2, signal="position",
+                           initial_state="preload")  # fmt: skip
+        statuses[fit.status] += 1
+        for name, value in (("stiffness_1", 4000.0), ("stiffness_2", 1000.0), ("mass", 2.0)):
+            lo, hi = fit.confidence_interval[name]
+            inside[name] += lo <= value <= hi
+    print(f"user guide 3 stops: {seeds} seeds, {time.perf_counter() - t0:.0f} s; statuses "
+          f"{dict(statuses)}; 95 % coverage " + ", ".join(
+              f"{k} {100 * v / seeds:.0f} %" for k, v in inside.items()))  # fmt: skip
+
+
+def study_mirror() -> None:
+    records, _, _ = stop_records(3, 4)
+    mirror = [Measurement(m.time, position=-m.position, velocity=-m.velocity,
+                          applied_force=-m.applied_force) for m in records]  # fmt: skip
+    for state in ("saturated", "preload"):
+        a = fit_response(records, signal="both", initial_state=state)
+        b = fit_response(mirror, signal="both", initial_state=state)
+        worst = max(abs(b.parameters[k] / a.parameters[k] - 1) for k in TRUTH)
+        print(f"mirror ({state}): statuses {a.status}/{b.status}; largest relative difference "
+              f"of the shared parameters {worst:.2e}")  # fmt: skip
+
+
+def study_speed(repeats: int = 1) -> None:
+    import presliding.identification._nuisance_search as ns
+
+    records, _, _ = stop_records(0, 20)
+    fit_response(records[:2], **OPTIONS, max_evaluations=5)  # compile
+    spent = [0.0]
+    original = ns.search_nuisance
+
+    def timed(*a, **k):
+        t = time.perf_counter()
+        try:
+            return original(*a, **k)
+        finally:
+            spent[0] += time.perf_counter() - t
+
+    search_module = sys.modules["presliding.identification._search"]
+    search_module.search_nuisance = timed
+    for label, kw in (("default", {}), ("single start", {"multistart": False})):
+        times = []
+        for _ in range(repeats):
+            spent[0] = 0.0
+            t = time.perf_counter()
+            fit = fit_response(records, **OPTIONS, **kw)
+            times.append(time.perf_counter() - t)
+        print(f"20 × 1000 ({label}): median {np.median(times):.2f} s over {repeats} runs "
+              f"(target 5 s); nuisance search {spent[0]:.2f} s of the last; status "
+              f"{fit.status}, RMS/floor {fit.search.residual_over_floor:.2f}, starts "
+              f"{fit.n_starts_at_best}/{fit.n_starts}")  # fmt: skip
+    search_module.search_nuisance = original
+
+
+def main() -> None:
+    study = sys.argv[1] if len(sys.argv) > 1 else "all"
+    seeds = int(sys.argv[2]) if len(sys.argv) > 2 else 40
+    if study in ("stops", "all"):
+        study_stops(seeds)
+    if study in ("loops", "all"):
+        study_loops(seeds)
+    if study in ("guide", "all"):
+        study_guide(seeds)
+    if study in ("mirror", "all"):
+        study_mirror()
+    if study in ("speed", "all"):
+        study_speed()
+
+
+if __name__ == "__main__":
+    main()

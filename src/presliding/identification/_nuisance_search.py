@@ -1,0 +1,189 @@
+"""Global search of every record's own parameters, the shared ones held (issue: local minima).
+
+Records are independent given the shared parameters (mass, friction model,
+σ, offset): the cost is a sum of per-record costs, each depending only on the
+shared parameters and that record's nuisance block (initial position, initial
+velocity, preload fraction in [−1, 1]). The residual is far from convex in the
+preload (a preload on the wrong side of the branch family changes the first
+reversal), so a local solver started from one guess ends in a local minimum
+for some records. `search_nuisance` therefore
+
+1. evaluates a grid of candidates for every record at once: one candidate is
+   one full parameter vector in which every record takes the same grid point
+   (preload fraction on a grid over [−1, 1], the initial velocity as measured
+   and with its sign flipped, and the current values), all candidates in one
+   batched compiled call (`PooledProblem.residuals`); the initial position,
+   which shifts a record's positions only, is set in closed form per candidate
+   (the mean of the position residual);
+2. ranks, per record, the candidates by that record's cost;
+3. polishes the best three ranks (all records' blocks of one rank together,
+   the shared parameters held: Levenberg–Marquardt on the block-diagonal
+   normal equations) and keeps, per record, the best polished block.
+
+The result is never worse than the values it started from.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+
+import numpy as np
+from numpy.typing import NDArray
+
+from presliding.identification._least_squares import _parameter_map
+from presliding.identification._pooled_problem import PooledProblem
+from presliding.identification._structured_lm import free_limit, levenberg_marquardt
+
+FloatArray = NDArray[np.float64]
+
+#: preload fractions of the grid (both ends: saturated in either direction)
+FRACTIONS = np.linspace(-1.0, 1.0, 11)
+#: candidates of each record polished (the best ranks of the grid)
+POLISHED = 3
+#: residual evaluations of the polish (per call, all records together)
+POLISH_EVALUATIONS = 40
+
+
+def record_costs(problem: PooledProblem, res: FloatArray) -> FloatArray:
+    """Sum of squares of each record's rows, per parameter set (P, R)."""
+    out = np.empty((res.shape[0], problem.n_rec))
+    for i in range(problem.n_rec):
+        out[:, i] = np.sum(res[:, problem.record_rows(i)] ** 2, axis=1)
+    return out
+
+
+def _position_rows(problem: PooledProblem, i: int) -> NDArray[np.intp] | None:
+    """Record i's rows comparing positions (None when positions are not compared)."""
+    rows = problem.record_rows(i)
+    pos = rows[problem._wy[rows] > 0]
+    return pos if pos.size else None
+
+
+def _shift_positions(problem: PooledProblem, sets: FloatArray, res: FloatArray,
+                     free_y0: list[bool]) -> None:  # fmt: skip
+    """Move each free initial position by the mean position residual (in place, both arrays)."""
+    for i in range(problem.n_rec):
+        rows = _position_rows(problem, i)
+        if rows is None or not free_y0[i]:
+            continue
+        mean = np.mean(res[:, rows], axis=1)
+        ok = np.isfinite(mean)
+        res[np.ix_(ok, rows)] -= mean[ok, None]
+        w = problem._wy[rows[0]]
+        sets[ok, problem.index[problem.nuisance("initial_position", i)]] -= mean[ok] / w
+
+
+def _candidates(problem: PooledProblem, values: Mapping[str, float],
+                free: set[str]) -> FloatArray:  # fmt: skip
+    """Full parameter vectors: the current one first, then the grid (module notes)."""
+    base = np.array([values[x] for x in problem.names])
+    out = [base]
+    kinds = problem.kinds
+    fractions = FRACTIONS if "preload_fraction" in kinds else [None]
+    signs = (1.0, -1.0) if "initial_velocity" in kinds else (1.0,)
+    for frac in fractions:
+        for sign in signs:
+            cand = base.copy()
+            for i, rec in enumerate(problem.records):
+                if frac is not None:
+                    name = problem.nuisance("preload_fraction", i)
+                    if name in free:
+                        cand[problem.index[name]] = frac
+                if "initial_velocity" in kinds:
+                    name = problem.nuisance("initial_velocity", i)
+                    if name in free:
+                        cand[problem.index[name]] = sign * float(rec.velocity[0])
+                if "initial_position" in kinds:
+                    name = problem.nuisance("initial_position", i)
+                    if name in free:
+                        cand[problem.index[name]] = float(rec.position[0])
+            out.append(cand)
+    return np.array(out)
+
+
+def search_nuisance(
+    problem: PooledProblem,
+    values: Mapping[str, float],
+    fixed: Mapping[str, float],
+    bounds: Mapping[str, tuple[float, float]],
+    *,
+    polish: bool = True,
+) -> tuple[dict[str, float], float, int]:
+    """The best nuisance blocks for `values`' shared parameters (module notes).
+
+    Returns the values (shared ones unchanged), their cost ‖r‖² and the number
+    of residual evaluations.
+    """
+    free = {x for x in problem.names if problem.record_of[x] is not None and x not in fixed}
+    values = dict(values)
+    if not free:
+        r = problem.residuals(np.array([[values[x] for x in problem.names]]))[0]
+        return values, float(r @ r), 1
+    sets = _candidates(problem, values, free)
+    lo = np.array([bounds.get(x, (-np.inf, np.inf))[0] for x in problem.names])
+    hi = np.array([bounds.get(x, (-np.inf, np.inf))[1] for x in problem.names])
+    sets = np.clip(sets, lo, hi)
+    res = problem.residuals(sets)
+    free_y0 = [problem.nuisance("initial_position", i) in free for i in range(problem.n_rec)]
+    _shift_positions(problem, sets, res, free_y0)
+    costs = record_costs(problem, res)
+    costs[~np.isfinite(costs)] = np.inf
+    ranked = np.argsort(costs, axis=0, kind="stable")[: min(POLISHED, costs.shape[0])]
+    per, width = len(problem.shared), len(problem.kinds)
+    evaluations = sets.shape[0]
+    blocks = []  # (per-record costs (R,), full vector) of each polished rank
+    for rank in range(ranked.shape[0] if polish else 1):
+        chosen = sets[0].copy()
+        for i in range(problem.n_rec):
+            cols = slice(per + i * width, per + (i + 1) * width)
+            chosen[cols] = sets[ranked[rank, i], cols]
+        rec_costs = costs[ranked[rank], np.arange(problem.n_rec)]
+        if polish and np.all(np.isfinite(rec_costs)):
+            chosen, rec_costs, ev = _polish(problem, chosen, free, bounds, rec_costs)
+            evaluations += ev
+        blocks.append((rec_costs, chosen))
+    out_vec = blocks[0][1].copy()
+    total = 0.0
+    for i in range(problem.n_rec):
+        cols = slice(per + i * width, per + (i + 1) * width)
+        m = int(np.argmin([b[0][i] for b in blocks]))
+        out_vec[cols] = blocks[m][1][cols]
+        total += float(blocks[m][0][i])
+    base = _cost(res[0])
+    if not np.isfinite(total) or total > base:
+        return values, base, evaluations
+    return dict(zip(problem.names, out_vec.tolist(), strict=True)), total, evaluations
+
+
+def _polish(problem: PooledProblem, vec: FloatArray, free: set[str],
+            bounds: Mapping[str, tuple[float, float]], rec_costs: FloatArray) -> tuple:  # fmt: skip
+    """Every record's block polished together, the shared parameters held (LM)."""
+    held = {x: float(v) for x, v in zip(problem.names, vec, strict=True) if x not in free}
+    pm = _parameter_map(tuple(problem.names), held, {})
+    flo = np.array([bounds.get(x, (-np.inf, np.inf))[0] for x in pm.free])
+    fhi = np.array([bounds.get(x, (-np.inf, np.inf))[1] for x in pm.free])
+    jac = problem.free_jacobian(sparse_output=True)
+    fun = problem.residual()
+    x0 = np.array([vec[problem.index[x]] for x in pm.free])
+    try:
+        lm = levenberg_marquardt(
+            lambda x: fun(pm.full(x)), lambda x: jac(pm, x, flo, fhi), x0, flo, fhi,
+            ftol=1e-8, xtol=1e-10, gtol=1e-12, max_nfev=POLISH_EVALUATIONS,
+            step_limit=free_limit(pm, problem.step_limit),
+        )  # fmt: skip
+    except (ValueError, np.linalg.LinAlgError, FloatingPointError):
+        return vec, rec_costs, 0
+    polished = record_costs(problem, lm.fun[None])[0]
+    better = polished < rec_costs
+    out = vec.copy()
+    full = pm.full(lm.x)
+    per, width = len(problem.shared), len(problem.kinds)
+    for i in np.flatnonzero(better):
+        cols = slice(per + i * width, per + (i + 1) * width)
+        out[cols] = full[cols]
+    return out, np.where(better, polished, rec_costs), lm.nfev
+
+
+def _cost(r: FloatArray) -> float:
+    c = float(r @ r)
+    return c if np.isfinite(c) else np.inf
