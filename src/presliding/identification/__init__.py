@@ -38,6 +38,7 @@ _predictors.py      how each fit predicts another record
 _pi_regression.py   separable least squares over the PI thresholds; the fused batch loss
 _global_search.py   differential evolution over thresholds for `fit_presliding`
 _response_tools.py, _response_checks.py   response start helpers and checks after a fit
+_response_box.py    a pooled response fit's start values and bounds (regression, records, user)
 _moved.py           old paths of the modules that moved to `presliding.measurement`
 
 Measurements (`Measurement`, readers, units, filters) live one layer down, in

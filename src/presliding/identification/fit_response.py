@@ -37,10 +37,8 @@ from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import replace
 from typing import Any
 
-import numpy as np
-
 from presliding._progress import Progress
-from presliding._validation import as_bounds, as_choice, as_count, as_positive_scalar, fmt
+from presliding._validation import as_choice, as_count, as_positive_scalar, fmt
 from presliding.identification import _pooled_problem as pp
 from presliding.identification._fit_progress import FitProgress, as_reporter, shows_progress
 from presliding.identification._least_squares import (
@@ -56,7 +54,7 @@ from presliding.identification._parameters import (
     kept_parameters,
     resolve_parameters,
 )
-from presliding.identification._pooled_start import pooled_start
+from presliding.identification._response_box import start_and_box
 from presliding.identification._response_checks import (
     bound_check,
     consistent_level,
@@ -73,7 +71,6 @@ from presliding.identification._response_setup import (
     MAX_BOOTSTRAP,
     check_model_values,
     check_records,
-    initial_bounds,
     nuisance_only,
     prune_elements,
     record_bootstrap,
@@ -313,32 +310,8 @@ def fit_response(
         if not fit_initial or signal == "velocity":
             fixed.setdefault(problem.nuisance("initial_position", i), float(rec.position[0]))
     check_enough(problem.n_res, len(names) - len(fixed))
-    start = pooled_start(recs, spec, fixed.get("mass", None if forced else 1.0), offset, viscous)
-    if not forced and "mass" not in fixed and "coulomb_level" in fixed:
-        factor = fixed["coulomb_level"] / start["coulomb_level"]
-        start = {key: val * factor for key, val in start.items()}
-    for i, rec in enumerate(recs):
-        start[problem.nuisance("initial_position", i)] = float(rec.position[0])
-        start[problem.nuisance("initial_velocity", i)] = float(rec.velocity[0])
-        if initial_state == "preload":
-            start[problem.nuisance("preload_fraction", i)] = (
-                float(problem.direction[i]) if rec.velocity[0] else 0.0
-            )
-    for key, val in dict(initial or {}).items():
-        if key not in names:
-            raise ValueError(f"`initial` must name parameters of the fit; got {key!r}.")
-        start[key] = float(val)
-    start = {x: start[x] for x in names}
-    box = {**spec.bounds(), "mass": (0.0, np.inf), "offset": (-np.inf, np.inf),
-           "viscous": (0.0, np.inf)}  # fmt: skip
-    box.update(initial_bounds(problem, initial_state))
-    if fmin is not None and spec.has_level_parameter:
-        box["coulomb_level"] = (fmin, np.inf)
-        start["coulomb_level"] = max(start["coulomb_level"], fmin)
-    for key, (lo, hi) in as_bounds("bounds", bounds, names).items():
-        old = box.get(key, (-np.inf, np.inf))
-        box[key] = (max(old[0], float(lo)), min(old[1], float(hi)))
-    box = {x: box.get(x, (-np.inf, np.inf)) for x in names}
+    start, box = start_and_box(problem, spec, recs, fixed, forced, offset, viscous,
+                               initial_state, initial, bounds, fmin)  # fmt: skip
     problem.set_typical(start)
     penalty = None if fmin is None or spec.has_level_parameter else fmin
     if max_evaluations is None:
