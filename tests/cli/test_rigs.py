@@ -28,7 +28,7 @@ COLUMNS = ["--columns", "time=0", "position=1", "applied_force=2"]
 def test_stops_cut_from_headerless_tab_ended_files_are_pooled(tmp_path, capsys):
     paths = [_servo_file(tmp_path, f"servo{i}.txt", seed=i) for i in range(2)]
     out = tmp_path / "fit"
-    code = main(["fit", *map(str, paths), "--kind", "response", "--elements", "2", "--signal",
+    code = main(["fit", *map(str, paths), "--kind", "response", "--elements", "1", "--signal",
                  "position", "--no-header", *COLUMNS, "--segments", "stops",
                  "--no-cross-validation", "-o", str(out)])  # fmt: skip
     assert code == 0, capsys.readouterr()
@@ -69,7 +69,7 @@ def test_per_signal_files_are_joined_on_the_command_line(tmp_path, capsys):
     out = tmp_path / "fit"
     argv = ["fit", "--join", f"{groups[0][0]}=position", f"{groups[0][1]}=applied_force",
             "--join", f"{groups[1][0]}=position", f"{groups[1][1]}=applied_force",
-            "--kind", "response", "--elements", "2", "--signal", "position", "--segments",
+            "--kind", "response", "--elements", "1", "--signal", "position", "--segments",
             "stops", "--no-cross-validation", "-o", str(out)]  # fmt: skip
     assert main(argv) == 0, capsys.readouterr()
     text = (out / "model.toml").read_text()
@@ -117,7 +117,7 @@ def test_fit_with_held_out_files(tmp_path, capsys):
     paths = [str(_servo_file(tmp_path, f"s{i}.txt", seed=i, n_stops=2)) for i in range(2)]
     held = str(_servo_file(tmp_path, "held.txt", seed=9, n_stops=1))
     out = tmp_path / "fit"
-    code = main(["fit", *paths, "--kind", "response", "--elements", "2", *COLUMNS,
+    code = main(["fit", *paths, "--kind", "response", "--elements", "1", *COLUMNS,
                  "--signal", "position", "--segments", "stops", "--no-cross-validation",
                  "--hold-out", held, "-o", str(out)])  # fmt: skip
     assert code == 0, capsys.readouterr()

@@ -97,7 +97,7 @@ def test_a_pooled_fit_with_a_bootstrap_shows_its_steps_and_fits_the_same():
     assert quiet.bootstrap == loud.bootstrap
     text = stream.getvalue()
     assert "probe: least squares: 3 record(s)" in text
-    assert "probe: check: the rigid limit of the smallest-threshold element" in text
+    assert "probe: search: the regression start, then the records that do not fit" in text
     for b in (1, 2, 3):
         assert f"probe: bootstrap: resample {b} of 3" in text
     assert "probe: bootstrap: resample 3 of 3, about " in text and " s left" in text

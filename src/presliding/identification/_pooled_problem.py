@@ -307,7 +307,10 @@ class PooledProblem:
                     k += 1
                 else:
                     minus = base
-                diff = plus - minus
+                with np.errstate(invalid="ignore"):  # a trial point outside the model's range
+                    diff = plus - minus
+                # (an infinite residual on both sides): no usable slope there, none assumed
+                diff[~np.isfinite(diff)] = 0.0
                 for j in g:
                     span = up[j] + down[j]
                     rows = col_rows[j]

@@ -39,6 +39,7 @@ from presliding._validation import (
 from presliding.identification import _pi_regression as pr
 from presliding.identification import _pooled_problem as pp
 from presliding.identification._least_squares import Solution, solve_least_squares
+from presliding.identification._profile import profile_solution
 from presliding.identification.fit_presliding import check_varies
 from presliding.measurement.measurement import Measurement
 
@@ -256,6 +257,8 @@ def record_bootstrap(
     lo, hi = np.quantile(arr, [alpha / 2, 1 - alpha / 2], axis=0)
     boot = {x: (float(np.std(arr[:, j], ddof=1)), float(lo[j]), float(hi[j]))
             for j, x in enumerate(shared_free)}  # fmt: skip
+    if not sol.interval_method:  # the profile intervals first, then joined with the bootstrap
+        sol = profile_solution(sol, "auto")
     se, ci = dict(sol.standard_error), dict(sol.confidence_interval)
     for x, (b_se, b_lo, b_hi) in boot.items():
         se[x] = max(se[x], b_se)

@@ -6,6 +6,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from presliding._figures import new_axes, place_legend
 from presliding._validation import as_choice
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -15,11 +16,8 @@ KINDS = ("time", "hysteresis", "timeline", "energy")
 
 
 def _axes(ax: Axes | None) -> Axes:
-    if ax is not None:
-        return ax
-    import matplotlib.pyplot as plt
-
-    return plt.subplots()[1]
+    """`ax`, or the axes of a new figure with a constrained layout (the legend stays inside)."""
+    return new_axes(ax)
 
 
 def plot_network(res: Any, *, kind: str = "time", ax: Axes | None = None) -> Axes:
@@ -58,5 +56,5 @@ def plot_network(res: Any, *, kind: str = "time", ax: Axes | None = None) -> Axe
             ax.plot(res.time, values, label=name)
         ax.set_xlabel("time [s]")
         ax.set_ylabel("energy [J]")
-    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize="small")
+    place_legend(ax, fontsize="small")
     return ax
