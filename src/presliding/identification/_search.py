@@ -10,16 +10,11 @@ search, made only when reached), each through the stages below, stopping as
 soon as one reaches the floor or the best optimum again. A 20-record fit
 whose records all fit after the first solve costs one solve.
 
-`multistart` (every start, no early stop) runs every start of the shared
-parameters (the first also as given) through the same stages: each record's
-own parameters searched globally with the shared ones held
-(`_nuisance_search`), a short solve of everything, the nuisance search again
-(alternation) and, when it found better blocks, another short solve. The best
-start is then solved to convergence; every other start that ended
-within a factor 1.2 of it is solved on (three short budgets), unless its
-shared parameters already agree with the best's to 1 % (the same basin).
-The best is the answer, and the number of starts that reached it (cost
-within 0.1 %, or the same basin) is reported.
+Each further start runs through the same stages: each record's own parameters
+searched globally with the shared ones held (`_nuisance_search`), a short solve
+of everything, the nuisance search again (alternation) and, when it found better
+blocks, another short solve. The best is the answer, and the number of starts
+that reached it (cost within 0.1 %, or the same basin) is reported.
 
 The starts: the regression start and the spread start the caller gives, and
 the best two of a cheap global search (`global_start`): the regression
@@ -153,59 +148,6 @@ def global_start(
     return [v for _, v in scored[:keep]], count
 
 
-def multistart(
-    problem: PooledProblem,
-    solve: Callable[..., Solution],
-    starts: list[dict[str, float]],
-    fixed: Mapping[str, float],
-    bounds: Mapping[str, tuple[float, float]],
-    short: int,
-) -> tuple[Solution, int, int, int]:
-    """The best solution over `starts` (module notes).
-
-    Returns it, the number of starts, how many reached it, and the residual
-    evaluations of the nuisance searches.
-    """
-    evaluations = 0
-
-    def alternate(sol: Solution, limit: int | None) -> Solution:
-        nonlocal evaluations
-        for _ in range(2):
-            if sol.status == "failed":
-                return sol
-            values, c, ev = search_nuisance(problem, sol.values, fixed, bounds, polish=False)
-            evaluations += ev
-            if not c < cost(sol) * (1.0 - SAME_OPTIMUM):
-                break
-            sol = solve(values, max_evaluations=limit) if limit else solve(values)
-        return sol
-
-    tries = []
-    for j, s in enumerate(starts):
-        values, _, ev = search_nuisance(problem, s, fixed, bounds)
-        evaluations += ev
-        tries.append(alternate(solve(values, max_evaluations=short), short))
-        if j == 0:  # the regression start as given, too (the search's paths differ)
-            tries.append(alternate(solve(dict(s), max_evaluations=short), short))
-    order = sorted(range(len(tries)), key=lambda j: cost(tries[j]))
-    lead = tries[order[0]]
-    best = alternate(solve(lead.values), None)
-    finals = {order[0]: best}
-    for j in order[1:]:  # the others: the same basin as the best, or solved on
-        t = tries[j]
-        if not (np.isfinite(cost(t)) and cost(t) <= REFINE_WITHIN * cost(lead)):
-            continue
-        if same_point(problem, t.values, lead.values):
-            finals[j] = best
-            continue
-        finals[j] = solve(t.values, max_evaluations=OTHER_BUDGET * short)
-        if cost(finals[j]) < cost(best):
-            best = finals[j]
-    target = cost(best)
-    at_best = sum(1 for f in finals.values() if cost(f) <= target * (1.0 + SAME_OPTIMUM) + 1e-300)
-    return best, len(tries), at_best, evaluations
-
-
 def at_floor(problem: PooledProblem, sol: Solution, record_factor: float = FLOOR_FACTOR) -> bool:
     """Whether a solve converged within the floor rule: the pooled residual RMS within
     `FLOOR_FACTOR` times the floor and every record within `record_factor` times its own."""
@@ -272,8 +214,8 @@ def adaptive_search(
        records alone) and everything is solved again, twice at most.
     3. Only while the fit is still above the floor, the further starts
        (`more_starts`: produced lazily, with the evaluations they cost) run
-       through the stages of `multistart` (every record's grid search, a short
-       solve, alternation); one that ends within `REFINE_WITHIN` of the best
+       through the stages above (every record's grid search, a short solve,
+       alternation); one that ends within `REFINE_WITHIN` of the best
        in another basin is solved on and its unfit records searched again. The
        search stops as soon as the best reaches the floor, or as soon as a
        further start reaches the best optimum again (two starts agree: the
