@@ -23,7 +23,7 @@ the status ``"not_identifiable"``. The outcome is a `Solution`;
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -41,7 +41,12 @@ from presliding.identification._fit_options import (  # noqa: F401 (their home b
     check_constraints,
     check_options,
 )
+from presliding.identification._parameter_map import ParameterMap as _Map
+from presliding.identification._parameter_map import free_bounds as _free_bounds
+from presliding.identification._parameter_map import parameter_map as _parameter_map
+from presliding.identification._parameter_map import tie_triples as _ties
 from presliding.identification._profile import Profiler
+from presliding.identification._solution import Solution, name_list
 from presliding.identification._status import STATUSES as STATUSES
 from presliding.identification._structured_lm import free_limit, levenberg_marquardt
 from presliding.identification.uncertainty import (
@@ -53,116 +58,13 @@ from presliding.identification.uncertainty import (
 
 FloatArray = NDArray[np.float64]
 Tie = str | tuple[str, float] | tuple[str, float, float]
+__all__ = ["LARGE_PROBLEM", "STATUSES", "Solution", "Tie", "name_list", "solve_least_squares"]
 
-_LISTED = 6  # names listed in a message before "and N more"
 #: residuals × free parameters² above which a structured problem takes `levenberg_marquardt`
 LARGE_PROBLEM = 2e7
 
 
-# ---------------------------------------------------------------------- parameters
-@dataclass(frozen=True)
-class _Map:
-    """full = T @ free + const, for the free/fixed/tied split of named parameters."""
-
-    names: tuple[str, ...]
-    free: tuple[str, ...]
-    matrix: FloatArray
-    const: FloatArray
-
-    def full(self, free: FloatArray) -> FloatArray:
-        return self.matrix @ free + self.const
-
-
-def _parameter_map(
-    names: tuple[str, ...],
-    fixed: Mapping[str, float],
-    tied: Mapping[str, Tie],
-) -> _Map:
-    for label, spec in (("fixed", fixed), ("tied", tied)):
-        for n in spec:
-            if n not in names:
-                raise ValueError(
-                    f"`{label}` must name parameters of the fit ({fmt(list(names))}); got {n!r}."
-                )
-    both = set(fixed) & set(tied)
-    if both:
-        raise ValueError(f"a parameter cannot be both fixed and tied; got {sorted(both)}.")
-    free = tuple(n for n in names if n not in fixed and n not in tied)
-    col = {n: i for i, n in enumerate(free)}
-    matrix = np.zeros((len(names), len(free)))
-    const = np.zeros(len(names))
-
-    def resolve(n: str, seen: tuple[str, ...]) -> tuple[FloatArray, float]:
-        if n in seen:
-            raise ValueError(f"`tied` must not form a cycle; got {' -> '.join((*seen, n))}.")
-        if n in fixed:
-            return np.zeros(len(free)), float(fixed[n])
-        if n not in tied:
-            row: FloatArray = np.zeros(len(free))
-            row[col[n]] = 1.0
-            return row, 0.0
-        spec = tied[n]
-        target, factor, shift = (spec, 1.0, 0.0) if isinstance(spec, str) else (*spec, 0.0)[:3]
-        if target not in names:
-            raise ValueError(f"`tied` target of {n!r} must be a parameter; got {target!r}.")
-        row, c = resolve(target, (*seen, n))
-        return float(factor) * row, float(factor) * c + float(shift)
-
-    for i, n in enumerate(names):
-        matrix[i], const[i] = resolve(n, ())
-    return _Map(names, free, matrix, const)
-
-
-def _free_bounds(pm: _Map, lower: FloatArray, upper: FloatArray) -> tuple[FloatArray, FloatArray]:
-    """Bounds on the free parameters implied by the bounds of every parameter."""
-    lo = np.full(len(pm.free), -np.inf)
-    hi = np.full(len(pm.free), np.inf)
-    for i in range(len(pm.names)):
-        row = pm.matrix[i]
-        nz = np.flatnonzero(row)
-        if nz.size != 1:
-            continue
-        j, f = int(nz[0]), row[nz[0]]
-        a, b = (lower[i] - pm.const[i]) / f, (upper[i] - pm.const[i]) / f
-        lo[j], hi[j] = max(lo[j], min(a, b)), min(hi[j], max(a, b))
-    return lo, hi
-
-
 # ---------------------------------------------------------------------- solver
-@dataclass(frozen=True)
-class Solution:
-    """Outcome of `solve_least_squares` (values and errors of every parameter)."""
-
-    values: dict[str, float]
-    standard_error: dict[str, float]
-    confidence_interval: dict[str, tuple[float, float]]
-    level: float
-    fixed: tuple[str, ...]
-    tied: tuple[str, ...]
-    residual: FloatArray
-    status: str
-    message: str
-    n_evaluations: int
-    covariance: FloatArray | None = None  # over every parameter, in the order of `values`
-    bandwidths: tuple[int, ...] = ()  # HAC bandwidth of each block (empty: independent)
-    at_bounds: tuple[str, ...] = ()
-    free: tuple[str, ...] = ()
-    bounds: dict[str, tuple[float, float]] = field(default_factory=dict)  # the finite ones
-    #: how each free parameter's interval was formed ("profile" or "wald"; empty: not yet)
-    interval_method: dict[str, str] = field(default_factory=dict)
-    #: tied name -> (target, factor, offset)
-    ties: dict[str, tuple[str, float, float]] = field(default_factory=dict)
-    profiler: Any = field(default=None, repr=False, compare=False)  # `_profile.Profiler`
-
-
-def name_list(names: Any, order: tuple[str, ...]) -> str:
-    """Names in parameter order, at most a few, then "and N more"."""
-    rank = {n: i for i, n in enumerate(order)}
-    ordered = sorted(set(names), key=lambda n: (rank.get(n, len(rank)), n))
-    shown = ", ".join(ordered[:_LISTED])
-    return shown + (f" and {len(ordered) - _LISTED} more" if len(ordered) > _LISTED else "")
-
-
 def solve_least_squares(
     residual: Callable[[FloatArray], FloatArray],
     initial: Mapping[str, float],
@@ -243,9 +145,64 @@ def solve_least_squares(
         that is not a finite real inside its bounds, a malformed tie or a cycle
         of ties.
     """
-    from scipy import optimize, stats
-    from threadpoolctl import threadpool_limits
+    setup = _setup(
+        initial, bounds, fixed, tied, level, max_evaluations, tolerance, difference,
+        gradient_tolerance, method,
+    )  # fmt: skip
+    if not setup.pm.free:
+        return _solution(setup, _nothing_free(setup, residual), residual, None, None, blocks,
+                         clusters)  # fmt: skip
+    fun, jac, large = _objective(setup, residual, jacobian, free_jacobian, progress, residual_size)
+    try:
+        res = _minimise(setup, fun, jac, large, step_limit)
+    except (ValueError, np.linalg.LinAlgError, FloatingPointError) as exc:
+        return _failed(setup, setup.x0, f"the optimiser failed: {exc}")
+    found = _outcome(setup, res, fun)
+    if isinstance(found, Solution):
+        return found
+    return _solution(setup, found, residual, jac, step_limit, blocks, clusters)
 
+
+# ---------------------------------------------------------------------- the steps
+@dataclass(frozen=True)
+class _Setup:
+    """One solve's checked options: the parameter map, bounds, start and tolerances."""
+
+    names: tuple[str, ...]
+    pm: _Map
+    fixed: dict[str, float]
+    tied: dict[str, Tie]
+    level: float
+    max_evaluations: int | None
+    tolerance: float
+    gtol: float
+    difference: str
+    method: str
+    lower: FloatArray  # of every parameter
+    upper: FloatArray
+    lo: FloatArray  # of the free ones
+    hi: FloatArray
+    x0: FloatArray
+
+
+@dataclass(frozen=True)
+class _Found:
+    """Where the optimiser stopped: free values, residual, Jacobian and its verdict."""
+
+    x: FloatArray
+    r: FloatArray
+    jac_free: Any
+    evaluations: int
+    on_bound: tuple[str, ...]
+    status: str
+    message: str
+
+
+def _setup(
+    initial: Mapping[str, float], bounds: Any, fixed: Any, tied: Any, level: Any,
+    max_evaluations: Any, tolerance: Any, difference: str, gradient_tolerance: Any, method: str,
+) -> _Setup:  # fmt: skip
+    """Every option checked on entry; the parameter map, the bounds and the start."""
     level, max_evaluations, tolerance = check_options(level, max_evaluations, tolerance)
     difference = as_choice("difference", difference, ("3-point", "2-point"))
     method = as_choice("method", method, ("auto", "trf", "lm"))
@@ -268,93 +225,133 @@ def solve_least_squares(
     x0 = np.array([as_real_scalar(f"initial[{n!r}]", initial[n], finite=False) for n in pm.free])
     x0 = np.where(np.isfinite(x0), x0, 0.0)
     x0 = np.clip(x0, lo, hi)  # start values of the caller's default guesses only
-    evaluations = 0
-    if pm.free:
-        evaluate = residual if progress is None else progress.counting(residual)
+    gtol = tolerance if gradient_tolerance is None else gradient_tolerance
+    return _Setup(names, pm, fixed, tied, level, max_evaluations, tolerance, gtol, difference,
+                  method, lower, upper, lo, hi, x0)  # fmt: skip
 
-        def fun(x: FloatArray) -> FloatArray:
-            return evaluate(pm.full(x))
 
-        jac: Any = difference
-        if jacobian is not None:
+def _objective(
+    setup: _Setup, residual: Callable, jacobian: Callable | None, free_jacobian: Callable | None,
+    progress: Any, residual_size: int,
+) -> tuple[Callable, Any, bool]:  # fmt: skip
+    """The residual and Jacobian over the free parameters, and whether the problem is large.
 
-            def jac(x: FloatArray) -> FloatArray:
-                return jacobian(pm.full(x)) @ pm.matrix
+    Large structured problems go to `levenberg_marquardt`: the trust-region method
+    would factor the whole Jacobian every iteration; LM on the small normal equations
+    does not (a sparse Jacobian is kept sparse for it).
+    """
+    pm = setup.pm
+    evaluate = residual if progress is None else progress.counting(residual)
+    large = free_jacobian is not None and (
+        setup.method == "lm"
+        or (setup.method == "auto" and residual_size * len(pm.free) ** 2 > LARGE_PROBLEM)
+    )
 
-        elif free_jacobian is not None:
+    def fun(x: FloatArray) -> FloatArray:
+        return evaluate(pm.full(x))
 
-            def jac(x: FloatArray) -> Any:
-                out = free_jacobian(pm, x, lo, hi)
-                return out if large or not hasattr(out, "toarray") else out.toarray()
+    jac: Any = setup.difference
+    if jacobian is not None:
 
-        # Large structured problems: the trust-region method would factor the
-        # whole Jacobian every iteration; LM on the small normal equations does not.
-        large = free_jacobian is not None and (
-            method == "lm"
-            or (method == "auto" and residual_size * len(pm.free) ** 2 > LARGE_PROBLEM)
-        )
-        gtol = tolerance if gradient_tolerance is None else gradient_tolerance
-        try:
-            with threadpool_limits(limits=1, user_api="blas"):
-                if large:
-                    res = levenberg_marquardt(
-                        fun, jac, x0, lo, hi, ftol=tolerance, xtol=tolerance, gtol=gtol,
-                        max_nfev=max_evaluations, step_limit=free_limit(pm, step_limit),
-                    )  # fmt: skip
-                else:
-                    res = optimize.least_squares(
-                        fun, x0, jac=jac, bounds=(lo, hi), method="trf", x_scale="jac",
-                        tr_solver="exact", ftol=tolerance, xtol=tolerance, gtol=gtol,
-                        max_nfev=max_evaluations,
-                    )  # fmt: skip
-        except (ValueError, np.linalg.LinAlgError, FloatingPointError) as exc:
-            return _failed(pm, x0, fixed, tied, level, f"the optimiser failed: {exc}")
-        x, r, jac_free, evaluations = res.x, res.fun, res.jac, int(res.nfev)
-        # a parameter the solver left on a bound is reported exactly there (0, not 1e-69)
-        x = np.where(res.active_mask < 0, lo, np.where(res.active_mask > 0, hi, x))
-        on_bound = tuple(n for n, a in zip(pm.free, res.active_mask, strict=True) if a != 0)
-        if on_bound:
-            r = fun(x)
-        status = "max_evaluations" if res.status == 0 else "converged"
-        message = (
-            "stopped at the evaluation limit before convergence"
-            if res.status == 0
-            else f"converged ({res.message.rstrip('.')})"
-        )
-        if not np.all(np.isfinite(r)):
-            return _failed(pm, x, fixed, tied, level, "the residual is not finite at the optimum")
-        if not np.any(jac_free):
-            return _failed(
-                pm, x, fixed, tied, level,
-                "the residual does not change with any parameter (insensitive or failed model)",
+        def jac(x: FloatArray) -> FloatArray:
+            return jacobian(pm.full(x)) @ pm.matrix
+
+    elif free_jacobian is not None:
+
+        def jac(x: FloatArray) -> Any:
+            out = free_jacobian(pm, x, setup.lo, setup.hi)
+            return out if large or not hasattr(out, "toarray") else out.toarray()
+
+    return fun, jac, large
+
+
+def _minimise(setup: _Setup, fun: Callable, jac: Any, large: bool, step_limit: Any) -> Any:
+    """The optimiser's run: structured LM for large problems, else scipy's trust region."""
+    from scipy import optimize
+    from threadpoolctl import threadpool_limits
+
+    tol = setup.tolerance
+    with threadpool_limits(limits=1, user_api="blas"):
+        if large:
+            return levenberg_marquardt(
+                fun, jac, setup.x0, setup.lo, setup.hi, ftol=tol, xtol=tol, gtol=setup.gtol,
+                max_nfev=setup.max_evaluations, step_limit=free_limit(setup.pm, step_limit),
             )  # fmt: skip
-    else:
-        x, r, jac_free, on_bound = x0, residual(pm.full(x0)), np.zeros((0, 0)), ()
-        status, message = "converged", "all parameters are fixed; nothing was fitted"
+        return optimize.least_squares(
+            fun, setup.x0, jac=jac, bounds=(setup.lo, setup.hi), method="trf", x_scale="jac",
+            tr_solver="exact", ftol=tol, xtol=tol, gtol=setup.gtol,
+            max_nfev=setup.max_evaluations,
+        )  # fmt: skip
+
+
+def _outcome(setup: _Setup, res: Any, fun: Callable) -> _Found | Solution:
+    """The optimiser's result read: values on a bound snapped to it, status and message
+    (a failed `Solution` when the residual is not finite or moves with nothing)."""
+    x, r, jac_free, evaluations = res.x, res.fun, res.jac, int(res.nfev)
+    lo, hi = setup.lo, setup.hi
+    # a parameter the solver left on a bound is reported exactly there (0, not 1e-69)
+    x = np.where(res.active_mask < 0, lo, np.where(res.active_mask > 0, hi, x))
+    on_bound = tuple(n for n, a in zip(setup.pm.free, res.active_mask, strict=True) if a != 0)
+    if on_bound:
+        r = fun(x)
+    status = "max_evaluations" if res.status == 0 else "converged"
+    message = (
+        "stopped at the evaluation limit before convergence"
+        if res.status == 0
+        else f"converged ({res.message.rstrip('.')})"
+    )
+    if not np.all(np.isfinite(r)):
+        return _failed(setup, x, "the residual is not finite at the optimum")
+    if not np.any(jac_free):
+        return _failed(
+            setup, x,
+            "the residual does not change with any parameter (insensitive or failed model)",
+        )  # fmt: skip
+    return _Found(x, r, jac_free, evaluations, on_bound, status, message)
+
+
+def _nothing_free(setup: _Setup, residual: Callable) -> _Found:
+    """Every parameter fixed: the residual at the given values."""
+    x = setup.x0
+    return _Found(x, residual(setup.pm.full(x)), np.zeros((0, 0)), 0, (), "converged",
+                  "all parameters are fixed; nothing was fitted")  # fmt: skip
+
+
+def _solution(
+    setup: _Setup, found: _Found, residual: Callable, jac: Any, step_limit: Any, blocks: Any,
+    clusters: Any,
+) -> Solution:  # fmt: skip
+    """The result: covariance (HAC for blocks), errors, intervals and the profiler."""
+    from scipy import stats
+    from threadpoolctl import threadpool_limits
+
+    pm, names, r = setup.pm, setup.names, found.r
     widths: tuple[int, ...] = ()
     with threadpool_limits(limits=1, user_api="blas"):  # tall, thin factorisations
         if blocks is not None and pm.free:
-            cov, undetermined, found = hac_covariance(jac_free, r, blocks, clusters=clusters)
-            widths = tuple(found)
+            cov, undetermined, got = hac_covariance(found.jac_free, r, blocks, clusters=clusters)
+            widths = tuple(got)
         else:
-            cov, undetermined = ols_covariance(jac_free, r)
-    full = pm.full(x)
+            cov, undetermined = ols_covariance(found.jac_free, r)
+    full = pm.full(found.x)
     var = np.einsum("ij,jk,ik->i", pm.matrix, cov, pm.matrix) if pm.free else np.zeros(len(names))
     se = np.sqrt(np.maximum(var, 0.0))
     for j in undetermined:
         se[pm.matrix[:, j] != 0] = np.inf
+    status, message = found.status, found.message
     if undetermined and status == "converged":
         status = "not_identifiable"
         which = {names[i] for j in undetermined for i in np.flatnonzero(pm.matrix[:, j])}
         message = f"the data do not determine {name_list(which, names)} (singular Jacobian)"
     dof = max(r.shape[0] - len(pm.free), 1)
-    q = float(stats.t.ppf(0.5 + level / 2, dof))
+    q = float(stats.t.ppf(0.5 + setup.level / 2, dof))
     profiler = None
     if pm.free:
         profiler = Profiler(
-            lambda x: residual(pm.full(x)), jac if callable(jac) else None, pm.free, lo, hi, q,
-            free_limit(pm, step_limit),
+            lambda x: residual(pm.full(x)), jac if callable(jac) else None, pm.free, setup.lo,
+            setup.hi, q, free_limit(pm, step_limit),
         )  # fmt: skip
+    lower, upper = setup.lower, setup.upper
     return Solution(
         values=dict(zip(names, full.tolist(), strict=True)),
         standard_error=dict(zip(names, se.tolist(), strict=True)),
@@ -362,46 +359,30 @@ def solve_least_squares(
             n: bounded_interval(v, q * s, lower[i], upper[i])
             for i, (n, v, s) in enumerate(zip(names, full, se, strict=True))
         },
-        level=level,
-        fixed=tuple(fixed),
-        tied=tuple(tied),
-        residual=r,
-        status=status,
-        message=message,
-        n_evaluations=evaluations,
-        covariance=full_covariance(pm.matrix, cov, se),
-        bandwidths=widths,
-        at_bounds=on_bound,
-        free=pm.free,
+        level=setup.level, fixed=tuple(setup.fixed), tied=tuple(setup.tied), residual=r,
+        status=status, message=message, n_evaluations=found.evaluations,
+        covariance=full_covariance(pm.matrix, cov, se), bandwidths=widths,
+        at_bounds=found.on_bound, free=pm.free,
         bounds={
             n: (float(a), float(b))
             for n, a, b in zip(names, lower, upper, strict=True)
             if np.isfinite(a) or np.isfinite(b)
         },
-        ties=_ties(tied),
-        profiler=profiler,
-    )
+        ties=_ties(setup.tied), profiler=profiler,
+    )  # fmt: skip
 
 
-def _ties(tied: Mapping[str, Tie]) -> dict[str, tuple[str, float, float]]:
-    """Each tie as (target, factor, offset): p = factor·target + offset."""
-    out = {}
-    for n, spec in tied.items():
-        target, factor, shift = (spec, 1.0, 0.0) if isinstance(spec, str) else (*spec, 0.0)[:3]
-        out[n] = (str(target), float(factor), float(shift))
-    return out
-
-
-def _failed(pm: _Map, x: FloatArray, fixed: Any, tied: Any, level: float, msg: str) -> Solution:
+def _failed(setup: _Setup, x: FloatArray, msg: str) -> Solution:
+    pm = setup.pm
     full = pm.full(x)
     inf = dict.fromkeys(pm.names, float("inf"))
     return Solution(
         values=dict(zip(pm.names, full.tolist(), strict=True)),
         standard_error=inf,
         confidence_interval={n: (-np.inf, np.inf) for n in pm.names},
-        level=level,
-        fixed=tuple(fixed),
-        tied=tuple(tied),
+        level=setup.level,
+        fixed=tuple(setup.fixed),
+        tied=tuple(setup.tied),
         residual=np.zeros(0),
         status="failed",
         message=msg,

@@ -43,6 +43,31 @@ class LMResult:
     active_mask: NDArray[np.int_]  # −1 on a lower bound, 1 on an upper one, 0 inside
 
 
+@dataclass
+class _State:
+    """The iterate of `levenberg_marquardt` and what it keeps between steps."""
+
+    x: FloatArray
+    r: FloatArray
+    cost: float
+    J: Any
+    A: FloatArray  # JᵀJ
+    g: FloatArray  # Jᵀr
+    norms: FloatArray  # column norms of J
+    d: FloatArray  # column scales (the largest norm seen)
+    lam: float
+    nu: float = 2.0
+    nfev: int = 1
+
+
+_MESSAGES = {
+    0: "the evaluation limit was reached",
+    1: "`gtol` termination condition is satisfied",
+    2: "`ftol` termination condition is satisfied",
+    3: "`xtol` termination condition is satisfied",
+}
+
+
 def levenberg_marquardt(
     fun: Callable[[FloatArray], FloatArray],
     jac: Callable[[FloatArray], Any],  # a dense array or a scipy.sparse matrix
@@ -65,61 +90,88 @@ def levenberg_marquardt(
     would otherwise take a step the linear model cannot judge.
     """
     max_nfev = 100 * x0.shape[0] if max_nfev is None else max_nfev
+    state = _start(fun, jac, x0, lower, upper)
+    status = 0
+    while state.nfev < max_nfev:
+        free = _free_or_stationary(state, lower, upper, gtol)
+        if free is None:
+            status = 1
+            break
+        status = _iterate(state, fun, jac, free, lower, upper, step_limit, ftol, xtol)
+        if status:
+            break
+    active = np.where(state.x <= lower, -1, np.where(state.x >= upper, 1, 0))
+    J = state.J
+    jac_out = J.toarray() if sparse.issparse(J) else J
+    return LMResult(state.x, state.r, jac_out, state.nfev, status, _MESSAGES[status], active)
+
+
+def _start(fun: Callable, jac: Callable, x0: FloatArray, lower: FloatArray,
+           upper: FloatArray) -> _State:  # fmt: skip
+    """The first iterate: the start clipped to the box, its residual and normal equations."""
     x = np.clip(x0, lower, upper)
     r = fun(x)
-    nfev = 1
     if not np.all(np.isfinite(r)):
         raise ValueError("the residual is not finite at the start")
-    cost = 0.5 * float(r @ r)
     J = jac(x)
     A, g, norms = _normal(J, r)
     d = np.where(norms == 0, 1.0, norms)
     lam = 1e-3 * float(np.max(np.diag(A) / d**2))
-    nu = 2.0
-    status, message = 0, "the evaluation limit was reached"
-    while nfev < max_nfev:
-        rn = float(np.sqrt(2 * cost))
-        held = ((x <= lower) & (g > 0)) | ((x >= upper) & (g < 0))
-        free = ~held
-        cosines = np.abs(g[free]) / (norms[free] * rn + 1e-300)
-        if rn == 0.0 or not free.any() or float(np.max(cosines, initial=0.0)) <= gtol:
-            status, message = 1, "`gtol` termination condition is satisfied"
-            break
-        step = _damped_step(A, g, d, lam, free)
-        if step_limit is not None:
-            limit = step_limit(x)
-            step = np.clip(step, -limit, limit)
-        x_new = np.clip(x + step, lower, upper)
-        step = x_new - x
-        small = float(np.linalg.norm(d * step)) <= xtol * (float(np.linalg.norm(d * x)) + xtol)
-        predicted = -float(g @ step + 0.5 * step @ A @ step)
-        r_new = fun(x_new)
-        nfev += 1
-        cost_new = 0.5 * float(r_new @ r_new) if np.all(np.isfinite(r_new)) else np.inf
-        rho = (cost - cost_new) / predicted if predicted > 0 else -1.0
-        if rho > 0 and cost_new < cost:
-            decrease = cost - cost_new
-            x, r, cost = x_new, r_new, cost_new
-            if decrease <= ftol * (cost + decrease) and rho > 0.25:
-                status, message = 2, "`ftol` termination condition is satisfied"
-                break
-            if small:
-                status, message = 3, "`xtol` termination condition is satisfied"
-                break
-            J = jac(x)
-            A, g, norms = _normal(J, r)
-            d = np.maximum(d, norms)
-            lam *= max(1.0 / 3.0, 1.0 - (2.0 * rho - 1.0) ** 3)
-            nu = 2.0
-        else:
-            if small:
-                status, message = 3, "`xtol` termination condition is satisfied"
-                break
-            lam *= nu
-            nu *= 2.0
-    active = np.where(x <= lower, -1, np.where(x >= upper, 1, 0))
-    jac_out = J.toarray() if sparse.issparse(J) else J
-    return LMResult(x, r, jac_out, nfev, status, message, active)
+    return _State(x, r, 0.5 * float(r @ r), J, A, g, norms, d, lam)
+
+
+def _free_or_stationary(state: _State, lower: FloatArray, upper: FloatArray,
+                        gtol: float) -> NDArray[np.bool_] | None:  # fmt: skip
+    """The gradient test: None when the iterate is stationary (a zero residual, every
+    parameter held on a bound, or no free column's cosine with the residual above
+    `gtol`); else the parameters free to move (a bound holds one pushed outward)."""
+    rn = float(np.sqrt(2 * state.cost))
+    g = state.g
+    held = ((state.x <= lower) & (g > 0)) | ((state.x >= upper) & (g < 0))
+    free = ~held
+    cosines = np.abs(g[free]) / (state.norms[free] * rn + 1e-300)
+    if rn == 0.0 or not free.any() or float(np.max(cosines, initial=0.0)) <= gtol:
+        return None
+    return free
+
+
+def _iterate(
+    state: _State, fun: Callable, jac: Callable, free: Any, lower: FloatArray,
+    upper: FloatArray, step_limit: Any, ftol: float, xtol: float,
+) -> int:  # fmt: skip
+    """One damped step tried and accepted or rejected (Nielsen's rule for λ); returns
+    the termination status it reached (2: ftol, 3: xtol), 0 to go on."""
+    step = _damped_step(state.A, state.g, state.d, state.lam, free)
+    if step_limit is not None:
+        limit = step_limit(state.x)
+        step = np.clip(step, -limit, limit)
+    x_new = np.clip(state.x + step, lower, upper)
+    step = x_new - state.x
+    d = state.d
+    small = float(np.linalg.norm(d * step)) <= xtol * (float(np.linalg.norm(d * state.x)) + xtol)
+    predicted = -float(state.g @ step + 0.5 * step @ state.A @ step)
+    r_new = fun(x_new)
+    state.nfev += 1
+    cost_new = 0.5 * float(r_new @ r_new) if np.all(np.isfinite(r_new)) else np.inf
+    rho = (state.cost - cost_new) / predicted if predicted > 0 else -1.0
+    if not (rho > 0 and cost_new < state.cost):
+        if small:
+            return 3
+        state.lam *= state.nu
+        state.nu *= 2.0
+        return 0
+    decrease = state.cost - cost_new
+    state.x, state.r, state.cost = x_new, r_new, cost_new
+    if decrease <= ftol * (cost_new + decrease) and rho > 0.25:
+        return 2
+    if small:
+        return 3
+    state.J = jac(state.x)
+    state.A, state.g, state.norms = _normal(state.J, state.r)
+    state.d = np.maximum(state.d, state.norms)
+    state.lam *= max(1.0 / 3.0, 1.0 - (2.0 * rho - 1.0) ** 3)
+    state.nu = 2.0
+    return 0
 
 
 def _damped_step(A: FloatArray, g: FloatArray, d: FloatArray, lam: float, free: Any) -> FloatArray:
