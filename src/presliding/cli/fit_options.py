@@ -26,6 +26,19 @@ def add_fit_parser(
         formatter_class=fmt,
         parents=parents,
     )
+    _add_inputs(fit)
+    _add_model_options(fit)
+    fit.add_argument("-o", "--output", type=Path, required=True, help="output folder")
+    _add_pooled_options(fit)
+    from presliding.cli.records import add_data_options
+
+    add_data_options(fit)
+    fit.set_defaults(handler=handler)
+    return fit
+
+
+def _add_inputs(fit: argparse.ArgumentParser) -> None:
+    """The data, the kind of fit, and how the files are read (columns, units, window)."""
     fit.add_argument(
         "data",
         type=Path,
@@ -75,6 +88,10 @@ def add_fit_parser(
         metavar="HZ",
         help="sample rate [Hz] when the file has no time column",
     )
+
+
+def _add_model_options(fit: argparse.ArgumentParser) -> None:
+    """The model's options (elements, viscous term, offset, sides, search, mass, cut-off)."""
     fit.add_argument(
         "--elements",
         type=_elements,
@@ -118,13 +135,6 @@ def add_fit_parser(
         help="motion: low-pass cut-off for the velocity/acceleration estimate "
         "(default: a tenth of the sampling rate)",
     )
-    fit.add_argument("-o", "--output", type=Path, required=True, help="output folder")
-    _add_pooled_options(fit)
-    from presliding.cli.records import add_data_options
-
-    add_data_options(fit)
-    fit.set_defaults(handler=handler)
-    return fit
 
 
 def _add_pooled_options(fit: argparse.ArgumentParser) -> None:
