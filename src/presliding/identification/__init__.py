@@ -13,12 +13,16 @@ masing.py           `masing_check`, `MasingCheck`: do measured loops follow a vi
 fit_motion.py       `fit_motion`: eq. 17 as a regression (the inverse model)
 fit_response.py     `fit_response`: simulated against measured motion, one or many records pooled
 fit_quasi_static.py `fit_quasi_static`: position from a slow force (torque-driven presliding)
-fit_result.py       `FitResult`, the least-squares driver shared by the fits
+fit_result.py       `FitResult`, the public result of every fit
+_fit_problem.py     `FitProblem`: what a fit minimises (parameters, residual, Jacobian structure)
+_fit_engine.py      `run_fit`: the one pipeline (search, checks, judge, intervals, result)
 prediction.py       `Prediction`, `count_reversals`: a fitted model on another record
 cross_validation.py `cross_validate`, `CrossValidation`: leave-one-record-out tables
 model_prediction.py `predict_record`: a given model (a model file's) predicting a record
 uncertainty.py      HAC (Newey–West) covariance, correlations
 _least_squares.py   the solver around scipy.optimize.least_squares (bounds, ties, statistics)
+_parameter_map.py   the free/fixed/tied split of named parameters
+_solution.py        `Solution`: the outcome of one least-squares solve
 _fit_options.py     the options every fit shares (level, evaluations, fixed, tied), checked
 _fit_progress.py    what a fit shows while it runs (`progress=`): stages, evaluations, generations
 _structured_lm.py   Levenberg–Marquardt on structured normal equations (large pooled fits)
@@ -28,14 +32,19 @@ _pooled_problem.py  the pooled residual and its structured Jacobian
 _pooled_banks.py    the banks (c1, k_j, r_j) of many parameter sets as kernel arrays
 _pooled_start.py    pooled start values (eq. 17 as a regression)
 _quasi_static_problem.py   the pooled quasi-static residual
+_quasi_static_start.py     quasi-static start values (eq. 8 as a regression)
+_quasi_static_plan.py      `fit_quasi_static` as a problem and its search, checks, result
 _quasi_static_kernel.py    compiled quasi-static positions of many records and parameter sets
 _nuisance_search.py  each record's own parameters searched on a grid, the shared ones held
 _search.py          the search step: starts, alternation, the noise-floor rule, its summary
 _noise_floor.py     the noise floor of the data: quantum and high-frequency noise
 _model_order.py     ``n_elements="auto"``: the number of elements by BIC
 _response_setup.py, _response_result.py   pooled-fit checks, pruning, bootstrap, result
+_response_request.py   `fit_response`'s arguments checked into one request
+_response_plan.py   `fit_response` as a problem and its search, checks, refit, result
 _predictors.py      how each fit predicts another record
-_pi_regression.py   separable least squares over the PI thresholds; the fused batch loss
+_pi_regression.py   the PI bases and threshold grids of the separable fits; the fused batch loss
+_separable_problem.py   the separable fits' problem: linear in all but the thresholds
 _global_search.py   differential evolution over thresholds for `fit_presliding`
 _response_tools.py, _response_checks.py   response start helpers and checks after a fit
 _response_box.py    a pooled response fit's start values and bounds (regression, records, user)

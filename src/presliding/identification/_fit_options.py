@@ -1,13 +1,23 @@
-"""The options every least-squares fit shares, checked on entry."""
+"""The options every least-squares fit shares, checked on entry (counts, budgets, ties)."""
 
 from __future__ import annotations
 
 from collections.abc import Mapping
 from typing import Any
 
-from presliding._validation import as_count, as_positive_scalar, as_real_scalar, fmt
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from presliding._validation import (
+    as_count,
+    as_parameter_vector,
+    as_positive_scalar,
+    as_real_scalar,
+    fmt,
+)
 
 Tie = str | tuple[str, float] | tuple[str, float, float]
+FloatArray = NDArray[np.float64]
 
 
 def check_options(
@@ -85,3 +95,50 @@ def check_constraints(
             else (v[0], factor)
         )
     return out_fixed, out_tied
+
+
+def element_count(n_elements: int | None, thresholds: ArrayLike | None, default: int) -> int:
+    """The number of elements from `n_elements` and/or `thresholds` (checked to agree)."""
+    if thresholds is not None:
+        n_thr = as_parameter_vector("thresholds", thresholds).shape[0]
+        if n_elements is not None and n_elements != n_thr:
+            raise ValueError(
+                f"`n_elements` must equal the number of `thresholds` ({n_thr}); got {n_elements}."
+            )
+        return n_thr
+    if n_elements is None:
+        return default
+    return as_count("n_elements", n_elements)
+
+
+def check_varies(name: str, arr: FloatArray) -> None:
+    """Reject a constant signal (nothing to fit)."""
+    if not np.ptp(arr) > 0:
+        raise ValueError(f"`{name}` must vary; got a constant signal ({fmt(float(arr[0]))}).")
+
+
+def check_fit_options(
+    fixed: Mapping[str, float] | None,
+    tied: Mapping[str, Tie] | None,
+    level: float,
+    grid_size: int,
+    max_evaluations: int | None,
+    tolerance: float,
+) -> tuple[dict[str, float], dict[str, Tie], float, int, int | None, float]:
+    """The options shared by the separable fits, checked on entry (see `check_options`).
+
+    `grid_size` must be at least 2: a geometric grid needs its two ends, and with
+    one point the elements would all start at the same threshold.
+    """
+    fixed, tied = check_constraints(fixed, tied)
+    level, max_evaluations, tolerance = check_options(level, max_evaluations, tolerance)
+    grid_size = as_count("grid_size", grid_size, minimum=2)
+    return fixed, tied, level, grid_size, max_evaluations, tolerance
+
+
+def check_enough(n_used: int, n_parameters: int, what: str = "samples") -> None:
+    """At least one more sample than parameters."""
+    if n_used <= n_parameters:
+        raise ValueError(
+            f"the fit needs more {what} than parameters ({n_parameters}); got {n_used}."
+        )

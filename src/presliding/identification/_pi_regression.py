@@ -12,22 +12,19 @@ two stages, as the paper suggests: bounded linear least squares (NNLS for the
 stiffnesses) on a dense geometric grid of thresholds gives a start, the grid
 elements carrying weight are merged into the wanted number of elements, and
 nonlinear least squares over θ, k and r refines it with the exact Jacobian
-(∂g/∂r is ±1 or 0 for both bases).
+(∂g/∂r is ±1 or 0 for both bases). This module holds the bases, the grids and
+the compiled kernels; the fit itself is the problem of `_separable_problem`.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping
-from dataclasses import dataclass
-from typing import Any
+from collections.abc import Callable
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import NDArray
 
-from presliding._validation import as_bounds
 from presliding.hysteresis._fused import batch_loss, batch_loss_parallel
 from presliding.hysteresis._jit import njit
-from presliding.identification.fit_result import Solution, Tie, solve_least_squares
 
 FloatArray = NDArray[np.float64]
 Basis = Callable[[FloatArray], tuple[FloatArray, FloatArray]]
@@ -214,123 +211,6 @@ def merge_grid(grid: FloatArray, weight: FloatArray, n: int) -> tuple[FloatArray
     return np.exp(np.array(r)), np.array(k)
 
 
-@dataclass(frozen=True)
-class SeparableFit:
-    """Solution of a separable fit, with the fitted target on every sample."""
-
-    solution: Solution
-    fitted: FloatArray
-    x_names: tuple[str, ...]
-    n_elements: int
-
-
 def element_names(n: int) -> tuple[list[str], list[str]]:
     """Parameter names of the elastic elements, numbered from 1."""
     return [f"stiffness_{j + 1}" for j in range(n)], [f"threshold_{j + 1}" for j in range(n)]
-
-
-def fit_separable(
-    target: FloatArray,
-    design: FloatArray,
-    x_names: tuple[str, ...],
-    x_bounds: Mapping[str, tuple[float, float]],
-    basis: Basis,
-    n_elements: int,
-    *,
-    grid: FloatArray,
-    thresholds: ArrayLike | None = None,
-    refine_thresholds: bool = True,
-    used: NDArray[np.bool_] | None = None,
-    fixed: Mapping[str, float] | None = None,
-    tied: Mapping[str, Tie] | None = None,
-    level: float = 0.95,
-    max_evaluations: int | None = None,
-    tolerance: float = 1e-8,
-    smallest_threshold: float | None = None,
-    progress: Any = None,
-    user_initial: Mapping[str, float] | None = None,
-    user_bounds: Mapping[str, tuple[float, float]] | None = None,
-) -> SeparableFit:
-    """Two-stage fit of target ≈ design·θ + Σ k_j g(r_j) on the `used` samples.
-
-    Thresholds are kept >= `smallest_threshold` (default: a quarter of the
-    smallest grid threshold): below the resolution of the data an element is
-    indistinguishable from the Coulomb element. `progress` (a `FitProgress`)
-    names the stages and counts the nonlinear stage's evaluations.
-    """
-    from scipy.optimize import lsq_linear
-
-    used = np.ones(target.shape[0], dtype=bool) if used is None else used
-    b = target[used]
-    p = len(x_names)
-    k_names, r_names = element_names(n_elements)
-    lo_x = np.array([x_bounds.get(n, (-np.inf, np.inf))[0] for n in x_names])
-    hi_x = np.array([x_bounds.get(n, (-np.inf, np.inf))[1] for n in x_names])
-    fixed = dict(fixed or {})
-
-    def linear_stage(r: FloatArray) -> FloatArray:
-        """Bounded linear least squares at thresholds r (fixed linear parameters honoured)."""
-        a = np.hstack([design[used], basis(r)[0][used]])
-        lo = np.concatenate([lo_x, np.zeros(r.shape[0])])
-        hi = np.concatenate([hi_x, np.full(r.shape[0], np.inf)])
-        held = np.array([x_names[i] in fixed for i in range(p)] + [False] * r.shape[0])
-        out = np.zeros(a.shape[1])
-        out[held] = [fixed[x_names[i]] for i in np.flatnonzero(held)]
-        free = ~held
-        scale = np.linalg.norm(a[:, free], axis=0)
-        scale[scale == 0] = 1.0
-        rhs = b - a[:, held] @ out[held]
-        bnd = (lo[free] * scale, hi[free] * scale)
-        out[free] = lsq_linear(a[:, free] / scale, rhs, bounds=bnd, method="bvls").x / scale
-        return out
-
-    if n_elements == 0:
-        r0: FloatArray = np.empty(0)
-        theta = linear_stage(r0)
-    elif thresholds is not None:
-        r0 = np.asarray(thresholds, dtype=float)
-        theta = linear_stage(r0)
-    else:
-        if progress is not None:
-            progress.stage(f"linear start on a grid of {grid.shape[0]} thresholds")
-        coarse = linear_stage(grid)
-        r0, _ = merge_grid(grid, coarse[p:], n_elements)
-        theta = linear_stage(r0)
-    initial = dict(zip(x_names, theta[:p], strict=True))
-    initial.update(zip(k_names, theta[p:], strict=True))
-    initial.update(zip(r_names, r0, strict=True))
-    if not refine_thresholds:
-        fixed.update({n: initial[n] for n in r_names if n not in fixed})
-    bounds = dict(x_bounds)
-    bounds.update(dict.fromkeys(k_names, (0.0, np.inf)))
-    r_min = float(grid[0]) / 4 if smallest_threshold is None else float(smallest_threshold)
-    bounds.update(dict.fromkeys(r_names, (r_min, np.inf)))
-    for key, (lo, hi) in as_bounds("bounds", user_bounds, tuple(initial)).items():
-        old = bounds.get(key, (-np.inf, np.inf))  # the caller's, within the natural ones
-        bounds[key] = (max(old[0], lo), min(old[1], hi))
-    for key in user_initial or {}:
-        if key not in initial:
-            raise ValueError(f"`initial` must name parameters of the fit; got {key!r}.")
-    initial.update(user_initial or {})
-    d = design[used]
-
-    def unpack(q: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
-        return q[:p], q[p : p + n_elements], q[p + n_elements :]
-
-    def residual(q: FloatArray) -> FloatArray:
-        th, k, r = unpack(q)
-        return d @ th + basis(r)[0][used] @ k - b
-
-    def jacobian(q: FloatArray) -> FloatArray:
-        _, k, r = unpack(q)
-        g, dg = basis(r)
-        return np.hstack([d, g[used], dg[used] * k])
-
-    sol = solve_least_squares(
-        residual, initial, jacobian=jacobian, bounds=bounds, fixed=fixed, tied=tied,
-        level=level, max_evaluations=max_evaluations, tolerance=tolerance, progress=progress,
-    )  # fmt: skip
-    q = np.array(list(sol.values.values()))
-    th, k, r = unpack(q)
-    fitted = design @ th + (basis(r)[0] @ k if n_elements else 0.0)
-    return SeparableFit(sol, fitted, x_names, n_elements)

@@ -38,9 +38,9 @@ from presliding._validation import (
 )
 from presliding.identification import _pi_regression as pr
 from presliding.identification import _pooled_problem as pp
+from presliding.identification._fit_options import check_varies
 from presliding.identification._least_squares import Solution, solve_least_squares
 from presliding.identification._profile import profile_solution
-from presliding.identification.fit_presliding import check_varies
 from presliding.measurement.measurement import Measurement
 
 NEED = {"velocity": ("velocity",), "position": ("position",), "both": ("velocity", "position")}

@@ -18,6 +18,7 @@ mass and every force are determined only up to a common factor. Fix the mass
 from __future__ import annotations
 
 from collections.abc import Mapping
+from functools import partial
 from typing import Any
 
 import numpy as np
@@ -27,8 +28,11 @@ from presliding._progress import Progress
 from presliding._validation import as_nonnegative_scalar, fmt
 from presliding.friction.pi_friction import PIFriction
 from presliding.identification import _pi_regression as pr
+from presliding.identification._fit_engine import FitPlan, FitRun, Found, run_fit
+from presliding.identification._fit_problem import FitOptions
 from presliding.identification._fit_progress import FitProgress, as_reporter, shows_progress
 from presliding.identification._parameters import resolve_parameters
+from presliding.identification._separable_problem import Separable, separable_problem
 from presliding.identification._status import sign_hint
 from presliding.identification.fit_presliding import (
     _with_note,
@@ -146,9 +150,32 @@ def fit_motion(
         the offset F_0 is in `parameters` only: the measured force is
         u = m·ÿ + F + F_0).
     """
+    n = _check_request(measurement, n_elements, thresholds, asymmetric, offset)
+    min_speed = as_nonnegative_scalar("min_speed", min_speed)
+    initial, bounds, fixed, tied = resolve_parameters(initial, bounds, fixed, tied)
+    fixed, tied, level, grid_size, max_evaluations, tolerance = check_fit_options(
+        fixed, tied, level, grid_size, max_evaluations, tolerance
+    )
+    sep = _motion_model(measurement, n, viscous, offset, asymmetric, min_speed, fixed)
+    names, position = sep.x_names, measurement.require("position")[0]
+    problem = separable_problem(
+        sep, {k: _NONNEGATIVE for k in _BOUNDED if k in names},
+        grid=pr.threshold_grid(position, grid_size), thresholds=thresholds,
+        refine_thresholds=refine_thresholds, fixed=fixed, tied=tied,
+        progress=as_reporter(progress), user_initial=initial, user_bounds=bounds,
+    )  # fmt: skip
+    options = FitOptions(level, max_evaluations, tolerance, progress=as_reporter(progress))
+    plan = FitPlan(search=lambda run: Found(run.problem.solve(run.options)),
+                   result=partial(_result, sep, measurement, viscous or asymmetric))  # fmt: skip
+    return run_fit(problem, options, plan)
+
+
+def _check_request(measurement: Any, n_elements: Any, thresholds: Any, asymmetric: Any,
+                   offset: bool) -> int:  # fmt: skip
+    """The measurement's signals and the model's options checked; the number of elements."""
     if not isinstance(measurement, Measurement):
         raise TypeError(f"`measurement` must be a Measurement; got {type(measurement).__name__}.")
-    position, velocity, _, u = measurement.require(
+    measurement.require(
         "position", "velocity", "acceleration", "applied_force", purpose="fit_motion"
     )
     n = element_count(n_elements, thresholds, 0)
@@ -160,12 +187,13 @@ def fit_motion(
             "force is the same column as c1⁺ − c1⁻ (the fit absorbs it into the two Coulomb "
             "levels); got offset=True."
         )
-    min_speed = as_nonnegative_scalar("min_speed", min_speed)
-    initial, bounds, fixed, tied = resolve_parameters(initial, bounds, fixed, tied)
-    fixed, tied, level, grid_size, max_evaluations, tolerance = check_fit_options(
-        fixed, tied, level, grid_size, max_evaluations, tolerance
-    )
-    m = measurement
+    return n
+
+
+def _motion_model(m: Measurement, n: int, viscous: bool, offset: bool, asymmetric: bool,
+                  min_speed: float, fixed: Mapping[str, float]) -> Separable:  # fmt: skip
+    """Eq. 17 on the measurement as a separable model, its data checked."""
+    position, velocity, _, u = m.require("position", "velocity", "acceleration", "applied_force")
     if not np.any(u) and "mass" not in fixed:
         raise ValueError(
             "`applied_force` is zero throughout: mass and forces are then determined only up to "
@@ -187,17 +215,15 @@ def fit_motion(
         )
     design, names = _design(m, viscous, offset, asymmetric)
     check_enough(int(used.sum()), len(names) + 2 * n)
-    fit = pr.fit_separable(
-        u, design, names, {k: _NONNEGATIVE for k in _BOUNDED if k in names},
-        pr.stop_basis(position), n, grid=pr.threshold_grid(position, grid_size),
-        thresholds=thresholds, refine_thresholds=refine_thresholds, used=used, fixed=fixed,
-        tied=tied, level=level, max_evaluations=max_evaluations, tolerance=tolerance,
-        progress=as_reporter(progress),
-        user_initial=initial, user_bounds=bounds,
-    )  # fmt: skip
-    sol = fit.solution
-    model, note = pi_model(sol.values, n, sol.values["coulomb"])
-    if model is not None and (viscous or asymmetric):  # σ and the sides are part of the model
+    return Separable(u, design, names, pr.stop_basis(position), n, used)
+
+
+def _result(sep: Separable, m: Measurement, sided: bool, run: FitRun, sol: Any, boot: Any,
+            found: Any) -> FitResult:  # fmt: skip
+    """The public result: the model with σ and the sides; the force against time."""
+    u, velocity, used = sep.target, m.require("velocity")[0], sep.used
+    model, note = pi_model(sol.values, sep.n_elements, sol.values["coulomb"])
+    if model is not None and sided:  # σ and the sides are part of the model
         v = sol.values
         model = PIFriction(model.coulomb, model.stiffness, model.breakaway,
                            viscous=max(v.get("viscous", 0.0), 0.0),
@@ -205,7 +231,7 @@ def fit_motion(
                            viscous_negative=_side(v, "viscous_negative"))  # fmt: skip
     rotary = m.axis == "rotary"
     return FitResult.from_solution(
-        _with_note(sol, note), model, m.time[used], u[used], fit.fitted[used],
+        _with_note(sol, note), model, m.time[used], u[used], sep.fitted(sol.values)[used],
         kind="motion equation (eq. 17)", abscissa_label="time [s]",
         signal_label="applied force", signal_unit="N m" if rotary else "N",
         derived=_derived(model),

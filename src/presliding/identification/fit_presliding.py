@@ -17,8 +17,9 @@ The virgin-curve fit (Madelung/Masing rules) lives in `fit_virgin`.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import replace
+from functools import partial
 from typing import Any
 
 import numpy as np
@@ -28,74 +29,31 @@ from presliding._progress import Progress
 from presliding._validation import (
     as_choice,
     as_count,
-    as_parameter_vector,
     as_signal,
     check_same_length,
-    fmt,
 )
 from presliding.friction.pi_friction import PIFriction
 from presliding.identification import _pi_regression as pr
-from presliding.identification._fit_progress import FitProgress, reporting
-from presliding.identification._global_search import search_thresholds
-from presliding.identification._least_squares import (
+from presliding.identification._fit_engine import FitPlan, FitRun, Found, run_fit
+from presliding.identification._fit_options import (
     check_budget,
-    check_constraints,
-    check_options,
+    check_enough,
+    check_fit_options,
+    check_varies,
+    element_count,
 )
+from presliding.identification._fit_problem import FitOptions, FitProblem
+from presliding.identification._fit_progress import reporting
+from presliding.identification._global_search import search_thresholds
 from presliding.identification._parameters import resolve_parameters
+from presliding.identification._response_checks import cost
+from presliding.identification._separable_problem import Separable, separable_problem
 from presliding.identification._status import sign_hint
 from presliding.identification.fit_result import FitResult, Tie
 
 __all__ = ["fit_presliding"]
 
 FloatArray = NDArray[np.float64]
-
-
-def element_count(n_elements: int | None, thresholds: ArrayLike | None, default: int) -> int:
-    """The number of elements from `n_elements` and/or `thresholds` (checked to agree)."""
-    if thresholds is not None:
-        n_thr = as_parameter_vector("thresholds", thresholds).shape[0]
-        if n_elements is not None and n_elements != n_thr:
-            raise ValueError(
-                f"`n_elements` must equal the number of `thresholds` ({n_thr}); got {n_elements}."
-            )
-        return n_thr
-    if n_elements is None:
-        return default
-    return as_count("n_elements", n_elements)
-
-
-def check_varies(name: str, arr: FloatArray) -> None:
-    """Reject a constant signal (nothing to fit)."""
-    if not np.ptp(arr) > 0:
-        raise ValueError(f"`{name}` must vary; got a constant signal ({fmt(float(arr[0]))}).")
-
-
-def check_fit_options(
-    fixed: Mapping[str, float] | None,
-    tied: Mapping[str, Tie] | None,
-    level: float,
-    grid_size: int,
-    max_evaluations: int | None,
-    tolerance: float,
-) -> tuple[dict[str, float], dict[str, Tie], float, int, int | None, float]:
-    """The options shared by the separable fits, checked on entry (see `check_options`).
-
-    `grid_size` must be at least 2: a geometric grid needs its two ends, and with
-    one point the elements would all start at the same threshold.
-    """
-    fixed, tied = check_constraints(fixed, tied)
-    level, max_evaluations, tolerance = check_options(level, max_evaluations, tolerance)
-    grid_size = as_count("grid_size", grid_size, minimum=2)
-    return fixed, tied, level, grid_size, max_evaluations, tolerance
-
-
-def check_enough(n_used: int, n_parameters: int, what: str = "samples") -> None:
-    """At least one more sample than parameters."""
-    if n_used <= n_parameters:
-        raise ValueError(
-            f"the fit needs more {what} than parameters ({n_parameters}); got {n_used}."
-        )
 
 
 def pi_model(values: Mapping[str, float], n: int, coulomb: float) -> tuple[PIFriction | None, str]:
@@ -214,8 +172,7 @@ def fit_presliding(
         Parameters ``coulomb``, ``stiffness_j``, ``threshold_j`` (and ``offset``);
         the model is ``PIFriction(coulomb, stiffness, threshold=...)``.
     """
-    y = as_signal("displacement", displacement)
-    f = as_signal("force", force)
+    y, f = as_signal("displacement", displacement), as_signal("force", force)
     check_same_length(displacement=y, force=f)
     n = element_count(n_elements, thresholds, 3)
     burn_in = as_count("burn_in", burn_in)
@@ -231,6 +188,27 @@ def fit_presliding(
             "`search` must be 'grid' when `thresholds` are given (they are the start); "
             "got 'global'."
         )
+    sep = _path_model(y, f, n, thresholds, burn_in, coulomb, offset)
+    grid = pr.threshold_grid(y, grid_size)
+    with reporting(progress, "fit_presliding") as shown:
+        problem = partial(
+            separable_problem, sep, {"coulomb": (0.0, np.inf)}, grid=grid,
+            refine_thresholds=refine_thresholds, fixed=fixed, tied=tied, progress=shown,
+            user_initial=initial, user_bounds=bounds,
+        )  # fmt: skip
+        found = None if search == "grid" or n == 0 else partial(
+            search_thresholds, y, f, _direction(y), n, grid, coulomb=coulomb, offset=offset,
+            skip=burn_in, seed=seed, max_generations=max_generations, progress=shown,
+        )  # fmt: skip
+        plan = FitPlan(search=partial(_search, problem, found, n),
+                       result=partial(_result, sep, y, f))  # fmt: skip
+        options = FitOptions(level, max_evaluations, tolerance, progress=shown)
+        return run_fit(problem(thresholds=thresholds), options, plan)
+
+
+def _path_model(y: FloatArray, f: FloatArray, n: int, thresholds: Any, burn_in: int,
+                coulomb: bool, offset: bool) -> Separable:  # fmt: skip
+    """Eq. 8 along the path as a separable model, its data checked (budget, reversals)."""
     elements_from = "thresholds" if thresholds is not None else "n_elements"
     check_budget(y.shape[0], burn_in, n, int(bool(coulomb)) + int(bool(offset)), elements_from)
     check_varies("displacement", y)
@@ -250,47 +228,38 @@ def fit_presliding(
         names.append("offset")
     check_enough(int(used.sum()), len(names) + 2 * n)
     design = np.column_stack(columns) if columns else np.empty((y.shape[0], 0))
-    grid = pr.threshold_grid(y, grid_size)
+    return Separable(f, design, tuple(names), pr.stop_basis(y), n, used)
 
-    def separable(start: ArrayLike | None, shown: FitProgress) -> pr.SeparableFit:
-        return pr.fit_separable(
-            f, design, tuple(names), {"coulomb": (0.0, np.inf)}, pr.stop_basis(y), n,
-            grid=grid, thresholds=start, refine_thresholds=refine_thresholds, used=used,
-            fixed=fixed, tied=tied, level=level, max_evaluations=max_evaluations,
-            tolerance=tolerance, progress=shown,
-            user_initial=initial, user_bounds=bounds,
-    )  # fmt: skip
 
-    with reporting(progress, "fit_presliding") as shown:
-        fit, how = separable(thresholds, shown), ""
-        if search == "global" and n > 0:
-            shown.stage(f"global search over {n} elements (differential evolution)")
-            found, how = search_thresholds(
-                y, f, _direction(y), n, grid, coulomb=coulomb, offset=offset, skip=burn_in,
-                seed=seed, max_generations=max_generations, progress=shown,
-            )  # fmt: skip
-            shown.stage("least squares from the global search's thresholds")
-            other = separable(found, shown)
-            if _cost(other) < _cost(fit):
-                how += ": kept, it fits better than the grid start"
-                fit = other
-            else:
-                how += ": the grid start fits at least as well and is kept"
-    sol = fit.solution
-    model, note = pi_model(sol.values, n, sol.values.get("coulomb", 0.0))
-    sol = _with_note(sol, note + (f"; {how}" if how else ""))
+def _search(problem: Callable[..., FitProblem], found: Callable[[], tuple] | None, n: int,
+            run: FitRun) -> Found:  # fmt: skip
+    """The grid start solved; with the global search, its thresholds too (the better kept)."""
+    fit, how = run.problem.solve(run.options), ""
+    if found is not None:
+        run.stage(f"global search over {n} elements (differential evolution)")
+        start, how = found()
+        run.stage("least squares from the global search's thresholds")
+        other = problem(thresholds=start).solve(run.options)
+        if cost(other) < cost(fit):
+            how += ": kept, it fits better than the grid start"
+            fit = other
+        else:
+            how += ": the grid start fits at least as well and is kept"
+    return Found(fit, note=how)
+
+
+def _result(sep: Separable, y: FloatArray, f: FloatArray, run: FitRun, sol: Any, boot: Any,
+            found: Found) -> FitResult:  # fmt: skip
+    """The public result: the model of the fitted values, F_c, F_m and Σ k_j."""
+    used, fitted = sep.used, sep.fitted(sol.values)
+    model, note = pi_model(sol.values, sep.n_elements, sol.values.get("coulomb", 0.0))
+    sol = _with_note(sol, note + (f"; {found.note}" if found.note else ""))
     return FitResult.from_solution(
-        sol, model, y[used], f[used], fit.fitted[used], kind="presliding operator",
+        sol, model, y[used], f[used], fitted[used], kind="presliding operator",
         abscissa_label="displacement [m]", signal_label="friction force", signal_unit="N",
         derived=derived_quantities(model), hint=sign_hint(f, _direction(y), "friction force"),
         model_hint=lambda: _masing_note(model, y[used], f[used]),
     )  # fmt: skip
-
-
-def _cost(fit: pr.SeparableFit) -> float:
-    """Sum of squared residuals of a separable fit (inf if it failed)."""
-    r = fit.solution.residual
-    return float(r @ r) if fit.solution.status != "failed" else np.inf
 
 
 def _direction(y: FloatArray) -> FloatArray:

@@ -33,77 +33,18 @@ rigid; if the cost rises by no more than s²·t² the status is
 
 from __future__ import annotations
 
-from collections.abc import Iterator, Mapping, Sequence
-from dataclasses import replace
-from typing import Any
+from collections.abc import Mapping, Sequence
 
 from presliding._progress import Progress
-from presliding._validation import as_choice, as_count, as_positive_scalar, fmt
-from presliding.identification import _pooled_problem as pp
-from presliding.identification._fit_progress import FitProgress, as_reporter, shows_progress
-from presliding.identification._least_squares import (
-    LARGE_PROBLEM,
-    check_constraints,
-    check_options,
-)
+from presliding.identification._fit_engine import run_fit
+from presliding.identification._fit_progress import FitProgress, shows_progress
 from presliding.identification._model_order import choose_order
-from presliding.identification._model_spec import DENSITIES, ModelSpec
-from presliding.identification._parameters import (
-    check_flag,
-    check_levels,
-    kept_parameters,
-    resolve_parameters,
-)
-from presliding.identification._response_box import start_and_box
-from presliding.identification._response_checks import (
-    bound_check,
-    consistent_level,
-    escape_corner,
-    polish_initial_velocity,
-    rigid_check,
-    smallest_threshold_first,
-    split_coalesced,
-    spread_start,
-    stiffest_first,
-)
-from presliding.identification._response_result import PER_UNIT_MASS, response_result
-from presliding.identification._response_setup import (
-    MAX_BOOTSTRAP,
-    check_model_values,
-    check_records,
-    nuisance_only,
-    prune_elements,
-    record_bootstrap,
-    signal_weights,
-    with_penalty,
-)
-from presliding.identification._search import (
-    SearchSummary,
-    adaptive_search,
-    floor_test,
-    global_start,
-)
-from presliding.identification.fit_presliding import check_enough, element_count
-from presliding.identification.fit_result import FitResult, Tie, solve_least_squares
-from presliding.measurement.measurement import Measurement, common_axis
+from presliding.identification._response_plan import response_plan, response_problem
+from presliding.identification._response_request import check_response, order_options
+from presliding.identification.fit_result import FitResult, Tie
+from presliding.measurement.measurement import Measurement
 
 __all__ = ["fit_response"]
-
-SIGNALS = ("velocity", "position", "both")
-#: Units of the quantities the pooled fits add (the others: `_units.parameter_units`).
-EXTRA_UNITS = {
-    "height": "N/m^2",
-    "max_threshold": "m",
-    "length": "m",
-    "preload": "N",
-    "largest_swing": "m",
-    "reachable_coulomb_level": "N",
-    "effective_elements": "1",
-}
-#: evaluations of the rigid-limit refit of a large pooled problem (an upper bound of its
-#: cost suffices to flag the rigid corner; the refit starts at the optimum)
-RIGID_EVALUATIONS = 30
-STATES = ("saturated", "preload", "relaxed")
 
 
 @shows_progress("fit_response")
@@ -227,181 +168,10 @@ def fit_response(
         ranges), with the HAC `covariance`, `correlation`, `nfev`, the
         bootstrap when it ran, and `predict` for other records.
     """
+    request = dict(locals())
     if isinstance(n_elements, str):
-        if n_elements != "auto":
-            raise ValueError(f"`n_elements` must be a count or 'auto'; got {n_elements!r}.")
-        if density is not None:
-            raise ValueError("`n_elements='auto'` chooses a number of elements; got a density.")
-        return choose_order(fit_response, {
-            "records": records, "equal_breakaway": equal_breakaway, "mass": mass,
-            "coulomb_level": coulomb_level, "min_coulomb_level": min_coulomb_level,
-            "viscous": viscous, "offset": offset, "signal": signal, "weights": weights,
-            "initial_state": initial_state, "fit_initial": fit_initial, "bounds": bounds,
-            "bootstrap": bootstrap, "seed": seed, "level": level,
-            "max_evaluations": max_evaluations, "tolerance": tolerance,
-            "multistart": multistart, "progress": progress,
-            **{label: {x: v for x, v in dict(given or {}).items()  # element names vary with N
-                       if not x.startswith(("stiffness_", "breakaway_"))}
-               for label, given in (("initial", initial), ("fixed", fixed), ("tied", tied))},
-        })  # fmt: skip
-    single = isinstance(records, Measurement)
-    shown = as_reporter(progress)
-    recs = check_records(records, signal, SIGNALS)
-    signal = as_choice("signal", signal, SIGNALS)
-    initial_state = as_choice("initial_state", initial_state, STATES)
-    if density is not None:
-        density = as_choice("density", density, DENSITIES)
-    cells = as_count("density_cells", density_cells, minimum=4)
-    n = element_count(n_elements, None, 4)
-    if density == "piecewise_constant" and n < 1:
-        raise ValueError(f"`n_elements` (the cells of the density) must be >= 1; got {n}.")
-    if n == 0 and density is None:  # Coulomb (+ viscous) friction: F_c = c1, one parameter
-        equal_breakaway = False
-        if coulomb_level is not None:
-            fixed_level = as_positive_scalar("coulomb_level", coulomb_level)
-            fixed = {**dict(fixed or {}), "coulomb": fixed_level}
-            coulomb_level = None
-    if coulomb_level is not None and (not equal_breakaway or density is not None):
-        raise ValueError(
-            "`coulomb_level` can be given only with equal_breakaway=True and elements; got "
-            + ("a density." if density else "equal_breakaway=False.")
-        )
-    level, max_evaluations, tolerance = check_options(level, max_evaluations, tolerance)
-    initial, bounds, fixed, tied = resolve_parameters(
-        initial, bounds, fixed, tied, {"mass": mass, "coulomb_level": coulomb_level}
-    )
-    check_levels(coulomb_level, min_coulomb_level, fixed)
-    prune = check_flag("prune", prune)
-    fixed, tied = check_constraints(fixed, tied)
-    given = {"fixed": dict(fixed), "tied": dict(tied), "bounds": bounds or {}}
-    spec = ModelSpec(n, equal_breakaway, density, cells)
-    check_model_values(spec, fixed, tied, initial)
-    bootstrap = as_count("bootstrap", bootstrap, maximum=MAX_BOOTSTRAP)
-    if mass is not None:
-        fixed["mass"] = as_positive_scalar("mass", mass)
-    if coulomb_level is not None:
-        fixed["coulomb_level"] = as_positive_scalar("coulomb_level", coulomb_level)
-    fmin = None if min_coulomb_level is None else as_positive_scalar(
-        "min_coulomb_level", min_coulomb_level)  # fmt: skip
-    fc = fixed.get("coulomb_level")
-    if spec.has_level_parameter and n and fc is not None and fixed.get("coulomb", 0.0) >= fc:
-        raise ValueError(
-            f"`fixed['coulomb']` must be less than the Coulomb level {fmt(fc)} (else no force is "
-            f"left for the elements); got {fmt(fixed['coulomb'])}."
-        )
-    forced = any(r.forced for r in recs)
-    per_unit_mass = not forced and not ({"mass", "coulomb_level"} & set(fixed))
-    if per_unit_mass:
-        fixed["mass"] = 1.0
-    wv, wy = signal_weights(signal, recs, weights)
-    problem = pp.PooledProblem(
-        recs,
-        spec,
-        (wv, wy),
-        initial_state,
-        offset=offset,
-        suffix=not single,
-        viscous=viscous,
-    )
-    names = problem.names
-    for i, rec in enumerate(recs):
-        if not fit_initial:
-            fixed.setdefault(problem.nuisance("initial_velocity", i), float(rec.velocity[0]))
-        if not fit_initial or signal == "velocity":
-            fixed.setdefault(problem.nuisance("initial_position", i), float(rec.position[0]))
-    check_enough(problem.n_res, len(names) - len(fixed))
-    start, box = start_and_box(problem, spec, recs, fixed, forced, offset, viscous,
-                               initial_state, initial, bounds, fmin)  # fmt: skip
-    problem.set_typical(start)
-    penalty = None if fmin is None or spec.has_level_parameter else fmin
-    if max_evaluations is None:
-        max_evaluations = 50 * len(names)
-    options = {"bounds": box, "tied": tied, "level": level, "max_evaluations": max_evaluations,
-               "tolerance": tolerance, "gradient_tolerance": max(tolerance**2, 1e-15),
-               "progress": shown}  # fmt: skip
-    evaluations = [0]
-    free = len(names) - len(fixed)
-    shown.stage(f"least squares: {problem.n_rec} record(s), {free} free parameters")
-
-    def solve(begin, rigid=False, extra=None, **kw):
-        fun, jac = with_penalty(problem, rigid, penalty)
-        out = solve_least_squares(
-            fun, begin, fixed={**fixed, **(extra or {})}, free_jacobian=jac,
-            blocks=[rows for _, rows in problem.rows], residual_size=problem.n_res,
-            clusters=[i for i, _ in problem.rows],
-            step_limit=problem.step_limit, method="lm" if problem.n_rec > 1 else "auto",
-            **{**options, **kw},
-        )  # fmt: skip
-        evaluations[0] += out.n_evaluations
-        return out
-
-    model_names = set(spec.names)
-    shaped = model_names & (set(fixed) | set(tied))
-    discrete_equal = density is None and equal_breakaway and n >= 1
-    search = multistart and density is None and n >= 1 and not (
-        {"coulomb", *spec.k_names, *spec.c_names} & shaped)  # fmt: skip
-    large = problem.n_rec > 1 or problem.n_res * (len(names) - len(fixed)) ** 2 > LARGE_PROBLEM
-    short = min(max_evaluations, 12 + 2 * len(problem.shared))
-
-    def more_starts() -> Iterator[tuple[dict[str, float], int]]:
-        """The further shared starts, made only when the search reaches them."""
-        if search and discrete_equal:
-            yield spread_start(start, spec.k_names), 0
-        if multistart and not tied:
-            shown.stage("search: the shared parameters' global start")
-            extra, spent = global_start(problem, start, fixed, box)
-            for j, e in enumerate(extra):
-                yield {x: e[x] for x in names}, spent if j == 0 else 0
-
-    shown.stage("search: the regression start, then the records that do not fit")
-    sol, n_starts, at_best, count = adaptive_search(problem, solve, start, more_starts, fixed,
-                                                    box, short)  # fmt: skip
-    evaluations[0] += count
-    if search and discrete_equal:
-        shown.stage("checks: a rigid stiffest element, coalesced elements")
-        sol = escape_corner(sol, solve, spec.k_names)
-        sol = split_coalesced(sol, solve, spec.k_names)
-    if single:
-        sol = polish_initial_velocity(sol, solve, fixed, tied, recs[0].velocity)
-    labelled = (set(spec.k_names) | set(spec.c_names)) & (set(fixed) | set(tied))
-    if discrete_equal and not labelled:
-        sol = stiffest_first(sol, spec.k_names)
-    elif density is None and not equal_breakaway and not labelled and sol.status != "failed":
-        sol = smallest_threshold_first(sol, spec.k_names, spec.c_names)
-    if search and sol.status == "converged":
-        shown.stage("check: the rigid limit of the smallest-threshold element")
-        capped = (lambda *a, **k: solve(*a, max_evaluations=RIGID_EVALUATIONS, **k)) if large \
-            else solve  # fmt: skip
-        sol = rigid_check(sol, capped, problem, names, fixed, tied, level,
-                          refine=solve if large else None)  # fmt: skip
-    sol = bound_check(sol, start, names, fixed, tied, equal_breakaway and density is None)
-    sol = consistent_level(nuisance_only(sol, problem, fixed), spec)
-    notes = [PER_UNIT_MASS] if per_unit_mass else []
-    pruned = prune_elements(problem, sol, spec)
-    if prune and pruned.dead and density is None and spec.n - len(pruned.dead) >= 0:
-        kw: dict[str, Any] = dict(
-            n_elements=spec.n - len(pruned.dead), equal_breakaway=equal_breakaway, mass=mass,
-            coulomb_level=coulomb_level, min_coulomb_level=min_coulomb_level, offset=offset,
-            viscous=viscous, signal=signal, weights=weights, initial_state=initial_state,
-            fit_initial=fit_initial, level=level, max_evaluations=max_evaluations,
-            tolerance=tolerance, multistart=multistart, bootstrap=bootstrap, seed=seed,
-            initial=pruned.start(sol.values, problem), progress=shown,
-            **kept_parameters(given, spec.n - len(pruned.dead)),
-        )  # fmt: skip
-        shown.stage(f"refit without {len(pruned.dead)} element(s) that never slide")
-        refit = fit_response(records, **kw)
-        note = pruned.note(spec) + "; refitted without them"
-        return replace(refit, notes=(*refit.notes, note), n_evaluations=refit.n_evaluations
-                       + evaluations[0])  # fmt: skip
-    if pruned.dead:
-        notes.append(pruned.note(spec) + " (prune=True drops them)")
-    boot = None
-    if bootstrap and len(recs) >= 3 and sol.status != "failed":
-        settings = {**options, "fixed": fixed}
-        sol, boot, count = record_bootstrap(sol, problem, settings, bootstrap, seed)
-        evaluations[0] += count
-    sol, ratios, floor, over = floor_test(problem, sol, at_best == n_starts)
-    sol = replace(sol, n_evaluations=evaluations[0])
-    summary = SearchSummary(n_starts, at_best, floor, over, ratios, count)
-    result = response_result(sol, problem, spec, pruned, notes, boot, per_unit_mass, signal)
-    return replace(result, search=summary).on_axis(common_axis(records))
+        return choose_order(fit_response, order_options(request))
+    checked = check_response(request)
+    problem, options = response_problem(checked)
+    plan = response_plan(checked, problem, options, refit_with=fit_response)
+    return run_fit(problem, options, plan)

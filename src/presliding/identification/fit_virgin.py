@@ -29,7 +29,9 @@ samples: the envelope is biased upwards where the curve is flat and noisy
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import replace
+from functools import partial
 from typing import Any
 
 import numpy as np
@@ -38,8 +40,12 @@ from numpy.typing import ArrayLike, NDArray
 from presliding._progress import Progress
 from presliding._validation import as_nonnegative_scalar, as_signal, check_same_length, fmt
 from presliding.identification import _pi_regression as pr
+from presliding.identification._fit_engine import FitPlan, FitRun, Found, run_fit
+from presliding.identification._fit_problem import FitOptions, FitProblem
 from presliding.identification._fit_progress import FitProgress, as_reporter, shows_progress
 from presliding.identification._parameters import resolve_parameters
+from presliding.identification._response_checks import cost
+from presliding.identification._separable_problem import Separable, separable_problem
 from presliding.identification.fit_presliding import (
     check_enough,
     check_fit_options,
@@ -185,11 +191,6 @@ def _as_records(displacement: Any, force: Any) -> list[tuple[FloatArray, FloatAr
     return out
 
 
-def _cost(fit: pr.SeparableFit) -> float:
-    sol = fit.solution
-    return float(sol.residual @ sol.residual) if sol.status != "failed" else np.inf
-
-
 @shows_progress("fit_virgin_curve")
 def fit_virgin_curve(
     displacement: ArrayLike | Sequence[ArrayLike],
@@ -238,8 +239,6 @@ def fit_virgin_curve(
         Fitted against s (sorted); `measured` holds the pooled samples, `fitted`
         the model; the model reproduces every loop by the Madelung/Masing rules.
     """
-    from scipy.optimize import isotonic_regression
-
     records = _as_records(displacement, force)
     n = element_count(n_elements, thresholds, 3)
     if reversal_tolerance is not None:
@@ -248,48 +247,74 @@ def fit_virgin_curve(
     fixed, tied, level, grid_size, max_evaluations, tolerance = check_fit_options(
         fixed, tied, level, grid_size, max_evaluations, tolerance
     )
+    s, fv = _pooled_samples(records, loops, reversal_tolerance)
+    check_enough(s.shape[0], 1 + 2 * n, "virgin-curve samples")
+    # grid thresholds at the first samples would mimic the Coulomb element
+    lo = max(4.0 * float(s[0]), float(np.quantile(s, 0.01)))
+    grid = pr.geometric_grid(lo, float(s[-1]), float(s[-1]), grid_size)
+    shown = as_reporter(progress)
+
+    def model_of(target: FloatArray) -> Separable:
+        return Separable(target, np.ones((s.shape[0], 1)), ("coulomb",), pr.virgin_basis(s), n,
+                         np.ones(s.shape[0], dtype=bool))  # fmt: skip
+
+    def problem(sep: Separable, start: ArrayLike | None) -> FitProblem:
+        return separable_problem(
+            sep, {"coulomb": (0.0, np.inf)}, grid=grid, thresholds=start, fixed=fixed, tied=tied,
+            smallest_threshold=float(s[0]), progress=shown, user_initial=initial,
+            user_bounds=bounds,
+        )  # fmt: skip
+
+    samples = model_of(fv)
+    use_envelope = envelope and thresholds is None and n > 0
+    plan = FitPlan(search=partial(_search, problem, model_of, samples, use_envelope),
+                   result=partial(_result, samples, s, loops))  # fmt: skip
+    options = FitOptions(level, max_evaluations, tolerance, progress=shown)
+    return run_fit(problem(samples, thresholds), options, plan)
+
+
+def _pooled_samples(records: list, loops: bool, tolerance: float | None) -> tuple:
+    """Every record's virgin-curve samples (s, F_v), pooled and sorted by s."""
     s_parts, f_parts = [], []
     for i, (y, f) in enumerate(records):
         check_varies("force" if len(records) == 1 else f"force[{i}]", f)
-        tol = auto_tolerance(y) if reversal_tolerance is None else reversal_tolerance
+        tol = auto_tolerance(y) if tolerance is None else tolerance
         which = "`displacement`" if len(records) == 1 else f"`displacement[{i}]`"
         s, fv = virgin_samples(y, f, tol) if loops else _ramp_samples(y, f, tol, which)
         s_parts.append(s)
         f_parts.append(fv)
     s, fv = np.concatenate(s_parts), np.concatenate(f_parts)
     order = np.argsort(s, kind="stable")
-    s, fv = s[order], fv[order]
-    check_enough(s.shape[0], 1 + 2 * n, "virgin-curve samples")
-    # grid thresholds at the first samples would mimic the Coulomb element
-    lo = max(4.0 * float(s[0]), float(np.quantile(s, 0.01)))
-    grid = pr.geometric_grid(lo, float(s[-1]), float(s[-1]), grid_size)
+    return s[order], fv[order]
 
-    def separable(target: FloatArray, start: ArrayLike | None) -> pr.SeparableFit:
-        return pr.fit_separable(
-            target, np.ones((s.shape[0], 1)), ("coulomb",), {"coulomb": (0.0, np.inf)},
-            pr.virgin_basis(s), n, grid=grid, thresholds=start, fixed=fixed, tied=tied,
-            level=level, max_evaluations=max_evaluations, tolerance=tolerance,
-            smallest_threshold=float(s[0]), progress=as_reporter(progress),
-            user_initial=initial, user_bounds=bounds,
-    )  # fmt: skip
 
-    fit = separable(fv, thresholds)
-    if envelope and thresholds is None and n:
-        as_reporter(progress).stage("start thresholds from the monotone envelope")
-        shaped = separable(isotonic_regression(fv, increasing=True).x, None)
-        r_names = pr.element_names(n)[1]
-        start = np.array([shaped.solution.values[x] for x in r_names])
-        other = separable(fv, start)
-        if _cost(other) < _cost(fit):
+def _search(problem: Callable[..., FitProblem], model_of: Callable[..., Separable],
+            samples: Separable, use_envelope: bool, run: FitRun) -> Found:  # fmt: skip
+    """The grid start solved; with the envelope, its thresholds too (the better kept)."""
+    from scipy.optimize import isotonic_regression
+
+    fit = run.problem.solve(run.options)
+    if use_envelope:
+        run.stage("start thresholds from the monotone envelope")
+        envelope = model_of(isotonic_regression(samples.target, increasing=True).x)
+        shaped = problem(envelope, None).solve(run.options)
+        r_names = pr.element_names(samples.n_elements)[1]
+        start = np.array([shaped.values[x] for x in r_names])
+        other = problem(samples, start).solve(run.options)
+        if cost(other) < cost(fit):
             fit = other
-    model, note = pi_model(fit.solution.values, n, fit.solution.values["coulomb"])
-    sol = fit.solution
-    if note:
-        from dataclasses import replace
+    return Found(fit)
 
+
+def _result(samples: Separable, s: FloatArray, loops: bool, run: FitRun, sol: Any,
+            boot: Any, found: Any) -> FitResult:  # fmt: skip
+    """The public result against s: the model reproduces every loop (Madelung, Masing)."""
+    model, note = pi_model(sol.values, samples.n_elements, sol.values["coulomb"])
+    fitted, fv = samples.fitted(sol.values), samples.target
+    if note:
         sol = replace(sol, message=sol.message + note)
     return FitResult.from_solution(
-        sol, model, s, fv, fit.fitted, kind="virgin curve",
+        sol, model, s, fv, fitted, kind="virgin curve",
         abscissa_label="s = half travel since reversal" if loops else "s = travel from rest",
         signal_label="virgin-curve force", signal_unit="N", derived=derived_quantities(model),
     )  # fmt: skip

@@ -1,0 +1,156 @@
+"""The steps every fit runs on its `FitProblem`: search, checks, judge, intervals, result.
+
+`run_fit(problem, options, plan)` is the one pipeline of the ``fit_*``
+functions (lmfit's single Minimizer, scipy's result conventions):
+
+1. **search** — the fit's starts and their solves (`FitPlan.search`: the
+   adaptive multistart of `_search` for the pooled fits, the threshold grid
+   and the global or envelope starts for the separable ones), giving a
+   `Found`: the best solution, the starts run and how many reached it;
+2. **checks** — the fit's own refinements of that optimum (`FitPlan.checks`:
+   relabelling interchangeable elements, the rigid corner, coalesced
+   elements), then, for record-pooled problems, the shared `settle`: a model
+   parameter on its bound 0 (`at_bound`), F_c equal to the model's, records
+   whose own start the data cannot pin down;
+3. **refit** — a fit may end here with another fit (`FitPlan.refit`: the
+   refit without elements that never slide);
+4. **judge** — the noise-floor rule of record-pooled problems
+   (`_search.floor_test`: ``local_minimum``) and the search summary (a
+   direct problem's summary is its `Found`);
+5. **intervals** — the record bootstrap when asked (its intervals joined
+   with the profile-likelihood ones, `_response_setup.record_bootstrap`);
+6. **result** — `FitPlan.result` assembles the `FitResult`, whose
+   `FitResult.from_solution` computes the profile-likelihood intervals that
+   are still missing (`_profile`) and passes the status through the one
+   status judge (`_status.judge`).
+
+`FitRun` carries one fit's explicit state along the way: the problem, the
+options and the residual evaluations spent so far (every solve goes through
+`FitRun.solve`, which counts them). A record-pooled fit reports them all
+(every start and check); a direct one the evaluations of the solve it kept.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, replace
+from typing import Any
+
+import numpy as np
+
+from presliding.identification._fit_problem import FitOptions, FitProblem
+from presliding.identification._least_squares import Solution
+
+__all__ = ["FitPlan", "FitRun", "Found", "cost", "run_fit"]
+
+
+def cost(sol: Solution) -> float:
+    """‖r‖² of a solution (inf for a failed one or a residual that is not finite)."""
+    c = float(sol.residual @ sol.residual) if sol.status != "failed" else np.inf
+    return c if np.isfinite(c) else np.inf
+
+
+class FitRun:
+    """One fit's run through the steps: its problem, options and evaluations so far."""
+
+    def __init__(self, problem: FitProblem, options: FitOptions):
+        self.problem, self.options = problem, options
+        self.evaluations = 0
+
+    def solve(self, begin: Any = None, rigid: bool = False, extra: Any = None,
+              **overrides: Any) -> Solution:  # fmt: skip
+        """`FitProblem.solve` with the run's options, its evaluations counted."""
+        out = self.problem.solve(self.options, begin, rigid=rigid, extra=extra, **overrides)
+        self.evaluations += out.n_evaluations
+        return out
+
+    def stage(self, text: str) -> None:
+        """Say which stage runs (through the fit's progress, when shown)."""
+        if self.options.progress is not None:
+            self.options.progress.stage(text)
+
+
+@dataclass(frozen=True)
+class Found:
+    """What the search step found: the best solution and how the starts went."""
+
+    solution: Solution
+    n_starts: int = 1
+    n_starts_at_best: int = 1
+    search_evaluations: int = 0  # residual evaluations of the nuisance searches
+    note: str = ""  # what the search says of the starts it compared (direct problems)
+
+
+Step = Callable[[FitRun, Solution], Solution]
+
+
+@dataclass(frozen=True)
+class FitPlan:
+    """A fit's own parts of the pipeline (module notes)."""
+
+    search: Callable[[FitRun], Found]
+    result: Callable[[FitRun, Solution, Any, Any], Any]  # (run, sol, bootstrap, summary)
+    checks: tuple[Step, ...] = ()
+    refit: Callable[[FitRun, Solution], Any] | None = None  # a FitResult ends the fit
+    bootstrap: int = 0
+    seed: int | None = None
+
+
+def run_fit(problem: FitProblem, options: FitOptions, plan: FitPlan) -> Any:
+    """search → checks → (refit) → judge → intervals → result (module notes)."""
+    run = FitRun(problem, options)
+    found = plan.search(run)
+    sol = found.solution
+    for step in plan.checks:
+        sol = step(run, sol)
+    sol = settle(run, sol)
+    if plan.refit is not None:
+        other = plan.refit(run, sol)
+        if other is not None:
+            return other
+    sol, summary = judge(run, sol, found)
+    sol, boot = intervals(run, sol, plan.bootstrap, plan.seed)
+    if problem.records is not None:  # every start and check counted; a direct problem
+        sol = replace(sol, n_evaluations=run.evaluations)  # counts the solve it kept
+    return plan.result(run, sol, boot, summary)
+
+
+def settle(run: FitRun, sol: Solution) -> Solution:
+    """A record-pooled optimum's bounds, F_c and the records' own undetermined starts."""
+    from presliding.identification._response_checks import bound_check, consistent_level
+    from presliding.identification._response_setup import nuisance_only
+
+    p = run.problem
+    if p.records is None:
+        return sol
+    equal = p.spec.equal and p.spec.density is None
+    sol = bound_check(sol, {"mass": 1.0, **p.initial}, p.names, p.fixed, p.tied, equal)
+    return consistent_level(nuisance_only(sol, p.records, p.fixed), p.spec)
+
+
+def judge(run: FitRun, sol: Solution, found: Found) -> tuple[Solution, Any]:
+    """The noise-floor rule of a record-pooled fit and its search summary (`_search`);
+    a direct problem has no noise floor: its summary is what the search found."""
+    from presliding.identification._search import SearchSummary, floor_test
+
+    records = run.problem.records
+    if records is None:
+        return sol, found
+    agree = found.n_starts_at_best == found.n_starts
+    sol, ratios, floor, over = floor_test(records, sol, agree)
+    summary = SearchSummary(found.n_starts, found.n_starts_at_best, floor, over, ratios,
+                            found.search_evaluations)  # fmt: skip
+    return sol, summary
+
+
+def intervals(run: FitRun, sol: Solution, n_resamples: int, seed: int | None) -> tuple:
+    """The record bootstrap (three or more records), its intervals joined with the profile."""
+    from presliding.identification._response_setup import record_bootstrap
+
+    p = run.problem
+    if not n_resamples or p.records is None or p.records.n_rec < 3 or not np.isfinite(cost(sol)):
+        return sol, None
+    settings = {**run.options.solver(), "fixed": p.fixed, "tied": p.tied, "bounds": p.bounds}
+    sol, boot, count = record_bootstrap(sol, p.records, settings, n_resamples, seed)
+    run.evaluations += count
+    return sol, boot

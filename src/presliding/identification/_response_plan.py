@@ -1,0 +1,213 @@
+"""`fit_response` as a `FitProblem` and its parts of the pipeline (`_fit_engine`).
+
+`response_problem` builds the record-pooled problem of a checked
+`ResponseRequest`: the records' layout (`PooledProblem`), the start values and
+bounds (`_response_box`), each record's start held where it is not fitted, and
+the options. `response_plan` gives the fit's own steps:
+
+* search: the adaptive multistart of `_search` (the regression start, the
+  records that do not fit, then the spread start and the best of the cheap
+  global search, made only when reached);
+* checks: the rigid corner and coalesced elements, the start from rest of a
+  single record, interchangeable elements relabelled, the rigid limit of the
+  smallest-threshold element (`_response_checks`);
+* refit: with ``prune=True``, the fit again without the elements that never
+  slide;
+* result: the model, derived values, notes and predictor
+  (`_response_result`).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterator
+from dataclasses import dataclass, replace
+from functools import partial
+from typing import Any
+
+from presliding.identification import _pooled_problem as pp
+from presliding.identification._fit_engine import FitPlan, FitRun, Found
+from presliding.identification._fit_options import check_enough
+from presliding.identification._fit_problem import FitOptions, FitProblem
+from presliding.identification._least_squares import LARGE_PROBLEM, Solution
+from presliding.identification._parameters import kept_parameters
+from presliding.identification._response_box import start_and_box
+from presliding.identification._response_checks import (
+    escape_corner,
+    polish_initial_velocity,
+    rigid_check,
+    smallest_threshold_first,
+    split_coalesced,
+    spread_start,
+    stiffest_first,
+)
+from presliding.identification._response_request import ResponseRequest
+from presliding.identification._response_result import PER_UNIT_MASS, response_result
+from presliding.identification._response_setup import prune_elements, signal_weights
+from presliding.identification._search import adaptive_search, global_start
+from presliding.measurement.measurement import common_axis
+
+__all__ = ["response_plan", "response_problem"]
+
+#: evaluations of the rigid-limit refit of a large pooled problem (an upper bound of its
+#: cost suffices to flag the rigid corner; the refit starts at the optimum)
+RIGID_EVALUATIONS = 30
+
+
+def response_problem(req: ResponseRequest) -> tuple[FitProblem, FitOptions]:
+    """The pooled problem of a checked request, and the options of its solves."""
+    spec, recs = req.spec, req.recs
+    records = pp.PooledProblem(
+        recs, spec, signal_weights(req.signal, recs, req.weights), req.initial_state,
+        offset=req.offset, suffix=not req.single, viscous=req.viscous,
+    )  # fmt: skip
+    names, fixed = records.names, dict(req.fixed)
+    for i, rec in enumerate(recs):
+        if not req.fit_initial:
+            fixed.setdefault(records.nuisance("initial_velocity", i), float(rec.velocity[0]))
+        if not req.fit_initial or req.signal == "velocity":
+            fixed.setdefault(records.nuisance("initial_position", i), float(rec.position[0]))
+    check_enough(records.n_res, len(names) - len(fixed))
+    start, box = start_and_box(records, spec, recs, fixed, req.forced, req.offset, req.viscous,
+                               req.initial_state, req.initial, req.bounds, req.fmin)  # fmt: skip
+    records.set_typical(start)
+    penalty = None if req.fmin is None or spec.has_level_parameter else req.fmin
+    budget = 50 * len(names) if req.max_evaluations is None else req.max_evaluations
+    options = FitOptions(req.level, budget, req.tolerance, max(req.tolerance**2, 1e-15),
+                         req.progress)  # fmt: skip
+    problem = FitProblem(
+        tuple(names), start, box, fixed, req.tied, records=records, spec=spec, penalty=penalty,
+        method="lm" if records.n_rec > 1 else "auto",
+    )  # fmt: skip
+    return problem, options
+
+
+@dataclass(frozen=True)
+class _Flags:
+    """Which searches and checks a response fit runs."""
+
+    discrete_equal: bool  # elements of equal break-away force
+    search: bool  # multistart, with c1 and the elements free
+    large: bool  # rigid refits capped
+    short: int  # evaluations of a further start's short solves
+
+
+def _flags(req: ResponseRequest, p: FitProblem, budget: int) -> _Flags:
+    spec, rec = req.spec, p.records
+    shaped = set(spec.names) & (set(p.fixed) | set(p.tied))
+    discrete_equal = spec.density is None and spec.equal and spec.n >= 1
+    search = req.multistart and spec.density is None and spec.n >= 1 and not (
+        {"coulomb", *spec.k_names, *spec.c_names} & shaped)  # fmt: skip
+    free = len(p.names) - len(p.fixed)
+    large = rec.n_rec > 1 or rec.n_res * free**2 > LARGE_PROBLEM
+    return _Flags(discrete_equal, search, large, min(budget, 12 + 2 * len(rec.shared)))
+
+
+def response_plan(req: ResponseRequest, problem: FitProblem, options: FitOptions,
+                  refit_with: Callable[..., Any]) -> FitPlan:  # fmt: skip
+    """The response fit's own steps (module notes); `refit_with` is `fit_response`."""
+    assert options.max_evaluations is not None
+    flags = _flags(req, problem, options.max_evaluations)
+    return FitPlan(
+        search=partial(_search, req, flags),
+        checks=(partial(_corner_checks, req, flags), partial(_relabel, req),
+                partial(_rigid_limit, flags)),
+        refit=partial(_prune, req, refit_with), result=partial(_result, req),
+        bootstrap=req.bootstrap, seed=req.seed,
+    )  # fmt: skip
+
+
+def _search(req: ResponseRequest, flags: _Flags, run: FitRun) -> Found:
+    """The adaptive multistart (`_search.adaptive_search`)."""
+    p = run.problem
+    rec, start, k_names = p.records, p.initial, req.spec.k_names
+    run.stage(f"least squares: {rec.n_rec} record(s), {len(p.names) - len(p.fixed)} free "
+              "parameters")  # fmt: skip
+
+    def more_starts() -> Iterator[tuple[dict[str, float], int]]:
+        """The further shared starts, made only when the search reaches them."""
+        if flags.search and flags.discrete_equal:
+            yield spread_start(dict(start), k_names), 0
+        if req.multistart and not p.tied:
+            run.stage("search: the shared parameters' global start")
+            extra, spent = global_start(rec, start, p.fixed, p.bounds)
+            for j, e in enumerate(extra):
+                yield {x: e[x] for x in p.names}, spent if j == 0 else 0
+
+    run.stage("search: the regression start, then the records that do not fit")
+    sol, n_starts, at_best, count = adaptive_search(rec, run.solve, start, more_starts, p.fixed,
+                                                    p.bounds, flags.short)  # fmt: skip
+    run.evaluations += count
+    return Found(sol, n_starts, at_best, count)
+
+
+def _corner_checks(req: ResponseRequest, flags: _Flags, run: FitRun, sol: Solution) -> Solution:
+    """The rigid corner and coalesced elements; a single record's start from rest."""
+    k_names = req.spec.k_names
+    if flags.search and flags.discrete_equal:
+        run.stage("checks: a rigid stiffest element, coalesced elements")
+        sol = escape_corner(sol, run.solve, k_names)
+        sol = split_coalesced(sol, run.solve, k_names)
+    if req.single:
+        p = run.problem
+        sol = polish_initial_velocity(sol, run.solve, p.fixed, p.tied, req.recs[0].velocity)
+    return sol
+
+
+def _relabel(req: ResponseRequest, run: FitRun, sol: Solution) -> Solution:
+    """Interchangeable elements in their order (stiffest, or smallest threshold, first)."""
+    spec, p = req.spec, run.problem
+    labelled = (set(spec.k_names) | set(spec.c_names)) & (set(p.fixed) | set(p.tied))
+    if spec.density is None and spec.equal and spec.n >= 1 and not labelled:
+        return stiffest_first(sol, spec.k_names)
+    if spec.density is None and not spec.equal and not labelled and sol.status != "failed":
+        return smallest_threshold_first(sol, spec.k_names, spec.c_names)
+    return sol
+
+
+def _rigid_limit(flags: _Flags, run: FitRun, sol: Solution) -> Solution:
+    """The rigid limit of the smallest-threshold element (`rigid_check`)."""
+    if not (flags.search and sol.status == "converged"):
+        return sol
+    run.stage("check: the rigid limit of the smallest-threshold element")
+    p = run.problem
+    capped = (lambda *a, **k: run.solve(*a, max_evaluations=RIGID_EVALUATIONS, **k)) \
+        if flags.large else run.solve  # fmt: skip
+    return rigid_check(sol, capped, p.records, p.names, p.fixed, p.tied, run.options.level,
+                       refine=run.solve if flags.large else None)  # fmt: skip
+
+
+def _prune(req: ResponseRequest, refit_with: Callable[..., Any], run: FitRun,
+           sol: Solution) -> Any:  # fmt: skip
+    """With ``prune=True``: the fit again without the elements that never slide."""
+    spec, rec = req.spec, run.problem.records
+    pruned = prune_elements(rec, sol, spec)
+    kept = spec.n - len(pruned.dead)
+    if not (req.prune and pruned.dead and spec.density is None and kept >= 0):
+        return None
+    options = run.options
+    run.stage(f"refit without {len(pruned.dead)} element(s) that never slide")
+    refit = refit_with(
+        req.records, n_elements=kept, equal_breakaway=spec.equal, mass=req.mass,
+        coulomb_level=req.coulomb_level, min_coulomb_level=req.min_coulomb_level,
+        offset=req.offset, viscous=req.viscous, signal=req.signal, weights=req.weights,
+        initial_state=req.initial_state, fit_initial=req.fit_initial, level=options.level,
+        max_evaluations=options.max_evaluations, tolerance=options.tolerance,
+        multistart=req.multistart, bootstrap=req.bootstrap, seed=req.seed,
+        initial=pruned.start(sol.values, rec), progress=options.progress,
+        **kept_parameters(req.given, kept),
+    )  # fmt: skip
+    note = pruned.note(spec) + "; refitted without them"
+    return replace(refit, notes=(*refit.notes, note),
+                   n_evaluations=refit.n_evaluations + run.evaluations)  # fmt: skip
+
+
+def _result(req: ResponseRequest, run: FitRun, sol: Solution, boot: Any,
+            summary: Any) -> Any:  # fmt: skip
+    """The public result: model, derived values, notes, predictor, search summary."""
+    rec, spec = run.problem.records, req.spec
+    pruned = prune_elements(rec, sol, spec)
+    notes = [PER_UNIT_MASS] if req.per_unit_mass else []
+    if pruned.dead:
+        notes.append(pruned.note(spec) + " (prune=True drops them)")
+    result = response_result(sol, rec, spec, pruned, notes, boot, req.per_unit_mass, req.signal)
+    return replace(result, search=summary).on_axis(common_axis(req.records))
