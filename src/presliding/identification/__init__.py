@@ -29,6 +29,7 @@ _structured_lm.py   Levenberg–Marquardt on structured normal equations (large 
 _model_spec.py      the fitted models as named parameters (elements, densities)
 _pooled_kernel.py   compiled batched responses of many records and parameter sets
 _pooled_problem.py  the pooled residual and its structured Jacobian
+_pooled_jacobian.py the finite differences of that Jacobian, records' columns together
 _pooled_banks.py    the banks (c1, k_j, r_j) of many parameter sets as kernel arrays
 _pooled_start.py    pooled start values (eq. 17 as a regression)
 _quasi_static_problem.py   the pooled quasi-static residual

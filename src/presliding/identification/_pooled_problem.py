@@ -22,10 +22,12 @@ and p shared ones, a Jacobian costs 2·(p + 3) record sets instead of 2·(p + 3R
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
+from presliding.identification import _pooled_jacobian as pj
 from presliding.identification import _pooled_kernel as pk
 from presliding.identification import _response_tools as rt
 from presliding.identification._least_squares import _Map
@@ -256,8 +258,6 @@ class PooledProblem:
         Dense, or a CSC matrix (``sparse_output``; default: for large problems,
         which the solver hands to `_structured_lm`).
         """
-        from scipy import sparse
-
         if sparse_output is None:
             sparse_output = self.n_res > 5000
         # small problems: central differences; large ones: forward differences from
@@ -265,70 +265,24 @@ class PooledProblem:
         central = not sparse_output
         cache: dict[int, tuple] = {}
 
-        def jac(pm: _Map, x: FloatArray, lo: FloatArray, hi: FloatArray) -> FloatArray:
+        def jac(pm: _Map, x: FloatArray, lo: FloatArray, hi: FloatArray) -> Any:
             if id(pm) not in cache:
                 rows = [self.rows_of_column(pm, j) for j in range(len(pm.free))]
                 cache[id(pm)] = (pm, self.column_groups(pm), rows)
             _, groups, col_rows = cache[id(pm)]
-            eps = np.finfo(float).eps
-            h = (np.cbrt(eps) if central else np.sqrt(eps)) * np.maximum(
-                np.abs(x), self.typical(pm) * (1.0 if central else 1e-2)
-            )
-            up = np.minimum(h, hi - x)
-            down = (
-                np.minimum(h, x - lo) if central else np.where(up > 0, 0.0, np.minimum(h, x - lo))
-            )
-            full = pm.full(x)
-            last = getattr(self, "_last", None)
-            base = None
-            if (
-                not central
-                and last is not None
-                and last[0] == rigid
-                and np.array_equal(last[1], full)
-            ):
-                base = last[2]
-            sets = []
-            for g in groups:
-                xp, xm = x.copy(), x.copy()
-                xp[g] += up[g]
-                xm[g] -= down[g]
-                sets.append(pm.full(xp))
-                if central or base is None or np.any(down[g] > 0):
-                    sets.append(pm.full(xm))
-            res = self.residuals(np.array(sets), rigid)
-            values: list = [None] * x.shape[0]
-            k = 0
-            for g in groups:
-                plus = res[k]
-                k += 1
-                if central or base is None or np.any(down[g] > 0):
-                    minus = res[k]
-                    k += 1
-                else:
-                    minus = base
-                with np.errstate(invalid="ignore"):  # a trial point outside the model's range
-                    diff = plus - minus
-                # (an infinite residual on both sides): no usable slope there, none assumed
-                diff[~np.isfinite(diff)] = 0.0
-                for j in g:
-                    span = up[j] + down[j]
-                    rows = col_rows[j]
-                    values[j] = diff[rows] / span if span > 0 else np.zeros(rows.shape[0])
-            data = np.concatenate(values)
-            data[~np.isfinite(data)] = 0.0
-            if not sparse_output:
-                out = np.zeros((self.n_res, x.shape[0]))
-                for j, rows in enumerate(col_rows):
-                    out[rows, j] = values[j]
-                out[~np.isfinite(out)] = 0.0
-                return out
-            indptr = np.concatenate([[0], np.cumsum([r.shape[0] for r in col_rows])])
-            return sparse.csc_matrix(
-                (data, np.concatenate(col_rows), indptr), shape=(self.n_res, x.shape[0])
-            )
+            up, down = pj.difference_steps(x, lo, hi, self.typical(pm), central)
+            base = None if central else self._last_residual(rigid, pm.full(x))
+            values = pj.difference_columns(self, pm, x, up, down, groups, col_rows, rigid, base)
+            return pj.assemble(values, col_rows, self.n_res, x.shape[0], sparse_output)
 
         return jac
+
+    def _last_residual(self, rigid: bool, full: FloatArray) -> FloatArray | None:
+        """The residual the solver has just evaluated at `full` (None: another point)."""
+        last = getattr(self, "_last", None)
+        if last is not None and last[0] == rigid and np.array_equal(last[1], full):
+            return last[2]
+        return None
 
     def step_limit(self, p: FloatArray) -> FloatArray:
         """Largest change of each parameter in one solver step (a trust box).
