@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import sys
+import tracemalloc
 
 import numpy as np
 import pytest
@@ -11,7 +12,7 @@ from hypothesis import strategies as st
 
 from presliding import PIFriction
 from presliding._model_arrays import FAST_ARRAY, loads_toml, number_chunks
-from presliding.model_io import ModelFileError, load_model, read_tables, save_model
+from presliding.model_io import ModelFileError, load_model, model_to_toml, read_tables, save_model
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -140,3 +141,27 @@ def test_line_numbers_after_a_long_multiline_array_are_the_files(tmp_path):
     path.write_text(f"[friction]\ncoulomb = 0.5\nstiffness = [\n  {numbers}\n]\nbad = = 1\n")
     with pytest.raises(ModelFileError, match=f"line {LONG + 5},"):
         load_model(path)
+
+
+def test_saving_streams_the_arrays_and_reading_holds_no_lists(tmp_path):
+    """Neither the whole text nor a list of all the numbers is held: the peak while saving
+    is a chunk's text, while reading the file's bytes and the arrays themselves."""
+    rng = np.random.default_rng(5)
+    n = 200_000
+    model = PIFriction(0.5, rng.uniform(1.0, 1e4, n), rng.uniform(1e-3, 1.0, n))
+    path = tmp_path / "m.toml"
+    save_model(path, model)  # compiled code and caches warm
+    read_tables(path)
+    tracemalloc.start()
+    try:
+        save_model(path, model, overwrite=True)
+        _, saving = tracemalloc.get_traced_memory()
+        tracemalloc.reset_peak()
+        read_tables(path)
+        _, reading = tracemalloc.get_traced_memory()
+    finally:
+        tracemalloc.stop()
+    size = path.stat().st_size
+    assert path.read_text(encoding="utf-8") == model_to_toml(model)
+    assert saving < 0.25 * size  # a list of n floats alone would be 32 bytes each
+    assert reading < size + 2 * 8 * n + (1 << 20)

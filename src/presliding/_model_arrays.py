@@ -44,7 +44,7 @@ __all__ = ["CHUNK", "FAST_ARRAY", "loads_toml", "number_chunks"]
 #: Arrays shorter than this [bytes] are left to the TOML parser (no compiled code runs).
 FAST_ARRAY = 4096
 #: Numbers per piece of text when writing.
-CHUNK = 1 << 16
+CHUNK = 1 << 13
 _KEYS = ("breakaway_negative", "threshold_negative", "stiffness", "breakaway", "threshold",
          "breaks", "heights")  # fmt: skip
 _ARRAY_KEY = re.compile(
