@@ -10,6 +10,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+import presliding._model_arrays as model_arrays
 from presliding import PIFriction
 from presliding._model_arrays import FAST_ARRAY, loads_toml, number_chunks
 from presliding.model_io import ModelFileError, load_model, model_to_toml, read_tables, save_model
@@ -19,8 +20,18 @@ if sys.version_info >= (3, 11):
 else:  # pragma: no cover
     import tomli as tomllib
 
+#: Arrays of at least this many bytes are the scanner's in these tests (`small_arrays`).
+SHORT = 4096
 #: Enough numbers that the compiled scanner, not tomllib, reads the array.
-LONG = FAST_ARRAY // 2
+LONG = SHORT // 2
+
+
+@pytest.fixture(autouse=True, scope="module")
+def small_arrays():
+    """The scanner takes arrays from `SHORT` bytes on (files of tens of numbers suffice)."""
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(model_arrays, "FAST_ARRAY", SHORT)
+        yield
 
 
 def _document(numbers: list[str], sep: str = ", ") -> bytes:
@@ -37,6 +48,13 @@ def _outcome(call):
 
 def _bits(values) -> np.ndarray:
     return np.asarray(values, dtype=np.float64).view(np.int64)
+
+
+def test_short_arrays_are_left_to_tomllib():
+    """Below FAST_ARRAY bytes tomllib reads the array (a list), as it does every file."""
+    numbers = [repr(0.5 + i) for i in range(20)]
+    assert isinstance(loads_toml(_document(numbers))["friction"]["stiffness"], list)
+    assert FAST_ARRAY >= 1 << 16  # files of a few thousand elements never compile anything
 
 
 def test_a_million_elements_round_trip_bit_for_bit(tmp_path):
