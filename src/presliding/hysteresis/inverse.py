@@ -379,7 +379,7 @@ class PIInverse:
         arrays = ((key[1], mine[1]), (key[2], mine[2]), (forward[1], state.play))
         if not (same and all(np.array_equal(a, b) for a, b in arrays)):
             return None
-        return carried  # type: ignore[no-any-return]
+        return carried
 
     def _state(self, state: PIState | None) -> PIState:
         if state is None:
