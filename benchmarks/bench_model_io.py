@@ -4,10 +4,13 @@ A `PIFriction` of N random elements (stiffness and break-away arrays of N number
 the shortest repr of each float) is saved with `save_model` and read back with
 `load_model`; the script checks that every number comes back bit for bit and prints
 
-* the seconds to save, to read the tables (`read_tables`: the TOML text and its arrays)
-  and to load the model (`load_model`: the tables plus the construction of the model),
-  each the best of `--repeats` (the first load also reads the compiled scanner from its
-  cache, or compiles it once);
+* the seconds to save, to read the tables (`read_tables`: the TOML text and its arrays),
+  to construct the model from the arrays in memory (`PIFriction`, no file involved) and
+  to load the model (`load_model`: both), each the best of `--repeats`, wall and CPU
+  (the first read also loads the compiled scanner from its cache, or compiles it once);
+  ``--order sorted`` gives the elements in increasing threshold (a discretised density or
+  a compiled network), ``random`` (default) in random order, which the construction
+  sorts;
 * the file's size and the peak memory numpy and Python allocated while loading;
 * against tomllib on the first `--tomllib` numbers (it parses one number at a time, so the
   whole file would take minutes): seconds per million numbers of both and their ratio,
@@ -58,10 +61,13 @@ def main() -> None:
     parser.add_argument("--elements", type=float, default=1e7)
     parser.add_argument("--repeats", type=int, default=2)
     parser.add_argument("--tomllib", type=int, default=200_000)
+    parser.add_argument("--order", choices=("random", "sorted"), default="random")
     args = parser.parse_args()
     n = int(args.elements)
     rng = np.random.default_rng(0)
     k, c = rng.uniform(1.0, 1e4, n), rng.uniform(1e-3, 1.0, n)
+    if args.order == "sorted":
+        c = k * np.sort(c / k)  # thresholds r = c/k increasing
     k[:4], c[:4] = [5e-324, 1e300, 2.5e-308, 1 / 3], [1e-300, 7.0, 0.1, 2.0**-1074 * 3]
     model = PIFriction(0.3, k, c)
     with tempfile.TemporaryDirectory() as folder:
@@ -76,6 +82,7 @@ def main() -> None:
         read_tables(path)  # the compiled scanner: from its cache (or compiled) once
         t_first = time.perf_counter() - start
         t_tables, _ = best(lambda: read_tables(path), args.repeats)
+        t_model, _ = best(lambda: PIFriction(0.3, k, c), args.repeats)
         t_load, spec = best(lambda: load_model(path), args.repeats)
         assert np.array_equal(spec.model.stiffness.view(np.int64), k.view(np.int64))
         assert np.array_equal(spec.model.breakaway.view(np.int64), c.view(np.int64))
@@ -83,11 +90,13 @@ def main() -> None:
         load_model(path)
         peak = tracemalloc.get_traced_memory()[1]
         tracemalloc.stop()
-        print(f"{n:.3g} elements, file {size / 1e6:.0f} MB, every number read back bit for bit")
-        cpu_save, cpu_tables, cpu_load = CPU[:3]
+        print(f"{n:.3g} elements ({args.order} order), file {size / 1e6:.0f} MB, "
+              "every number read back bit for bit")  # fmt: skip
+        cpu_save, cpu_tables, cpu_model, cpu_load = CPU[:4]
         print(f"save_model   {t_save:7.2f} s wall, {cpu_save:6.2f} s CPU")
         first = f"(first call {t_first:.2f} s)"
         print(f"read_tables  {t_tables:7.2f} s wall, {cpu_tables:6.2f} s CPU {first}")
+        print(f"PIFriction   {t_model:7.2f} s wall, {cpu_model:6.2f} s CPU (from the arrays)")
         print(f"load_model   {t_load:7.2f} s wall, {cpu_load:6.2f} s CPU, target < 5 s"
               f"{'' if t_load < 5 else '  MISSED'}")  # fmt: skip
         print(
