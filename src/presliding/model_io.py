@@ -130,12 +130,11 @@ def _read_mapping(path: Path) -> dict[str, Any]:
         raise ModelFileError(f"{path}: no such file.") from None
     except OSError as exc:
         raise ModelFileError(f"{path}: cannot be read ({exc.strerror}).") from None
-    try:  # a byte-order mark is not part of the text; long arrays: compiled scanner
-        data = (
-            json.loads(raw.decode("utf-8-sig"))
-            if path.suffix.lower() == ".json"
-            else (loads_toml(raw))
-        )
+    try:  # a byte-order mark is not part of the text; long element arrays: see loads_toml
+        if path.suffix.lower() == ".json":
+            data = json.loads(raw.decode("utf-8-sig"))
+        else:
+            data = loads_toml(raw)
     except (json.JSONDecodeError, tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
         kind = "JSON" if path.suffix.lower() == ".json" else "TOML"
         raise ModelFileError(f"{path}: not valid {kind} ({exc}).") from None
