@@ -295,11 +295,22 @@ def _read_array(
             return _OK, pos + 1, count, n_later
 
 
+@njit(cache=True)
+def _count(buf: np.ndarray, start: int, stop: int) -> tuple[int, int]:
+    """The commas and line feeds in buf[start:stop]."""
+    commas = lines = 0
+    for i in range(start, stop):
+        commas += buf[i] == 44
+        lines += buf[i] == 10
+    return commas, lines
+
+
 # ---------------------------------------------------------------------- reading
-def _read(raw: bytes, buf: np.ndarray, pos: int) -> tuple[int, int, np.ndarray]:
-    """(status, end, numbers) of the array whose '[' is just before `pos`."""
+def _read(raw: bytes, buf: np.ndarray, pos: int) -> tuple[int, int, np.ndarray, int]:
+    """(status, end, numbers, line feeds) of the array whose '[' is just before `pos`."""
     close = raw.find(b"]", pos)  # the end, unless a comment holds a ']'
-    capacity = raw.count(b",", pos, close if close >= 0 else len(raw)) + 1
+    commas, lines = _count(buf, pos, close if close >= 0 else len(raw))
+    capacity = commas + 1
     later = np.empty((min(capacity, 4096), 2), dtype=np.int64)
     while True:
         out = np.empty(capacity)
@@ -312,12 +323,14 @@ def _read(raw: bytes, buf: np.ndarray, pos: int) -> tuple[int, int, np.ndarray]:
         else:
             break
     if status != _OK:
-        return status, end, out[:0]
+        return status, end, out[:0], 0
+    if end != close + 1:  # the array did not end at the first ']'
+        lines = raw.count(b"\n", pos, end)
     for i, start in later[:n_later].tolist():
         match = _TOKEN.match(raw, start)
         assert match is not None  # the scanner read a number there
         out[i] = float(match.group())
-    return status, end, out[:count] if count + 8 >= capacity else out[:count].copy()
+    return status, end, out[:count] if count + 8 >= capacity else out[:count].copy(), lines
 
 
 def _blanked(raw: bytes, start: int, stop: int) -> bytes:
@@ -338,7 +351,7 @@ def loads_toml(raw: bytes) -> dict[str, Any]:
         search = match.end()
         if raw.find(b"]", search, search + FAST_ARRAY) >= 0:
             continue  # a short array (or the bracket is in a comment): tomllib's
-        status, end, values = _read(raw, buf, search)
+        status, end, values, lines = _read(raw, buf, search)
         if status == _OK and _LINE_END.match(raw, end) is None:
             status, end = _OTHER, end - 1  # text after ']': tomllib's error
         if status != _OK:
@@ -347,7 +360,6 @@ def loads_toml(raw: bytes) -> dict[str, Any]:
             return _loads(raw, b"".join([*pieces, raw[done:]]), arrays)
         key = f"presliding-array-{len(arrays)}-{id(arrays)}"
         arrays[key] = values
-        lines = raw.count(b"\n", search, end)
         pieces += [raw[done : search - 1], f'"{key}"'.encode(), b"\n" * lines]
         done = search = end
     pieces.append(raw[done:])
