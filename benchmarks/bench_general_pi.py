@@ -24,12 +24,9 @@ for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ.setdefault(_var, "1")
 
 import argparse  # noqa: E402
-import itertools  # noqa: E402
-import statistics  # noqa: E402
-import time  # noqa: E402
-from collections.abc import Callable  # noqa: E402
 
 import numpy as np  # noqa: E402
+from _timing import seconds, through  # noqa: E402
 
 from presliding import Exponential, GeneralPIOperator, PIOperator, Uniform  # noqa: E402
 
@@ -42,23 +39,7 @@ def reversing_input(n: int, rng: np.random.Generator) -> np.ndarray:
     ring = turns[-1] + 0.8 * np.cos(np.linspace(0, 200 * np.pi, n // 20)) * np.linspace(
         1, 0, n // 20
     )
-    turns = np.concatenate([turns, ring])
-    fine = [np.linspace(a, b, 11)[:-1] for a, b in itertools.pairwise(turns)]
-    return np.ascontiguousarray(np.concatenate([*fine, turns[-1:]]))
-
-
-def seconds(call: Callable[[], object], repeats: int) -> float:
-    out = []
-    for _ in range(repeats):
-        reps, start = 0, time.perf_counter()
-        while True:
-            call()
-            reps += 1
-            elapsed = time.perf_counter() - start
-            if elapsed >= 0.1:
-                break
-        out.append(elapsed / reps)
-    return statistics.median(out)
+    return through(np.concatenate([turns, ring]))
 
 
 def main() -> None:

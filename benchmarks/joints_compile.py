@@ -27,12 +27,10 @@ for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ.setdefault(_var, "1")
 
 import argparse  # noqa: E402
-import itertools  # noqa: E402
-import statistics  # noqa: E402
 import time  # noqa: E402
-from collections.abc import Callable  # noqa: E402
 
 import numpy as np  # noqa: E402
+from _timing import seconds, through  # noqa: E402
 
 from presliding import MicroslipBar, PIFriction, amplitude_response  # noqa: E402
 from presliding.network import SliderNetwork, compile_network  # noqa: E402
@@ -49,23 +47,7 @@ def bar_chain(n: int) -> SliderNetwork:
 
 def reversing_input(n: int, scale: float, rng: np.random.Generator) -> np.ndarray:
     """A new turning point every 10 samples (random walk), every sample monotone to the next."""
-    turns = np.cumsum(rng.normal(0.0, 0.3 * scale, n // 10 + 1))
-    fine = [np.linspace(a, b, 11)[:-1] for a, b in itertools.pairwise(turns)]
-    return np.ascontiguousarray(np.concatenate([*fine, turns[-1:]]))
-
-
-def seconds(call: Callable[[], object], repeats: int) -> float:
-    out = []
-    for _ in range(repeats):
-        reps, start = 0, time.perf_counter()
-        while True:
-            call()
-            reps += 1
-            elapsed = time.perf_counter() - start
-            if elapsed >= 0.1:
-                break
-        out.append(elapsed / reps)
-    return statistics.median(out)
+    return through(np.cumsum(rng.normal(0.0, 0.3 * scale, n // 10 + 1)))
 
 
 def main() -> None:

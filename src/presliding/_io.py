@@ -1,4 +1,4 @@
-"""Atomic, non-clobbering file output; TOML input whose long numeric arrays numpy parses.
+"""Atomic, non-clobbering file output.
 
 Every output is written to a temporary file next to it and renamed onto it, so a
 reader never sees half a file. The temporary's name carries the writer's process
@@ -13,18 +13,9 @@ import contextlib
 import os
 import re
 import socket
-import sys
 import tempfile
 from collections.abc import Callable, Iterator
 from pathlib import Path
-from typing import Any
-
-import numpy as np
-
-if sys.version_info >= (3, 11):
-    import tomllib
-else:  # pragma: no cover - Python 3.10
-    import tomli as tomllib
 
 #: Called with the path of every output `atomic_path` has put in place.
 _written_listeners: list[Callable[[Path], None]] = []
@@ -154,48 +145,3 @@ def write_text(path: str | os.PathLike[str], text: str) -> None:
     """Write a text file atomically."""
     with atomic_path(path) as tmp:
         tmp.write_text(text, encoding="utf-8")
-
-
-# ---------------------------------------------------------------------- TOML input
-#: A one-line or multi-line array of plain numbers given to a key of the element arrays.
-_NUMBER_ARRAY = re.compile(
-    r"^([ \t]*)(stiffness|breakaway|threshold|breaks|heights)([ \t]*=[ \t]*)\[([0-9eE+\-.,\s]*)\]",
-    re.MULTILINE,
-)
-#: Arrays shorter than this [characters] are left to the TOML parser.
-_FAST_ARRAY = 4096
-
-
-def loads_toml(text: str) -> dict[str, Any]:
-    """TOML with long arrays of the element parameters parsed by numpy (tomllib parses
-    numbers one at a time in Python: minutes for 1e7 elements). Each such array is cut out,
-    parsed with numpy and put back as the list of floats tomllib would give; anything numpy
-    cannot read as plain decimal numbers is left to tomllib."""
-    arrays: dict[str, np.ndarray] = {}
-
-    def cut(match: re.Match[str]) -> str:
-        body = match.group(4)
-        if len(body) < _FAST_ARRAY:
-            return match.group(0)
-        body = body.strip()
-        body = body[:-1] if body.endswith(",") else body  # TOML allows a trailing comma
-        try:  # numpy's parser is strict: an empty item or a stray character raises
-            values = np.array(body.split(","), dtype=np.float64)
-        except ValueError:  # tomllib decides (and says what is wrong)
-            return match.group(0)
-        key = f"presliding-array-{len(arrays)}-{id(arrays)}"
-        arrays[key] = values  # a float64 array where tomllib gives a list of floats
-        return f'{match.group(1)}{match.group(2)}{match.group(3)}"{key}"'
-
-    data = tomllib.loads(_NUMBER_ARRAY.sub(cut, text))
-    if arrays:
-        _put_back(data, arrays)
-    return data
-
-
-def _put_back(table: dict[str, Any], arrays: dict[str, np.ndarray]) -> None:
-    for key, value in table.items():
-        if isinstance(value, dict):
-            _put_back(value, arrays)
-        elif isinstance(value, str) and value in arrays:
-            table[key] = arrays[value]

@@ -7,16 +7,20 @@ reader in `presliding.model_io`.
 
 from __future__ import annotations
 
-import contextlib
 import json
+from collections.abc import Iterator
+from dataclasses import dataclass
 from typing import Any
 
+import numpy as np
+
 from presliding._axes import as_axis, axis_unit
+from presliding._model_arrays import number_chunks
 from presliding.friction._parts import density_of, elements
 from presliding.friction.pi_friction import PIFriction
 from presliding.hysteresis.densities import Density, Exponential, PiecewiseConstant, Uniform
 
-__all__ = ["DENSITIES", "MOTION_DEFAULTS", "model_to_toml"]
+__all__ = ["DENSITIES", "MOTION_DEFAULTS", "model_pieces", "model_to_toml"]
 
 #: Density kinds of ``[friction.density]``: class and its keys (required, optional).
 DENSITIES: dict[str, tuple[type[Density], tuple[str, ...], tuple[str, ...]]] = {
@@ -35,10 +39,33 @@ MOTION_DEFAULTS: dict[str, Any] = {
 }
 
 
-def _density_lines(density: Density, axis: str = "linear") -> list[str]:
+@dataclass(frozen=True)
+class _ArrayLine:
+    """``key = [values]  # comment``, its numbers written in chunks (`number_chunks`)."""
+
+    key: str
+    values: np.ndarray
+    comment: str
+
+    def pieces(self) -> Iterator[str]:
+        yield f"{self.key} = "
+        yield from number_chunks(self.values)
+        yield f"  # {self.comment}"
+
+
+_Line = str | _ArrayLine
+
+
+def _line(key: str, value: Any, comment: str) -> _Line:
+    if isinstance(value, np.ndarray):
+        return _ArrayLine(key, value, comment)
+    return f"{key} = {_toml_value(value)}  # {comment}"
+
+
+def _density_lines(density: Density, axis: str = "linear") -> list[_Line]:
     for kind, (cls, required, optional) in DENSITIES.items():
         if type(density) is cls:
-            lines = ["", "[friction.density]", f"kind = {_toml_value(kind)}"]
+            lines: list[_Line] = ["", "[friction.density]", f"kind = {_toml_value(kind)}"]
             height, length = axis_unit("density_height", axis), axis_unit("position", axis)
             units = {"height": f"[{height}]", "heights": f"[{height}]", "length": f"[{length}]",
                      "max_threshold": f"[{length}]", "breaks": f"[{length}]"}  # fmt: skip
@@ -46,8 +73,7 @@ def _density_lines(density: Density, axis: str = "linear") -> list[str]:
                 value = getattr(density, key)
                 if isinstance(value, float) and value == float("inf"):
                     continue  # the default: untruncated
-                value = value.tolist() if hasattr(value, "tolist") else value
-                lines.append(f"{key} = {_toml_value(value)}  # {units[key]}")
+                lines.append(_line(key, value, units[key]))
             return lines
     raise ValueError(
         f"`model` has a {type(density).__name__} density, which a model file cannot hold; "
@@ -59,8 +85,6 @@ def _toml_value(value: Any) -> str:
     if isinstance(value, str):
         return json.dumps(value)
     if isinstance(value, (list, tuple)):
-        with contextlib.suppress(TypeError):  # floats only (long element arrays): one join
-            return "[" + ", ".join(map(float.__repr__, value)) + "]"
         return "[" + ", ".join(_toml_value(v) for v in value) + "]"
     return repr(float(value)) if not isinstance(value, int) else str(value)
 
@@ -82,11 +106,22 @@ def model_to_toml(
     Units are stated in comments, those of `axis` (``"rotary"``: rad, N m, kg m²);
     `header` (lines of text) is written first as comments (the data, units, ...).
     """
+    return "".join(model_pieces(model, motion, measurement, header, axis))
+
+
+def model_pieces(
+    model: PIFriction,
+    motion: Any = None,
+    measurement: Any = None,
+    header: str = "",
+    axis: str = "linear",
+) -> Iterator[str]:
+    """The text of `model_to_toml` in pieces (a long element array in chunks of numbers)."""
     if not isinstance(model, PIFriction):
         raise TypeError(f"`model` must be a PIFriction; got {type(model).__name__}.")
     axis = as_axis(axis)
     force, pos = axis_unit("force", axis), axis_unit("position", axis)
-    lines = [f"# {ln}".rstrip() for ln in header.splitlines()]
+    lines: list[_Line] = [f"# {ln}".rstrip() for ln in header.splitlines()]
     if axis == "rotary":
         lines.append(f"# rotary axis: positions in {pos}, torques in {force}")
     lines += [""] if lines else []
@@ -94,8 +129,8 @@ def model_to_toml(
     if model.is_discrete:
         k, _, c = elements(model)
         lines += [
-            f"stiffness = {_toml_value(k.tolist())}  # k_j [{axis_unit('stiffness', axis)}]",
-            f"breakaway = {_toml_value(c.tolist())}  # c_j [{force}]",
+            _ArrayLine("stiffness", k, f"k_j [{axis_unit('stiffness', axis)}]"),
+            _ArrayLine("breakaway", c, f"c_j [{force}]"),
         ]
     if model.viscous:
         lines.append(f"viscous = {_toml_value(model.viscous)}  # σ [{axis_unit('viscous', axis)}]")
@@ -112,14 +147,18 @@ def model_to_toml(
         offset = _toml_value(measurement.force_offset)
         note = f"F_0 [{force}]: measured force = model force + F_0; simulate applies u - F_0"
         lines += ["", "[measurement]", f"force_offset = {offset}  # {note}"]
-    return "\n".join(lines) + "\n"
+    for line in lines:
+        if isinstance(line, str):
+            yield line
+        else:
+            yield from line.pieces()
+        yield "\n"
 
 
-def _negative_lines(model: PIFriction, axis: str) -> list[str]:
+def _negative_lines(model: PIFriction, axis: str) -> list[_Line]:
     """The negative sides of an asymmetric model (none for a symmetric one)."""
     force, viscous = axis_unit("force", axis), axis_unit("viscous", axis)
     units = {"coulomb_negative": f"c1⁻ [{force}]", "breakaway_negative": f"c_j⁻ [{force}]",
              "viscous_negative": f"σ⁻ [{viscous}]"}  # fmt: skip
     values = {name: getattr(model, name) for name in units}
-    return [f"{name} = {_toml_value(v.tolist() if hasattr(v, 'tolist') else v)}  # {units[name]}"
-            for name, v in values.items() if v is not None]  # fmt: skip
+    return [_line(name, v, units[name]) for name, v in values.items() if v is not None]

@@ -48,10 +48,11 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from presliding._io import loads_toml, write_text
+from presliding._io import atomic_path
+from presliding._model_arrays import loads_toml
 from presliding._model_toml import DENSITIES as _DENSITIES
 from presliding._model_toml import MOTION_DEFAULTS as _MOTION_DEFAULTS
-from presliding._model_toml import model_to_toml
+from presliding._model_toml import model_pieces, model_to_toml
 from presliding._validation import check_time_span, check_type
 from presliding.friction.pi_friction import PIFriction
 
@@ -129,9 +130,11 @@ def _read_mapping(path: Path) -> dict[str, Any]:
         raise ModelFileError(f"{path}: no such file.") from None
     except OSError as exc:
         raise ModelFileError(f"{path}: cannot be read ({exc.strerror}).") from None
-    try:
-        text = raw.decode("utf-8-sig")  # a byte-order mark is not part of the text
-        data = json.loads(text) if path.suffix.lower() == ".json" else loads_toml(text)
+    try:  # a byte-order mark is not part of the text; long element arrays: see loads_toml
+        if path.suffix.lower() == ".json":
+            data = json.loads(raw.decode("utf-8-sig"))
+        else:
+            data = loads_toml(raw)
     except (json.JSONDecodeError, tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
         kind = "JSON" if path.suffix.lower() == ".json" else "TOML"
         raise ModelFileError(f"{path}: not valid {kind} ({exc}).") from None
@@ -328,9 +331,12 @@ def save_model(
     if motion is not None:
         check_type("motion", motion, MotionSettings)
     path = Path(path)
-    text = model_to_toml(model, motion, measurement, header, axis)
+    pieces = model_pieces(model, motion, measurement, header, axis)
+    first = next(pieces)  # the arguments are checked before any file is touched
     if path.exists() and not overwrite:
         raise FileExistsError(
             f"{path}: already exists; choose another path or pass overwrite=True."
         )
-    write_text(path, text)
+    with atomic_path(path) as tmp, open(tmp, "w", encoding="utf-8") as out:
+        out.write(first)
+        out.writelines(pieces)  # long element arrays in chunks: no whole text in memory

@@ -1,6 +1,9 @@
 """Inverse Prandtl–Ishlinskii operator: exact identity on paths, memory map, errors."""
 
+import dataclasses
 import doctest
+import itertools
+import pickle
 
 import numpy as np
 import pytest
@@ -243,16 +246,45 @@ def test_range_inverse_balances_the_force_from_any_memory(bank, history, fractio
 
 
 @SETTINGS
-@given(friction_banks(), fractions, st.integers(1, 59))
-def test_range_inverse_chunked_equals_whole(bank, fraction, cut):
+@given(friction_banks(), fractions, st.lists(st.integers(0, 60), max_size=5), paths)
+def test_range_inverse_chunked_equals_whole(bank, fraction, cuts, history):
+    """Chunks at any boundaries (empty chunks aside) give one call's result bit for bit,
+    from a relaxed memory or any reachable one, and end in the same memory."""
     op, c1 = bank
     inv = PIInverse(op, coulomb=c1)
     u = fraction * inv.force_limit
+    start = None if history.shape[0] < 3 else op.apply(history)[1]
+    whole, end = inv.apply(u, start)
+    bounds = sorted({0, u.shape[0], *(c for c in cuts if 0 < c < u.shape[0])})
+    pieces, state = [], start
+    for a, b in itertools.pairwise(bounds):
+        y, state = inv.apply(u[a:b], state)
+        pieces.append(y)
+    np.testing.assert_array_equal(np.concatenate(pieces), whole)
+    np.testing.assert_array_equal(state.play, end.play)
+    assert state.last_input == end.last_input and state.direction == end.direction
+
+
+def test_range_inverse_continues_other_memories_from_the_forward_memory():
+    """A memory not left by this inverse (another Coulomb element, a changed state, a plain
+    PIState) is continued from its forward memory: the same as before, to rounding."""
+    op = PIOperator([1e-3, 2.5e-3, 4e-3], [500.0, 300.0, 100.0])
+    inv = PIInverse(op, coulomb=0.2)
+    u = np.array([0.0, 0.9, 0.3, -0.7, 0.45, 0.2])
     whole, _ = inv.apply(u)
-    cut = min(cut, u.shape[0] - 1)
-    first, mid = inv.apply(u[:cut])
-    second, _ = inv.apply(u[cut:], mid)
-    np.testing.assert_allclose(np.r_[first, second], whole, rtol=0, atol=_scale(whole))
+    first, state = inv.apply(u[:3])
+    plain = PIState(state.last_input, state.play, state.direction)
+    other = PIInverse(op, coulomb=0.1)
+    for memory in (plain, dataclasses.replace(state), state):
+        second, _ = inv.apply(u[3:], memory)
+        np.testing.assert_allclose(np.r_[first, second], whole, rtol=0, atol=1e-15)
+    assert repr(state).startswith("PIState(")
+    np.testing.assert_allclose(
+        other.apply(u[3:], state)[0], other.apply(u[3:], plain)[0], rtol=0, atol=0
+    )
+    assert np.array_equal(pickle.loads(pickle.dumps(state)).play, state.play)
+    np.testing.assert_array_equal(inv.apply(u[3:], pickle.loads(pickle.dumps(state)))[0],
+                                  whole[3:])  # fmt: skip
 
 
 def test_range_inverse_closed_form_one_element_with_coulomb():
@@ -308,10 +340,9 @@ def test_friction_model_inverse():
 @settings(max_examples=60, deadline=None)
 @given(banks(min_linear=0.0), st.floats(0.0, 2.0), paths, st.integers(1, 59))
 def test_inverses_in_chunks(op, coulomb, shape, split):
-    """What README states: the inverse of a bank with a linear term is a PIOperator, so its
-    chunks equal one call bit for bit; `PIInverse.apply` (a Coulomb element, or no linear
-    term) rebuilds its inverse memory from the forward memory at each call, so its chunks
-    agree with one call to rounding: within 1e-13 of the larger of max|y| and max r_j."""
+    """What README states: the inverse of a bank with a linear term is a PIOperator, and
+    `PIInverse.apply` (a Coulomb element, or no linear term) carries its own memory in the
+    state it returns, so the chunks of both equal one call bit for bit."""
     bank = PIOperator(op.threshold, op.weight)
     inverse = PIInverse(bank, coulomb=coulomb)
     u = 0.95 * inverse.force_limit * np.tanh(shape)
@@ -319,9 +350,7 @@ def test_inverses_in_chunks(op, coulomb, shape, split):
     y, _ = inverse.apply(u)
     first, state = inverse.apply(u[:split])
     second, _ = inverse.apply(u[split:], state)
-    joined = np.concatenate([first, second])
-    scale = max(float(np.max(np.abs(y))), float(np.max(bank.threshold)))
-    assert np.max(np.abs(joined - y)) <= 1e-13 * scale
+    np.testing.assert_array_equal(np.concatenate([first, second]), y)
     if op.linear >= 0.05:  # the inverse of a bank with a linear term: a PIOperator
         exact = pi_inverse(op)
         force, _ = op.apply(shape)

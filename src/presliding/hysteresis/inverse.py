@@ -228,8 +228,10 @@ class PIInverse:
     Defined while |u| < F_c = c1 + F_m (eq. 9), F_m = Σ w_j r_j: at F_c the
     contact slides (gross sliding has no quasi-static position). The state is
     the forward memory (`PIState` of `operator`): `apply` returns the memory at
-    the end, and F_el = Σ w_j (y − x_j) of that memory is where the next call
-    starts, so chunked evaluation equals one call (to rounding).
+    the end, carrying also the memory of the inverse itself (the elastic force
+    F_el, the stops on it, the anchor), so that a call continued from it gives
+    the result of one call bit for bit. From any other memory of the bank the
+    inverse starts at F_el = Σ w_j (y − x_j) of that memory.
 
     Examples
     --------
@@ -287,7 +289,9 @@ class PIInverse:
         """
         u = as_signal("force", force)
         state = self._state(state)
-        return self._elastic(u, float(self.operator.weight @ state.deformation))
+        memory = self._memory(state)
+        fel0 = float(self.operator.weight @ state.deformation) if memory is None else memory[0]
+        return self._elastic(u, fel0)
 
     def apply(self, force: ArrayLike, state: PIState | None = None) -> tuple[Any, PIState]:
         """Displacement y(t) under the applied force u(t), quasi-statically.
@@ -306,7 +310,9 @@ class PIInverse:
         position : ndarray, shape (T,)
             y [m] with c1·sign(ẏ) + F_el(y) = u while it moves, |u − F_el| <= c1 at rest.
         final_state : PIState
-            The forward memory after the last sample.
+            The forward memory after the last sample; it also carries the memory
+            of the inverse itself, so that passing it to the next call on the
+            continuation of `force` gives one call's result bit for bit.
 
         Raises
         ------
@@ -326,20 +332,27 @@ class PIInverse:
                 f"quasi-static position); got {fmt(u[i])} at index {i}."
             )
         op = self.operator
-        s = state.deformation
-        fel0 = float(op.weight @ s)
-        fel = self._elastic(u, fel0)
         rho, v, lin, anchor = self._parts  # type: ignore[attr-defined]
-        if rho.shape[0]:
+        memory = self._memory(state)
+        if memory is None:  # from the forward memory alone
+            s = state.deformation
+            fel0 = float(op.weight @ s)
             sigma = inverse_deformations(op.threshold, op.weight, 0.0, s)[:-1]
             sigma = np.clip(sigma, -rho, rho)  # rounding only (≲ 1 ulp)
             start = PIState(fel0, fel0 - sigma, state.direction)
-            relative, _ = PIOperator(rho, v, linear=lin).apply(fel, start)
+            x_anchor = float(state.play[anchor])
+        else:  # where the previous call ended, to the last bit
+            fel0, start, x_anchor = memory
+        fel = self._elastic(u, fel0)
+        if rho.shape[0]:
+            relative, inverse_final = PIOperator(rho, v, linear=lin).apply(fel, start)
         else:
-            relative = lin * fel
-        y = state.play[anchor] + relative
+            relative, inverse_final = lin * fel, start
+        y = x_anchor + relative
         _, final = op.apply(y, state)
-        return y, final
+        forward = (final.last_input, final.play)
+        carried = (self._key(), forward, (float(fel[-1]), inverse_final, x_anchor))
+        return y, _InverseMemory(final.last_input, final.play, final.direction, carried)
 
     def inverse(self) -> PIOperator:
         """The forward bank (only without a Coulomb element, whose force is set-valued at rest)."""
@@ -349,6 +362,24 @@ class PIInverse:
                 f"not determine it; got coulomb {fmt(self.coulomb)} (inverse needs 0)."
             )
         return self.operator
+
+    def _key(self) -> tuple[float, FloatArray, FloatArray, float]:
+        rho, v, lin, _ = self._parts  # type: ignore[attr-defined]
+        return (self.coulomb, rho, v, lin)
+
+    def _memory(self, state: PIState) -> tuple[float, PIState, float] | None:
+        """(F_el, the stops' memory on it, x_M) where a previous `apply` of this inverse
+        left `state`; None for any other state (continued from the forward memory)."""
+        memory = getattr(state, "memory", None)
+        if memory is None:
+            return None
+        key, forward, carried = memory
+        mine = self._key()
+        same = key[0] == mine[0] and key[3] == mine[3] and forward[0] == state.last_input
+        arrays = ((key[1], mine[1]), (key[2], mine[2]), (forward[1], state.play))
+        if not (same and all(np.array_equal(a, b) for a, b in arrays)):
+            return None
+        return carried
 
     def _state(self, state: PIState | None) -> PIState:
         if state is None:
@@ -364,6 +395,21 @@ class PIInverse:
         out = _kernels.empty_outputs(u.shape[0], 1)
         _kernels.play_outputs(u, np.array([self.coulomb]), np.array([fel0]), out)
         return out[:, 0].copy()
+
+
+@dataclass(frozen=True, eq=False)
+class _InverseMemory(PIState):
+    """The forward memory (a `PIState`) after `PIInverse.apply`, carrying the inverse's own
+    memory where that call ended: the elastic force F_el (the output of the play of c1),
+    the memory of the stops on F_el, the anchor x_M, with the parameters and the forward
+    memory they belong to (a state changed since is continued from its forward memory).
+    The next call of the same inverse continues from them, so chunks give one call's
+    result bit for bit (recomputed from the forward memory they would agree to rounding)."""
+
+    memory: tuple[Any, ...] | None = field(default=None, repr=False)
+
+    def __repr__(self) -> str:  # shown as what it is to the user: the bank's memory
+        return repr(PIState(self.last_input, self.play, self.direction))
 
 
 RANGE_INVERSE["PIInverse"] = PIInverse
