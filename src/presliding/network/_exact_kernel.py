@@ -18,12 +18,17 @@ from numba import njit
 from presliding.network._kernel_contacts import decide
 from presliding.network._kernel_events import find_event
 from presliding.network._kernel_piece import (
+    P_ALPHA,
     P_B,
+    P_C1S,
     P_CSAT,
     P_DIM,
     P_DMIN,
     P_ELASTIC,
     P_FEL0,
+    P_GFEL,
+    P_GROUP,
+    P_GSIZE,
     P_KEL,
     P_NLIN,
     P_SL,
@@ -33,6 +38,7 @@ from presliding.network._kernel_piece import (
     P_THR,
     build_piece,
     modal,
+    parallel_groups,
 )
 
 ROW_LAYOUT = (("q", "n"), ("v", "n"), ("a", "n"), ("f", "n"), ("g", "c"), ("gd", "c"),
@@ -50,7 +56,7 @@ def row_width(n: int, n_c: int) -> int:
 @njit(cache=True, error_model="numpy")
 def _values(pc, tau, q, s, f, k, w, c1, sigma, bufs):  # pragma: no cover - compiled
     """Δq, q̇, q̈, Δg, ġ, F_el, λ of the piece at τ (into bufs)."""
-    eta, etad, etadd, dq, vv, aa, dg, gd, fel, lam, rhs = bufs
+    eta, etad, etadd, dq, vv, aa, dg, gd, fel, lam, rhs, tg = bufs
     d = pc[P_DIM]
     modal(pc, tau, eta, etad, etadd)
     b = pc[P_B]
@@ -82,9 +88,18 @@ def _values(pc, tau, q, s, f, k, w, c1, sigma, bufs):  # pragma: no cover - comp
                 if sliding[c]:
                     r -= w[i, c] * lam[c]
             rhs[i] = r
-        smap = pc[P_SMAP]
+        smap, gfel, gc1 = pc[P_SMAP], pc[P_GFEL], pc[P_C1S]
+        group, alpha, gsize = pc[P_GROUP], pc[P_ALPHA], pc[P_GSIZE]
+        for r in range(smap.shape[0]):
+            tg[r] = smap[r] @ rhs  # λ_r, then the group's Coulomb force T_r
+            for a in range(stuck.shape[0]):
+                if group[a] == r and gsize[r] == 1:
+                    lam[stuck[a]] = tg[r]
+            tg[r] -= gfel[r]
         for a in range(stuck.shape[0]):
-            lam[stuck[a]] = smap[a] @ rhs
+            r, c = group[a], stuck[a]
+            if gsize[r] > 1:  # each at the same fraction of its c1
+                lam[c] = fel[c] + np.sign(alpha[a]) * c1[c] * (tg[r] / gc1[r])
 
 
 @njit(cache=True, error_model="numpy")
@@ -125,10 +140,10 @@ def _record(pc, t, t1, at_end, filled, times, rec, q, g, e, s, coul, hyst, work,
 
 @njit(cache=True, error_model="numpy")
 def _advance(pc, tau, mask, found, q, v, g, e, s, coul, hyst, work, forced, f, k, w, c1,
-             sigma, ek, er, owner, bufs):  # pragma: no cover - compiled  # fmt: skip
+             sigma, ek, er, owner, cgroup, bufs):  # pragma: no cover - compiled  # fmt: skip
     """Move the state to the end τ of the piece (in place); the work and new velocity."""
     _values(pc, tau, q, s, f, k, w, c1, sigma, bufs)
-    dq, vv, dg, lam = bufs[3], bufs[4], bufs[6], bufs[9]
+    dq, vv, dg, tg = bufs[3], bufs[4], bufs[6], bufs[11]
     n_c = w.shape[1]
     for c in range(n_c):
         if s[c] != 0.0:
@@ -143,16 +158,20 @@ def _advance(pc, tau, mask, found, q, v, g, e, s, coul, hyst, work, forced, f, k
     hit = np.zeros(n_c, np.bool_)
     if found:
         sl, thr, stuck, n_lin = pc[P_SL], pc[P_THR], pc[P_STUCK], pc[P_NLIN]
+        stop = np.zeros(n_c, np.bool_)
         for a in range(sl.shape[0]):
-            if mask[a]:
-                s[sl[a]] = 0.0
+            if mask[a]:  # a group of parallel contacts stops together
+                stop[cgroup[sl[a]]] = True
+        for c in range(n_c):
+            if stop[cgroup[c]]:
+                s[c] = 0.0
         for a in range(thr.shape[0]):
             if mask[sl.shape[0] + a]:
                 hit[thr[a]] = True
+        group, alpha = pc[P_GROUP], pc[P_ALPHA]
         for a in range(stuck.shape[0]):
-            if mask[n_lin + a]:
-                c = stuck[a]
-                forced[c] = 1.0 if lam[c] - pc[P_FEL0][c] > 0 else -1.0
+            if mask[n_lin + group[a]]:
+                forced[stuck[a]] = np.sign(alpha[a]) * (1.0 if tg[group[a]] > 0 else -1.0)
     for j in range(ek.shape[0]):
         if elastic[j]:
             dist = er[j] - s_el[j] * e[j]
@@ -181,21 +200,26 @@ def run_events(t, q, v, g, e, s, last, coul, hyst, work, iu, ft, fv, t_end, time
     """The event loop from the state (q, g, e, s, last, coul, hyst updated in place).
 
     Returns (status, t, v, work, events, samples filled, transitions (t, c, s),
-    reversals (t, c, g)).
+    reversals (t, c, g), whether a group of parallel contacts stuck).
     """
     n, n_c = w.shape
     d_max = n
     bufs = (np.empty(d_max), np.empty(d_max), np.empty(d_max), np.empty(n), np.empty(n),
             np.empty(n), np.empty(n_c), np.empty(n_c), np.empty(n_c), np.empty(n_c),
-            np.empty(n))  # fmt: skip
+            np.empty(n), np.empty(n_c))  # fmt: skip
     forced = np.full(n_c, np.nan)
+    reps, group, alpha, gsize = parallel_groups(w, np.arange(n_c))
+    gc1 = np.zeros(reps.shape[0])
+    for c in range(n_c):
+        gc1[group[c]] += c1[c] if gsize[group[c]] == 1 else abs(alpha[c]) * c1[c]
     prev = s.copy()
     tr, n_tr = np.empty((16, 3)), 0
     rv, n_rv = np.empty((16, 3)), 0
-    events, filled, first, status = 0, 0, True, -1
+    events, filled, first, status, grouped = 0, 0, True, -1, False
     while status < 0:
         f = fv[iu]
-        v = decide(q, v, s, e, f, forced, k, w, minv_w, c1, sigma, ek, owner)
+        v = decide(q, v, s, e, f, forced, k, w, minv_w, c1, sigma, ek, owner, reps, group, alpha,
+                   gc1)  # fmt: skip
         forced[:] = np.nan
         for c in range(n_c):
             if first:
@@ -211,10 +235,11 @@ def run_events(t, q, v, g, e, s, last, coul, hyst, work, iu, ft, fv, t_end, time
         first = False
         prev[:] = s
         t1 = min(ft[iu + 1] if iu + 1 < ft.shape[0] else np.inf, t_end)
-        pc, redundant = build_piece(q, v, s, e, f, m, k, w, minv_w, c1, ek, er, owner)
+        pc, redundant, in_group = build_piece(q, v, s, e, f, m, k, w, minv_w, c1, ek, er, owner)
         if redundant:
             status = 2
             break
+        grouped = grouped or in_group
         tau, mask = find_event(pc, t1 - t)
         found = tau >= 0.0
         at_end = (not found) and t1 >= t_end
@@ -223,7 +248,7 @@ def run_events(t, q, v, g, e, s, last, coul, hyst, work, iu, ft, fv, t_end, time
         filled = _record(pc, t, t + tau, at_end, filled, times, rec, q, g, e, s, coul, hyst,
                          work, f, m, k, w, c1, sigma, ek, owner, bufs)  # fmt: skip
         work, v = _advance(pc, tau, mask, found, q, v, g, e, s, coul, hyst, work, forced, f,
-                           k, w, c1, sigma, ek, er, owner, bufs)  # fmt: skip
+                           k, w, c1, sigma, ek, er, owner, group, bufs)  # fmt: skip
         if found:
             t = t + tau
         else:
@@ -235,4 +260,4 @@ def run_events(t, q, v, g, e, s, last, coul, hyst, work, iu, ft, fv, t_end, time
         events += 1
         if events >= max_events:
             status = 1
-    return status, t, v, work, events, filled, tr[:n_tr].copy(), rv[:n_rv].copy()
+    return status, t, v, work, events, filled, tr[:n_tr].copy(), rv[:n_rv].copy(), grouped

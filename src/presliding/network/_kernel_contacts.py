@@ -118,11 +118,15 @@ def per_contact(values, owner, n_c):  # pragma: no cover - compiled
 
 
 @njit(cache=True, error_model="numpy")
-def decide(q, v, s, e, f, forced, k, w, minv_w, c1, sigma, ek, owner):  # pragma: no cover
+def decide(q, v, s, e, f, forced, k, w, minv_w, c1, sigma, ek, owner, reps, group, alpha,
+           gc1):  # pragma: no cover - compiled  # fmt: skip
     """New modes s of the contacts at rest (in place; v projected onto their constraint).
 
     ``forced``: NaN, or the mode a contact is given (0: decided with no tolerance).
-    Returns the new velocity.
+    Contacts with parallel columns (``group``: the index of each contact's group,
+    ``reps`` its first contact, w_c = ``alpha``_c·w_rep) are decided together as one
+    combined contact with the bound ``gc1`` = Σ|α_c|·c1_c; a contact alone in its
+    group is decided as itself. Returns the new velocity.
     """
     n_c = w.shape[1]
     fel = per_contact(ek * e, owner, n_c)
@@ -131,7 +135,9 @@ def decide(q, v, s, e, f, forced, k, w, minv_w, c1, sigma, ek, owner):  # pragma
         if not np.isnan(forced[c]):
             s[c] = forced[c]
             exact[c] = forced[c] == 0.0
-    zero = np.flatnonzero(s == 0.0)
+    for c in range(n_c):  # the group moves as its first contact
+        s[c] = np.sign(alpha[c]) * s[reps[group[c]]]
+    zero = reps[s[reps] == 0.0]
     if zero.shape[0]:
         mw = take_columns(minv_w, zero)
         wz = take_columns(w, zero)
@@ -139,7 +145,7 @@ def decide(q, v, s, e, f, forced, k, w, minv_w, c1, sigma, ek, owner):  # pragma
         if np.any(gd != 0.0):
             v = v - mw @ lstsq(wz.T @ mw, gd)
     for _ in range(n_c + 1):
-        zero = np.flatnonzero(s == 0.0)
+        zero = reps[s[reps] == 0.0]
         if zero.shape[0] == 0:
             break
         gd = w.T @ v
@@ -151,14 +157,16 @@ def decide(q, v, s, e, f, forced, k, w, minv_w, c1, sigma, ek, owner):  # pragma
         mw = take_columns(minv_w, zero)
         gmat = take_columns(w, zero).T @ mw
         b = mw.T @ r0
-        c1z = c1[zero]
+        c1z = gc1[group[zero]]
         _, acc = box_qp(gmat, b, c1z)
         scale = np.max(np.abs(b)) + np.max(np.abs(gmat)) * np.max(c1z)
         moved = False
         for a in range(zero.shape[0]):
             tol = 0.0 if exact[zero[a]] else 1e-11 * scale
             new = 1.0 if acc[a] > tol else (-1.0 if acc[a] < -tol else 0.0)
-            s[zero[a]] = new
+            for c in range(n_c):
+                if group[c] == group[zero[a]]:
+                    s[c] = np.sign(alpha[c]) * new
             moved = moved or new != 0.0
         if not moved:
             break

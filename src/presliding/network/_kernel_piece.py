@@ -10,7 +10,11 @@ of M_r) give the modal coordinates
 
 and Δq = B·η with B = N·Φ. Every event function is affine in ξ = [η, η̇]: a sliding
 contact's velocity, its distance to the nearest element threshold, and a stuck
-contact's Coulomb force (its margin c1 − |τ_c| is the event function).
+contact's Coulomb force (its margin c1 − |τ_c| is the event function). Stuck contacts
+with parallel columns (w_c = α_c·w_r, the same relative displacement up to a factor)
+stick and slip together as one combined contact: one margin Σ|α_c|·c1_c − |T| for the
+group's Coulomb force T, shared in proportion to each c1_c (one of the distributions
+that hold the structure: these forces are not unique).
 
 A piece is the tuple returned by `build_piece` (`P_*` name its fields).
 """
@@ -26,7 +30,7 @@ EPS = np.finfo(np.float64).eps
 
 (P_DIM, P_OMEGA, P_INV, P_RIGID, P_VM, P_A0, P_A2, P_B, P_WB, P_OMAX, P_SLIDING, P_ELASTIC,
  P_KEL, P_CSAT, P_FEL0, P_LAM0, P_DMIN, P_STUCK, P_SMAP, P_H, P_H0, P_NLIN, P_C1S, P_SL,
- P_THR) = range(25)  # fmt: skip
+ P_THR, P_GROUP, P_ALPHA, P_GSIZE, P_GFEL) = range(29)  # fmt: skip
 
 
 @njit(cache=True, error_model="numpy")
@@ -42,6 +46,38 @@ def null_space(ws):  # pragma: no cover - compiled
 
 
 @njit(cache=True, error_model="numpy")
+def parallel_groups(w, stuck):  # pragma: no cover - compiled
+    """Stuck contacts with parallel columns w_c = α_c·w_r act as one combined contact.
+
+    Returns (the representatives r, the group of each stuck contact, α_c, group sizes).
+    """
+    n_s = stuck.shape[0]
+    wt = np.ascontiguousarray(w.T)  # rows: the contacts' columns
+    reps = np.empty(n_s, np.int64)
+    group = np.empty(n_s, np.int64)
+    alpha = np.ones(n_s)
+    size = np.zeros(n_s, np.int64)
+    n_r = 0
+    for a in range(n_s):
+        wc = wt[stuck[a]]
+        norm = np.sqrt(wc @ wc)
+        group[a] = -1
+        for r in range(n_r):
+            wr = wt[reps[r]]
+            al = (wr @ wc) / (wr @ wr)
+            res = wc - al * wr
+            if np.sqrt(res @ res) <= 1e-12 * norm:
+                group[a], alpha[a] = r, al
+                break
+        if group[a] < 0:
+            reps[n_r] = stuck[a]
+            group[a] = n_r
+            n_r += 1
+        size[group[a]] += 1
+    return reps[:n_r].copy(), group, alpha, size[:n_r].copy()
+
+
+@njit(cache=True, error_model="numpy")
 def modes(mr, kr):  # pragma: no cover - compiled
     """(ω², Φ) of K_r·φ = ω²·M_r·φ, Φᵀ·M_r·Φ = I (Cholesky reduction to eigh)."""
     low = np.linalg.cholesky(mr)
@@ -54,8 +90,9 @@ def modes(mr, kr):  # pragma: no cover - compiled
 
 @njit(cache=True, error_model="numpy")
 def build_piece(q0, v0, s, e, f, m, k, w, minv_w, c1, ek, er, owner):  # pragma: no cover
-    """The piece from the state (modes s, deformations e, force f), and whether W_S is
-    rank deficient (a redundant stick set: the caller does not use the piece)."""
+    """The piece from the state (modes s, deformations e, force f); whether the stuck
+    contacts are redundant beyond parallel groups (the caller does not use the piece
+    then), and whether a parallel group sticks (its forces are not unique)."""
     n, n_c = w.shape
     sliding = s != 0.0
     s_el = s[owner]
@@ -79,11 +116,12 @@ def build_piece(q0, v0, s, e, f, m, k, w, minv_w, c1, ek, er, owner):  # pragma:
                 for j in range(n):
                     keff[i, j] += w[i, c] * kel[c] * w[j, c]
     rank = 0
-    smap = np.zeros((stuck.shape[0], n))
+    reps, group, alpha, gsize = parallel_groups(w, stuck)
+    smap = np.zeros((reps.shape[0], n))
     if stuck.shape[0]:
-        ws = take_columns(w, stuck)
+        ws = take_columns(w, reps)
         ns, rank = null_space(ws)
-        mw = take_columns(minv_w, stuck)
+        mw = take_columns(minv_w, reps)
         smap = np.linalg.pinv(ws.T @ mw) @ mw.T
         mr = ns.T @ m @ ns
         kr = ns.T @ keff @ ns
@@ -119,20 +157,30 @@ def build_piece(q0, v0, s, e, f, m, k, w, minv_w, c1, ek, er, owner):  # pragma:
     omax = np.max(omega) if d else 0.0
     b = np.ascontiguousarray(ns @ phi) if d else np.zeros((n, 0))
     wb = np.ascontiguousarray(w.T @ b)
-    hmat, h0, n_lin, c1s, thr = _events(q0, s, f, k, w, c1, kel, lam0, fel0, dmin, sl, stuck,
-                                        smap, b, wb, d)  # fmt: skip
+    # a group's Coulomb force T = λ_r − Σ α_c·F_el,c and bound Σ |α_c|·c1_c
+    gfel = np.zeros(reps.shape[0])
+    gc1 = np.zeros(reps.shape[0])
+    for a in range(stuck.shape[0]):
+        if gsize[group[a]] == 1:
+            gfel[group[a]] = fel0[stuck[a]]
+            gc1[group[a]] = c1[stuck[a]]
+        else:
+            gfel[group[a]] += alpha[a] * fel0[stuck[a]]
+            gc1[group[a]] += abs(alpha[a]) * c1[stuck[a]]
+    hmat, h0, n_lin, thr = _events(q0, s, f, k, w, kel, lam0, gfel, dmin, sl, smap, b, wb, d)
     pc = (d, omega, inv, rigid, vm, a0, a0 * 2.0, b, wb, omax, sliding, elastic, kel, csat,
-          fel0, lam0, dmin, stuck, smap, hmat, h0, n_lin, c1s, sl, thr)  # fmt: skip
-    return pc, stuck.shape[0] > rank
+          fel0, lam0, dmin, stuck, smap, hmat, h0, n_lin, gc1, sl, thr, group, alpha, gsize,
+          gfel)  # fmt: skip
+    return pc, reps.shape[0] > rank, reps.shape[0] < stuck.shape[0]
 
 
 @njit(cache=True, error_model="numpy")
-def _events(q0, s, f, k, w, c1, kel, lam0, fel0, dmin, sl, stuck, smap, b, wb, d
+def _events(q0, s, f, k, w, kel, lam0, gfel, dmin, sl, smap, b, wb, d
             ):  # pragma: no cover - compiled  # fmt: skip
     """The event functions h = H·ξ + h0 (rows: velocities, thresholds, stick margins)."""
     thr = sl[np.isfinite(dmin[sl])]
     n_lin = sl.shape[0] + thr.shape[0]
-    nf = n_lin + stuck.shape[0]
+    nf = n_lin + smap.shape[0]
     hmat = np.zeros((nf, 2 * d))
     h0 = np.zeros(nf)
     for a in range(sl.shape[0]):
@@ -145,8 +193,8 @@ def _events(q0, s, f, k, w, c1, kel, lam0, fel0, dmin, sl, stuck, smap, b, wb, d
         h0[row] = dmin[c]
         for i in range(d):
             hmat[row, i] = -s[c] * wb[c, i]
-    if stuck.shape[0]:
-        # λ_S − F_el,S = P·(f − K·q − W_L·λ_L) − F_el,S, λ_L = λ0_L + K_el·Δg_L
+    if smap.shape[0]:
+        # T_r = λ_r − F_el,r, λ_r = P·(f − K·q − W_L·λ_L), λ_L = λ0_L + K_el·Δg_L
         dr = -(k @ b)
         r0 = f - k @ q0
         for c in sl:
@@ -155,10 +203,10 @@ def _events(q0, s, f, k, w, c1, kel, lam0, fel0, dmin, sl, stuck, smap, b, wb, d
                 dr[:, i] -= w[:, c] * (kel[c] * wb[c, i])
         hs = smap @ dr
         c0 = smap @ r0
-        for a in range(stuck.shape[0]):
-            h0[n_lin + a] = c0[a] - fel0[stuck[a]]
+        for a in range(smap.shape[0]):
+            h0[n_lin + a] = c0[a] - gfel[a]
             hmat[n_lin + a, :d] = hs[a]
-    return hmat, h0, n_lin, c1[stuck], thr
+    return hmat, h0, n_lin, thr
 
 
 @njit(cache=True, error_model="numpy")

@@ -135,7 +135,7 @@ def _run_compiled(structure: NetworkStructure, net: Network, st: RunState, t_end
     fv = np.ascontiguousarray(structure.forcing_values, dtype=np.float64)
     iu = max(int(np.searchsorted(ft, st.t, side="right")) - 1, 0)
     c = np.ascontiguousarray
-    code, t, v, work, events, filled, tr, rv = run_events(
+    code, t, v, work, events, filled, tr, rv, grouped = run_events(
         float(st.t), st.q, st.v, st.g, st.e, st.s, st.last, st.coulomb, st.hysteretic,
         float(st.work), iu, ft, fv, float(t_end), c(out.time, dtype=np.float64), rec,
         c(net.m), c(net.k), c(net.w), c(net.minv_w), net.cts.c1, net.cts.sigma, net.cts.k,
@@ -144,6 +144,7 @@ def _run_compiled(structure: NetworkStructure, net: Network, st: RunState, t_end
     if code == 2:
         return None
     st.t, st.v, st.work, st.n_events = float(t), v, float(work), int(events)
+    st.redundant = bool(grouped)
     st.transitions = [(float(a), int(b), float(x)) for a, b, x in tr]
     st.reversals = [(float(a), int(b), float(x)) for a, b, x in rv]
     col = 0
@@ -154,7 +155,7 @@ def _run_compiled(structure: NetworkStructure, net: Network, st: RunState, t_end
         col += width
     out.filled = int(filled)
     if code == 0:
-        return "success", _message(st, out)
+        return "success", _message(st, out, _GROUPED)
     return "event_limit", _limit_message(max_events, st.t)
 
 
@@ -256,12 +257,20 @@ def _note_transitions(st: RunState, before: FloatArray) -> None:
             st.last[c] = st.s[c]
 
 
-def _message(st: RunState, out: _Samples) -> str:
+_GENERAL = (
+    "; the contact forces are not unique (redundant contacts stuck together: W_S has "
+    "dependent columns); the motion is unique, the forces shown are the minimum-norm "
+    "distribution, or where it exceeds c1 the one that leaves the largest margin to slip"
+)
+_GROUPED = (
+    "; the contact forces are not unique (contacts with parallel columns of W stuck together, "
+    "as one combined contact with c1 = Σ|α_c|·c1_c); the motion is unique, the forces shown "
+    "share the combined Coulomb force in proportion to each contact's c1"
+)
+
+
+def _message(st: RunState, out: _Samples, redundant: str = _GENERAL) -> str:
     text = f"simulated to t = {st.t!r} s in {st.n_events} events"
     if st.redundant:
-        text += (
-            "; the contact forces are not unique (redundant contacts stuck together: W_S has "
-            "dependent columns); the motion is unique, the forces shown are the minimum-norm "
-            "distribution, or where it exceeds c1 the one that leaves the largest margin to slip"
-        )
+        text += redundant
     return text + "."
