@@ -9,6 +9,10 @@
    (target <= 60 s).
 3. Accuracy of Moreau–Jean against the exact path on the 10-mass chain, and where the
    two cost the same (the crossover step).
+4. A bar on a Coulomb foundation (EA, τ per length) pulled at its end by ±F, cut into N
+   masses and sliders, by Moreau–Jean with tiny masses (each backward-Euler step is the
+   quasi-static response): the dissipation per cycle against 2F³/(3·EA·τ), its error
+   divided by about 4 when N doubles.
 
 Run: PYTHONPATH=src python benchmarks/network_speed.py   (times are the best of a few
 runs after a warm-up; the machine may be shared, so compare the ratios printed.)
@@ -70,6 +74,31 @@ def chain1000():
     return chain_structure(n, 0.1, 2e3, PI, forcing=force), 0.3 * np.sin(np.arange(n))
 
 
+def bar_dissipation(n, ea=1.0, tau=1.0, force=0.5):
+    """Coulomb dissipation over one steady cycle of the bar cut into n nodes (length 1)."""
+    dx = 1.0 / n
+    models = [PIFriction(tau * dx)] * (n - 1) + [PIFriction(0.5 * tau * dx)]  # end: half
+    mass = np.full(n, 1e-10)
+    mass[-1] *= 0.5
+    per = 8
+    cycle = [
+        np.linspace(force, -force, 2 * per + 1)[1:],
+        np.linspace(-force, force, 2 * per + 1)[1:],
+    ]
+    values = np.concatenate([np.linspace(0.0, force, per + 1)] + cycle * 2)
+    times = np.arange(values.shape[0], dtype=float)
+    f = np.zeros((values.shape[0], n))
+    f[:, -1] = values
+    s = chain_structure(n, mass, ea / dx, models, forcing=(times, f))
+    t_end = times[-1] + 1.0
+    res = simulate_network_moreau(
+        s, t_end, 0.25, samples=int(t_end / 0.25) + 1, max_sweeps=100_000, tolerance=1e-14
+    )
+    e = res.energy.coulomb.sum(axis=1)
+    i_a, i_b = np.searchsorted(res.time, [times[5 * per] + 0.99, times[9 * per] + 0.99])
+    return e[i_b] - e[i_a], 2 * force**3 / (3 * ea * tau)
+
+
 def main():
     s, v0 = chain10()
     w0 = time.perf_counter()
@@ -118,6 +147,17 @@ def main():
         f"two cost the same at h ≈ {np.exp(log_cross):.1e} s, where the Moreau–Jean error "
         f"is ≈ {err_cross:.1e} m (the exact path's is rounding)"
     )
+
+    print("bar on a Coulomb foundation, dissipation per cycle against 2F³/(3·EA·τ):")
+    previous = None
+    for n in (4, 8, 16):
+        t0 = time.perf_counter()
+        w, exact_w = bar_dissipation(n)
+        err = abs(w - exact_w) / exact_w
+        ratio = "" if previous is None else f", error ratio {previous / err:.3f}"
+        print(f"  N = {n:3d}: {w:.10f} J (exact {exact_w:.10f}), error {err:.3e}{ratio}; "
+              f"{time.perf_counter() - t0:.2f} s")  # fmt: skip
+        previous = err
 
     big, v0b = chain1000()
     simulate_network_moreau(big, 1e-3, 1e-4, None, v0b)  # warm-up of this size
