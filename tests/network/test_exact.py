@@ -192,3 +192,42 @@ def test_redundant_pair_from_rest_moves_as_one_combined_contact_over_a_long_run(
     np.testing.assert_allclose(coulomb[sliding], bounds[sliding], rtol=1e-12)
     assert np.sum(a.contact_mode[:, 0] == 0.0) > 100  # it sticks, repeatedly
     assert a.energy.max_relative_residual <= 1e-11
+
+
+def _pi_chain():
+    model = PIFriction(0.2, [2e3, 1e3, 500.0, 200.0], [0.1, 0.1, 0.1, 0.1])
+    force = np.outer([1.0, -1.0, 1.0, -1.0], np.r_[np.zeros(5), 2.0])
+    s = chain_structure(6, 0.1, 2e3, model, forcing=([0.0, 0.1, 0.2, 0.3], force))
+    return s, 0.3 * np.sin(np.arange(6))
+
+
+def test_compiled_loop_equals_the_general_loop(monkeypatch):
+    """Undamped structures run the compiled loop; the general loop (damped structures)
+    gives the same motion, forces and energy to 1e-12."""
+    import presliding.network.exact as exact_module
+
+    s, v0 = _pi_chain()
+    te = np.linspace(0.0, 0.4, 801)
+    fast = simulate_network(s, 0.4, None, v0, t_eval=te)
+    monkeypatch.setattr(exact_module, "_run_compiled", lambda *args: None)
+    slow = simulate_network(s, 0.4, None, v0, t_eval=te)
+    assert fast.success and slow.success and fast.n_events == slow.n_events > 100
+    for name in ("position", "velocity", "contact_force", "elastic_force", "contact_mode"):
+        np.testing.assert_allclose(getattr(fast, name), getattr(slow, name), rtol=0, atol=1e-12)
+    for name in ("coulomb", "hysteretic", "kinetic", "work"):
+        np.testing.assert_allclose(getattr(fast.energy, name), getattr(slow.energy, name),
+                                   rtol=0, atol=1e-12)  # fmt: skip
+    for a, b in zip(fast.reversal_times, slow.reversal_times, strict=True):
+        np.testing.assert_allclose(a, b, rtol=0, atol=1e-12)
+    assert fast.energy.max_relative_residual <= 1e-11
+
+
+def test_chunked_runs_equal_the_whole_run_in_the_compiled_loop():
+    s, v0 = _pi_chain()
+    t = np.linspace(0.0, 0.4, 401)
+    whole = simulate_network(s, 0.4, None, v0, t_eval=t)
+    first = simulate_network(s, 0.17, None, v0, t_eval=t[t <= 0.17])
+    second = simulate_network(s, 0.4, initial_state=first.final_state, t_eval=t[t >= 0.17])
+    np.testing.assert_allclose(np.vstack([first.position, second.position[1:]]), whole.position,
+                               rtol=0, atol=1e-12)  # fmt: skip
+    np.testing.assert_array_equal(first.n_reversals + second.n_reversals, whole.n_reversals)
