@@ -1,11 +1,18 @@
 """Speed and accuracy of the network paths (issue 25).
 
 1. Exact path: a chain of 10 masses on 10 PI contacts (4 elements each), 1 s of motion
-   with several hundred events (target <= 0.1 s).
+   with several hundred events (target <= 0.1 s): the compiled event loop (undamped
+   structures), CPU and wall time, against the general loop (the one damped structures
+   and general redundant stick sets run) in the same run, and the largest difference
+   between the two.
 2. Moreau–Jean: a chain of 1,000 masses and contacts, 1 s at a step of 1e-4 s
    (target <= 60 s).
 3. Accuracy of Moreau–Jean against the exact path on the 10-mass chain, and where the
    two cost the same (the crossover step).
+4. A bar on a Coulomb foundation (EA, τ per length) pulled at its end by ±F, cut into N
+   masses and sliders, by Moreau–Jean with tiny masses (each backward-Euler step is the
+   quasi-static response): the dissipation per cycle against 2F³/(3·EA·τ), its error
+   divided by about 4 when N doubles.
 
 Run: PYTHONPATH=src python benchmarks/network_speed.py   (times are the best of a few
 runs after a warm-up; the machine may be shared, so compare the ratios printed.)
@@ -17,6 +24,7 @@ import time
 
 import numpy as np
 
+import presliding.network.exact as exact_module
 from presliding import PIFriction
 from presliding.network import chain_structure, simulate_network, simulate_network_moreau
 
@@ -32,6 +40,27 @@ def best(fn, repeat=3):
     return min(times), out
 
 
+def best_cpu(fn, repeat=5):
+    """(best CPU time, best wall time, result)."""
+    out, cpu, wall = None, [], []
+    for _ in range(repeat):
+        c0, w0 = time.process_time(), time.perf_counter()
+        out = fn()
+        cpu.append(time.process_time() - c0)
+        wall.append(time.perf_counter() - w0)
+    return min(cpu), min(wall), out
+
+
+def general_loop(fn):
+    """Run `fn` with the compiled loop switched off (the general loop runs instead)."""
+    compiled = exact_module._run_compiled
+    exact_module._run_compiled = lambda *args: None
+    try:
+        return fn()
+    finally:
+        exact_module._run_compiled = compiled
+
+
 def chain10():
     force = np.outer([1.0, -1.0, 1.0, -1.0], np.r_[np.zeros(9), 2.0])
     s = chain_structure(10, 0.1, 2e3, PI, forcing=([0.0, 0.25, 0.5, 0.75], force))
@@ -45,14 +74,53 @@ def chain1000():
     return chain_structure(n, 0.1, 2e3, PI, forcing=force), 0.3 * np.sin(np.arange(n))
 
 
+def bar_dissipation(n, ea=1.0, tau=1.0, force=0.5):
+    """Coulomb dissipation over one steady cycle of the bar cut into n nodes (length 1)."""
+    dx = 1.0 / n
+    models = [PIFriction(tau * dx)] * (n - 1) + [PIFriction(0.5 * tau * dx)]  # end: half
+    mass = np.full(n, 1e-10)
+    mass[-1] *= 0.5
+    per = 8
+    cycle = [
+        np.linspace(force, -force, 2 * per + 1)[1:],
+        np.linspace(-force, force, 2 * per + 1)[1:],
+    ]
+    values = np.concatenate([np.linspace(0.0, force, per + 1)] + cycle * 2)
+    times = np.arange(values.shape[0], dtype=float)
+    f = np.zeros((values.shape[0], n))
+    f[:, -1] = values
+    s = chain_structure(n, mass, ea / dx, models, forcing=(times, f))
+    t_end = times[-1] + 1.0
+    res = simulate_network_moreau(
+        s, t_end, 0.25, samples=int(t_end / 0.25) + 1, max_sweeps=100_000, tolerance=1e-14
+    )
+    e = res.energy.coulomb.sum(axis=1)
+    i_a, i_b = np.searchsorted(res.time, [times[5 * per] + 0.99, times[9 * per] + 0.99])
+    return e[i_b] - e[i_a], 2 * force**3 / (3 * ea * tau)
+
+
 def main():
     s, v0 = chain10()
-    simulate_network(s, 0.05, None, v0)  # warm-up
-    t_exact, exact = best(lambda: simulate_network(s, 1.0, None, v0, t_eval=np.linspace(0, 1, 201)))
+    w0 = time.perf_counter()
+    simulate_network(s, 0.05, None, v0)  # warm-up (loads or compiles the kernels)
     print(
-        f"exact, 10 masses, 10 PI contacts: {t_exact:.3f} s for {exact.n_events} events "
-        f"({1e3 * t_exact / exact.n_events:.2f} ms per event); target 0.1 s: "
-        f"{t_exact / 0.1:.1f}x the target; energy residual {exact.energy.max_relative_residual:.1e}"
+        f"first call (kernels loaded from the cache, or compiled): {time.perf_counter() - w0:.1f} s"
+    )
+    te = np.linspace(0, 1, 201)
+
+    def run():
+        return simulate_network(s, 1.0, None, v0, t_eval=te)
+
+    cpu, t_exact, exact = best_cpu(run)
+    cpu_py, wall_py, py = general_loop(lambda: best_cpu(run, 2))
+    diff = max(float(np.max(np.abs(getattr(exact, k) - getattr(py, k))))
+               for k in ("position", "velocity", "contact_force"))  # fmt: skip
+    print(
+        f"exact, 10 masses, 10 PI contacts, {exact.n_events} events: compiled loop {cpu:.4f} s "
+        f"CPU ({t_exact:.4f} s wall; {1e6 * cpu / exact.n_events:.0f} µs per event), target "
+        f"0.1 s: {cpu / 0.1:.2f}x the target; general loop {cpu_py:.3f} s CPU ({wall_py:.3f} s "
+        f"wall): {cpu_py / cpu:.0f}x slower; largest difference of q, q̇, λ {diff:.1e}; energy "
+        f"residual {exact.energy.max_relative_residual:.1e}"
     )
 
     simulate_network_moreau(s, 0.01, 1e-3, None, v0)  # compile
@@ -79,6 +147,17 @@ def main():
         f"two cost the same at h ≈ {np.exp(log_cross):.1e} s, where the Moreau–Jean error "
         f"is ≈ {err_cross:.1e} m (the exact path's is rounding)"
     )
+
+    print("bar on a Coulomb foundation, dissipation per cycle against 2F³/(3·EA·τ):")
+    previous = None
+    for n in (4, 8, 16):
+        t0 = time.perf_counter()
+        w, exact_w = bar_dissipation(n)
+        err = abs(w - exact_w) / exact_w
+        ratio = "" if previous is None else f", error ratio {previous / err:.3f}"
+        print(f"  N = {n:3d}: {w:.10f} J (exact {exact_w:.10f}), error {err:.3e}{ratio}; "
+              f"{time.perf_counter() - t0:.2f} s")  # fmt: skip
+        previous = err
 
     big, v0b = chain1000()
     simulate_network_moreau(big, 1e-3, 1e-4, None, v0b)  # warm-up of this size

@@ -157,8 +157,9 @@ def test_masing_and_wiping_out_hold(net, frac1, frac2):
     without = np.array([0.0, a, b, 1.5 * big])
     f1 = network_force(net, np.array([0]), np.array([1.0]), with_loop)
     f2 = network_force(net, np.array([0]), np.array([1.0]), without)
-    assert f1[-1] == pytest.approx(f2[-1], rel=1e-12)
-    assert model.force(with_loop)[0][-1] == pytest.approx(f2[-1], rel=1e-12)
+    # to rounding: the loop's events add a few ulps per event (1.1e-12 seen)
+    assert f1[-1] == pytest.approx(f2[-1], rel=1e-11)
+    assert model.force(with_loop)[0][-1] == pytest.approx(f2[-1], rel=1e-11)
 
 
 def _bar_chain(n, ea, tau, length):

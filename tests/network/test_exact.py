@@ -150,3 +150,84 @@ def test_event_limit_is_reported():
     res = simulate_network(s, 30.0, [12.0], [6.0], max_events=3)
     assert not res.success and res.status == "event_limit" and "max_events=3" in res.message
     assert res.time.shape[0] < 1001
+
+
+def _square_wave(n_cycles, period, amplitude):
+    times = 0.5 * period * np.arange(2 * n_cycles)
+    values = amplitude * np.where(np.arange(2 * n_cycles) % 2 == 0, 1.0, -1.0)
+    return times, values
+
+
+@pytest.mark.parametrize("alpha", [1.0, -2.0])
+def test_redundant_pair_from_rest_moves_as_one_combined_contact_over_a_long_run(alpha):
+    """Two contacts on the same relative displacement (w_b = α·w_a), started at rest and
+    driven through 40 stick–slip cycles: the motion is that of one contact with
+    c1 = c1a + |α|·c1b and the elements of b scaled to g_a (k·α², r/|α|)."""
+    a_model = PIFriction(0.5, [300.0, 80.0], threshold=[0.002, 0.01])
+    b_model = PIFriction(0.7, [200.0], threshold=[0.004])
+    combined = PIFriction(0.5 + abs(alpha) * 0.7, [300.0, 80.0, 200.0 * alpha**2],
+                          threshold=[0.002, 0.01, 0.004 / abs(alpha)])  # fmt: skip
+    times, values = _square_wave(40, 5.0, 2.5)
+    force = (times, np.column_stack([np.zeros_like(values), values]))
+    m, k = np.diag([1.0, 2.0]), [[200.0, -100.0], [-100.0, 100.0]]
+    two = NetworkStructure(m, k, [[1.0, alpha], [0.0, 0.0]], [a_model, b_model], forcing=force)
+    one = NetworkStructure(m, k, [[1.0], [0.0]], [combined], forcing=force)
+    te = np.linspace(0.0, 200.0, 4001)
+    a = simulate_network(two, 200.0, t_eval=te)
+    b = simulate_network(one, 200.0, t_eval=te)
+    assert a.success and b.success and a.n_events == b.n_events > 100
+    assert not a.forces_unique and "not unique" in a.message and b.forces_unique
+    np.testing.assert_allclose(a.position, b.position, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(a.velocity, b.velocity, rtol=0, atol=1e-12)
+    total = a.contact_force[:, 0] + alpha * a.contact_force[:, 1]
+    scale = np.max(np.abs(b.contact_force))  # the forces to 1e-12 of their largest value
+    np.testing.assert_allclose(total, b.contact_force[:, 0], rtol=0, atol=1e-12 * scale)
+    np.testing.assert_array_equal(a.contact_mode[:, 0], b.contact_mode[:, 0])
+    np.testing.assert_array_equal(a.contact_mode[:, 1], np.sign(alpha) * b.contact_mode[:, 0])
+    # each contact's Coulomb force within its own c1, exactly c1 while it slides
+    coulomb = np.abs(a.contact_force - a.elastic_force)
+    assert np.all(coulomb <= np.array([0.5, 0.7]) * (1 + 1e-12))
+    sliding = a.contact_mode != 0.0
+    bounds = np.broadcast_to([0.5, 0.7], coulomb.shape)
+    np.testing.assert_allclose(coulomb[sliding], bounds[sliding], rtol=1e-12)
+    assert np.sum(a.contact_mode[:, 0] == 0.0) > 100  # it sticks, repeatedly
+    assert a.energy.max_relative_residual <= 1e-11
+
+
+def _pi_chain():
+    model = PIFriction(0.2, [2e3, 1e3, 500.0, 200.0], [0.1, 0.1, 0.1, 0.1])
+    force = np.outer([1.0, -1.0, 1.0, -1.0], np.r_[np.zeros(5), 2.0])
+    s = chain_structure(6, 0.1, 2e3, model, forcing=([0.0, 0.1, 0.2, 0.3], force))
+    return s, 0.3 * np.sin(np.arange(6))
+
+
+def test_compiled_loop_equals_the_general_loop(monkeypatch):
+    """Undamped structures run the compiled loop; the general loop (damped structures)
+    gives the same motion, forces and energy to 1e-12."""
+    import presliding.network.exact as exact_module
+
+    s, v0 = _pi_chain()
+    te = np.linspace(0.0, 0.4, 801)
+    fast = simulate_network(s, 0.4, None, v0, t_eval=te)
+    monkeypatch.setattr(exact_module, "_run_compiled", lambda *args: None)
+    slow = simulate_network(s, 0.4, None, v0, t_eval=te)
+    assert fast.success and slow.success and fast.n_events == slow.n_events > 100
+    for name in ("position", "velocity", "contact_force", "elastic_force", "contact_mode"):
+        np.testing.assert_allclose(getattr(fast, name), getattr(slow, name), rtol=0, atol=1e-12)
+    for name in ("coulomb", "hysteretic", "kinetic", "work"):
+        np.testing.assert_allclose(getattr(fast.energy, name), getattr(slow.energy, name),
+                                   rtol=0, atol=1e-12)  # fmt: skip
+    for a, b in zip(fast.reversal_times, slow.reversal_times, strict=True):
+        np.testing.assert_allclose(a, b, rtol=0, atol=1e-12)
+    assert fast.energy.max_relative_residual <= 1e-11
+
+
+def test_chunked_runs_equal_the_whole_run_in_the_compiled_loop():
+    s, v0 = _pi_chain()
+    t = np.linspace(0.0, 0.4, 401)
+    whole = simulate_network(s, 0.4, None, v0, t_eval=t)
+    first = simulate_network(s, 0.17, None, v0, t_eval=t[t <= 0.17])
+    second = simulate_network(s, 0.4, initial_state=first.final_state, t_eval=t[t >= 0.17])
+    np.testing.assert_allclose(np.vstack([first.position, second.position[1:]]), whole.position,
+                               rtol=0, atol=1e-12)  # fmt: skip
+    np.testing.assert_array_equal(first.n_reversals + second.n_reversals, whole.n_reversals)

@@ -27,15 +27,14 @@ from numpy.typing import ArrayLike, NDArray
 
 from presliding._validation import (
     as_count,
-    as_real_scalar,
     as_signal,
-    as_state_vector,
-    check_time_span,
+    check_size,
     check_type,
-    fmt,
 )
 from presliding.network._events import scan
+from presliding.network._exact_kernel import ROW_LAYOUT, row_width, run_events
 from presliding.network._exact_run import Network, RunState
+from presliding.network._start import run_start
 from presliding.network.results import NetworkResult, NetworkState, build_result
 from presliding.network.structure import NetworkStructure
 
@@ -95,45 +94,9 @@ def simulate_network(
     net = Network(structure)
     n, n_c = structure.n_coordinates, structure.n_contacts
     max_events = as_count("max_events", max_events, minimum=1)
-    if isinstance(initial_state, NetworkState):
-        if initial_state.deformation.shape != net.cts.k.shape or initial_state.position.shape != (
-            n,
-        ):
-            raise ValueError(
-                "`initial_state` must belong to this structure (same coordinates and elements);"
-                f" got {initial_state.position.shape[0]} coordinates and "
-                f"{initial_state.deformation.shape[0]} elements."
-            )
-        t0 = initial_state.time if t_start is None else as_real_scalar("t_start", t_start)
-        q0 = initial_state.position.copy() if initial_position is None else as_state_vector(
-            "initial_position", initial_position, n)  # fmt: skip
-        v0 = initial_state.velocity.copy() if initial_velocity is None else as_state_vector(
-            "initial_velocity", initial_velocity, n)  # fmt: skip
-        e0 = initial_state.deformation.copy()
-        g0 = initial_state.contact_displacement.copy()
-        s0 = initial_state.mode.copy()
-        last0 = initial_state.last_direction.copy()
-        if not np.array_equal(q0, initial_state.position):
-            g0 = q0 @ net.w
-        if not np.array_equal(v0, initial_state.velocity):
-            s0 = np.sign(v0 @ net.w)
-    elif isinstance(initial_state, str) and initial_state == "relaxed":
-        t0 = 0.0 if t_start is None else as_real_scalar("t_start", t_start)
-        q0 = np.zeros(n) if initial_position is None else as_state_vector(
-            "initial_position", initial_position, n)  # fmt: skip
-        v0 = np.zeros(n) if initial_velocity is None else as_state_vector(
-            "initial_velocity", initial_velocity, n)  # fmt: skip
-        e0 = np.zeros(net.cts.k.shape[0])
-        g0 = q0 @ net.w
-        s0 = np.sign(v0 @ net.w)
-        last0 = np.zeros(n_c)
-    else:
-        raise ValueError(f"`initial_state` must be 'relaxed' or a NetworkState; got "
-                         f"{fmt(initial_state)}.")  # fmt: skip
-    t_end = as_real_scalar("t_end", t_end)
-    if not t_end > t0:
-        raise ValueError(f"`t_end` must be after the start time {t0!r}; got {fmt(t_end)}.")
-    check_time_span("t_end", t_end, t_end - t0)
+    start = run_start(net.w, net.cts.k.shape[0], initial_position, initial_velocity,
+                      initial_state, t_start, t_end)  # fmt: skip
+    t0, t_end = start.t0, start.t_end
     if t_eval is None:
         times = np.linspace(t0, t_end, 1001)
     else:
@@ -144,12 +107,56 @@ def simulate_network(
                 f" got values from {times[0]!r} to {times[-1]!r}."
             )
     zeros = np.zeros(n_c)
-    st = RunState(t=t0, q=q0, v=v0, g=g0, e=e0, s=s0.astype(float), last=last0.astype(float),
-                  coulomb=zeros.copy(), hysteretic=zeros.copy(), viscous=zeros.copy())  # fmt: skip
+    st = RunState(t=t0, q=start.q.copy(), v=start.v.copy(), g=start.g.copy(), e=start.e.copy(),
+                  s=start.s.copy(), last=start.last.copy(), coulomb=zeros.copy(),
+                  hysteretic=zeros.copy(), viscous=zeros.copy())  # fmt: skip
     out = _Samples(times, n, n_c, net.cts.k.shape[0])
     e_initial = _mechanical_energy(net, st.q, st.v, st.e)
-    status, message = _run(structure, net, st, t_end, out, max_events)
+    ran = None if structure.is_damped else _run_compiled(structure, net, st, t_end, out, max_events)
+    if ran is None:  # damped structures, redundant stick sets: the general loop
+        st = RunState(t=t0, q=start.q, v=start.v, g=start.g, e=start.e, s=start.s,
+                      last=start.last, coulomb=zeros.copy(), hysteretic=zeros.copy(),
+                      viscous=zeros.copy())  # fmt: skip
+        out = _Samples(times, n, n_c, net.cts.k.shape[0])
+        ran = _run(structure, net, st, t_end, out, max_events)
+    status, message = ran
     return build_result(structure, net, st, out, status, message, e_initial, t0)
+
+
+def _run_compiled(structure: NetworkStructure, net: Network, st: RunState, t_end: float,
+                  out: _Samples, max_events: int) -> tuple[str, str] | None:  # fmt: skip
+    """The compiled event loop (undamped structures); None when it meets a redundant stick
+    set (the general loop runs instead)."""
+    n, n_c = net.w.shape
+    width = row_width(n, n_c)
+    check_size("t_eval", out.time.shape[0], out.time.shape[0] * width)
+    rec = np.zeros((out.time.shape[0], width))
+    ft = np.ascontiguousarray(structure.forcing_times, dtype=np.float64)
+    fv = np.ascontiguousarray(structure.forcing_values, dtype=np.float64)
+    iu = max(int(np.searchsorted(ft, st.t, side="right")) - 1, 0)
+    c = np.ascontiguousarray
+    code, t, v, work, events, filled, tr, rv, grouped = run_events(
+        float(st.t), st.q, st.v, st.g, st.e, st.s, st.last, st.coulomb, st.hysteretic,
+        float(st.work), iu, ft, fv, float(t_end), c(out.time, dtype=np.float64), rec,
+        c(net.m), c(net.k), c(net.w), c(net.minv_w), net.cts.c1, net.cts.sigma, net.cts.k,
+        net.cts.r, net.cts.owner, int(max_events),
+    )  # fmt: skip
+    if code == 2:
+        return None
+    st.t, st.v, st.work, st.n_events = float(t), v, float(work), int(events)
+    st.redundant = bool(grouped)
+    st.transitions = [(float(a), int(b), float(x)) for a, b, x in tr]
+    st.reversals = [(float(a), int(b), float(x)) for a, b, x in rv]
+    col = 0
+    for name, size in ROW_LAYOUT:
+        width = n if size == "n" else n_c if size == "c" else 1
+        block = rec[:, col : col + width]
+        setattr(out, name, np.ascontiguousarray(block[:, 0] if size == 1 else block))
+        col += width
+    out.filled = int(filled)
+    if code == 0:
+        return "success", _message(st, out, _GROUPED)
+    return "event_limit", _limit_message(max_events, st.t)
 
 
 def _mechanical_energy(net: Network, q: FloatArray, v: FloatArray, e: FloatArray) -> float:
@@ -231,10 +238,14 @@ def _run(structure: NetworkStructure, net: Network, st: RunState, t_end: float, 
             iu += 1
         st.n_events += 1
         if st.n_events >= max_events:
-            return "event_limit", (
-                f"the event limit max_events={max_events} was reached at t = {st.t!r} s; the "
-                "samples after it are missing (zeros are not written: arrays are cut)."
-            )
+            return "event_limit", _limit_message(max_events, st.t)
+
+
+def _limit_message(max_events: int, t: float) -> str:
+    return (
+        f"the event limit max_events={max_events} was reached at t = {t!r} s; the "
+        "samples after it are missing (zeros are not written: arrays are cut)."
+    )
 
 
 def _note_transitions(st: RunState, before: FloatArray) -> None:
@@ -246,12 +257,20 @@ def _note_transitions(st: RunState, before: FloatArray) -> None:
             st.last[c] = st.s[c]
 
 
-def _message(st: RunState, out: _Samples) -> str:
+_GENERAL = (
+    "; the contact forces are not unique (redundant contacts stuck together: W_S has "
+    "dependent columns); the motion is unique, the forces shown are the minimum-norm "
+    "distribution, or where it exceeds c1 the one that leaves the largest margin to slip"
+)
+_GROUPED = (
+    "; the contact forces are not unique (contacts with parallel columns of W stuck together, "
+    "as one combined contact with c1 = Σ|α_c|·c1_c); the motion is unique, the forces shown "
+    "share the combined Coulomb force in proportion to each contact's c1"
+)
+
+
+def _message(st: RunState, out: _Samples, redundant: str = _GENERAL) -> str:
     text = f"simulated to t = {st.t!r} s in {st.n_events} events"
     if st.redundant:
-        text += (
-            "; the contact forces are not unique (redundant contacts stuck together: W_S has "
-            "dependent columns); the motion is unique, the forces shown are the minimum-norm "
-            "distribution, or where it exceeds c1 the one that leaves the largest margin to slip"
-        )
+        text += redundant
     return text + "."

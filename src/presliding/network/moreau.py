@@ -23,14 +23,13 @@ from presliding._validation import (
     as_count,
     as_positive_scalar,
     as_real_scalar,
-    as_state_vector,
     check_size,
-    check_time_span,
     check_type,
     fmt,
 )
 from presliding.network._moreau_kernel import moreau_loop
 from presliding.network._piece import Contacts
+from presliding.network._start import run_start
 from presliding.network.results import NetworkEnergy, NetworkResult, NetworkState
 from presliding.network.structure import NetworkStructure
 
@@ -107,30 +106,10 @@ def simulate_network_moreau(
     samples = as_count("samples", samples, minimum=2, maximum=10_000_000)
     max_sweeps = as_count("max_sweeps", max_sweeps, minimum=1, maximum=1_000_000)
     tolerance = as_positive_scalar("tolerance", tolerance)
-    if isinstance(initial_state, NetworkState):
-        st = initial_state
-        t0 = st.time if t_start is None else as_real_scalar("t_start", t_start)
-        q = st.position.copy() if initial_position is None else as_state_vector(
-            "initial_position", initial_position, n)  # fmt: skip
-        v = st.velocity.copy() if initial_velocity is None else as_state_vector(
-            "initial_velocity", initial_velocity, n)  # fmt: skip
-        g, e, last = st.contact_displacement.copy(), st.deformation.copy(), st.last_direction
-        if e.shape != cts.k.shape:
-            raise ValueError("`initial_state` must belong to this structure (same elements).")
-    elif isinstance(initial_state, str) and initial_state == "relaxed":
-        t0 = 0.0 if t_start is None else as_real_scalar("t_start", t_start)
-        q = np.zeros(n) if initial_position is None else as_state_vector(
-            "initial_position", initial_position, n)  # fmt: skip
-        v = np.zeros(n) if initial_velocity is None else as_state_vector(
-            "initial_velocity", initial_velocity, n)  # fmt: skip
-        g, e, last = q @ structure.contacts, np.zeros(cts.k.shape[0]), np.zeros(n_c)
-    else:
-        raise ValueError(f"`initial_state` must be 'relaxed' or a NetworkState; got "
-                         f"{fmt(initial_state)}.")  # fmt: skip
-    t_end = as_real_scalar("t_end", t_end)
-    if not t_end > t0:
-        raise ValueError(f"`t_end` must be after the start time {t0!r}; got {fmt(t_end)}.")
-    check_time_span("t_end", t_end, t_end - t0)
+    start = run_start(np.asarray(structure.contacts), cts.k.shape[0], initial_position,
+                      initial_velocity, initial_state, t_start, t_end)  # fmt: skip
+    t0, t_end, q, v, g, e, last = (start.t0, start.t_end, start.q, start.v, start.g, start.e,
+                                   start.last)  # fmt: skip
     n_steps = check_size("step", step, math.ceil((t_end - t0) / h * (1 - 1e-12)), what="steps")
     h = (t_end - t0) / n_steps
     every = max(1, n_steps // (samples - 1))

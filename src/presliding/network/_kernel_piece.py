@@ -1,0 +1,240 @@
+"""Compiled closed-form pieces of an undamped network, and their event functions.
+
+The compiled counterpart of `presliding.network._piece` for C = 0 and σ_v = 0 (the
+pieces are then sums of harmonic modes): with Δq = N·z (N an orthonormal basis of the
+null space of W_Sᵀ, S the stuck contacts; N = I when none sticks), the modes of
+K_r·φ = ω²·M_r·φ (M_r = NᵀMN, K_r = Nᵀ(K + W_L K_el W_Lᵀ)N, through the Cholesky factor
+of M_r) give the modal coordinates
+
+    η_i(τ) = v_i·sin(ω_i τ)/ω_i + 2·a_i·sin²(ω_i τ/2)/ω_i²   (τ and a_i τ²/2 when ω_i = 0)
+
+and Δq = B·η with B = N·Φ. Every event function is affine in ξ = [η, η̇]: a sliding
+contact's velocity, its distance to the nearest element threshold, and a stuck
+contact's Coulomb force (its margin c1 − |τ_c| is the event function). Stuck contacts
+with parallel columns (w_c = α_c·w_r, the same relative displacement up to a factor)
+stick and slip together as one combined contact: one margin Σ|α_c|·c1_c − |T| for the
+group's Coulomb force T, shared in proportion to each c1_c (one of the distributions
+that hold the structure: these forces are not unique).
+
+A piece is the tuple returned by `build_piece` (`P_*` name its fields).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from presliding.network._kernel_contacts import per_contact, take_columns
+
+EPS = np.finfo(np.float64).eps
+
+(P_DIM, P_OMEGA, P_INV, P_RIGID, P_VM, P_A0, P_A2, P_B, P_WB, P_OMAX, P_SLIDING, P_ELASTIC,
+ P_KEL, P_CSAT, P_FEL0, P_LAM0, P_DMIN, P_STUCK, P_SMAP, P_H, P_H0, P_NLIN, P_C1S, P_SL,
+ P_THR, P_GROUP, P_ALPHA, P_GSIZE, P_GFEL) = range(29)  # fmt: skip
+
+
+@njit(cache=True, error_model="numpy")
+def null_space(ws):  # pragma: no cover - compiled
+    """(N, rank): an orthonormal basis of {x: W_Sᵀx = 0} and the rank of W_S."""
+    u, sv, _ = np.linalg.svd(ws, full_matrices=True)
+    rank = 0
+    lim = sv[0] * max(ws.shape[0], ws.shape[1]) * EPS * 16
+    for x in sv:
+        if x > lim:
+            rank += 1
+    return np.ascontiguousarray(u[:, rank:]), rank
+
+
+@njit(cache=True, error_model="numpy")
+def parallel_groups(w, stuck):  # pragma: no cover - compiled
+    """Stuck contacts with parallel columns w_c = α_c·w_r act as one combined contact.
+
+    Returns (the representatives r, the group of each stuck contact, α_c, group sizes).
+    """
+    n_s = stuck.shape[0]
+    wt = np.ascontiguousarray(w.T)  # rows: the contacts' columns
+    reps = np.empty(n_s, np.int64)
+    group = np.empty(n_s, np.int64)
+    alpha = np.ones(n_s)
+    size = np.zeros(n_s, np.int64)
+    n_r = 0
+    for a in range(n_s):
+        wc = wt[stuck[a]]
+        norm = np.sqrt(wc @ wc)
+        group[a] = -1
+        for r in range(n_r):
+            wr = wt[reps[r]]
+            al = (wr @ wc) / (wr @ wr)
+            res = wc - al * wr
+            if np.sqrt(res @ res) <= 1e-12 * norm:
+                group[a], alpha[a] = r, al
+                break
+        if group[a] < 0:
+            reps[n_r] = stuck[a]
+            group[a] = n_r
+            n_r += 1
+        size[group[a]] += 1
+    return reps[:n_r].copy(), group, alpha, size[:n_r].copy()
+
+
+@njit(cache=True, error_model="numpy")
+def modes(mr, kr):  # pragma: no cover - compiled
+    """(ω², Φ) of K_r·φ = ω²·M_r·φ, Φᵀ·M_r·Φ = I (Cholesky reduction to eigh)."""
+    low = np.linalg.cholesky(mr)
+    li = np.linalg.inv(low)
+    a = li @ kr @ li.T
+    a = 0.5 * (a + a.T)
+    w2, y = np.linalg.eigh(a)
+    return w2, np.ascontiguousarray(li.T @ y)
+
+
+@njit(cache=True, error_model="numpy")
+def build_piece(q0, v0, s, e, f, m, k, w, minv_w, c1, ek, er, owner):  # pragma: no cover
+    """The piece from the state (modes s, deformations e, force f); whether the stuck
+    contacts are redundant beyond parallel groups (the caller does not use the piece
+    then), and whether a parallel group sticks (its forces are not unique)."""
+    n, n_c = w.shape
+    sliding = s != 0.0
+    s_el = s[owner]
+    elastic = (s_el * e < er) & sliding[owner]
+    kel = per_contact(np.where(elastic, ek, 0.0), owner, n_c)
+    csat = per_contact(np.where(~elastic & sliding[owner], ek * er, 0.0), owner, n_c)
+    fel0 = per_contact(ek * e, owner, n_c)
+    lam0 = s * c1 + fel0
+    dmin = np.full(n_c, np.inf)
+    for j in range(ek.shape[0]):
+        if elastic[j]:
+            dmin[owner[j]] = min(dmin[owner[j]], er[j] - s_el[j] * e[j])
+    stuck = np.flatnonzero(~sliding)
+    sl = np.flatnonzero(sliding)
+    keff = k.copy()
+    b0 = f - k @ q0
+    for c in sl:
+        for i in range(n):
+            b0[i] -= w[i, c] * lam0[c]
+            if kel[c] != 0.0:
+                for j in range(n):
+                    keff[i, j] += w[i, c] * kel[c] * w[j, c]
+    rank = 0
+    reps, group, alpha, gsize = parallel_groups(w, stuck)
+    smap = np.zeros((reps.shape[0], n))
+    if stuck.shape[0]:
+        ws = take_columns(w, reps)
+        ns, rank = null_space(ws)
+        mw = take_columns(minv_w, reps)
+        smap = np.linalg.pinv(ws.T @ mw) @ mw.T
+        mr = ns.T @ m @ ns
+        kr = ns.T @ keff @ ns
+        br = ns.T @ b0
+        zd0 = ns.T @ v0
+    else:
+        ns = np.eye(n)
+        mr, kr, br, zd0 = m.copy(), keff, b0, v0.copy()
+    d = n - rank
+    if d == 1:
+        w2 = np.array([kr[0, 0] / mr[0, 0]])
+        phi = np.ones((1, 1))
+        a0 = br / mr[0, 0]
+        vm = zd0.copy()
+    elif d > 1:
+        w2, phi = modes(mr, kr)
+        a0 = phi.T @ br
+        vm = phi.T @ (mr @ zd0)
+    else:
+        w2, phi, a0, vm = np.zeros(0), np.zeros((0, 0)), np.zeros(0), np.zeros(0)
+    top = 0.0
+    for x in w2:
+        top = max(top, abs(x))
+    omega = np.zeros(d)
+    inv = np.zeros(d)
+    rigid = np.zeros(d, np.bool_)
+    for i in range(d):
+        if w2[i] > 1e-13 * top:
+            omega[i] = np.sqrt(w2[i])
+            inv[i] = 1.0 / omega[i]
+        else:
+            rigid[i] = True
+    omax = np.max(omega) if d else 0.0
+    b = np.ascontiguousarray(ns @ phi) if d else np.zeros((n, 0))
+    wb = np.ascontiguousarray(w.T @ b)
+    # a group's Coulomb force T = λ_r − Σ α_c·F_el,c and bound Σ |α_c|·c1_c
+    gfel = np.zeros(reps.shape[0])
+    gc1 = np.zeros(reps.shape[0])
+    for a in range(stuck.shape[0]):
+        if gsize[group[a]] == 1:
+            gfel[group[a]] = fel0[stuck[a]]
+            gc1[group[a]] = c1[stuck[a]]
+        else:
+            gfel[group[a]] += alpha[a] * fel0[stuck[a]]
+            gc1[group[a]] += abs(alpha[a]) * c1[stuck[a]]
+    hmat, h0, n_lin, thr = _events(q0, s, f, k, w, kel, lam0, gfel, dmin, sl, smap, b, wb, d)
+    pc = (d, omega, inv, rigid, vm, a0, a0 * 2.0, b, wb, omax, sliding, elastic, kel, csat,
+          fel0, lam0, dmin, stuck, smap, hmat, h0, n_lin, gc1, sl, thr, group, alpha, gsize,
+          gfel)  # fmt: skip
+    return pc, reps.shape[0] > rank, reps.shape[0] < stuck.shape[0]
+
+
+@njit(cache=True, error_model="numpy")
+def _events(q0, s, f, k, w, kel, lam0, gfel, dmin, sl, smap, b, wb, d
+            ):  # pragma: no cover - compiled  # fmt: skip
+    """The event functions h = H·ξ + h0 (rows: velocities, thresholds, stick margins)."""
+    thr = sl[np.isfinite(dmin[sl])]
+    n_lin = sl.shape[0] + thr.shape[0]
+    nf = n_lin + smap.shape[0]
+    hmat = np.zeros((nf, 2 * d))
+    h0 = np.zeros(nf)
+    for a in range(sl.shape[0]):
+        c = sl[a]
+        for i in range(d):
+            hmat[a, d + i] = s[c] * wb[c, i]
+    for a in range(thr.shape[0]):
+        c = thr[a]
+        row = sl.shape[0] + a
+        h0[row] = dmin[c]
+        for i in range(d):
+            hmat[row, i] = -s[c] * wb[c, i]
+    if smap.shape[0]:
+        # T_r = λ_r − F_el,r, λ_r = P·(f − K·q − W_L·λ_L), λ_L = λ0_L + K_el·Δg_L
+        dr = -(k @ b)
+        r0 = f - k @ q0
+        for c in sl:
+            r0 -= w[:, c] * lam0[c]
+            for i in range(d):
+                dr[:, i] -= w[:, c] * (kel[c] * wb[c, i])
+        hs = smap @ dr
+        c0 = smap @ r0
+        for a in range(smap.shape[0]):
+            h0[n_lin + a] = c0[a] - gfel[a]
+            hmat[n_lin + a, :d] = hs[a]
+    return hmat, h0, n_lin, thr
+
+
+@njit(cache=True, error_model="numpy")
+def modal(pc, tau, eta, etad, etadd):  # pragma: no cover - compiled
+    """η, η̇, η̈ of the piece at τ (into the arrays)."""
+    d = pc[P_DIM]
+    om, inv, rigid, vm, a0, a2 = pc[P_OMEGA], pc[P_INV], pc[P_RIGID], pc[P_VM], pc[P_A0], pc[P_A2]
+    for i in range(d):
+        wt = om[i] * tau
+        if rigid[i]:
+            s1, sh = tau, 0.5 * tau
+        else:
+            s1 = np.sin(wt) * inv[i]
+            sh = np.sin(0.5 * wt) * inv[i]
+        cs = np.cos(wt)
+        eta[i] = vm[i] * s1 + a2[i] * sh * sh
+        etad[i] = vm[i] * cs + a0[i] * s1
+        etadd[i] = a0[i] * cs - vm[i] * om[i] * om[i] * s1
+
+
+@njit(cache=True, error_model="numpy")
+def event_values(pc, tau, out, xi):  # pragma: no cover - compiled
+    """All event functions at τ (into out; xi a work array of 3·dim)."""
+    d = pc[P_DIM]
+    modal(pc, tau, xi[:d], xi[d : 2 * d], xi[2 * d :])
+    hmat, h0, n_lin, c1s = pc[P_H], pc[P_H0], pc[P_NLIN], pc[P_C1S]
+    for j in range(h0.shape[0]):
+        acc = h0[j]
+        for i in range(2 * d):
+            acc += hmat[j, i] * xi[i]
+        out[j] = acc if j < n_lin else c1s[j - n_lin] - abs(acc)
