@@ -19,13 +19,13 @@ def _no_leftovers():
 def test_a_warm_cache_starts_nothing_and_wait_returns_at_once(monkeypatch):
     monkeypatch.setattr(_precompile, "_cores", lambda: 2)
     monkeypatch.setattr(_precompile, "_cache_is_cold", lambda task: False)
-    assert _precompile.start("demo-density") is False
-    _precompile.wait("demo-density")  # nothing to wait for
+    assert _precompile.start("demo-later") is False
+    _precompile.wait("demo-later")  # nothing to wait for
 
 
 def test_disabled_jit_or_an_unknown_sentinel_count_as_warm(monkeypatch):
     monkeypatch.setenv("NUMBA_DISABLE_JIT", "1")
-    assert _precompile._cache_is_cold("demo-density") is False
+    assert _precompile._cache_is_cold("demo-later") is False
     monkeypatch.delenv("NUMBA_DISABLE_JIT")
     monkeypatch.setitem(_precompile._SENTINELS, "missing", "presliding.nowhere:kernel")
     assert _precompile._cache_is_cold("missing") is False
@@ -34,7 +34,7 @@ def test_disabled_jit_or_an_unknown_sentinel_count_as_warm(monkeypatch):
 def test_one_core_starts_nothing(monkeypatch):
     monkeypatch.setattr(_precompile, "_cores", lambda: 1)
     monkeypatch.setattr(_precompile, "_cache_is_cold", lambda task: True)
-    assert _precompile.start("demo-density") is False
+    assert _precompile.start("demo-later") is False
 
 
 def test_a_started_process_is_waited_for_and_reaped(monkeypatch):
@@ -60,11 +60,39 @@ def test_stop_all_ends_a_process_that_is_still_running(monkeypatch):
 def test_the_tasks_name_functions_that_exist():
     import importlib
 
-    for task, target in _precompile.TASKS.items():
+    def kernel(target):
         module, name = target.split(":")
-        assert callable(getattr(importlib.import_module(module), name)), task
-        module, name = _precompile._SENTINELS[task].split(":")
-        assert hasattr(getattr(importlib.import_module(module), name), "_cache")
+        return getattr(importlib.import_module(module), name)
+
+    for task, steps in _precompile.TASKS.items():
+        for needs, target in steps:
+            assert callable(kernel(target)), task
+            assert needs is None or hasattr(kernel(needs), "_cache"), task
+        assert hasattr(kernel(_precompile._SENTINELS[task]), "_cache")
+
+
+def test_a_step_waits_for_the_kernels_it_needs_but_not_for_ever(monkeypatch):
+    """The second process polls the cache for a kernel the command compiles, and gives up."""
+    looks = iter([False, False, True])
+    monkeypatch.setattr(_precompile, "_POLL", 0.0)
+    monkeypatch.setattr(_precompile, "_is_cached", lambda kernel: next(looks))
+    assert _precompile._await_cached("a:b") is True
+    monkeypatch.setattr(_precompile, "_is_cached", lambda kernel: False)
+    assert _precompile._await_cached("a:b", limit=0.05) is False
+    monkeypatch.setattr(_precompile, "_is_cached", lambda kernel: None)  # cannot tell
+    assert _precompile._await_cached("a:b") is False
+
+
+def test_the_second_process_runs_the_steps_in_order_after_their_kernels(monkeypatch):
+    log: list[str] = []
+    monkeypatch.setattr(_precompile, "_await_cached", lambda kernel: log.append(f"await {kernel}"))
+    monkeypatch.setitem(
+        _precompile.TASKS,
+        "t",
+        ((None, "os:getpid"), ("presliding.nowhere:kernel", "os:getcwd")),
+    )
+    assert _precompile.main(["t"]) == 0
+    assert log == ["await presliding.nowhere:kernel"]
 
 
 def test_the_precompile_command_runs_the_demo_into_nothing_but_the_cache(
@@ -84,8 +112,8 @@ def test_the_precompile_command_runs_the_demo_into_nothing_but_the_cache(
     assert "presliding precompile" in capsys.readouterr().out
 
 
-def test_the_demo_starts_each_task_early_and_waits_before_its_part(monkeypatch, tmp_path):
-    """Density from the start; the closed loop once the free stop has cached the event kernel."""
+def test_the_demo_starts_its_task_early_and_waits_before_its_part(monkeypatch, tmp_path):
+    """One second process from the start; the demo waits for it before the closed loop."""
     from presliding.cli import demo, demo_hunting
 
     log: list[str] = []
@@ -104,10 +132,4 @@ def test_the_demo_starts_each_task_early_and_waits_before_its_part(monkeypatch, 
     monkeypatch.setattr(demo_hunting, "hunting_part", hunting_part)
     with pytest.raises(Done):
         demo.run_demo(tmp_path)
-    assert log == [
-        "start demo-density",
-        "free stop",
-        "start demo-hunting",
-        "wait demo-hunting",
-        "hunting",
-    ]
+    assert log == ["start demo-later", "free stop", "wait demo-later", "hunting"]

@@ -13,6 +13,13 @@ and `wait` blocks before the part that needs those kernels, which then loads
 them from the cache instead of compiling them again. Nothing changes in what
 the command computes: the second process only fills the cache.
 
+A task is a list of steps, each a part to run once the kernels it shares with
+the command are in the cache (``needs``): the second process waits for them
+(polling the cache's index, at most `NEEDS_LIMIT` seconds) rather than compile
+them a second time while the command compiles them too. One process runs all
+the steps of a task: every process pays for importing the package and for
+numba's own helpers again, so one second process costs less CPU time than two.
+
 With a warm cache, a single core, ``NUMBA_DISABLE_JIT`` or a cache that cannot
 be read, nothing is started and `wait` returns at once. A second process that
 fails or overruns is stopped, and the command compiles what it needs itself.
@@ -25,36 +32,65 @@ import importlib
 import os
 import subprocess
 import sys
+import time
 
 __all__ = ["start", "stop_all", "wait"]
 
-#: task name -> "module:function" run once in the second process
-TASKS = {
-    "demo-density": "presliding.cli.demo_sections:density_part",
-    "demo-hunting": "presliding.cli.demo_hunting:hunting_part",
-}
+#: task name -> steps (kernel the step needs in the cache first or None, "module:function"
+#: run once in the second process)
+TASKS: dict[str, tuple[tuple[str | None, str], ...]] = {
+    # the demo's continuous densities, then its closed loop: the densities need the
+    # primitives that the demo's first model compiles, the loop the event kernel that
+    # the free stop compiles (the discrete density model uses it last, by when the
+    # command has cached it)
+    "demo-later": (
+        ("presliding.hysteresis._density_primitives:evaluate",
+         "presliding.cli.demo_sections:density_part"),
+        ("presliding.motion._event:run_events_sided", "presliding.cli.demo_hunting:hunting_part"),
+    ),
+}  # fmt: skip
 #: kernel whose cache entry tells whether a task's kernels are compiled already
 _SENTINELS = {
-    "demo-density": "presliding.motion._density_loop:run_fused",
-    "demo-hunting": "presliding.control._loop:run_loop",
+    "demo-later": "presliding.motion._density_loop:run_fused",
 }
 #: seconds `wait` gives a second process before stopping it
 WAIT_LIMIT = 600.0
+#: seconds a step waits for the kernels it needs before it compiles them itself
+NEEDS_LIMIT = 120.0
+#: seconds between two looks at the cache's index
+_POLL = 0.1
 
 _running: dict[str, subprocess.Popen] = {}
+
+
+def _is_cached(kernel: str) -> bool | None:
+    """Whether ``"module:name"`` has an entry in numba's cache (None: cannot tell)."""
+    try:
+        module, name = kernel.split(":")
+        dispatcher = getattr(importlib.import_module(module), name)
+        cache = dispatcher._cache  # numba's FunctionCache (cache=True)
+        return bool(cache._cache_file._load_index())
+    except Exception:  # any doubt: the caller behaves as without a second process
+        return None
 
 
 def _cache_is_cold(task: str) -> bool:
     """True when the task's sentinel kernel has no usable entry in numba's cache."""
     if os.environ.get("NUMBA_DISABLE_JIT", "0") not in ("", "0"):
         return False
-    try:
-        module, name = _SENTINELS[task].split(":")
-        dispatcher = getattr(importlib.import_module(module), name)
-        cache = dispatcher._cache  # numba's FunctionCache (cache=True)
-        return not cache._cache_file._load_index()
-    except Exception:  # any doubt: behave as before, compile in this process
-        return False
+    return _is_cached(_SENTINELS.get(task, "")) is False
+
+
+def _await_cached(kernel: str, limit: float = NEEDS_LIMIT) -> bool:
+    """Wait until `kernel` is in the cache (True), or `limit` seconds (False)."""
+    end = time.monotonic() + limit
+    while True:
+        cached = _is_cached(kernel)
+        if cached is None or cached:
+            return bool(cached)
+        if time.monotonic() >= end:
+            return False
+        time.sleep(_POLL)
 
 
 def _cores() -> int:
@@ -113,10 +149,14 @@ def _stop(proc: subprocess.Popen) -> None:
 
 
 def main(argv: list[str]) -> int:
-    """Run each named task once, discarding its results (the kernels land in the cache)."""
+    """Run each named task's steps once, discarding their results (the kernels land in
+    the cache)."""
     for task in argv:
-        module, name = TASKS[task].split(":")
-        getattr(importlib.import_module(module), name)()
+        for needs, target in TASKS[task]:
+            if needs is not None:
+                _await_cached(needs)
+            module, name = target.split(":")
+            getattr(importlib.import_module(module), name)()
     return 0
 
 

@@ -319,13 +319,13 @@ def run_demo(out_dir: Path, *, quiet: bool = True) -> list[Path]:
         identification_section,
     )
 
-    # On a cold cache the density part's kernels (the largest share) compile in a
-    # second process while parts 1-5 run here, and the closed loop's kernels in a
-    # third one from the end of part 2 (once the event kernel that the loop calls is
-    # in the cache, so that it is not compiled twice); each part then loads its
-    # kernels from the cache. The report order is unchanged.
-    precompiling = _precompile.start("demo-density")
-    precompiling_loop = False
+    # On a cold cache the kernels of the last two parts (the density part's are the
+    # largest share, then the closed loop's) compile in a second process while parts
+    # 1-4 run here; each part then loads its kernels from the cache. That process
+    # waits for the kernels it shares with parts 1-2 (the densities' primitives, which
+    # the first model built here compiles, and the event kernel) to be cached here
+    # rather than compile them twice. The report order is unchanged.
+    precompiling = _precompile.start("demo-later")
     sections = []
     parts = [  # in the order they run
         "the paper's Figure 3 loops",
@@ -343,7 +343,6 @@ def run_demo(out_dir: Path, *, quiet: bool = True) -> list[Path]:
             bar.update()
             bar.part(parts[1])
             stop = free_stop()
-            precompiling_loop = _precompile.start("demo-hunting")
             sections.append(_free_stop_section(stop, free_stop_figure(stop, out_dir)))
             bar.update()
             bar.part(parts[2])
@@ -355,16 +354,13 @@ def run_demo(out_dir: Path, *, quiet: bool = True) -> list[Path]:
             ident_section = identification_section(ident, identification_figure(ident, out_dir))
             bar.update()
             bar.part(parts[4])
-            if precompiling_loop:
+            if precompiling:  # its kernels may still be compiling in the second process
                 bar.note(COMPILING)
-            _precompile.wait("demo-hunting")
+            _precompile.wait("demo-later")
             hunt = hunting_part()
             hunt_section = hunting_section(hunt, hunting_figure(hunt, out_dir))
             bar.update()
             bar.part(parts[5])
-            if precompiling:  # its kernels are still being compiled in the second process
-                bar.note(COMPILING)
-            _precompile.wait("demo-density")
             dens = density_part()
             sections.append(density_section(dens, density_figure(dens, out_dir)))
             sections.extend([ident_section, hunt_section])

@@ -121,8 +121,7 @@ def plant_period(m, c1, sigma, k, r, f, y, v, last_dir, u, t0, t1, max_events): 
     return res[0], res[4], res[5], res[6], res[7]
 
 
-@njit(**_JIT)
-def run_loop(  # pragma: no cover - compiled
+def run_loop(
     m, c1, sigma, k, r, f, y, v, last_dir, kind, p, s, a, b, c, d, x, ref, ff, t0, dt, sub,
     max_events, o_y, o_v, o_a, o_fel, o_u, o_eel, o_dis, o_work, o_vis, o_ctrl, rev_t, rev_y,
     c1n, sigman, rn,
@@ -136,6 +135,10 @@ def run_loop(  # pragma: no cover - compiled
     K·sub + 1 entries; ``o_ctrl`` holds u_k at the K + 1 instants (NaN after a
     failure). Returns (status, n_rev, rest_start, y, v, last_dir, n_events,
     periods done).
+
+    The scratch arrays are made here, in Python, and the compiled `_loop_body` is
+    called directly: a compiled wrapper would cost a cold cache a second LLVM
+    optimisation of the whole loop and event kernel for a few allocations.
     """
     w = np.empty(2)
     tmp = np.empty(x.shape[0])

@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 
 from presliding.hysteresis._jit import njit
-from presliding.motion._event import run_events
+from presliding.motion._event import run_events, run_events_sided
 
 
 @njit(cache=True)
@@ -57,10 +57,12 @@ def batch_events(  # pragma: no cover - compiled
     rev = np.empty((2, 64))
     for b in range(b0, b1):
         f = f0[b].copy()
-        res = run_events(
-            m[b], c1[b], k[b], r[b], f, y0[b], v0[b], last_dir[b], u_t, u_val, t_eval, t_end,
-            max_events, o_y[b], o_v[b], scratch[0], scratch[1], scratch[2], scratch[3],
-            scratch[4], scratch[5], rev[0], rev[1], sigma[b], none, none,
+        # the sided kernel itself (equal sides), which `simulate` compiles already: through
+        # the `run_events` wrapper a cold cache would optimise the whole event kernel again
+        res = run_events_sided(
+            m[b], c1[b], c1[b], k[b], r[b], r[b], f, y0[b], v0[b], last_dir[b], u_t, u_val,
+            t_eval, t_end, max_events, o_y[b], o_v[b], scratch[0], scratch[1], scratch[2],
+            scratch[3], scratch[4], scratch[5], rev[0], rev[1], sigma[b], sigma[b], none, none,
         )  # fmt: skip
         status[b] = res[0]
         n_rev[b] = res[2]
