@@ -36,6 +36,7 @@ from presliding._validation import (
     as_real_scalar,
     fmt,
 )
+from presliding.identification._covariance import fit_covariance
 from presliding.identification._fit_options import (  # noqa: F401 (their home before)
     check_budget,
     check_constraints,
@@ -47,8 +48,6 @@ from presliding.identification._structured_lm import free_limit, levenberg_marqu
 from presliding.identification.uncertainty import (
     bounded_interval,
     full_covariance,
-    hac_covariance,
-    ols_covariance,
 )
 
 FloatArray = NDArray[np.float64]
@@ -333,11 +332,10 @@ def solve_least_squares(
         status, message = "converged", "all parameters are fixed; nothing was fitted"
     widths: tuple[int, ...] = ()
     with threadpool_limits(limits=1, user_api="blas"):  # tall, thin factorisations
-        if blocks is not None and pm.free:
-            cov, undetermined, found = hac_covariance(jac_free, r, blocks, clusters=clusters)
-            widths = tuple(found)
-        else:
-            cov, undetermined = ols_covariance(jac_free, r)
+        cov, undetermined, found = fit_covariance(
+            jac_free, r, blocks if pm.free else None, clusters
+        )
+        widths = tuple(found)
     full = pm.full(x)
     var = np.einsum("ij,jk,ik->i", pm.matrix, cov, pm.matrix) if pm.free else np.zeros(len(names))
     se = np.sqrt(np.maximum(var, 0.0))
