@@ -61,7 +61,7 @@ def leverage(jac: FloatArray) -> FloatArray:
     scaled = jac / np.where(norms == 0, 1.0, norms)
     gram = scaled.T @ scaled
     inv = np.linalg.pinv(gram, rcond=1e-12, hermitian=True)
-    h = np.einsum("ij,jk,ik->i", scaled, inv, scaled)
+    h = np.sum((scaled @ inv) * scaled, axis=1)  # one matrix product (BLAS), not a triple loop
     return np.clip(h, 0.0, 1.0)
 
 
