@@ -20,7 +20,10 @@ residuals, sees almost no scatter and its standard errors come out too small
 (95 % intervals holding the truth in about 75 % of fits). Dividing by 1 − h_t
 restores the scatter those samples had before the fit absorbed it; where
 every sample has a small leverage (the shared parameters of a long record)
-nothing changes. The leverage is capped at `MAX_LEVERAGE`: a parameter fixed by
+nothing changes. Only the variances are taken from the adjusted residuals (never
+below the plain ones); the correlations stay those of the plain sandwich: a few
+rescaled samples would otherwise dominate the meat and make two parameters
+look perfectly correlated. The leverage is capped at `MAX_LEVERAGE`: a parameter fixed by
 a single sample is not estimated with a finite factor anyway (its variance falls
 back to s²·(JᵀJ)⁻¹ in `hac_covariance`, or it is undetermined).
 """
@@ -38,8 +41,8 @@ __all__ = ["MAX_LEVERAGE", "fit_covariance", "leverage"]
 
 FloatArray = NDArray[np.float64]
 
-#: Largest leverage used in the adjustment (a residual is scaled by at most 1/(1 − 0.99)).
-MAX_LEVERAGE = 0.99
+#: Largest leverage used in the adjustment (a residual is scaled by at most 1/(1 − 0.9)).
+MAX_LEVERAGE = 0.9
 
 
 def leverage(jac: FloatArray) -> FloatArray:
@@ -97,7 +100,11 @@ def fit_covariance(
     n, p = jac.shape
     if n <= p or p == 0:
         return hac_covariance(jac, residual, blocks, clusters=clusters)
+    plain, undetermined, widths = hac_covariance(jac, residual, blocks, clusters=clusters)
     h = np.minimum(leverage(jac), MAX_LEVERAGE)
-    adjusted = residual / (1.0 - h)
-    cov, undetermined, widths = hac_covariance(jac, adjusted, blocks, clusters=clusters)
-    return cov * ((n - p) / n), undetermined, widths
+    adjusted = hac_covariance(jac, residual / (1.0 - h), blocks, clusters=clusters)[0]
+    var = np.maximum(np.diag(adjusted) * ((n - p) / n), np.diag(plain))
+    sd, sd_plain = np.sqrt(np.maximum(var, 0.0)), np.sqrt(np.maximum(np.diag(plain), 0.0))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        scale = np.where(sd_plain > 0, sd / sd_plain, 0.0)
+    return plain * np.outer(scale, scale), undetermined, widths
