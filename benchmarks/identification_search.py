@@ -15,14 +15,25 @@ Data generated with the library (exact event method) with a 1 µm encoder,
 * ``guide``: the user guide's 3-stop example (docs/user_guide/pooled_fits.rst):
   status and coverage of the two stiffnesses over seeds of encoder noise.
 * ``mirror``: a pooled fit and the fit of its mirror image (y, v, u negated).
-* ``speed``: 20 records × 1000 samples: time of the default fit, of the fit
-  without the multi-start, and of the nuisance search alone.
+* ``speed``: 20 records × 1000 samples, one set per seed: time of the default
+  fit and of its nuisance searches.
+
+Coverage is printed per parameter (a record's own parameters pooled over
+records) with its binomial standard error, the mean and spread of
+z = (estimate − truth)/SE (a mean away from 0 is a bias, a spread above 1 a
+standard error too small) and the median relative width. With
+PRESLIDING_STUDY_DUMP=path each fit's estimates, errors and intervals are
+appended there as JSON lines, and its Jacobian and residual saved next to it
+(``path.<design><seed>.npz``), so that covariance estimates can be compared
+offline on the same fits.
 
 Run: python benchmarks/identification_search.py [study] [seeds]
 """
 
 from __future__ import annotations
 
+import json
+import os
 import sys
 import time
 from collections import Counter
@@ -45,6 +56,8 @@ from presliding import (
 )
 
 QUANTUM, NOISE = 1e-6, 2e-7
+#: per-seed rows (estimates, SEs, intervals, truth) appended here when set
+DUMP = os.environ.get("PRESLIDING_STUDY_DUMP")
 OPTIONS = {"signal": "both", "initial_state": "preload"}
 
 
@@ -69,25 +82,104 @@ def _cost(fit) -> float:
     return float(r @ r)
 
 
-def _summary(label, statuses, at_floor, wrong, inside, seeds, elapsed) -> None:
+def _summary(label, statuses, at_floor, wrong, cover, seeds, elapsed) -> None:
     print(f"{label}: {seeds} seeds, {elapsed:.0f} s")
     print(f"  statuses: {dict(statuses)}")
     print(f"  at the noise floor: {at_floor}/{seeds} = {100 * at_floor / seeds:.0f} %")
     print(f"  wrong 'converged' (converged, not at the floor): {wrong}/{seeds}")
-    print(
-        "  95 % coverage: " + ", ".join(f"{k} {100 * v / seeds:.0f} %" for k, v in inside.items())
+    coverage_table(cover)
+
+
+def coverage_table(cover: dict) -> None:
+    """Per parameter: coverage ± binomial SE, mean |z| and relative width, share profiled.
+
+    ``cover[name]`` lists (inside, z, relative width, profiled) per interval;
+    z = (estimate − truth)/SE tells a bias (mean z ≠ 0) from a too-small SE
+    (std z > 1).
+    """
+    print(f"  {'parameter':<20}{'n':>5}{'coverage':>16}{'mean z':>9}{'std z':>8}"
+          f"{'width/|truth|':>15}{'profiled':>10}")  # fmt: skip
+    for name, rows in cover.items():
+        a = np.array(rows, dtype=float)
+        n, p = len(a), float(np.mean(a[:, 0]))
+        se = np.sqrt(p * (1 - p) / n)
+        z = a[np.isfinite(a[:, 1]), 1]
+        print(f"  {name:<20}{n:>5}{100 * p:>9.1f} ± {100 * se:>4.1f}%{np.mean(z):>9.2f}"
+              f"{np.std(z):>8.2f}{np.median(a[:, 2]):>15.3g}{np.mean(a[:, 3]):>10.2f}")  # fmt: skip
+
+
+def _entry(fit, name: str, value: float) -> tuple[float, float, float, float]:
+    lo, hi = fit.confidence_interval[name]
+    est, se = fit.parameters[name], fit.standard_error[name]
+    z = (est - value) / se if se > 0 else np.nan
+    width = (hi - lo) / max(abs(value), 1e-12)
+    return (
+        float(lo <= value <= hi),
+        float(z),
+        float(width),
+        float(fit.interval_method.get(name) == "profile"),
     )
+
+
+def _dump(path, row) -> None:
+    if path:
+        with open(path, "a") as fh:
+            fh.write(json.dumps(row) + "\n")
+
+
+class _Capture:
+    """Keeps the (Jacobian, residual, blocks, clusters) of every covariance the fits form,
+    so that covariance estimates can be compared offline on the same fits (DUMP set)."""
+
+    def __init__(self) -> None:
+        import presliding.identification._least_squares as lsq
+
+        self.module, self.original, self.calls = lsq, lsq.fit_covariance, []
+
+        def hook(jac, r, blocks=None, clusters=None):
+            if blocks is not None:
+                self.calls.append((np.array(jac), np.array(r), blocks, clusters))
+            return self.original(jac, r, blocks, clusters)
+
+        lsq.fit_covariance = hook
+
+    def save(self, path: str, fit) -> None:
+        """The call whose residual is the fit's own, as an npz next to the dump."""
+        best = min(self.calls, key=lambda c: float(c[1] @ c[1]), default=None)  # the best fit
+        self.calls = []
+        if best is None or not path:
+            return
+        jac, r, blocks, clusters = best
+        starts = [b.start if isinstance(b, slice) else int(b[0]) for b in blocks]
+        stops = [b.stop if isinstance(b, slice) else int(b[-1]) + 1 for b in blocks]
+        np.savez_compressed(path, jac=jac, r=r, starts=starts, stops=stops,
+                            clusters=np.asarray(clusters))  # fmt: skip
+
+
+def _row(design, seed, fit, truth, floor) -> dict:
+    r = fit.fitted - fit.measured
+    return {"design": design, "seed": seed, "status": fit.status, "floor": bool(floor),
+            "n": int(r.size), "free": list(fit.var_names),
+            "rho1": float(np.sum(r[1:] * r[:-1]) / np.sum(r * r)),
+            "params": {k: [v, fit.parameters[k], fit.standard_error[k],
+                           *fit.confidence_interval[k], fit.interval_method.get(k)]
+                       for k, v in truth.items()}}  # fmt: skip
 
 
 def study_stops(seeds: int, n_records: int = 8) -> None:
     t0 = time.perf_counter()
-    statuses, inside = Counter(), Counter()
+    statuses, cover = Counter(), {}
     at_floor = wrong = 0
+    capture = _Capture() if DUMP else None
     for seed in range(seeds):
         rng = np.random.default_rng(5000 + seed)
         pairs = [random_stop(rng) for _ in range(n_records)]
         records = [p[0] for p in pairs]
+        if capture is not None:
+            capture.calls = []
         fit = fit_response(records, **OPTIONS)
+        if capture is not None:
+            capture.save(f"{DUMP}.stops{seed}.npz", fit)
         truth = dict(TRUTH)
         for i, (_, nu) in enumerate(pairs):
             truth.update({f"{k}_{i + 1}": v for k, v in nu.items()})
@@ -97,13 +189,13 @@ def study_stops(seeds: int, n_records: int = 8) -> None:
         at_floor += floor
         wrong += fit.status == "converged" and not floor
         for name, value in truth.items():
-            lo, hi = fit.confidence_interval[name]
             key = name.rsplit("_", 1)[0] if name not in TRUTH else name
-            inside[key] += (lo <= value <= hi) / (1 if name in TRUTH else n_records)
+            cover.setdefault(key, []).append(_entry(fit, name, value))
+        _dump(DUMP, _row("stops", seed, fit, truth, floor))
         print(f"  seed {seed}: {fit.status}, RMS/floor {fit.search.residual_over_floor:.2f} "
               f"(truth {ref.search.residual_over_floor:.2f}), mass {fit.parameters['mass']:.4g}, "
               f"starts {fit.n_starts_at_best}/{fit.n_starts}", flush=True)  # fmt: skip
-    _summary("pooled stops, random preloads", statuses, at_floor, wrong, inside, seeds,
+    _summary("pooled stops, random preloads", statuses, at_floor, wrong, cover, seeds,
              time.perf_counter() - t0)  # fmt: skip
 
 
@@ -122,30 +214,40 @@ def random_loop(rng: np.random.Generator, samples: int = 600) -> tuple:
     state = preloaded_state(LOOP_MODEL, f0, direction=-d, position=y0)
     y = quasi_static_response(LOOP_MODEL, u, state).position
     y = 1e-8 * np.round((y + 2e-9 * rng.standard_normal(samples)) / 1e-8)
-    return Measurement(t, position=y, applied_force=u), f0
+    nuisance = {"initial_position": y0, "preload_fraction": f0 / LOOP_MODEL.max_elastic_force}
+    return Measurement(t, position=y, applied_force=u), nuisance
 
 
 def study_loops(seeds: int, n_records: int = 4) -> None:
     t0 = time.perf_counter()
-    statuses, inside = Counter(), Counter()
+    statuses, cover = Counter(), {}
     at_floor = wrong = 0
+    capture = _Capture() if DUMP else None
     for seed in range(seeds):
         rng = np.random.default_rng(7000 + seed)
         pairs = [random_loop(rng) for _ in range(n_records)]
         records = [p[0] for p in pairs]
+        if capture is not None:
+            capture.calls = []
         fit = fit_quasi_static(records, 3)
+        if capture is not None:
+            capture.save(f"{DUMP}.loops{seed}.npz", fit)
         ref = fit_quasi_static(records, 3, initial=LOOP_TRUTH)
         floor = _cost(fit) <= 1.05 * _cost(ref)
         statuses[fit.status] += 1
         at_floor += floor
         wrong += fit.status == "converged" and not floor
-        for name, value in LOOP_TRUTH.items():
-            lo, hi = fit.confidence_interval[name]
-            inside[name] += lo <= value <= hi
+        truth = dict(LOOP_TRUTH)
+        for i, (_, nu) in enumerate(pairs):
+            truth.update({f"{k}_{i + 1}": v for k, v in nu.items()})
+        for name, value in truth.items():
+            key = name if name in LOOP_TRUTH else name.rsplit("_", 1)[0]
+            cover.setdefault(key, []).append(_entry(fit, name, value))
+        _dump(DUMP, _row("loops", seed, fit, truth, floor))
         print(f"  seed {seed}: {fit.status}, RMS/floor {fit.search.residual_over_floor:.2f} "
               f"(truth start {ref.search.residual_over_floor:.2f}), F_c "
               f"{fit.parameters['coulomb_level']:.4g}", flush=True)  # fmt: skip
-    _summary("torque loops with preload", statuses, at_floor, wrong, inside, seeds,
+    _summary("torque loops with preload", statuses, at_floor, wrong, cover, seeds,
              time.perf_counter() - t0)  # fmt: skip
 
 
@@ -192,11 +294,11 @@ def study_mirror() -> None:
               f"of the shared parameters {worst:.2e}")  # fmt: skip
 
 
-def study_speed(repeats: int = 1) -> None:
+def study_speed(seeds: int = 6) -> None:
+    """20 records × 1000 samples per seed: the fit's wall time and its nuisance searches'."""
     import presliding.identification._nuisance_search as ns
 
-    records, _, _ = stop_records(0, 20)
-    fit_response(records[:2], **OPTIONS, max_evaluations=5)  # compile
+    fit_response(stop_records(0, 2)[0], **OPTIONS, max_evaluations=5)  # compile
     spent = [0.0]
     original = ns.search_nuisance
 
@@ -209,18 +311,19 @@ def study_speed(repeats: int = 1) -> None:
 
     search_module = sys.modules["presliding.identification._search"]
     search_module.search_nuisance = timed
-    for label, kw in (("default", {}), ("single start", {"multistart": False})):
-        times = []
-        for _ in range(repeats):
-            spent[0] = 0.0
-            t = time.perf_counter()
-            fit = fit_response(records, **OPTIONS, **kw)
-            times.append(time.perf_counter() - t)
-        print(f"20 × 1000 ({label}): median {np.median(times):.2f} s over {repeats} runs "
-              f"(target 5 s); nuisance search {spent[0]:.2f} s of the last; status "
-              f"{fit.status}, RMS/floor {fit.search.residual_over_floor:.2f}, starts "
-              f"{fit.n_starts_at_best}/{fit.n_starts}")  # fmt: skip
+    times = []
+    for seed in range(seeds):
+        records, _, _ = stop_records(seed, 20)
+        spent[0] = 0.0
+        t = time.perf_counter()
+        fit = fit_response(records, **OPTIONS)
+        times.append(time.perf_counter() - t)
+        print(f"20 × 1000, seed {seed}: {times[-1]:.2f} s (target 5 s), of which the nuisance "
+              f"search {spent[0]:.2f} s; status {fit.status}, RMS/floor "
+              f"{fit.search.residual_over_floor:.2f}, starts "
+              f"{fit.n_starts_at_best}/{fit.n_starts}", flush=True)  # fmt: skip
     search_module.search_nuisance = original
+    print(f"20 × 1000: median {np.median(times):.2f} s, max {max(times):.2f} s over {seeds} seeds")
 
 
 def main() -> None:
@@ -235,7 +338,7 @@ def main() -> None:
     if study in ("mirror", "all"):
         study_mirror()
     if study in ("speed", "all"):
-        study_speed()
+        study_speed(seeds if study == "speed" else 6)
 
 
 if __name__ == "__main__":

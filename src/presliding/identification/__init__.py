@@ -20,6 +20,7 @@ prediction.py       `Prediction`, `count_reversals`: a fitted model on another r
 cross_validation.py `cross_validate`, `CrossValidation`: leave-one-record-out tables
 model_prediction.py `predict_record`: a given model (a model file's) predicting a record
 uncertainty.py      HAC (Newey–West) covariance, correlations
+_covariance.py      a fit's covariance: the HAC sandwich of leverage-adjusted residuals
 _least_squares.py   the solver around scipy.optimize.least_squares (bounds, ties, statistics)
 _parameter_map.py   the free/fixed/tied split of named parameters
 _solution.py        `Solution`: the outcome of one least-squares solve

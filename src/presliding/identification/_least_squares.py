@@ -36,6 +36,7 @@ from presliding._validation import (
     as_real_scalar,
     fmt,
 )
+from presliding.identification._covariance import fit_covariance
 from presliding.identification._fit_options import (  # noqa: F401 (their home before)
     check_budget,
     check_constraints,
@@ -52,8 +53,6 @@ from presliding.identification._structured_lm import free_limit, levenberg_marqu
 from presliding.identification.uncertainty import (
     bounded_interval,
     full_covariance,
-    hac_covariance,
-    ols_covariance,
 )
 
 FloatArray = NDArray[np.float64]
@@ -127,7 +126,7 @@ def solve_least_squares(
         Rows of independent blocks of serially correlated residuals: the
         covariance is then the HAC sandwich of `presliding.identification.uncertainty`
         instead of s²·(JᵀJ)⁻¹; `clusters` (the record of each block) adds the
-        record-level sandwich (`hac_covariance`).
+        record-level sandwich (`_covariance.fit_covariance`).
     progress : FitProgress, optional
         Counts the residual evaluations and shows them with the cost
         (`presliding.identification._fit_progress`); it does not change the result.
@@ -328,11 +327,10 @@ def _solution(
     pm, names, r = setup.pm, setup.names, found.r
     widths: tuple[int, ...] = ()
     with threadpool_limits(limits=1, user_api="blas"):  # tall, thin factorisations
-        if blocks is not None and pm.free:
-            cov, undetermined, got = hac_covariance(found.jac_free, r, blocks, clusters=clusters)
-            widths = tuple(got)
-        else:
-            cov, undetermined = ols_covariance(found.jac_free, r)
+        cov, undetermined, got = fit_covariance(
+            found.jac_free, r, blocks if pm.free else None, clusters
+        )
+        widths = tuple(got)
     full = pm.full(found.x)
     var = np.einsum("ij,jk,ik->i", pm.matrix, cov, pm.matrix) if pm.free else np.zeros(len(names))
     se = np.sqrt(np.maximum(var, 0.0))

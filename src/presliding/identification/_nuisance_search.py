@@ -165,9 +165,15 @@ def _polish(problem: PooledProblem, vec: FloatArray, free: set[str],
     jac = problem.free_jacobian(sparse_output=True)
     fun = problem.residual()
     x0 = np.array([vec[problem.index[x]] for x in pm.free])
+
+    def mirrored_jac(x: FloatArray) -> object:
+        # forward differences step away from zero (a negative value steps down: its upper
+        # end is put at the value), so a record and its mirror image see mirrored steps
+        return jac(pm, x, flo, np.where(x < 0, x, fhi))
+
     try:
         lm = levenberg_marquardt(
-            lambda x: fun(pm.full(x)), lambda x: jac(pm, x, flo, fhi), x0, flo, fhi,
+            lambda x: fun(pm.full(x)), mirrored_jac, x0, flo, fhi,
             ftol=1e-8, xtol=1e-10, gtol=1e-12, max_nfev=POLISH_EVALUATIONS,
             step_limit=free_limit(pm, problem.step_limit),
         )  # fmt: skip
