@@ -84,3 +84,22 @@ def test_an_end_the_data_do_not_bound_is_unbounded_and_not_identifiable():
         intervals=prof.confidence_interval, covariance=None, bounds=prof.bounds,
     )  # fmt: skip
     assert status == "not_identifiable" and "unbounded" in message and " a " in f" {message}"
+
+
+def test_a_parameter_whose_wald_interval_a_bound_cuts_is_profiled_first():
+    """With budget for one profile only, it goes to the parameter the bound cuts (c), not to
+    the first-named well-determined ones (a, b)."""
+    x = np.linspace(0.0, 1.0, 40)
+    y = 1.5 - 0.7 * x + 0.1 * x**2 + np.random.default_rng(1).normal(0.0, 0.05, x.shape)
+    design = np.column_stack([np.ones_like(x), x, x**2])
+    sol = solve_least_squares(
+        lambda p: design @ p - y, {"a": 0.0, "b": 0.0, "c": 0.1}, jacobian=lambda p: design,
+        bounds={"c": (0.0, np.inf)}, tolerance=1e-12,
+    )  # fmt: skip
+    c, se = sol.values["c"], sol.standard_error["c"]
+    assert 0.0 < c < 2.0 * se  # the Wald interval reaches the bound
+    assert sol.confidence_interval["c"][0] == 0.0
+    prof = profile_solution(sol, "all", budget=1)
+    assert prof.interval_method == {"a": "wald", "b": "wald", "c": "profile"}
+    full = profile_solution(sol, "all")
+    assert set(full.interval_method.values()) == {"profile"}
