@@ -16,7 +16,7 @@ from decimal import Decimal, getcontext
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 import presliding as ps
@@ -399,6 +399,14 @@ def test_viscous_loss_is_an_independent_check_of_the_closed_forms():
     v0=st.floats(-1.0, 1.0),
     split=st.integers(1, 59),
 )
+# split on the change of u at t = 0.9 (t[36]): moving, without and with a Coulomb element,
+# and from rest (the mass sticks under 0.2 and slides under 5.0 from t = 0.9 on)
+@example(coulomb=0.0, stiffness=[10.0], breakaway=0.5, viscous=1.0, forces=[1.0, 0.0], v0=0.0,
+         split=36)  # fmt: skip
+@example(coulomb=0.3, stiffness=[10.0, 50.0], breakaway=0.5, viscous=1.0,
+         forces=[0.2, -2.0, 5.0], v0=0.0, split=36)  # fmt: skip
+@example(coulomb=0.3, stiffness=[10.0, 50.0], breakaway=0.5, viscous=1.0, forces=[0.2, 5.0],
+         v0=0.0, split=36)  # fmt: skip
 def test_an_event_run_with_viscous_continued_from_its_final_state_is_bit_identical(
     coulomb, stiffness, breakaway, viscous, forces, v0, split
 ):
@@ -412,8 +420,24 @@ def test_an_event_run_with_viscous_continued_from_its_final_state_is_bit_identic
     second = simulate(model, 1.3, initial_velocity=first.final_velocity, t_start=t[split],
                       initial_position=first.final_state.last_input,
                       initial_state=first.final_state, t_eval=t[split:], **kw)  # fmt: skip
-    for name in ("position", "velocity", "friction_force"):
+    for name in ("position", "velocity", "friction_force", "applied_force", "acceleration"):
         joined = np.concatenate([getattr(first, name), getattr(second, name)[1:]])
         np.testing.assert_array_equal(joined, getattr(whole, name), err_msg=name)
     assert second.final_velocity == whole.final_velocity
     np.testing.assert_array_equal(second.final_state.play, whole.final_state.play)
+
+
+@pytest.mark.parametrize("viscous", [0.0, 1.0])
+def test_a_run_ending_on_a_change_of_u_samples_the_force_after_it(viscous):
+    """u is continuous from the right: the last sample at a change of u has the new u."""
+    model = ps.PIFriction(0.3, [10.0, 50.0], [0.5, 0.5], viscous=viscous)
+    u = (np.array([0.0, 0.9]), np.array([0.2, 5.0]))  # sticks under 0.2, slides under 5.0
+    t = np.linspace(0.0, 1.5, 61)
+    kw = dict(applied_force=u, method="event")
+    whole = simulate(model, 1.3, t_eval=t, **kw)
+    first = simulate(model, 1.3, t_eval=t[:37], **kw)
+    assert first.applied_force[-1] == whole.applied_force[36] == 5.0
+    assert first.acceleration[-1] == whole.acceleration[36] > 0.0
+    assert first.friction_force[-1] == whole.friction_force[36]
+    # at rest at t = 0.9, since t = 0: the stop time is kept
+    assert first.final_velocity == 0.0 and first.stop_time == 0.0

@@ -181,8 +181,10 @@ def run_events_sided(  # pragma: no cover - compiled
             if (-c1n <= g and g <= c1p) or frozen:  # sticks: exactly at rest until u changes
                 if np.isnan(rest_start):
                     rest_start = t
+                # a change of u exactly at t_end is taken, like any other, before the
+                # sample at t_end: that sample has the new u, as in a longer run
                 t1 = min(t_u, t_end)
-                while ie < n_eval and (t_eval[ie] < t1 or (t1 == t_end and t_eval[ie] <= t1)):
+                while ie < n_eval and (t_eval[ie] < t1 or (t_u > t_end and t_eval[ie] <= t1)):
                     o_y[ie] = y
                     o_v[ie] = 0.0
                     o_a[ie] = 0.0
@@ -194,7 +196,7 @@ def run_events_sided(  # pragma: no cover - compiled
                         o_vis[ie] = vis
                     o_work[ie] = work
                     ie += 1
-                if t_u >= t_end:
+                if t_u > t_end:
                     t = t_end
                     break
                 t = t_u
@@ -267,8 +269,9 @@ def run_events_sided(  # pragma: no cover - compiled
             a0 = s * ap
             kind, dt, dmax = _damped_event(vp, ap, fp, gam, w, dmin, min(t_u, t_end) - t)
         # an element or a rest exactly at the change of u or at the end is an event
-        # (set exactly; a rest at t_end is a stop at t_end)
-        if t + dt > t_u and t_u < t_end:
+        # (set exactly; a rest at t_end is a stop at t_end); a change of u at t_end
+        # ends the piece there, and the next one (of length 0) gives the sample at t_end
+        if t + dt > t_u and t_u <= t_end:
             kind = 2
             dt = t_u - t
         if t + dt > t_end and kind != 2:
@@ -333,6 +336,8 @@ def run_events_sided(  # pragma: no cover - compiled
         if same:
             frozen = True
             rest_start = rest_before if not np.isnan(rest_before) else t
+        elif kind == 3 and vp == 0.0 and t1 == t:
+            rest_start = rest_before  # the piece from rest starts at t_end: still at rest
         y += d
         dis += dfric * s * d
         work += u * d

@@ -63,6 +63,24 @@ class Forcing:
             return np.ascontiguousarray(t[keep]), np.ascontiguousarray(val[keep])
         return t, np.ascontiguousarray(val)
 
+    def event_pieces(self, t_start: float, t_end: float) -> tuple[FloatArray, FloatArray]:
+        """`pieces` for the event kernels: a change of u exactly at t_end is a last piece.
+
+        u is continuous from the right, so a sample at a change of u has the new
+        value; a run that ends on a change of u gives its last sample the value
+        after the change, as a longer run does, and a continuation from there
+        resumes the very piece that the longer run starts at that time.
+        """
+        u_t, u_val = self.pieces(t_start, t_end)
+        if self.kind != "sampled":
+            return u_t, u_val
+        j = int(np.searchsorted(self.times, t_end, side="left"))
+        if j < self.times.shape[0] and self.times[j] == t_end and t_end > u_t[-1]:
+            after = float(self.values[j])
+            if after != u_val[-1]:
+                return np.append(u_t, t_end), np.append(u_val, after)
+        return u_t, u_val
+
     def loop_form(
         self, t0: float, t_end: float, n_steps: int
     ) -> tuple[int, FloatArray, FloatArray, FloatArray]:

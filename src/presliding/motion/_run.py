@@ -286,7 +286,7 @@ def run_event(
     """
     c1n, rn, sigman = (c1, r, sigma) if sides is None else (
         sides.coulomb[1], sides.threshold[1], sides.viscous[1])  # fmt: skip
-    u_t, u_val = forcing.pieces(t0, t_end)
+    u_t, u_val = forcing.event_pieces(t0, t_end)
     t_eval = times
     y_start, v_start, f_start = y0, v0, f0
     piece = resume.piece if resume is not None else None

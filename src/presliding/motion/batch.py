@@ -152,7 +152,7 @@ def simulate_batch(
         energy = 0.5 * m * v0 * v0
     check_finite_derived("kinetic energy ½·m·v0²", energy, ("mass", "initial_velocity"))
     f0, last_dir = _setup.batch_deformation(initial_state, r, v0, u0)
-    u_t, u_val = forcing.pieces(t0, t_end)
+    u_t, u_val = forcing.event_pieces(t0, t_end)
     return _setup.run_batch(m, c1, sigma, k, r, f0, y0, v0, last_dir, u_t, u_val, times, t_end,
                           max_events)  # fmt: skip
 
