@@ -10,7 +10,10 @@ whole process tree (the demo and the second process that compiles its later
 parts, which the demo waits for), and the ratios cold / warm, against the target
 of issue 24: a cold demo in at most 3x its warm time. CPU time is the steadier
 measure on a shared machine (other work stretches the wall time of both runs,
-but not evenly).
+but not evenly). On Linux it also prints the CPU seconds that other processes
+used during each run (from /proc/stat) and the cores left to the demo: with one
+of two cores busy elsewhere the demo and its second process share the other,
+and the cold wall time is their CPU time whatever the split between them.
 
 The cold run of the first round also records every kernel numba compiles, in
 every process of the tree (numba's ``"numba:compile"`` events, which it sends
@@ -68,10 +71,13 @@ if _out:
 
     event.register("numba:compile", _Timer())
 
+    _born = time.time()
+
     def _dump():
         name = " ".join(sys.argv[1:])[-30:] or "demo"
         with open(os.path.join(_out, f"{os.getpid()}.json"), "w") as fh:
-            json.dump({"rows": _rows, "cpu": time.process_time(), "argv": name}, fh)
+            json.dump({"rows": _rows, "cpu": time.process_time(), "argv": name,
+                       "wall": time.time() - _born}, fh)
 
     atexit.register(_dump)
 """
@@ -94,11 +100,22 @@ def children_cpu() -> float:
     return use.ru_utime + use.ru_stime
 
 
+def machine_busy() -> float | None:
+    """CPU seconds all processes of the machine have used since boot (None: not Linux)."""
+    try:
+        fields = Path("/proc/stat").read_text().split("\n", 1)[0].split()[1:]
+        user, nice, system, _idle, _iowait, irq, softirq, steal = map(int, fields[:8])
+        return (user + nice + system + irq + softirq + steal) / os.sysconf("SC_CLK_TCK")
+    except (OSError, ValueError, IndexError):
+        return None
+
+
 def run_demo(
     cache: Path, out: Path, one_core: bool, profile: Path | None = None
-) -> tuple[float, float]:
+) -> tuple[float, float, float | None]:
     """Wall and CPU seconds of one ``presliding demo`` in a new process using the cache
-    folder (CPU: the demo and the processes it waited for)."""
+    folder (CPU: the demo and the processes it waited for), and the CPU seconds other
+    processes used meanwhile (None where the machine's counters cannot be read)."""
     env = dict(os.environ, NUMBA_CACHE_DIR=str(cache))
     if profile is not None:
         (profile / "site").mkdir(parents=True)
@@ -111,12 +128,21 @@ def run_demo(
         if one_core:
             os.sched_setaffinity(0, {min(os.sched_getaffinity(0))})
 
-    start, cpu = time.perf_counter(), children_cpu()
+    start, cpu, busy = time.perf_counter(), children_cpu(), machine_busy()
     done = subprocess.run(cmd, env=env, preexec_fn=pin, capture_output=True, text=True)
-    took, cpu = time.perf_counter() - start, children_cpu() - cpu
+    took, cpu, after = time.perf_counter() - start, children_cpu() - cpu, machine_busy()
     if done.returncode != 0:
         raise SystemExit(f"presliding demo failed:\n{done.stderr}")
-    return took, cpu
+    others = None if busy is None or after is None else max(after - busy - cpu, 0.0)
+    return took, cpu, others
+
+
+def load_note(wall: float, others: float | None) -> str:
+    """Other processes' CPU seconds during a run and the cores they left to the demo."""
+    if others is None:
+        return ""
+    left = (os.cpu_count() or 1) - others / wall
+    return f" (others {others:.1f} s CPU meanwhile, {left:.1f} cores left)"
 
 
 def print_profile(folder: Path, top: int) -> None:
@@ -126,8 +152,8 @@ def print_profile(folder: Path, top: int) -> None:
     print(f"\ncold run: {len(rows)} compilations in {len(procs)} processes")
     for p in procs:
         own = sum(r["own"] for r in p["rows"])
-        print(f"  {p['argv']:>30}: {p['cpu']:6.2f} s CPU, {own:6.2f} s compiling "
-              f"({len(p['rows'])} kernels)")  # fmt: skip
+        print(f"  {p['argv']:>30}: {p['cpu']:6.2f} s CPU in {p['wall']:6.2f} s, "
+              f"{own:6.2f} s compiling ({len(p['rows'])} kernels)")  # fmt: skip
     total = sum(r["own"] for r in rows)
     print(f"  all processes: {total:.2f} s CPU compiling")
     by = collections.defaultdict(list)
@@ -162,15 +188,17 @@ def main() -> int:
             cache = work / f"cache-{i}"
             cache.mkdir()
             profile = None if args.no_profile or i else work / "profile"
-            cold, cold_cpu = run_demo(cache, work / "out", args.one_core, profile)
+            cold, cold_cpu, others = run_demo(cache, work / "out", args.one_core, profile)
             again = [run_demo(cache, work / "out", args.one_core) for _ in "ab"]
-            warm = statistics.median(w for w, _ in again)
-            warm_cpu = statistics.median(c for _, c in again)
+            warm = statistics.median(w for w, _, _ in again)
+            warm_cpu = statistics.median(c for _, c, _ in again)
             walls.append((cold, warm))
             cpus.append((cold_cpu, warm_cpu))
             print(f"round {i + 1}: wall cold {cold:6.2f} s, warm {warm:5.2f} s, ratio "
                   f"{cold / warm:.2f}; CPU cold {cold_cpu:6.2f} s, warm {warm_cpu:5.2f} s, "
                   f"ratio {cold_cpu / warm_cpu:.2f}")  # fmt: skip
+            print(f"  cold{load_note(cold, others)}; warm"
+                  f"{load_note(again[0][0], again[0][2])}")  # fmt: skip
         if not args.no_profile:
             print_profile(work / "profile", args.top)
     finally:

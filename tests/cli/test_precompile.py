@@ -113,8 +113,9 @@ def test_the_precompile_command_runs_the_demo_into_nothing_but_the_cache(
 
 
 def test_the_demo_starts_its_task_early_and_waits_before_its_part(monkeypatch, tmp_path):
-    """One second process from the start; the demo waits for it before the closed loop."""
-    from presliding.cli import demo, demo_hunting
+    """One second process from the start; the demo compiles its closed loop itself and
+    waits for the second process before the identification round trip."""
+    from presliding.cli import demo, demo_hunting, demo_sections
 
     log: list[str] = []
     monkeypatch.setattr(_precompile, "start", lambda task: log.append(f"start {task}") or True)
@@ -125,11 +126,22 @@ def test_the_demo_starts_its_task_early_and_waits_before_its_part(monkeypatch, t
     class Done(Exception):
         pass
 
-    def hunting_part():
-        log.append("hunting")
+    hunting_part = demo_hunting.hunting_part
+    monkeypatch.setattr(
+        demo_hunting, "hunting_part", lambda: log.append("hunting") or hunting_part()
+    )
+
+    def identification():
+        log.append("identification")
         raise Done
 
-    monkeypatch.setattr(demo_hunting, "hunting_part", hunting_part)
+    monkeypatch.setattr(demo_sections, "identification", identification)
     with pytest.raises(Done):
         demo.run_demo(tmp_path)
-    assert log == ["start demo-later", "free stop", "wait demo-later", "hunting"]
+    assert log == ["start demo-later", "free stop", "hunting", "wait demo-later", "identification"]
+    # the second process compiles the parts that run after the wait
+    targets = [target for _, target in _precompile.TASKS["demo-later"]]
+    assert targets == [
+        "presliding.cli.demo_sections:density_part",
+        "presliding.cli.demo_sections:identification",
+    ]

@@ -39,14 +39,16 @@ __all__ = ["start", "stop_all", "wait"]
 #: task name -> steps (kernel the step needs in the cache first or None, "module:function"
 #: run once in the second process)
 TASKS: dict[str, tuple[tuple[str | None, str], ...]] = {
-    # the demo's continuous densities, then its closed loop: the densities need the
-    # primitives that the demo's first model compiles, the loop the event kernel that
-    # the free stop compiles (the discrete density model uses it last, by when the
-    # command has cached it)
+    # the demo's continuous densities, then its identification round trip, while the
+    # demo runs its first parts and compiles its closed loop's kernels itself: the
+    # densities need the primitives that the demo's first model compiles (and the
+    # event kernel that the free stop compiles, last, by when the command has cached
+    # it), the fit the stop kernels that the Figure 3 loops compile
     "demo-later": (
         ("presliding.hysteresis._density_primitives:evaluate",
          "presliding.cli.demo_sections:density_part"),
-        ("presliding.motion._event:run_events_sided", "presliding.cli.demo_hunting:hunting_part"),
+        ("presliding.hysteresis._fused:stop_sum_blocked",
+         "presliding.cli.demo_sections:identification"),
     ),
 }  # fmt: skip
 #: kernel whose cache entry tells whether a task's kernels are compiled already

@@ -319,20 +319,22 @@ def run_demo(out_dir: Path, *, quiet: bool = True) -> list[Path]:
         identification_section,
     )
 
-    # On a cold cache the kernels of the last two parts (the density part's are the
-    # largest share, then the closed loop's) compile in a second process while parts
-    # 1-4 run here; each part then loads its kernels from the cache. That process
-    # waits for the kernels it shares with parts 1-2 (the densities' primitives, which
-    # the first model built here compiles, and the event kernel) to be cached here
-    # rather than compile them twice. The report order is unchanged.
+    # On a cold cache the kernels of the last two parts (the density part's, the
+    # largest share, then the identification's) compile in a second process while
+    # parts 1-4 run here (the closed loop compiles here, after the free stop has
+    # cached the event kernel it calls); each part then loads its kernels from the
+    # cache. That process waits for the kernels it shares with parts 1-2 (the
+    # densities' primitives, which the first model built here compiles, the event
+    # kernel and the stop kernels) to be cached here rather than compile them twice.
+    # The two processes then compile about as long each. The report order is unchanged.
     precompiling = _precompile.start("demo-later")
     sections = []
     parts = [  # in the order they run
         "the paper's Figure 3 loops",
         "free motion to a stop (Figures 4 and 5)",
         "reversal counts over c1/F_m",
-        "identification round trip (section 4)",
         "hunting of a PI loop (describing function)",
+        "identification round trip (section 4)",
         "continuous densities (section 3)",
     ]
     try:
@@ -350,15 +352,15 @@ def run_demo(out_dir: Path, *, quiet: bool = True) -> list[Path]:
             sections.append(_reversal_section(sweep, reversal_figure(sweep, out_dir)))
             bar.update()
             bar.part(parts[3])
-            ident = identification()
-            ident_section = identification_section(ident, identification_figure(ident, out_dir))
+            hunt = hunting_part()
+            hunt_section = hunting_section(hunt, hunting_figure(hunt, out_dir))
             bar.update()
             bar.part(parts[4])
             if precompiling:  # its kernels may still be compiling in the second process
                 bar.note(COMPILING)
             _precompile.wait("demo-later")
-            hunt = hunting_part()
-            hunt_section = hunting_section(hunt, hunting_figure(hunt, out_dir))
+            ident = identification()
+            ident_section = identification_section(ident, identification_figure(ident, out_dir))
             bar.update()
             bar.part(parts[5])
             dens = density_part()
