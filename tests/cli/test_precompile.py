@@ -98,14 +98,17 @@ def test_the_second_process_runs_the_steps_in_order_after_their_kernels(monkeypa
 def test_the_precompile_command_runs_the_demo_into_nothing_but_the_cache(
     monkeypatch, tmp_path, capsys
 ):
-    """``presliding precompile`` (documented in --help): the demo's work, no files left."""
-    from presliding.cli import demo, main
+    """``presliding precompile`` (documented in --help): the demo's work and both network
+    paths, no files left."""
+    from presliding.cli import demo, main, precompile
 
     ran = []
     monkeypatch.setattr(demo, "run_demo", lambda out, quiet: ran.append((out, quiet)) or [])
+    monkeypatch.setattr(precompile, "network_kernels", lambda: ran.append("network"))
     monkeypatch.chdir(tmp_path)
     assert main(["precompile"]) == 0
-    assert len(ran) == 1 and ran[0][1] is False and not ran[0][0].exists()
+    assert len(ran) == 2 and ran[0][1] is False and not ran[0][0].exists()
+    assert ran[1] == "network"
     assert "kernels are cached" in capsys.readouterr().out
     assert list(tmp_path.iterdir()) == []
     assert main(["--help"]) == 0
@@ -145,3 +148,19 @@ def test_the_demo_starts_its_task_early_and_waits_before_its_part(monkeypatch, t
         "presliding.cli.demo_sections:density_part",
         "presliding.cli.demo_sections:identification",
     ]
+
+
+def test_the_network_kernels_run_both_paths_of_a_small_chain(monkeypatch):
+    """What ``presliding precompile`` adds to the demo: one exact and one Moreau–Jean run."""
+    import presliding.network as network
+    from presliding.cli.precompile import network_kernels
+
+    calls = []
+    for name in ("simulate_network", "simulate_network_moreau"):
+        real = getattr(network, name)
+        monkeypatch.setattr(
+            network, name, lambda *a, _f=real, _n=name, **k: calls.append((_n, _f(*a, **k)))
+        )
+    network_kernels()
+    assert [n for n, _ in calls] == ["simulate_network", "simulate_network_moreau"]
+    assert all(r.success for _, r in calls)

@@ -214,7 +214,8 @@ def add_precompile(
         "precompile",
         help="compile the numba kernels into the cache (for CI images and containers)",
         description="Compile the numba kernels that the commands use (by running the demo's "
-        "computations once, writing nothing but the cache) so that a later first run does "
+        "computations and a small network of each path once, writing nothing but the "
+        "cache) so that a later first run does "
         "not compile. Run it when building a CI image or a container, with the same "
         "NUMBA_CACHE_DIR (if any) as the runs that follow; it prints where the kernels are "
         "cached.",
