@@ -166,37 +166,52 @@ def _row(design, seed, fit, truth, floor) -> dict:
                        for k, v in truth.items()}}  # fmt: skip
 
 
-def study_stops(seeds: int, n_records: int = 8) -> None:
+def _study(
+    design: str, label: str, seeds: int, seed0: int, draw, shared: dict, fit_fn, ref_fn, detail
+) -> None:
+    """One design over seeds: draw records and their own parameters, fit, fit again from the
+    truth (the noise floor), and tally statuses, the floor and coverage per parameter."""
     t0 = time.perf_counter()
     statuses, cover = Counter(), {}
     at_floor = wrong = 0
     capture = _Capture() if DUMP else None
     for seed in range(seeds):
-        rng = np.random.default_rng(5000 + seed)
-        pairs = [random_stop(rng) for _ in range(n_records)]
+        pairs = draw(np.random.default_rng(seed0 + seed))
         records = [p[0] for p in pairs]
         if capture is not None:
             capture.calls = []
-        fit = fit_response(records, **OPTIONS)
+        fit = fit_fn(records)
         if capture is not None:
-            capture.save(f"{DUMP}.stops{seed}.npz", fit)
-        truth = dict(TRUTH)
+            capture.save(f"{DUMP}.{design}{seed}.npz", fit)
+        truth = dict(shared)
         for i, (_, nu) in enumerate(pairs):
             truth.update({f"{k}_{i + 1}": v for k, v in nu.items()})
-        ref = fit_response(records, **OPTIONS, initial=truth, multistart=False)
+        ref = ref_fn(records, truth)
         floor = _cost(fit) <= 1.05 * _cost(ref)
         statuses[fit.status] += 1
         at_floor += floor
         wrong += fit.status == "converged" and not floor
         for name, value in truth.items():
-            key = name.rsplit("_", 1)[0] if name not in TRUTH else name
+            key = name if name in shared else name.rsplit("_", 1)[0]
             cover.setdefault(key, []).append(_entry(fit, name, value))
-        _dump(DUMP, _row("stops", seed, fit, truth, floor))
-        print(f"  seed {seed}: {fit.status}, RMS/floor {fit.search.residual_over_floor:.2f} "
-              f"(truth {ref.search.residual_over_floor:.2f}), mass {fit.parameters['mass']:.4g}, "
-              f"starts {fit.n_starts_at_best}/{fit.n_starts}", flush=True)  # fmt: skip
-    _summary("pooled stops, random preloads", statuses, at_floor, wrong, cover, seeds,
-             time.perf_counter() - t0)  # fmt: skip
+        _dump(DUMP, _row(design, seed, fit, truth, floor))
+        print(
+            f"  seed {seed}: {fit.status}, RMS/floor {fit.search.residual_over_floor:.2f} "
+            f"(truth {ref.search.residual_over_floor:.2f}), {detail(fit)}",
+            flush=True,
+        )
+    _summary(label, statuses, at_floor, wrong, cover, seeds, time.perf_counter() - t0)
+
+
+def study_stops(seeds: int, n_records: int = 8) -> None:
+    _study(
+        "stops", "pooled stops, random preloads", seeds, 5000,
+        lambda rng: [random_stop(rng) for _ in range(n_records)], TRUTH,
+        lambda records: fit_response(records, **OPTIONS),
+        lambda records, truth: fit_response(records, **OPTIONS, initial=truth, multistart=False),
+        lambda fit: f"mass {fit.parameters['mass']:.4g}, starts "
+        f"{fit.n_starts_at_best}/{fit.n_starts}",
+    )  # fmt: skip
 
 
 LOOP_MODEL = PIFriction(0.05, [2e4, 6e3, 2e3], breakaway=[0.15, 0.15, 0.15])
@@ -219,36 +234,13 @@ def random_loop(rng: np.random.Generator, samples: int = 600) -> tuple:
 
 
 def study_loops(seeds: int, n_records: int = 4) -> None:
-    t0 = time.perf_counter()
-    statuses, cover = Counter(), {}
-    at_floor = wrong = 0
-    capture = _Capture() if DUMP else None
-    for seed in range(seeds):
-        rng = np.random.default_rng(7000 + seed)
-        pairs = [random_loop(rng) for _ in range(n_records)]
-        records = [p[0] for p in pairs]
-        if capture is not None:
-            capture.calls = []
-        fit = fit_quasi_static(records, 3)
-        if capture is not None:
-            capture.save(f"{DUMP}.loops{seed}.npz", fit)
-        ref = fit_quasi_static(records, 3, initial=LOOP_TRUTH)
-        floor = _cost(fit) <= 1.05 * _cost(ref)
-        statuses[fit.status] += 1
-        at_floor += floor
-        wrong += fit.status == "converged" and not floor
-        truth = dict(LOOP_TRUTH)
-        for i, (_, nu) in enumerate(pairs):
-            truth.update({f"{k}_{i + 1}": v for k, v in nu.items()})
-        for name, value in truth.items():
-            key = name if name in LOOP_TRUTH else name.rsplit("_", 1)[0]
-            cover.setdefault(key, []).append(_entry(fit, name, value))
-        _dump(DUMP, _row("loops", seed, fit, truth, floor))
-        print(f"  seed {seed}: {fit.status}, RMS/floor {fit.search.residual_over_floor:.2f} "
-              f"(truth start {ref.search.residual_over_floor:.2f}), F_c "
-              f"{fit.parameters['coulomb_level']:.4g}", flush=True)  # fmt: skip
-    _summary("torque loops with preload", statuses, at_floor, wrong, cover, seeds,
-             time.perf_counter() - t0)  # fmt: skip
+    _study(
+        "loops", "torque loops with preload", seeds, 7000,
+        lambda rng: [random_loop(rng) for _ in range(n_records)], LOOP_TRUTH,
+        lambda records: fit_quasi_static(records, 3),
+        lambda records, truth: fit_quasi_static(records, 3, initial=LOOP_TRUTH),
+        lambda fit: f"F_c {fit.parameters['coulomb_level']:.4g}",
+    )  # fmt: skip
 
 
 def guide_records(seed: int) -> list:
