@@ -4,6 +4,7 @@ Files
 -----
 _status.py          the one status judge of every fit (its rules tabled), exit codes, hints
 _profile.py         profile-likelihood intervals on the least-squares core
+_alternatives.py    other local optima within the profile's threshold: widened intervals
 _parameters.py      initial, bounds, fixed, tied and lmfit.Parameters, checked together
 _fit_names.py       lmfit's and scipy's names on `FitResult` (aic, bic, redchi, x, to_lmfit)
 _fit_report.py      how a `FitResult` shows itself: report, notebook table, pandas, figure
@@ -37,6 +38,7 @@ _quasi_static_problem.py   the pooled quasi-static residual
 _quasi_static_start.py     quasi-static start values (eq. 8 as a regression)
 _quasi_static_plan.py      `fit_quasi_static` as a problem and its search, checks, result
 _quasi_static_kernel.py    compiled quasi-static positions of many records and parameter sets
+_quasi_static_errors.py    the error floor of runs of equal quantised samples
 _nuisance_search.py  each record's own parameters searched on a grid, the shared ones held
 _search.py          the search step: starts, alternation, the noise-floor rule, its summary
 _noise_floor.py     the noise floor of the data: quantum and high-frequency noise

@@ -25,9 +25,12 @@ functions (lmfit's single Minimizer, scipy's result conventions):
    status judge (`_status.judge`).
 
 `FitRun` carries one fit's explicit state along the way: the problem, the
-options and the residual evaluations spent so far (every solve goes through
-`FitRun.solve`, which counts them). A record-pooled fit reports them all
-(every start and check); a direct one the evaluations of the solve it kept.
+options, the residual evaluations spent so far (every solve goes through
+`FitRun.solve`, which counts them) and the local optima its solves reached,
+handed on with the solution (`Solution.others`) so that one the intervals
+exclude while the profile's threshold does not is reported (`_alternatives`).
+A record-pooled fit reports every evaluation (every start and check); a
+direct one those of the solve it kept.
 """
 
 from __future__ import annotations
@@ -38,6 +41,7 @@ from typing import Any
 
 import numpy as np
 
+from presliding.identification._alternatives import OPTIMUM, canonical
 from presliding.identification._fit_problem import FitOptions, FitProblem
 from presliding.identification._least_squares import Solution
 
@@ -56,12 +60,15 @@ class FitRun:
     def __init__(self, problem: FitProblem, options: FitOptions):
         self.problem, self.options = problem, options
         self.evaluations = 0
+        self.optima: list[Solution] = []  # the local optima of the full problem's solves
 
     def solve(self, begin: Any = None, rigid: bool = False, extra: Any = None,
               **overrides: Any) -> Solution:  # fmt: skip
         """`FitProblem.solve` with the run's options, its evaluations counted."""
         out = self.problem.solve(self.options, begin, rigid=rigid, extra=extra, **overrides)
         self.evaluations += out.n_evaluations
+        if not rigid and not extra and out.status in OPTIMUM:
+            self.optima.append(out)
         return out
 
     def stage(self, text: str) -> None:
@@ -110,9 +117,28 @@ def run_fit(problem: FitProblem, options: FitOptions, plan: FitPlan) -> Any:
             return other
     sol, summary = judge(run, sol, found)
     sol, boot = intervals(run, sol, plan.bootstrap, plan.seed)
+    sol = replace(sol, others=other_optima(run, sol))
     if problem.records is not None:  # every start and check counted; a direct problem
         sol = replace(sol, n_evaluations=run.evaluations)  # counts the solve it kept
     return plan.result(run, sol, boot, summary)
+
+
+def other_optima(run: FitRun, sol: Solution) -> tuple[tuple[dict[str, float], float], ...]:
+    """The local optima of the run's solves with the same free parameters as `sol`, as
+    (values, cost), interchangeable elements relabelled in `sol`'s order (`_alternatives`)."""
+    p = run.problem
+    k_names: list[str] = []
+    if p.spec is not None and p.spec.equal and p.spec.density is None:
+        k_names = [x for x in p.spec.k_names if x not in p.fixed and x not in p.tied]
+        k_names = k_names if len(k_names) == len(p.spec.k_names) else []
+    out = []
+    for other in run.optima:
+        if other.free != sol.free or set(other.values) != set(sol.values):
+            continue
+        c = cost(other)
+        if np.isfinite(c):
+            out.append((canonical(other.values, sol.values, k_names), c))
+    return tuple(out)
 
 
 def settle(run: FitRun, sol: Solution) -> Solution:

@@ -52,6 +52,8 @@ class FitReport:
     model: Any
     correlation: Any
     search: Any
+    interval_method: dict[str, str]
+    alternatives: Any
 
     def to_pandas(self) -> Any:
         """A pandas DataFrame of the parameters: value, unit, standard error, interval,
@@ -103,6 +105,8 @@ class FitReport:
             note = " (fixed)" if n in self.fixed else (" (tied)" if n in self.tied else "")
             if n in self.at_bounds:
                 note += f" (at its bound {bound_text(self.bounds.get(n), v)})"
+            if self.interval_method.get(n) == "union":
+                note += " (interval widened to hold another optimum)"
             unit = self.units.get(n, "")
             line = f"{n:<{width}}{v:>14.6g} {unit:<10}{se:>11.3g}   {interval_text(lo, hi)}{note}"
             if n in boot:
@@ -126,6 +130,11 @@ class FitReport:
             f"model: {self.model!r}",
         ]
         lines += self.search.lines() if self.search is not None else []
+        for alt in self.alternatives:
+            lines.append(
+                f"another optimum (cost {alt.cost:.6g}, {alt.rise:+.3g} over the best): "
+                + alt.text(self.parameters, tuple(self.parameters))
+            )
         lines += [f"note: {n}" for n in self.notes]
         if self.cross_validation is not None:
             lines += ["", self.cross_validation.report()]

@@ -15,8 +15,10 @@ gives the fit's own steps:
   is refined, the records' own starts fitted again, then searched on the grid
   of the fit engine (`_nuisance_search`);
 * checks: coalesced elements split, elements relabelled stiffest first;
-* result: the model, the preloads as forces, the note of an F_c on its floor
-  and the predictor.
+* result: the errors raised to the floor that runs of equal quantised samples
+  imply (`_quasi_static_errors`: a record's initial position is fixed by its
+  first samples alone), the model, the preloads as forces, the note of an F_c
+  on its floor and the predictor.
 """
 
 from __future__ import annotations
@@ -40,6 +42,7 @@ from presliding.identification._least_squares import Solution
 from presliding.identification._model_spec import DENSITIES, ModelSpec
 from presliding.identification._nuisance_search import search_nuisance
 from presliding.identification._parameters import check_levels, resolve_parameters
+from presliding.identification._quasi_static_errors import with_run_floor
 from presliding.identification._quasi_static_problem import QuasiStaticProblem
 from presliding.identification._quasi_static_start import lift_density, quasi_static_start
 from presliding.identification._response_checks import (
@@ -239,6 +242,7 @@ def _result(req: QuasiStaticRequest, run: FitRun, sol: Solution, boot: Any,
     from presliding.identification.fit_result import FitResult
 
     records, spec, values = run.problem.records, req.spec, sol.values
+    sol = with_run_floor(sol, records)  # errors of parameters fixed by runs of equal samples
     o_y, _, status, _ = records.simulate(np.array([values[x] for x in records.names]))
     if np.any(status != 0) and sol.status == "converged":
         sol = replace(sol, status="failed", message="no quasi-static response at the optimum")

@@ -39,6 +39,10 @@ class Solution:
     #: tied name -> (target, factor, offset)
     ties: dict[str, tuple[str, float, float]] = field(default_factory=dict)
     profiler: Any = field(default=None, repr=False, compare=False)  # `_profile.Profiler`
+    #: other local optima the search reached, as (values, cost ‖r‖²) (`_alternatives`)
+    others: tuple[tuple[dict[str, float], float], ...] = field(
+        default=(), repr=False, compare=False
+    )
 
 
 def name_list(names: Any, order: tuple[str, ...]) -> str:

@@ -24,7 +24,10 @@ status               rule that gives it (the first that fires wins)             
                      standard error that is not finite; ``interval``: an
                      interval end the data do not bound, or one spanning more
                      than two orders of magnitude; ``profile``: a flat profile
-                     (set by a check).
+                     (set by a check); ``optima``: another local optimum the
+                     search reached is within the profile's likelihood-ratio
+                     threshold of the best and outside an interval (the
+                     interval widened to hold both, `_alternatives`).
 ``at_bound``         ``bound``: a model parameter sits on its bound (c1 = 0,    1
                      k_j = 0, ...), where the linearised interval does not
                      hold; a record's start, an offset and a viscous

@@ -33,6 +33,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from presliding._axes import as_axis, on_axis
 from presliding.friction.pi_friction import PIFriction
+from presliding.identification._alternatives import Alternative, hidden_optima
 from presliding.identification._fit_names import LmfitNames
 from presliding.identification._fit_report import FitReport
 from presliding.identification._least_squares import STATUSES as STATUSES
@@ -151,8 +152,16 @@ class FitResult(FitReport, LmfitNames):
         the free parameter vector (order of `var_names`) and the evaluations.
     interval_method : dict name -> str
         How each free parameter's interval was formed: ``"profile"`` (profile
-        likelihood, `presliding.identification._profile`) or ``"wald"``
-        (value ± t·SE, on a log scale from a bound it would cross).
+        likelihood, `presliding.identification._profile`), ``"wald"``
+        (value ± t·SE, on a log scale from a bound it would cross) or
+        ``"union"`` (widened to hold another local optimum, `alternatives`).
+    alternatives : tuple of Alternative
+        Other local optima the search reached whose cost rise over the best is
+        within the profile's likelihood-ratio threshold while they put a
+        parameter outside its interval (`presliding.identification._alternatives`):
+        each with ``parameters``, ``cost``, ``rise`` and ``differs`` (the
+        parameters whose intervals were widened to hold it; the fit is then
+        ``"not_identifiable"``).
     """
 
     model: PIFriction | None
@@ -192,6 +201,7 @@ class FitResult(FitReport, LmfitNames):
     interval_method: dict[str, str] = field(default_factory=dict)
     ties: dict[str, tuple[str, float, float]] = field(default_factory=dict)
     search: Any = None  # the pooled fits' `_search.SearchSummary` (starts, noise floor, order)
+    alternatives: tuple[Alternative, ...] = ()
 
     @classmethod
     def from_solution(
@@ -206,6 +216,7 @@ class FitResult(FitReport, LmfitNames):
         rms, nrmse, relative = fit_statistics(measured, fitted)
         if not sol.interval_method:
             sol = profile_solution(sol, labels.pop("profile", "auto"))
+        sol, alternatives = hidden_optima(sol)
         status, message = judge(
             sol.status, sol.message, np.asarray(measured, dtype=float),
             np.asarray(fitted, dtype=float), sol.free, sol.at_bounds,
@@ -231,7 +242,8 @@ class FitResult(FitReport, LmfitNames):
             message=message, n_evaluations=sol.n_evaluations, at_bounds=sol.at_bounds,
             units=units, covariance=sol.covariance, bounds=sol.bounds, chisqr=chisqr,
             ndata=int(sol.residual.size), var_names=sol.free,
-            interval_method=dict(sol.interval_method), ties=dict(sol.ties), **labels,
+            interval_method=dict(sol.interval_method), ties=dict(sol.ties),
+            alternatives=alternatives, **labels,
         )  # fmt: skip
 
     def on_axis(self, axis: str) -> FitResult:
@@ -323,6 +335,7 @@ class FitResult(FitReport, LmfitNames):
             "nvarys": self.nvarys,
             "var_names": list(self.var_names),
             "interval_method": dict(self.interval_method),
+            "alternatives": [a.to_dict() for a in self.alternatives],
             "covariance": None if self.covariance is None else self.covariance.tolist(),
             "bootstrap": None if self.bootstrap is None else {
                 k: list(v) for k, v in self.bootstrap.items()},

@@ -1,0 +1,89 @@
+"""A second optimum is never hidden (`_alternatives`, through `run_fit`)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from presliding.identification._alternatives import canonical
+from presliding.identification._fit_engine import FitPlan, Found, run_fit
+from presliding.identification._fit_problem import FitOptions, FitProblem
+from presliding.identification.fit_result import FitResult
+
+X = np.linspace(0.0, 1.0, 200)
+NOISE = 0.01 * np.random.default_rng(3).standard_normal(X.shape[0])
+
+
+def _fit(model, starts, data):
+    """A direct problem y ≈ model(a, b, x) solved from `starts` through the one pipeline."""
+
+    def residual(p):
+        return model(p[0], p[1], X) - data
+
+    problem = FitProblem(("a", "b"), {"a": starts[0][0], "b": starts[0][1]}, {}, {}, {},
+                         residual_function=residual)  # fmt: skip
+
+    def search(run):
+        sols = [run.solve({"a": a, "b": b}) for a, b in starts]
+        best = min(sols, key=lambda s: float(s.residual @ s.residual))
+        return Found(best, len(sols), 1)
+
+    def result(run, sol, boot, summary):
+        fitted = data + sol.residual
+        return FitResult.from_solution(sol, None, X, data, fitted, signal_label="signal")
+
+    return run_fit(problem, FitOptions(0.95, 200, 1e-10), FitPlan(search, result))
+
+
+def _square(a, b, x):  # a and −a give the same residual: two optima of equal cost
+    return a * a * x + b
+
+
+def test_two_optima_of_equal_cost_are_not_identifiable_and_both_kept():
+    data = 4.0 * X + 1.0 + NOISE
+    fit = _fit(_square, [(1.0, 0.0), (-1.0, 0.0)], data)
+    assert fit.status == "not_identifiable", fit.message
+    assert fit.message.startswith("rule optima"), fit.message
+    assert "a " in fit.message and "2" in fit.message
+    best = fit.parameters["a"]
+    assert abs(best) == pytest.approx(2.0, rel=1e-2)
+    (alt,) = fit.alternatives
+    assert alt.differs == ("a",)
+    assert alt.parameters["a"] == pytest.approx(-best, rel=1e-6)
+    assert alt.rise == pytest.approx(0.0, abs=1e-9 * alt.cost)
+    lo, hi = fit.confidence_interval["a"]
+    assert lo <= -2.0 * 0.99 and hi >= 2.0 * 0.99  # the union holds both optima (and the truth)
+    assert fit.interval_method["a"] == "union"
+    assert fit.interval_method["b"] != "union"  # b is the same at both
+    d = fit.to_dict()
+    assert d["alternatives"][0]["differs"] == ["a"]
+    assert "widened to hold another optimum" in fit.report()
+    assert "another optimum" in fit.report()
+
+
+def test_one_optimum_reached_twice_stays_converged():
+    data = 4.0 * X + 1.0 + NOISE
+    fit = _fit(lambda a, b, x: a * x + b, [(1.0, 0.0), (-1.0, 3.0)], data)
+    assert fit.status == "converged", fit.message
+    assert fit.alternatives == ()
+    assert set(fit.interval_method.values()) <= {"wald", "profile"}
+
+
+def test_a_second_optimum_beyond_the_threshold_is_not_reported():
+    """a² x with a small term odd in a: the valley near −2 is higher by far more than the
+    profile threshold, so it is a local minimum the best rightly excludes."""
+
+    def tilted(a, b, x):
+        return a * a * x + 0.05 * a * x * x + b
+
+    data = tilted(2.0, 1.0, X) + NOISE
+
+    fit = _fit(tilted, [(1.0, 0.0), (-1.0, 0.0)], data)
+    assert fit.status == "converged", fit.message
+    assert fit.alternatives == ()
+
+
+def test_interchangeable_elements_are_compared_in_the_best_order():
+    best = {"stiffness_1": 10.0, "stiffness_2": 3.0, "coulomb": 1.0}
+    other = {"stiffness_1": 3.0, "stiffness_2": 10.0, "coulomb": 1.0}
+    assert canonical(other, best, ["stiffness_1", "stiffness_2"]) == best
