@@ -13,7 +13,9 @@ gives the fit's own steps:
   the floor rule (`_search.at_floor`) no further start runs. Otherwise the
   spread starts and the best of the global search, a few steps each; the best
   is refined, the records' own starts fitted again, then searched on the grid
-  of the fit engine (`_nuisance_search`);
+  of the fit engine (`_nuisance_search`); a start whose short solve ended
+  within `REFINE_WITHIN` of the best's cost in another basin is solved on to
+  its own optimum (a second valley is reported, never hidden: `_alternatives`);
 * checks: coalesced elements split, elements relabelled stiffest first;
 * result: the errors raised to the floor that runs of equal quantised samples
   imply (`_quasi_static_errors`: a record's initial position is fixed by its
@@ -57,7 +59,14 @@ from presliding.identification._response_setup import (
     check_quasi_static_records,
     record_starts,
 )
-from presliding.identification._search import SAME_OPTIMUM, at_floor, global_start, same_point
+from presliding.identification._search import (
+    REFINE_WITHIN,
+    SAME_OPTIMUM,
+    TIE,
+    at_floor,
+    global_start,
+    same_point,
+)
 from presliding.measurement.measurement import Measurement, common_axis
 
 __all__ = ["STATES", "check_quasi_static", "quasi_static_plan", "quasi_static_problem"]
@@ -221,9 +230,22 @@ def _search(req: QuasiStaticRequest, run: FitRun) -> Found:
         again = run.solve(values)
         sol = again if cost(again) < cost(sol) else sol
     run.evaluations += count
+    tries = [_other_valley(run, t, sol) for t in tries]
+    best = min(tries, key=cost)
+    sol = best if cost(best) < cost(sol) * (1.0 - TIE) else sol
     at_best = sum(1 for t in tries if same_point(p.records, t.values, sol.values)
                   or cost(t) <= cost(sol) * (1.0 + SAME_OPTIMUM))  # fmt: skip
     return Found(sol, len(tries), at_best, count)
+
+
+def _other_valley(run: FitRun, t: Solution, sol: Solution) -> Solution:
+    """A start's short solve that ended near the best's cost in another basin, solved on to
+    its own optimum (a second valley the intervals must not hide, `_alternatives`)."""
+    near = np.isfinite(cost(t)) and cost(t) <= REFINE_WITHIN * cost(sol)
+    if t.status != "max_evaluations" or not near or same_point(run.problem.records, t.values,
+                                                                 sol.values):  # fmt: skip
+        return t
+    return run.solve(t.values)
 
 
 def _split(req: QuasiStaticRequest, run: FitRun, sol: Solution) -> Solution:
