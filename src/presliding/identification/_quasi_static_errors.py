@@ -1,31 +1,38 @@
-"""A floor on the standard errors of a pooled fit from runs of equal quantised samples.
+"""A floor on the standard errors of a pooled fit from the samples where the contact sticks.
 
-Why. A quantised position (an encoder) that stands still over a run of
-samples, while the contact sticks, repeats one value: the quantisation error
-of those samples is one and the same, it does not average out over the run.
-The least-squares residual cannot show it where a parameter is fixed by such
-a run alone: a record's initial position is the only parameter that moves its
-first samples, before the force has overcome c1 (on the samples after them it
-is collinear with the record's preload, which shifts the whole loop), so the
-fit takes the run's value exactly, leaves residuals of 0 there, and the
-sandwich (`_covariance.fit_covariance`), built from those residuals, gives a
-standard error up to 10⁶ times too small (the leverage adjustment cannot help:
-the run's residuals are 0, not merely shrunk). The preload inherits the error
+Why. Where the contact sticks, the true position is constant over a stretch
+of samples, and a quantised position (an encoder) reads one value there, up to
+the noise that sometimes flips a sample to the next level: the quantisation
+error is common to the stretch and does not average out over it. The
+least-squares residual cannot show it where a parameter is fixed by such a
+stretch alone: a record's initial position is the only parameter that moves
+its first samples, before the force has overcome c1 (on the samples after them
+it is collinear with the record's preload, which shifts the whole loop), so
+the fit takes the stretch's value exactly, leaves residuals of 0 there, and
+the sandwich (`_covariance.fit_covariance`), built from those residuals, gives
+a standard error up to 10⁶ times too small (the leverage adjustment cannot
+help: the residuals are 0, not merely shrunk). The preload inherits the error
 through the collinearity.
 
-The floor. The error covariance the noise alone implies, with the samples of
-each run of equal values perfectly correlated and independent otherwise,
+The floor. The error covariance the noise alone implies: each sample's noise
+variance σ_b² (`_noise_floor.noise_variance` of the block's signal:
+quantisation q²/12 or the high-frequency noise) split into a part v_ind
+independent from sample to sample, estimated as the pooled variance of the
+residual within the stick stretches (the runs where the fitted signal is
+constant), and a part v_com = σ_b² − v_ind common to the samples of one stick
+stretch (independent elsewhere):
 
-    Σ = σ_b² · (blocks of ones over each run),    Cov_floor = H⁻¹ Jᵀ Σ J H⁻¹,  H = JᵀJ,
+    Σ = v_ind·I + v_com·(blocks of ones over each stick stretch),
+    Cov_floor = H⁻¹ Jᵀ Σ J H⁻¹,  H = JᵀJ.
 
-σ_b² the noise variance of the block's signal estimated from the data
-(`_noise_floor.noise_variance`: quantisation q²/12 or the high-frequency
-noise), is the least covariance the data support. Every free parameter's
-variance is the larger of the fit's and this floor's; the correlations stay
-the fit's, the Wald intervals are formed again from the raised errors (the
-profile then uses them for its threshold). Unquantised data have runs of one
-sample: the floor is then the ordinary s²·H⁻¹ with the noise floor for s², which the
-fit's own covariance exceeds anyway.
+It is the least covariance the data support for the records' own parameters,
+which only a few stretches determine; their variance is the larger of the
+fit's and this floor's (the shared parameters keep the fit's sandwich, which
+sees their information spread over many samples and records). The
+correlations stay the fit's, the Wald intervals are formed again from the
+raised errors (the profile then uses them for its threshold). Without stick
+stretches, Σ = σ_b²·I, the ordinary floor s²·H⁻¹, which the fit's own errors
+exceed anyway.
 """
 
 from __future__ import annotations
@@ -46,28 +53,34 @@ __all__ = ["floor_variances", "run_matrix", "with_run_floor"]
 FloatArray = NDArray[np.float64]
 
 
-def run_matrix(problem: Any) -> sparse.csr_matrix:
-    """S (runs × residual rows): σ_b on the rows of each run of equal measured values.
-
-    Runs are taken within each residual block (a record's signal), so that
-    SᵀS = Σ, the error covariance of the module notes.
-    """
-    rows, cols, vals, n_runs = [], [], [], 0
+def run_matrix(problem: Any, residual: FloatArray) -> sparse.csr_matrix:
+    """G with GᵀG = Σ (module notes): rows √v_ind on every residual row, and √v_com over
+    each stick stretch (consecutive rows of one block whose fitted signal is constant)."""
+    fitted = problem.data + residual
+    rows, cols, vals, n_out = [], [], [], 0
     for _, block in problem.rows:
-        data = problem.data[block]
-        if data.shape[0] == 0:
+        data, fit, r = problem.data[block], fitted[block], residual[block]
+        n = data.shape[0]
+        if n == 0:
             continue
-        sigma = float(np.sqrt(noise_variance(data)))
-        run = np.concatenate([[0], np.cumsum(np.diff(data) != 0)])
-        rows.append(n_runs + run)
-        cols.append(np.arange(block.start, block.stop))
-        vals.append(np.full(data.shape[0], sigma))
-        n_runs += int(run[-1]) + 1
+        total = noise_variance(data)
+        run = np.concatenate([[0], np.cumsum(np.diff(fit) != 0)])
+        sizes = np.bincount(run)
+        means = np.bincount(run, weights=r) / sizes
+        spread = float(np.sum((r - means[run]) ** 2))
+        dof = int(np.sum(sizes[sizes > 1] - 1))
+        independent = min(spread / dof, total) if dof else total
+        common = total - independent
+        index = np.arange(block.start, block.stop)
+        rows += [n_out + np.arange(n), n_out + n + run]
+        cols += [index, index]
+        vals += [np.full(n, np.sqrt(independent)), np.full(n, np.sqrt(common))]
+        n_out += n + int(run[-1]) + 1
     if not rows:
         return sparse.csr_matrix((0, problem.n_res))
     return sparse.csr_matrix(
         (np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
-        shape=(n_runs, problem.n_res),
+        shape=(n_out, problem.n_res),
     )
 
 
@@ -84,7 +97,7 @@ def floor_variances(jac: Any, runs: sparse.csr_matrix) -> FloatArray:
 
 
 def with_run_floor(sol: Solution, problem: Any) -> Solution:
-    """`sol` with every free parameter's variance raised to the floor (module notes).
+    """`sol` with the records' own parameters' variances raised to the floor (module notes).
 
     Tied parameters follow their target; fixed ones keep 0. A failed solve, or
     one without a profiler (nothing free), is returned as it is.
@@ -93,14 +106,16 @@ def with_run_floor(sol: Solution, problem: Any) -> Solution:
     if prof is None or sol.status == "failed" or sol.covariance is None or not prof.free:
         return sol
     x = np.array([sol.values[n] for n in prof.free], dtype=float)
-    jac = prof.jacobian(x)
+    jac = prof.jacobian(x)[: problem.n_res]  # without a hinge row of a bound on F_c
     dense_ok = np.all(np.isfinite(jac.data if sparse.issparse(jac) else jac))
     if not dense_ok:
         return sol
-    floor = floor_variances(jac, run_matrix(problem))
+    floor = floor_variances(jac, run_matrix(problem, sol.residual[: problem.n_res]))
     se = dict(sol.standard_error)
     for name, var in zip(prof.free, floor, strict=True):
         old = se[name]
+        if problem.record_of.get(name) is None:  # a shared parameter: the sandwich holds
+            continue
         if np.isfinite(old) and np.isfinite(var) and var > old * old:
             se[name] = float(np.sqrt(var))
     for name, (target, factor, _) in sol.ties.items():
