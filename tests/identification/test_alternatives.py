@@ -87,3 +87,21 @@ def test_interchangeable_elements_are_compared_in_the_best_order():
     best = {"stiffness_1": 10.0, "stiffness_2": 3.0, "coulomb": 1.0}
     other = {"stiffness_1": 3.0, "stiffness_2": 10.0, "coulomb": 1.0}
     assert canonical(other, best, ["stiffness_1", "stiffness_2"]) == best
+
+
+def test_torque_loops_whose_element_split_has_two_optima_say_so():
+    """Four torque loops (the identification study's seed 12) that reach the noise floor
+    both at k2/k3 = 6137/1863 and along a flat valley holding the truth 6000/2000: the split
+    probes reach the second, so the fit is not identifiable and the interval holds both."""
+    from tests.identification.test_quasi_static_errors import _loops
+
+    records, _ = _loops(7012)
+    from presliding import fit_quasi_static
+
+    fit = fit_quasi_static(records, 3)
+    assert fit.status == "not_identifiable", fit.message
+    assert fit.alternatives and "stiffness_2" in fit.alternatives[0].differs
+    for name, truth in (("stiffness_2", 6000.0), ("stiffness_3", 2000.0)):
+        lo, hi = fit.confidence_interval[name]
+        assert lo <= truth <= hi, name
+        assert fit.interval_method[name] == "union"

@@ -16,6 +16,10 @@ gives the fit's own steps:
   of the fit engine (`_nuisance_search`); a start whose short solve ended
   within `REFINE_WITHIN` of the best's cost in another basin is solved on to
   its own optimum (a second valley is reported, never hidden: `_alternatives`);
+  then the element split is probed: from the best, a tenth of the smaller
+  stiffness moved between neighbouring elements, both ways, each solved (the
+  split is the least determined direction of the loops; another optimum that
+  the profile's threshold does not exclude is reported, `_alternatives`);
 * checks: coalesced elements split, elements relabelled stiffest first;
 * result: the errors raised to the floor that runs of equal quantised samples
   imply (`_quasi_static_errors`: a record's initial position is fixed by its
@@ -208,7 +212,35 @@ def _starts(req: QuasiStaticRequest, run: FitRun) -> list[dict[str, float]]:
     return starts
 
 
+#: share of the smaller stiffness moved between neighbouring elements by the split probes
+SPLIT_SHARES = (0.1, -0.1)
+
+
 def _search(req: QuasiStaticRequest, run: FitRun) -> Found:
+    """The starts (`_starts_search`), then the element split probed (module notes)."""
+    found = _starts_search(req, run)
+    spec, sol = req.spec, found.solution
+    if spec.density is not None or not spec.equal or spec.n < 2 or _shaped(req):
+        return found
+    if not np.isfinite(cost(sol)):
+        return found
+    best, probes = sol, []
+    for a, b in zip(spec.k_names[:-1], spec.k_names[1:], strict=True):
+        for share in SPLIT_SHARES:
+            begin = dict(sol.values)
+            move = share * min(begin[a], begin[b])
+            begin[a], begin[b] = begin[a] - move, begin[b] + move
+            probes.append(run.solve(begin))
+            if cost(probes[-1]) < cost(best) * (1.0 - TIE):
+                best = probes[-1]
+    at_best = sum(1 for t in probes if same_point(run.problem.records, t.values, best.values)
+                  or cost(t) <= cost(best) * (1.0 + SAME_OPTIMUM))  # fmt: skip
+    if best is sol:  # a probe that found a lower optimum leaves the starts' best behind
+        at_best += found.n_starts_at_best
+    return Found(best, found.n_starts + len(probes), at_best, found.search_evaluations)
+
+
+def _starts_search(req: QuasiStaticRequest, run: FitRun) -> Found:
     """The cheapest route first, then further starts (module notes)."""
     p = run.problem
     own = req.initial_state == "preload" and not any(x in p.fixed or x in p.tied for x in p.names)
