@@ -208,3 +208,57 @@ def test_bad_input(clean, records, kwargs, error, message):
     recs = clean[0][:2] if records is None else records
     with pytest.raises(error, match=message.replace("[", r"\[").replace("]", r"\]")):
         fit_response(recs, **kwargs)
+
+
+# ----------------------------------------------------------- velocity as a difference quotient
+def _exact_stop(seed: int = 2):
+    """One noise-free stop: exact positions, the velocity their difference quotient."""
+    from presliding import Measurement
+
+    records, nuisance = stop_records(seed, 1, MODEL)  # exact position and exact velocity
+    m = records[0]
+    return m, Measurement(m.time, position=m.position, velocity=np.gradient(m.position, m.time),
+                          applied_force=m.applied_force), nuisance[0]  # fmt: skip
+
+
+def test_difference_quotient_is_detected_to_rounding():
+    exact, diff, _ = _exact_stop()
+    t, y = diff.time, diff.position
+    assert pp.difference_order(t, y, diff.velocity) == 1
+    assert pp.difference_order(t, y, np.gradient(y, t, edge_order=2)) == 2
+    assert pp.difference_order(t, y, exact.velocity) == 0  # a measured velocity
+    assert pp.as_record(diff).difference == 1
+    assert pp.as_record(diff, "measured").difference == 0
+    assert pp.as_record(exact).difference == 0
+    assert pp.as_record(exact, "difference").difference == 1
+    from presliding import Measurement
+
+    only_y = Measurement(t, position=y, applied_force=diff.applied_force)
+    assert pp.as_record(only_y).difference == 1
+
+
+def test_velocity_difference_quotient_fits_the_initial_velocity_exactly():
+    """Velocity = numpy.gradient of an exact position: compared through the same quotient,
+    the true initial velocity is the optimum (residual ~0); compared with the exact model
+    velocity, the one-sided first quotient (y1 − y0)/Δt = v0 + a0·Δt/2 + O(Δt²) pulls v0."""
+    _, diff, nu = _exact_stop()
+    fixed = dict(SHARED)
+    kw = {"signal": "velocity", "initial_state": "preload", "fixed": fixed}
+    new = fit_response(diff, **kw)
+    old = fit_response(diff, velocity="measured", **kw)
+    v0 = nu["initial_velocity"]
+    assert new.parameters["initial_velocity"] == pytest.approx(v0, rel=1e-7)
+    assert np.sqrt(np.mean((new.fitted - new.measured) ** 2)) < 1e-8 * abs(v0)
+    # the old comparison: v0 off by a good part of the first quotient's error a0·Δt/2
+    # (a0 the deceleration at the first sample), towards a smaller speed
+    a0 = (diff.velocity[1] - diff.velocity[0]) / 1e-3
+    err = old.parameters["initial_velocity"] - v0
+    assert 0.3 < err / (a0 * 1e-3 / 2) < 1.0
+    assert np.sign(err) == -np.sign(v0)
+    assert abs(err) > 1e6 * abs(new.parameters["initial_velocity"] - v0)
+
+
+def test_velocity_option_is_checked(clean):
+    records, _ = clean
+    with pytest.raises(ValueError, match="velocity"):
+        fit_response(records, velocity="filtered")

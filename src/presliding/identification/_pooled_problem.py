@@ -10,6 +10,16 @@ Per record i (suffix ``_i`` from 1, none for a single `Measurement`):
 The residual of record i is w_v·(v_sim − v) and/or w_y·(y_sim − y); records
 are stacked in order, each record's velocity block before its position block.
 
+A record's velocity that is the difference quotient of its position (computed
+here when only the position is given, or detected: equal to
+``numpy.gradient(position, time)`` to rounding) is compared with the same
+difference quotient of the simulated position, not with the exact simulated
+velocity (`Record.difference`, `difference_order`). The quotient is one-sided at
+a record's ends and a central difference elsewhere; it differs from the exact
+velocity by O(a·Δt) (a the acceleration) at the ends and wherever the
+acceleration jumps (a stop, a change of u), which would bias the initial
+velocity and the forces otherwise.
+
 Jacobian: finite differences exploiting the structure. A free parameter that
 moves only per-record parameters touches only those records' rows, so the
 columns of different records are perturbed together (one group per kind of
@@ -39,6 +49,7 @@ from presliding.motion._forcing import as_forcing
 FloatArray = NDArray[np.float64]
 MAX_EVENTS = 10_000_000
 NUISANCE = ("initial_position", "initial_velocity", "preload_fraction")
+VELOCITY = ("auto", "difference", "measured")
 MODES = {"relaxed": pk.RELAXED, "saturated": pk.BRANCH, "preload": pk.BRANCH,
          "continuing": pk.BRANCH}  # fmt: skip
 
@@ -53,15 +64,46 @@ class Record:
     applied_force: FloatArray  # zeros for a free record
     forced: bool
     direction: float  # of the motion before the first sample
+    #: edge order of the difference quotient ``numpy.gradient(position, time)`` the velocity
+    #: is (the model's velocity is then taken the same way); 0: a measured velocity
+    difference: int = 0
 
 
-def as_record(m: Measurement) -> Record:
-    """The record of a measurement (velocity or position must be present)."""
+def difference_order(t: FloatArray, y: FloatArray, v: FloatArray) -> int:
+    """The edge order (1 or 2) of ``numpy.gradient(y, t, edge_order=...)`` that `v` equals to
+    rounding (a few ulps of the largest speed per sample), or 0 when it is neither."""
+    scale = float(np.max(np.abs(v))) if v.size else 0.0
+    for order in (1, 2):
+        if t.shape[0] <= order or not scale > 0:
+            continue
+        g = np.gradient(y, t, edge_order=order)
+        if float(np.max(np.abs(v - g))) <= 1e-9 * scale:
+            return order
+    return 0
+
+
+def as_record(m: Measurement, velocity: str = "auto") -> Record:
+    """The record of a measurement (velocity or position must be present).
+
+    `velocity` (`VELOCITY`): ``"auto"`` compares the model's difference quotient where the
+    record's velocity is one of its position (computed here, or detected); ``"difference"``
+    does so whenever the position is given (edge order 1 unless 2 is detected);
+    ``"measured"`` always compares the model's exact velocity.
+    """
     t = m.time
-    v = m.velocity if m.velocity is not None else np.gradient(m.require("position")[0], t)
+    order = 0
+    if m.velocity is None:
+        v = np.gradient(m.require("position")[0], t)
+        order = 1 if velocity != "measured" and t.shape[0] > 1 else 0
+    else:
+        v = m.velocity
+        if m.position is not None and velocity != "measured":
+            order = difference_order(t, m.position, v)
+            if velocity == "difference" and order == 0 and t.shape[0] > 1:
+                order = 1
     y = m.position if m.position is not None else rt.integral(t, v)
     u = m.applied_force if m.applied_force is not None else np.zeros_like(t)
-    return Record(t, y, v, u, bool(np.any(u)), rt.initial_direction(v, u, y))
+    return Record(t, y, v, u, bool(np.any(u)), rt.initial_direction(v, u, y), order)
 
 
 class PooledProblem:
@@ -77,8 +119,10 @@ class PooledProblem:
         offset: bool,
         suffix: bool,
         viscous: bool = False,
+        velocity: str = "auto",
     ):
         self.records, self.spec = records, spec
+        self.velocity = velocity  # how held-out records' velocities are read (`as_record`)
         self.w_v, self.w_y = signal_weights
         self.initial_state = initial_state
         self.n_rec = len(records)
@@ -120,7 +164,8 @@ class PooledProblem:
         """The same problem (model, weights, memory, offset, σ) on other records."""
         return PooledProblem(records, self.spec, (self.w_v, self.w_y), self.initial_state,
                              offset="offset" in self.shared, suffix=suffix,
-                             viscous="viscous" in self.shared)  # fmt: skip
+                             viscous="viscous" in self.shared,
+                             velocity=self.velocity)  # fmt: skip
 
     # ------------------------------------------------------------ layout
     @staticmethod
@@ -217,7 +262,8 @@ class PooledProblem:
         return mass, c1_all, sigma, k_arr, r_arr, offset, y0, v0, np.ascontiguousarray(frac)
 
     def simulate(self, sets: FloatArray, rigid: bool = False) -> tuple:
-        """Positions, velocities (P, S), status and reversal counts (P, R)."""
+        """Positions, velocities as measured (P, S; `as_measured`), status and reversal
+        counts (P, R)."""
         mass, c1, sigma, k, r, offset, y0, v0, frac = self.unpack(np.atleast_2d(sets), rigid)
         n_par, n_s = mass.shape[0], self.t_all.shape[0]
         o_y, o_v = np.empty((n_par, n_s)), np.empty((n_par, n_s))
@@ -227,7 +273,17 @@ class PooledProblem:
             mass, c1, sigma, k, r, offset, y0, v0, frac, self.mode, self.direction, self.t_all,
             self.t_off, self.ut_all, self.uv_all, self.u_off, MAX_EVENTS, o_y, o_v, status, n_rev,
         )  # fmt: skip
+        self.as_measured(o_y, o_v)
         return o_y, o_v, status, n_rev
+
+    def as_measured(self, o_y: FloatArray, o_v: FloatArray) -> None:
+        """Velocities (P, S), in place, as each record measures them: the difference quotient
+        of the simulated positions where the record's velocity is one (module notes)."""
+        for i, rec in enumerate(self.records):
+            if rec.difference:
+                a, b = self.t_off[i], self.t_off[i + 1]
+                o_v[:, a:b] = np.gradient(o_y[:, a:b], rec.time, axis=1,
+                                          edge_order=2 if rec.difference == 2 else 1)  # fmt: skip
 
     def residuals(self, sets: FloatArray, rigid: bool = False) -> FloatArray:
         """Residual of every parameter set (P, n_res); inf rows where a simulation failed."""

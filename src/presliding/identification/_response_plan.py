@@ -58,7 +58,7 @@ def response_problem(req: ResponseRequest) -> tuple[FitProblem, FitOptions]:
     spec, recs = req.spec, req.recs
     records = pp.PooledProblem(
         recs, spec, signal_weights(req.signal, recs, req.weights), req.initial_state,
-        offset=req.offset, suffix=not req.single, viscous=req.viscous,
+        offset=req.offset, suffix=not req.single, viscous=req.viscous, velocity=req.velocity,
     )  # fmt: skip
     names, fixed = records.names, dict(req.fixed)
     for i, rec in enumerate(recs):
