@@ -136,10 +136,10 @@ class _Capture:
 
         self.module, self.original, self.calls = lsq, lsq.fit_covariance, []
 
-        def hook(jac, r, blocks=None, clusters=None):
+        def hook(jac, r, blocks=None, clusters=None, links=None):
             if blocks is not None:
                 self.calls.append((np.array(jac), np.array(r), blocks, clusters))
-            return self.original(jac, r, blocks, clusters)
+            return self.original(jac, r, blocks, clusters, links)
 
         lsq.fit_covariance = hook
 

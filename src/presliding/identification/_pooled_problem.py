@@ -40,6 +40,7 @@ from numpy.typing import NDArray
 from presliding.identification import _pooled_jacobian as pj
 from presliding.identification import _pooled_kernel as pk
 from presliding.identification import _response_tools as rt
+from presliding.identification._covariance import Link
 from presliding.identification._least_squares import _Map
 from presliding.identification._model_spec import TINY, ModelSpec
 from presliding.identification._pooled_banks import banks_one_by_one, element_banks
@@ -80,6 +81,29 @@ def difference_order(t: FloatArray, y: FloatArray, v: FloatArray) -> int:
         if float(np.max(np.abs(v - g))) <= 1e-9 * scale:
             return order
     return 0
+
+
+def difference_matrix(t: FloatArray, order: int) -> Any:
+    """The sparse matrix D with D·y = ``numpy.gradient(y, t, edge_order=order)``.
+
+    Every row of D has its entries within two columns of the diagonal, so the
+    gradients of five combs (ones at the indices ≡ k mod 5) give all of them.
+    """
+    from scipy import sparse
+
+    n = t.shape[0]
+    i = np.arange(n)
+    rows, cols, vals = [], [], []
+    for k in range(5):
+        g = np.gradient((i % 5 == k).astype(float), t, edge_order=2 if order == 2 else 1)
+        j = i - 2 + (k - (i - 2)) % 5  # the one column ≡ k (mod 5) within two of i
+        ok = (j >= 0) & (j < n) & (g != 0)
+        rows.append(i[ok])
+        cols.append(j[ok])
+        vals.append(g[ok])
+    return sparse.csr_matrix(
+        (np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(n, n)
+    )
 
 
 def as_record(m: Measurement, velocity: str = "auto") -> Record:
@@ -206,6 +230,20 @@ class PooledProblem:
                 if w:
                     out.append((i, slice(start, start + n)))
                     start += n
+        return out
+
+    @property
+    def links(self) -> list[Link]:
+        """The velocity blocks that are the difference quotient of their record's position
+        block (both compared), for the covariance (`_covariance.Link`)."""
+        if not (self.w_v and self.w_y):
+            return []
+        out = []
+        for i, rec in enumerate(self.records):
+            if rec.difference:
+                (_, vel), (_, pos) = [b for b in self.rows if b[0] == i]
+                out.append(Link(vel, pos, difference_matrix(rec.time, rec.difference),
+                                self.w_v / self.w_y))  # fmt: skip
         return out
 
     def record_rows(self, i: int) -> NDArray[np.intp]:
