@@ -259,6 +259,42 @@ def test_velocity_difference_quotient_fits_the_initial_velocity_exactly():
 
 
 def test_velocity_option_is_checked(clean):
+    from presliding import Measurement
+
     records, _ = clean
     with pytest.raises(ValueError, match="velocity"):
         fit_response(records, velocity="filtered")
+    only_v = [Measurement(m.time, velocity=m.velocity, applied_force=m.applied_force)
+              for m in records]  # fmt: skip
+    with pytest.raises(ValueError, match="without a position"):
+        fit_response(only_v, velocity="difference")
+
+
+def test_difference_velocity_rows_are_the_quotient_of_the_position_rows():
+    """The premise of the covariance's links: with v = numpy.gradient(y, t) the velocity
+    residual and Jacobian of each record are w_v/w_y·D times its position ones."""
+    records, nuisance = stop_records(4, 2, MODEL, quantum=1e-6, noise=2e-7)
+    recs = [pp.as_record(m) for m in records]
+    assert all(r.difference == 1 for r in recs)
+    problem = pp.PooledProblem(recs, ModelSpec(4, True, None, 32), (2.0, 300.0), "preload",
+                               offset=False, suffix=True)  # fmt: skip
+    truth = _truth(nuisance)
+    problem.set_typical(truth)
+    pm = _parameter_map(tuple(problem.names), {}, {})
+    x = np.array([truth[n] for n in problem.names])
+    lo, hi = np.full(x.shape, -np.inf), np.full(x.shape, np.inf)
+    jac = problem.free_jacobian(sparse_output=False)(pm, x, lo, hi)
+    r = problem.residuals(x[None])[0]
+    links = problem.links
+    assert len(links) == 2
+    for link in links:
+        assert link.ratio == pytest.approx(2.0 / 300.0)
+        d = link.operator
+        quotient = link.ratio * (d @ jac[link.position])
+        np.testing.assert_allclose(jac[link.velocity], quotient,
+                                   atol=1e-6 * np.max(np.abs(quotient)))  # fmt: skip
+        np.testing.assert_allclose(r[link.velocity], link.ratio * (d @ r[link.position]),
+                                   atol=1e-9 * np.max(np.abs(r[link.velocity])))  # fmt: skip
+    measured = pp.PooledProblem([pp.as_record(m, "measured") for m in records], problem.spec,
+                                (2.0, 300.0), "preload", offset=False, suffix=True)  # fmt: skip
+    assert measured.links == []

@@ -70,6 +70,13 @@ def check_records(
         which = "velocity" if m.velocity is not None else "position"
         check_varies(which, getattr(m, which))
     velocity = as_choice("velocity", velocity, pp.VELOCITY)
+    if velocity == "difference":
+        for i, m in enumerate(found):
+            if m.position is None:
+                raise ValueError(
+                    "`velocity='difference'` compares the difference quotient of the position; "
+                    f"got a record without a position (record {i})."
+                )
     return [pp.as_record(m, velocity) for m in found]
 
 

@@ -19,7 +19,12 @@ reported per unit mass (said in the message and the report; not a failure).
 Uncertainty. Output-error residuals are serially correlated, so the covariance
 is the HAC sandwich of `presliding.identification.uncertainty` (one block per
 record and signal); with three or more records each variance is the larger
-of that and the record-level (cluster-robust) sandwich. With ``bootstrap``
+of that and the record-level (cluster-robust) sandwich. Where a record's
+velocity is the difference quotient of its position (``velocity``) and both
+signals are compared, the two carry one noise, the position's: each variance
+is then also at least that of independent position noise at the level the
+fit leaves (`_covariance`), which the records' initial velocities and
+preloads, fixed by a few samples, need. With ``bootstrap``
 resamples the records are also resampled with replacement and refitted, and
 the reported interval is the union of the analytic and the bootstrap
 percentile intervals.
@@ -126,7 +131,8 @@ def fit_response(
         position, ``numpy.gradient(position, time)`` (central differences,
         one-sided at the ends), as a drive or ``Measurement`` without a
         velocity gives it; the model's simulated position is passed through
-        the same quotient before it is compared (and the Jacobian with it).
+        the same quotient before it is compared (and the Jacobian with it);
+        every record needs its position.
         Compared with the exact velocity instead, the quotient's error
         O(a·Δt) where the acceleration a is large or jumps (the first sample,
         a stop, a change of u) biases the initial velocities (towards smaller
