@@ -129,7 +129,9 @@ def test_velocity_from_the_position_links_the_noise_of_the_two_signals():
     intervals hold the truth in 95 ± 3 % of the draws for every parameter. The sandwich
     alone (velocity and position blocks apart) leaves the transient per-record parameters
     short (about 88 %: few samples fix them, and the velocity noise is negatively
-    correlated at lag 2); with the links as a floor every parameter reaches 95 % − 2 %."""
+    correlated at lag 2) and the shared ones too wide (100 %); with the links (the moved
+    scores' sandwich, C_white as a floor) every parameter reaches 95 % − 2 % and the shared
+    intervals narrow."""
     from presliding.identification._covariance import white_floor
 
     rng = np.random.default_rng(3)
@@ -155,6 +157,7 @@ def test_velocity_from_the_position_links_the_noise_of_the_two_signals():
     assert np.all(np.abs(share["white"] - 0.95) <= 0.03), share["white"]
     assert np.all(share["sandwich"][transient] < 0.92), share["sandwich"]
     assert np.all(share["linked"] >= 0.93), share["linked"]
+    assert np.all(share["sandwich"][:2] == 1.0) and np.all(share["linked"][:2] < 0.995)
     # the floor is the variance of a white position noise: without links, or with rows
     # outside every link, there is none
     assert white_floor(jac, np.ones(jac.shape[0]), links[:-1]) is None

@@ -31,6 +31,8 @@ and p shared ones, a Jacobian costs 2·(p + 3) record sets instead of 2·(p + 3R
 
 from __future__ import annotations
 
+from collections.abc import Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass
 from typing import Any
 
@@ -147,6 +149,8 @@ class PooledProblem:
     ):
         self.records, self.spec = records, spec
         self.velocity = velocity  # how held-out records' velocities are read (`as_record`)
+        self.exact_velocity = False  # True: the exact velocity compared (`exact_velocity_compared`)
+        self._last: tuple | None = None  # the last residual evaluated (`residual`)
         self.w_v, self.w_y = signal_weights
         self.initial_state = initial_state
         self.n_rec = len(records)
@@ -236,7 +240,7 @@ class PooledProblem:
     def links(self) -> list[Link]:
         """The velocity blocks that are the difference quotient of their record's position
         block (both compared), for the covariance (`_covariance.Link`)."""
-        if not (self.w_v and self.w_y):
+        if not (self.w_v and self.w_y) or self.exact_velocity:
             return []
         out = []
         for i, rec in enumerate(self.records):
@@ -314,9 +318,21 @@ class PooledProblem:
         self.as_measured(o_y, o_v)
         return o_y, o_v, status, n_rev
 
+    @contextmanager
+    def exact_velocity_compared(self) -> Iterator[None]:
+        """Within: the exact simulated velocity is compared for every record (the search of
+        `_response_plan`), as if each velocity were measured."""
+        self.exact_velocity, self._last = True, None
+        try:
+            yield
+        finally:
+            self.exact_velocity, self._last = False, None
+
     def as_measured(self, o_y: FloatArray, o_v: FloatArray) -> None:
         """Velocities (P, S), in place, as each record measures them: the difference quotient
         of the simulated positions where the record's velocity is one (module notes)."""
+        if self.exact_velocity:
+            return
         for i, rec in enumerate(self.records):
             if rec.difference:
                 a, b = self.t_off[i], self.t_off[i + 1]
