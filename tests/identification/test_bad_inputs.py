@@ -263,6 +263,7 @@ ENTRIES = {
             "coulomb_level": "positive?!",
             "min_coulomb_level": "positive?!",
             "signal": "choice",
+            "velocity": "choice",
             "weights": "mapping?",
             "initial_state": "choice",
             "initial": "mapping?",

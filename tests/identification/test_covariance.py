@@ -91,3 +91,73 @@ def test_autocorrelated_noise_shared_parameters_stay_calibrated():
         cov = fit_covariance(jac, jac @ theta - e, blocks, list(range(RECORDS)))[0]
         hits += np.abs(theta[:2]) <= 1.96 * np.sqrt(np.diag(cov)[:2])
     assert np.all(np.abs(hits / draws - 0.95) <= 0.035), hits / draws
+
+
+def _linked_design(ratio: float, dt: float = 1e-3, n: int = 300):
+    """Records of position rows J and velocity rows ratio·D·J (D = numpy.gradient): two
+    shared columns, and per record a start-like column (its velocity sensitivity dies out
+    within a few samples, its position one stays) and a transient one."""
+    from presliding.identification._covariance import Link
+    from presliding.identification._pooled_problem import difference_matrix
+
+    t = np.arange(n) * dt
+    k = np.arange(n)
+    d = difference_matrix(t, 1)
+    p = 2 + 2 * RECORDS
+    position = np.zeros((RECORDS * n, p))
+    for i in range(RECORDS):
+        rows = slice(i * n, (i + 1) * n)
+        position[rows, 0] = t
+        position[rows, 1] = 1 - np.exp(-k / 150)
+        position[rows, 2 + 2 * i] = 1 - np.exp(-k / 3)
+        position[rows, 3 + 2 * i] = k * np.exp(-k / 4)
+    jac = np.zeros((2 * RECORDS * n, p))
+    blocks, links, to_rows = [], [], []
+    for i in range(RECORDS):
+        vel, pos = slice(2 * i * n, (2 * i + 1) * n), slice((2 * i + 1) * n, (2 * i + 2) * n)
+        jac[vel] = ratio * (d @ position[i * n : (i + 1) * n])
+        jac[pos] = position[i * n : (i + 1) * n]
+        blocks += [vel, pos]
+        links.append(Link(vel, pos, d, ratio))
+        to_rows.append((vel, pos))
+    return jac, blocks, links, to_rows, d
+
+
+def test_velocity_from_the_position_links_the_noise_of_the_two_signals():
+    """Position noise e white, the velocity its difference quotient: the velocity residuals
+    are ratio·D·e. The exact covariance is s²·B·J̃ᵀJ̃·B (J̃ = J_y + ratio·DᵀJ_v): its 95 %
+    intervals hold the truth in 95 ± 3 % of the draws for every parameter. The sandwich
+    alone (velocity and position blocks apart) leaves the transient per-record parameters
+    short (about 88 %: few samples fix them, and the velocity noise is negatively
+    correlated at lag 2) and the shared ones too wide (100 %); with the links (the moved
+    scores' sandwich, C_white as a floor) every parameter reaches 95 % − 2 % and the shared
+    intervals narrow."""
+    from presliding.identification._covariance import white_floor
+
+    rng = np.random.default_rng(3)
+    jac, blocks, links, to_rows, d = _linked_design(ratio=0.03)
+    clusters = [i for i in range(RECORDS) for _ in range(2)]
+    draws = 300
+    hits = {x: np.zeros(jac.shape[1]) for x in ("sandwich", "linked", "white")}
+    for _ in range(draws):
+        e = np.zeros(jac.shape[0])
+        for vel, pos in to_rows:
+            noise = rng.standard_normal(pos.stop - pos.start)
+            e[pos], e[vel] = noise, 0.03 * (d @ noise)
+        theta = np.linalg.lstsq(jac, e, rcond=None)[0]  # the truth is 0
+        r = jac @ theta - e
+        for label, var in (
+            ("sandwich", np.diag(fit_covariance(jac, r, blocks, clusters)[0])),
+            ("linked", np.diag(fit_covariance(jac, r, blocks, clusters, links)[0])),
+            ("white", white_floor(jac, r, links)),
+        ):
+            hits[label] += np.abs(theta) <= 1.96 * np.sqrt(var)
+    share = {x: v / draws for x, v in hits.items()}
+    transient = slice(3, None, 2)
+    assert np.all(np.abs(share["white"] - 0.95) <= 0.03), share["white"]
+    assert np.all(share["sandwich"][transient] < 0.92), share["sandwich"]
+    assert np.all(share["linked"] >= 0.93), share["linked"]
+    assert np.all(share["sandwich"][:2] == 1.0) and np.all(share["linked"][:2] < 0.995)
+    # the floor is the variance of a white position noise: without links, or with rows
+    # outside every link, there is none
+    assert white_floor(jac, np.ones(jac.shape[0]), links[:-1]) is None

@@ -134,5 +134,6 @@ class FitProblem:
             fun, begin, fixed={**self.fixed, **(extra or {})}, tied=self.tied,
             bounds=self.bounds, free_jacobian=jac, blocks=[rows for _, rows in rec.rows],
             residual_size=rec.n_res, clusters=[i for i, _ in rec.rows],
+            links=getattr(rec, "links", None),
             step_limit=rec.step_limit, method=self.method, **kw,
         )  # fmt: skip

@@ -80,6 +80,7 @@ def solve_least_squares(
     free_jacobian: Callable[..., FloatArray] | None = None,
     blocks: Any = None,
     clusters: Any = None,
+    links: Any = None,
     residual_size: int = 0,
     step_limit: Callable[[FloatArray], FloatArray] | None = None,
     method: str = "auto",
@@ -127,6 +128,10 @@ def solve_least_squares(
         covariance is then the HAC sandwich of `presliding.identification.uncertainty`
         instead of s²·(JᵀJ)⁻¹; `clusters` (the record of each block) adds the
         record-level sandwich (`_covariance.fit_covariance`).
+    links : sequence of `_covariance.Link`, optional
+        Velocity blocks that are the difference quotient of a position block
+        (`_covariance.fit_covariance`): no error is then below that of
+        independent noise in the position.
     progress : FitProgress, optional
         Counts the residual evaluations and shows them with the cost
         (`presliding.identification._fit_progress`); it does not change the result.
@@ -150,7 +155,7 @@ def solve_least_squares(
     )  # fmt: skip
     if not setup.pm.free:
         return _solution(setup, _nothing_free(setup, residual), residual, None, None, blocks,
-                         clusters)  # fmt: skip
+                         clusters, links)  # fmt: skip
     fun, jac, large = _objective(setup, residual, jacobian, free_jacobian, progress, residual_size)
     try:
         res = _minimise(setup, fun, jac, large, step_limit)
@@ -159,7 +164,7 @@ def solve_least_squares(
     found = _outcome(setup, res, fun)
     if isinstance(found, Solution):
         return found
-    return _solution(setup, found, residual, jac, step_limit, blocks, clusters)
+    return _solution(setup, found, residual, jac, step_limit, blocks, clusters, links)
 
 
 # ---------------------------------------------------------------------- the steps
@@ -318,7 +323,7 @@ def _nothing_free(setup: _Setup, residual: Callable) -> _Found:
 
 def _solution(
     setup: _Setup, found: _Found, residual: Callable, jac: Any, step_limit: Any, blocks: Any,
-    clusters: Any,
+    clusters: Any, links: Any = None,
 ) -> Solution:  # fmt: skip
     """The result: covariance (HAC for blocks), errors, intervals and the profiler."""
     from scipy import stats
@@ -328,7 +333,7 @@ def _solution(
     widths: tuple[int, ...] = ()
     with threadpool_limits(limits=1, user_api="blas"):  # tall, thin factorisations
         cov, undetermined, got = fit_covariance(
-            found.jac_free, r, blocks if pm.free else None, clusters
+            found.jac_free, r, blocks if pm.free else None, clusters, links
         )
         widths = tuple(got)
     full = pm.full(found.x)

@@ -10,6 +10,16 @@ Per record i (suffix ``_i`` from 1, none for a single `Measurement`):
 The residual of record i is w_v·(v_sim − v) and/or w_y·(y_sim − y); records
 are stacked in order, each record's velocity block before its position block.
 
+A record's velocity that is the difference quotient of its position (computed
+here when only the position is given, or detected: equal to
+``numpy.gradient(position, time)`` to rounding) is compared with the same
+difference quotient of the simulated position, not with the exact simulated
+velocity (`Record.difference`, `difference_order`). The quotient is one-sided at
+a record's ends and a central difference elsewhere; it differs from the exact
+velocity by O(a·Δt) (a the acceleration) at the ends and wherever the
+acceleration jumps (a stop, a change of u), which would bias the initial
+velocity and the forces otherwise.
+
 Jacobian: finite differences exploiting the structure. A free parameter that
 moves only per-record parameters touches only those records' rows, so the
 columns of different records are perturbed together (one group per kind of
@@ -21,6 +31,8 @@ and p shared ones, a Jacobian costs 2·(p + 3) record sets instead of 2·(p + 3R
 
 from __future__ import annotations
 
+from collections.abc import Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass
 from typing import Any
 
@@ -30,6 +42,7 @@ from numpy.typing import NDArray
 from presliding.identification import _pooled_jacobian as pj
 from presliding.identification import _pooled_kernel as pk
 from presliding.identification import _response_tools as rt
+from presliding.identification._covariance import Link
 from presliding.identification._least_squares import _Map
 from presliding.identification._model_spec import TINY, ModelSpec
 from presliding.identification._pooled_banks import banks_one_by_one, element_banks
@@ -39,6 +52,7 @@ from presliding.motion._forcing import as_forcing
 FloatArray = NDArray[np.float64]
 MAX_EVENTS = 10_000_000
 NUISANCE = ("initial_position", "initial_velocity", "preload_fraction")
+VELOCITY = ("auto", "difference", "measured")
 MODES = {"relaxed": pk.RELAXED, "saturated": pk.BRANCH, "preload": pk.BRANCH,
          "continuing": pk.BRANCH}  # fmt: skip
 
@@ -53,15 +67,69 @@ class Record:
     applied_force: FloatArray  # zeros for a free record
     forced: bool
     direction: float  # of the motion before the first sample
+    #: edge order of the difference quotient ``numpy.gradient(position, time)`` the velocity
+    #: is (the model's velocity is then taken the same way); 0: a measured velocity
+    difference: int = 0
 
 
-def as_record(m: Measurement) -> Record:
-    """The record of a measurement (velocity or position must be present)."""
+def difference_order(t: FloatArray, y: FloatArray, v: FloatArray) -> int:
+    """The edge order (1 or 2) of ``numpy.gradient(y, t, edge_order=...)`` that `v` equals to
+    rounding (a few ulps of the largest speed per sample), or 0 when it is neither."""
+    scale = float(np.max(np.abs(v))) if v.size else 0.0
+    for order in (1, 2):
+        if t.shape[0] <= order or not scale > 0:
+            continue
+        g = np.gradient(y, t, edge_order=order)
+        if float(np.max(np.abs(v - g))) <= 1e-9 * scale:
+            return order
+    return 0
+
+
+def difference_matrix(t: FloatArray, order: int) -> Any:
+    """The sparse matrix D with D·y = ``numpy.gradient(y, t, edge_order=order)``.
+
+    Every row of D has its entries within two columns of the diagonal, so the
+    gradients of five combs (ones at the indices ≡ k mod 5) give all of them.
+    """
+    from scipy import sparse
+
+    n = t.shape[0]
+    i = np.arange(n)
+    rows, cols, vals = [], [], []
+    for k in range(5):
+        g = np.gradient((i % 5 == k).astype(float), t, edge_order=2 if order == 2 else 1)
+        j = i - 2 + (k - (i - 2)) % 5  # the one column ≡ k (mod 5) within two of i
+        ok = (j >= 0) & (j < n) & (g != 0)
+        rows.append(i[ok])
+        cols.append(j[ok])
+        vals.append(g[ok])
+    return sparse.csr_matrix(
+        (np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(n, n)
+    )
+
+
+def as_record(m: Measurement, velocity: str = "auto") -> Record:
+    """The record of a measurement (velocity or position must be present).
+
+    `velocity` (`VELOCITY`): ``"auto"`` compares the model's difference quotient where the
+    record's velocity is one of its position (computed here, or detected); ``"difference"``
+    does so whenever the position is given (edge order 1 unless 2 is detected);
+    ``"measured"`` always compares the model's exact velocity.
+    """
     t = m.time
-    v = m.velocity if m.velocity is not None else np.gradient(m.require("position")[0], t)
+    order = 0
+    if m.velocity is None:
+        v = np.gradient(m.require("position")[0], t)
+        order = 1 if velocity != "measured" and t.shape[0] > 1 else 0
+    else:
+        v = m.velocity
+        if m.position is not None and velocity != "measured":
+            order = difference_order(t, m.position, v)
+            if velocity == "difference" and order == 0 and t.shape[0] > 1:
+                order = 1
     y = m.position if m.position is not None else rt.integral(t, v)
     u = m.applied_force if m.applied_force is not None else np.zeros_like(t)
-    return Record(t, y, v, u, bool(np.any(u)), rt.initial_direction(v, u, y))
+    return Record(t, y, v, u, bool(np.any(u)), rt.initial_direction(v, u, y), order)
 
 
 class PooledProblem:
@@ -77,8 +145,12 @@ class PooledProblem:
         offset: bool,
         suffix: bool,
         viscous: bool = False,
+        velocity: str = "auto",
     ):
         self.records, self.spec = records, spec
+        self.velocity = velocity  # how held-out records' velocities are read (`as_record`)
+        self.exact_velocity = False  # True: the exact velocity compared (`exact_velocity_compared`)
+        self._last: tuple | None = None  # the last residual evaluated (`residual`)
         self.w_v, self.w_y = signal_weights
         self.initial_state = initial_state
         self.n_rec = len(records)
@@ -120,7 +192,8 @@ class PooledProblem:
         """The same problem (model, weights, memory, offset, σ) on other records."""
         return PooledProblem(records, self.spec, (self.w_v, self.w_y), self.initial_state,
                              offset="offset" in self.shared, suffix=suffix,
-                             viscous="viscous" in self.shared)  # fmt: skip
+                             viscous="viscous" in self.shared,
+                             velocity=self.velocity)  # fmt: skip
 
     # ------------------------------------------------------------ layout
     @staticmethod
@@ -161,6 +234,20 @@ class PooledProblem:
                 if w:
                     out.append((i, slice(start, start + n)))
                     start += n
+        return out
+
+    @property
+    def links(self) -> list[Link]:
+        """The velocity blocks that are the difference quotient of their record's position
+        block (both compared), for the covariance (`_covariance.Link`)."""
+        if not (self.w_v and self.w_y) or self.exact_velocity:
+            return []
+        out = []
+        for i, rec in enumerate(self.records):
+            if rec.difference:
+                (_, vel), (_, pos) = [b for b in self.rows if b[0] == i]
+                out.append(Link(vel, pos, difference_matrix(rec.time, rec.difference),
+                                self.w_v / self.w_y))  # fmt: skip
         return out
 
     def record_rows(self, i: int) -> NDArray[np.intp]:
@@ -217,7 +304,8 @@ class PooledProblem:
         return mass, c1_all, sigma, k_arr, r_arr, offset, y0, v0, np.ascontiguousarray(frac)
 
     def simulate(self, sets: FloatArray, rigid: bool = False) -> tuple:
-        """Positions, velocities (P, S), status and reversal counts (P, R)."""
+        """Positions, velocities as measured (P, S; `as_measured`), status and reversal
+        counts (P, R)."""
         mass, c1, sigma, k, r, offset, y0, v0, frac = self.unpack(np.atleast_2d(sets), rigid)
         n_par, n_s = mass.shape[0], self.t_all.shape[0]
         o_y, o_v = np.empty((n_par, n_s)), np.empty((n_par, n_s))
@@ -227,7 +315,29 @@ class PooledProblem:
             mass, c1, sigma, k, r, offset, y0, v0, frac, self.mode, self.direction, self.t_all,
             self.t_off, self.ut_all, self.uv_all, self.u_off, MAX_EVENTS, o_y, o_v, status, n_rev,
         )  # fmt: skip
+        self.as_measured(o_y, o_v)
         return o_y, o_v, status, n_rev
+
+    @contextmanager
+    def exact_velocity_compared(self) -> Iterator[None]:
+        """Within: the exact simulated velocity is compared for every record (the search of
+        `_response_plan`), as if each velocity were measured."""
+        self.exact_velocity, self._last = True, None
+        try:
+            yield
+        finally:
+            self.exact_velocity, self._last = False, None
+
+    def as_measured(self, o_y: FloatArray, o_v: FloatArray) -> None:
+        """Velocities (P, S), in place, as each record measures them: the difference quotient
+        of the simulated positions where the record's velocity is one (module notes)."""
+        if self.exact_velocity:
+            return
+        for i, rec in enumerate(self.records):
+            if rec.difference:
+                a, b = self.t_off[i], self.t_off[i + 1]
+                o_v[:, a:b] = np.gradient(o_y[:, a:b], rec.time, axis=1,
+                                          edge_order=2 if rec.difference == 2 else 1)  # fmt: skip
 
     def residuals(self, sets: FloatArray, rigid: bool = False) -> FloatArray:
         """Residual of every parameter set (P, n_res); inf rows where a simulation failed."""

@@ -50,7 +50,7 @@ class ResponsePredictor:
         initial = as_choice("initial", initial, INITIAL)
         p = self.problem
         signal = "both" if p.w_v and p.w_y else ("velocity" if p.w_v else "position")
-        (rec,) = check_records(measurement, signal, ("velocity", "position", "both"))
+        (rec,) = check_records(measurement, signal, ("velocity", "position", "both"), p.velocity)
         sub = p.subset([rec], suffix=False)
         start = dict(self.shared)
         start.update(initial_position=float(rec.position[0]),

@@ -35,8 +35,8 @@ SIGNALS = ("velocity", "position", "both")
 STATES = ("saturated", "preload", "relaxed")
 #: the arguments `n_elements="auto"` passes on to each order's fit as given
 _PASSED = ("records", "equal_breakaway", "mass", "coulomb_level", "min_coulomb_level",
-           "viscous", "offset", "signal", "weights", "initial_state", "fit_initial", "bounds",
-           "bootstrap", "seed", "level", "max_evaluations", "tolerance", "multistart",
+           "viscous", "offset", "signal", "velocity", "weights", "initial_state", "fit_initial",
+           "bounds", "bootstrap", "seed", "level", "max_evaluations", "tolerance", "multistart",
            "progress")  # fmt: skip
 
 
@@ -49,6 +49,7 @@ class ResponseRequest:
     single: bool
     spec: ModelSpec
     signal: str
+    velocity: str
     initial_state: str
     mass: float | None
     coulomb_level: float | None  # None when n_elements=0 turned it into a fixed c1
@@ -129,7 +130,7 @@ def _known(a: dict[str, Any], fixed: dict[str, float], recs: list) -> tuple[Any,
 
 def check_response(request: dict[str, Any]) -> ResponseRequest:
     """Every argument of `fit_response` checked (module notes)."""
-    recs = check_records(request["records"], request["signal"], SIGNALS)
+    recs = check_records(request["records"], request["signal"], SIGNALS, request["velocity"])
     signal = as_choice("signal", request["signal"], SIGNALS)
     initial_state = as_choice("initial_state", request["initial_state"], STATES)
     spec, a = _model(request)
@@ -155,7 +156,8 @@ def check_response(request: dict[str, Any]) -> ResponseRequest:
         )
     return ResponseRequest(
         records=a["records"], recs=recs, single=isinstance(a["records"], Measurement),
-        spec=spec, signal=signal, initial_state=initial_state, mass=a["mass"],
+        spec=spec, signal=signal, velocity=request["velocity"], initial_state=initial_state,
+        mass=a["mass"],
         coulomb_level=a["coulomb_level"], min_coulomb_level=a["min_coulomb_level"], fmin=fmin,
         viscous=a["viscous"], offset=a["offset"], weights=a["weights"],
         fit_initial=a["fit_initial"], multistart=a["multistart"], prune=prune,

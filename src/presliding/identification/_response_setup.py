@@ -46,8 +46,11 @@ from presliding.measurement.measurement import Measurement
 NEED = {"velocity": ("velocity",), "position": ("position",), "both": ("velocity", "position")}
 
 
-def check_records(records: Any, signal: str, signals: tuple[str, ...]) -> list[pp.Record]:
-    """The records as a checked list (each a Measurement with the signals compared)."""
+def check_records(
+    records: Any, signal: str, signals: tuple[str, ...], velocity: str = "auto"
+) -> list[pp.Record]:
+    """The records as a checked list (each a Measurement with the signals compared);
+    `velocity` says how a record's velocity is compared (`_pooled_problem.as_record`)."""
     if isinstance(records, Measurement):
         found = [records]
     elif isinstance(records, Sequence) and not isinstance(records, (str, bytes)):
@@ -66,7 +69,15 @@ def check_records(records: Any, signal: str, signals: tuple[str, ...]) -> list[p
         m.require(*NEED[signal], purpose=f"fit_response(signal={signal!r})")
         which = "velocity" if m.velocity is not None else "position"
         check_varies(which, getattr(m, which))
-    return [pp.as_record(m) for m in found]
+    velocity = as_choice("velocity", velocity, pp.VELOCITY)
+    if velocity == "difference":
+        for i, m in enumerate(found):
+            if m.position is None:
+                raise ValueError(
+                    "`velocity='difference'` compares the difference quotient of the position; "
+                    f"got a record without a position (record {i})."
+                )
+    return [pp.as_record(m, velocity) for m in found]
 
 
 def check_quasi_static_records(records: Any) -> list[pp.Record]:

@@ -19,7 +19,12 @@ reported per unit mass (said in the message and the report; not a failure).
 Uncertainty. Output-error residuals are serially correlated, so the covariance
 is the HAC sandwich of `presliding.identification.uncertainty` (one block per
 record and signal); with three or more records each variance is the larger
-of that and the record-level (cluster-robust) sandwich. With ``bootstrap``
+of that and the record-level (cluster-robust) sandwich. Where a record's
+velocity is the difference quotient of its position (``velocity``) and both
+signals are compared, the two carry one noise, the position's: each variance
+is then also at least that of independent position noise at the level the
+fit leaves (`_covariance`), which the records' initial velocities and
+preloads, fixed by a few samples, need. With ``bootstrap``
 resamples the records are also resampled with replacement and refitted, and
 the reported interval is the union of the analytic and the bootstrap
 percentile intervals.
@@ -61,6 +66,7 @@ def fit_response(
     viscous: bool = False,
     offset: bool = False,
     signal: str = "velocity",
+    velocity: str = "auto",
     weights: Mapping[str, float] | None = None,
     initial_state: str = "saturated",
     initial: Mapping[str, float] | None = None,
@@ -119,6 +125,24 @@ def fit_response(
         Fit a constant force offset (parameter ``offset``): the drive is u − offset.
     signal : {"velocity", "position", "both"}, keyword only
         What is compared; "both" weighs each signal by the inverse of its RMS.
+    velocity : {"auto", "difference", "measured"}, keyword only
+        What a record's velocity is, and so what the model's velocity is
+        compared with. ``"difference"``: the difference quotient of the
+        position, ``numpy.gradient(position, time)`` (central differences,
+        one-sided at the ends), as a drive or ``Measurement`` without a
+        velocity gives it; the model's simulated position is passed through
+        the same quotient before it is compared (and the Jacobian with it);
+        every record needs its position.
+        Compared with the exact velocity instead, the quotient's error
+        O(a·Δt) where the acceleration a is large or jumps (the first sample,
+        a stop, a change of u) biases the initial velocities (towards smaller
+        speeds) and the forces. ``"measured"``: the velocity is measured
+        (tachometer, laser vibrometer, a filtered estimate) and the model's
+        exact velocity is compared. ``"auto"`` (default): ``"difference"``
+        for a record without a velocity and for one whose velocity equals
+        ``numpy.gradient(position, time)`` (edge order 1 or 2) to rounding,
+        ``"measured"`` otherwise. With ``"difference"`` the fitted velocity
+        in the result is the model's difference quotient.
     weights : mapping, optional, keyword only
         Factors on those weights, ``{"velocity": w_v, "position": w_y}``.
     initial_state : {"saturated", "preload", "relaxed"}, keyword only
