@@ -4,7 +4,7 @@ asymmetric where the model is not, unbounded where the data do not bound an end.
 from __future__ import annotations
 
 import numpy as np
-from scipy import stats
+from scipy import optimize, stats
 
 from presliding.identification._least_squares import solve_least_squares
 from presliding.identification._profile import profile_solution
@@ -39,6 +39,12 @@ def test_a_linear_model_gives_the_exact_f_interval():
 
 
 def test_a_nonlinear_model_gets_an_asymmetric_interval_where_the_profile_crosses():
+    """Each end agrees with the closed-form profile's crossing to 1e-3 of the Wald half width
+    t·SE (`_profile.END_ACCURACY`). That is the accuracy the search is built for: an end's
+    sampling error is of the order of the half width itself (the estimate moves by SE from one
+    data set to the next), so 1e-3 of it changes no coverage, and asking more only spends
+    inner optimisations. The requirement is stated in the parameter, where it matters, not in
+    the cost (1e-3 of the half width is about 2e-3·P_crit there)."""
     t = np.linspace(0.0, 3.0, 12)
     y = 2.0 * np.exp(-1.3 * t) + RNG.normal(0.0, 0.08, t.shape)
 
@@ -61,8 +67,11 @@ def test_a_nonlinear_model_gets_an_asymmetric_interval_where_the_profile_crosses
     c0 = float(sol.residual @ sol.residual)
     n = t.shape[0]
     crit = stats.t.ppf(0.975, n - 2) ** 2 * c0 / (n - 2)
-    assert abs(profile(lo) - c0 - crit) <= 1e-6 * crit
-    assert abs(profile(hi) - c0 - crit) <= 1e-6 * crit
+    half = stats.t.ppf(0.975, n - 2) * sol.standard_error["rate"]
+    for end, far in ((lo, k - 4.0 * half), (hi, k + 4.0 * half)):
+        exact = optimize.brentq(lambda r: profile(r) - c0 - crit, k, far, xtol=1e-14)
+        assert abs(end - exact) <= 1e-3 * half
+        assert abs(profile(end) - c0 - crit) <= 4e-3 * crit  # the same in the cost
 
 
 def test_an_end_the_data_do_not_bound_is_unbounded_and_not_identifiable():
