@@ -263,7 +263,9 @@ def _end(walk: _Walker, side: int, half: float) -> float:
             theta = limit
         g = walk.g(theta)
         if g >= 0:
-            return _bracketed(walk, (a, ga), (theta, g), tol)
+            end = _bracketed(walk, (a, ga), (theta, g), tol)
+            # within the accuracy of a bound is the bound (where the model may fail: g = inf)
+            return limit if abs(end - limit) <= tol else end
         if theta == limit:
             return limit
         if theta == a:  # a step below the resolution of θ
