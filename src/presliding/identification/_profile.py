@@ -15,33 +15,37 @@ profile is the quadratic (θ − θ̂)²/h_jj and the interval is exactly the Wa
 (F) interval; otherwise it follows the data: asymmetric, or reaching a bound.
 
 Each end is a root of g(θ) = √P(θ) − √P_crit, which is linear in θ for a
-linear model. The first inner optimisation is at the Wald end; then secant
-steps on the two farthest points inside, until the root is bracketed, and
-regula falsi (Illinois rule) inside the bracket. Every solved point is kept
-and reused, and each inner optimisation starts from the best (lowest cost) of
-the extrapolations from the nearest solved points: along the secant of the two
-nearest, along the linearised profile path dz/dθ = −A_zz⁻¹A_zj (A = JᵀJ, the
-parameters on a bound held), and the nearest solution itself. An end is known
-to `END_ACCURACY` of the Wald half width (far below the sampling error of any
-interval end): the search stops when its next correction, or the bracket, is
-smaller than that, and the inner optimisations stop when the cost decreases by
-less than a matching share of P_crit. An end past a bound the profile stays
-below is the bound (the data do not exclude it); an end the profile never
-reaches within 2⁸ Wald half widths, with no bound there, is unbounded (±inf),
-and the fit is then not identifiable (`_status`). The inner optimisations use
-the structured Levenberg–Marquardt of `_structured_lm` (dense or pooled sparse
-Jacobians).
+linear model. The walk to an end solves at half the Wald half width, then takes
+secant steps on the two farthest points inside (no step longer than the
+distance already walked: a continuation), until the root is bracketed, and
+regula falsi (Illinois rule) inside the bracket. Every solved point is kept and
+reused, and each inner optimisation starts from the lowest-cost extrapolation
+from the nearest solved points: along the secant of the two nearest, along the
+linearised profile path dz/dθ = −A_zz⁻¹A_zj (A = JᵀJ, the parameters on a bound
+held; also half of it), and the nearest solution itself. The residual of a fit
+with stiction is only piecewise smooth: where the solver cannot lower the cost
+from a start at all, the next start is tried (`RETRIES`), and P(θ) is the
+lowest cost found. An end is known to `END_ACCURACY` of the Wald half width
+(far below the sampling error of any interval end): the search stops when its
+next correction, or the bracket, is smaller than that, or after `ROOT_STEPS`
+(a profile rough on the scale of P_crit), and the inner optimisations stop
+when the cost decreases by less than a matching share of P_crit. An end within
+that accuracy of a bound, or past a bound the profile stays below, is the bound
+(the data do not exclude it); an end the profile never reaches within 2⁸ Wald
+half widths, with no bound there, is unbounded (±inf), and the fit is then not
+identifiable (`_status`). The inner optimisations use the structured
+Levenberg–Marquardt of `_structured_lm` (dense or pooled sparse Jacobians).
 
 `profile_solution` chooses the parameters ("auto"): every free parameter
 whose Wald interval reaches a bound or is wide (half width above a quarter of
 the value) is profiled. For the others the cost along the linearised path is
 compared with the quadratic at both Wald ends; where it departs by more than
-10 %, the profile is solved at the two Wald ends, and the Wald interval is kept
-only if √P is within 2 % of √P_crit at both (the profile goes on from those
-points otherwise). `which` may name the parameters instead. The shared
-parameters go before the records' own, and among each those whose Wald
-interval a bound cuts go first: the budget of inner optimisations (`BUDGET`)
-is spent where the Wald interval says least.
+10 %, the profile is solved at the two Wald ends (after the walk's first step
+towards each), and the Wald interval is kept only if √P is within 2 % of
+√P_crit at both (the profile goes on from those points otherwise). `which` may
+name the parameters instead. The shared parameters go before the records' own,
+and among each those whose Wald interval a bound cuts go first: the budget of
+inner optimisations (`BUDGET`) is spent where the Wald interval says least.
 """
 
 from __future__ import annotations
@@ -68,6 +72,9 @@ WIDE = 0.25
 END_ACCURACY = 1e-3
 #: Share of END_ACCURACY·P_crit the inner optimisations leave in the cost (their ftol).
 INNER_SHARE = 0.05
+#: Residual evaluations of one inner optimisation (from a start next to a solved point it
+#: needs a few; one that runs on is in a rough valley, and its cost stays an upper bound).
+INNER_EVALUATIONS = 25
 #: Relative agreement of √P with √P_crit at both Wald ends that keeps a Wald interval.
 AGREE = 0.02
 #: First step of the walk to an end, as a share of the Wald half width; no step is longer
@@ -77,8 +84,9 @@ FIRST_STEP = 0.5
 #: Starts an inner optimisation may take: the next start is tried only when the solver
 #: could not lower the cost from the previous one at all (a kink of the residual there).
 RETRIES = 2
-#: Steps of the root search inside a bracket.
-ROOT_STEPS = 12
+#: Steps of the root search inside a bracket (more go into chasing a profile that is rough on
+#: the scale of P_crit, where the records' own parameters jump between valleys).
+ROOT_STEPS = 6
 #: Wald half width, as a multiple of the value, beyond which no profile is tried (the data
 #: do not determine the parameter: the judge says so from the Wald interval).
 HOPELESS = 100.0
@@ -190,13 +198,10 @@ class _Walker:
         )
         tn = known[0]
         zn = self.solved[tn][1]
-        cands = [zn + (theta - tn) * self.path, zn]
+        cands = [zn + (theta - tn) * self.path, zn + 0.5 * (theta - tn) * self.path, zn]
         if len(known) > 1:
             t2 = known[1]
             cands.insert(0, zn + (theta - tn) * (zn - self.solved[t2][1]) / (tn - t2))
-        theta0 = float(self.x[self.j])
-        if tn != theta0:
-            cands.append(self.x[keep] + (theta - theta0) * self.path)
         lo, hi = prof.lower[keep], prof.upper[keep]
         out = []
         for c in cands:
@@ -224,7 +229,7 @@ class _Walker:
         try:
             res = levenberg_marquardt(
                 fun, jac, z0, prof.lower[keep], prof.upper[keep], ftol=self.ftol, xtol=1e-9,
-                gtol=1e-9, max_nfev=5 + keep.size, step_limit=limit,
+                gtol=1e-9, max_nfev=INNER_EVALUATIONS, step_limit=limit,
             )  # fmt: skip
         except (ValueError, np.linalg.LinAlgError, FloatingPointError):
             return np.inf, z0
@@ -375,12 +380,12 @@ def profile_solution(sol: Any, which: str | Sequence[str] = "auto", budget: int 
             continue
         if which != "auto" and which != "all" and name not in which:
             continue
+        if spent >= budget:
+            break
         walk = _Walker(prof, x, c0, normal, j, half * half / hinv[j, j])
         need = wants_profile(walk, half, ci[name]) if which == "auto" else "profile"
         if need is None:
             continue
-        if spent >= budget:
-            break
         if need == "check" and _wald_holds(walk, half):
             spent += walk.solves
             continue
