@@ -40,12 +40,13 @@ Levenberg–Marquardt of `_structured_lm` (dense or pooled sparse Jacobians).
 whose Wald interval reaches a bound or is wide (half width above a quarter of
 the value) is profiled. For the others the cost along the linearised path is
 compared with the quadratic at both Wald ends; where it departs by more than
-10 %, the profile is solved at the two Wald ends (after the walk's first step
-towards each), and the Wald interval is kept only if √P is within 2 % of
-√P_crit at both (the profile goes on from those points otherwise). `which` may
+10 %, the profile is solved at the two Wald ends, and the Wald interval is kept
+only if √P is within 2 % of √P_crit at both (the profile goes on from those
+points otherwise). `which` may
 name the parameters instead. The shared parameters go before the records' own,
-and among each those whose Wald interval a bound cuts go first: the budget of
-inner optimisations (`BUDGET`) is spent where the Wald interval says least.
+and among each those whose Wald interval a bound cuts go first, then the widest
+relative to their value: the budget of inner optimisations (`BUDGET`) is spent
+where the Wald interval says least.
 """
 
 from __future__ import annotations
@@ -84,6 +85,11 @@ FIRST_STEP = 0.5
 #: Starts an inner optimisation may take: the next start is tried only when the solver
 #: could not lower the cost from the previous one at all (a kink of the residual there).
 RETRIES = 2
+#: Excess of g at a bracket's outside end over the line through its inside points, as a
+#: share of √P_crit, that asks for that end to be solved again.
+OUTLIER = 0.25
+#: Decrease of the cost, as a share of P_crit, below which a start counts as stuck.
+STALL = 1e-3
 #: Steps of the root search inside a bracket (more go into chasing a profile that is rough on
 #: the scale of P_crit, where the records' own parameters jump between valleys).
 ROOT_STEPS = 6
@@ -91,7 +97,7 @@ ROOT_STEPS = 6
 #: do not determine the parameter: the judge says so from the Wald interval).
 HOPELESS = 100.0
 #: Inner optimisations a profile step may spend (the rest keep their Wald interval).
-BUDGET = 30
+BUDGET = 20
 
 
 @dataclass(frozen=True, eq=False)
@@ -152,6 +158,7 @@ class _Walker:
         self.path = _path(prof, x, normal, j, self.keep)
         self.root = float(np.sqrt(threshold))
         self.solved: dict[float, tuple[float, FloatArray]] = {float(x[j]): (0.0, x[self.keep])}
+        self.refined: set[float] = set()
         self.solves = 0
         # the cost left by an inner optimisation moves an end by about δP/(2·P_crit) of the
         # half width: a small share of END_ACCURACY
@@ -172,29 +179,45 @@ class _Walker:
     def __call__(self, theta: float) -> float:
         """P(θ): the cost with the parameter held at θ and the others re-optimised."""
         theta = float(theta)
-        if theta in self.solved:
-            return self.solved[theta][0]
-        starts = self._starts(theta)
+        if theta not in self.solved:
+            self.solved[theta] = self._run(theta, self._starts(theta))
+        return self.solved[theta][0]
+
+    def refine(self, theta: float) -> float:
+        """P(θ) solved again from the nearest other solved point; the lower of the two."""
+        theta = float(theta)
+        if theta not in self.refined:
+            self.refined.add(theta)
+            again = self._run(theta, self._starts(theta, exclude=theta))
+            if again[0] < self.solved[theta][0]:
+                self.solved[theta] = again
+        return self.solved[theta][0]
+
+    def _run(self, theta: float, starts: list) -> tuple[float, FloatArray]:
+        """The inner optimisation from the first start, and from the next where the solver
+        took no step, or stayed above 2·P_crit lowering the cost by less than a share
+        `STALL` of P_crit (a kink there, or another valley)."""
         if self.keep.size == 0:
-            self.solved[theta] = (starts[0][1], starts[0][0])
-            return starts[0][1]
+            return starts[0][1], starts[0][0]
         best = (np.inf, starts[0][0])
+        crit = self.root**2
         for z0, p0 in starts[:RETRIES]:
             self.solves += 1
             p, z = self._solve(theta, z0)
             if p < best[0]:
                 best = (p, z)
-            if p < p0:  # the solver moved: no stall (module notes)
+            moved = not np.array_equal(z, z0)
+            if moved and (p < p0 - STALL * crit or p < 2.0 * crit):
                 break
-        self.solved[theta] = best
-        return best[0]
+        return best
 
-    def _starts(self, theta: float) -> list[tuple[FloatArray, float]]:
+    def _starts(self, theta: float, exclude: float | None = None) -> list:
         """The extrapolations from the nearest solved points, lowest cost first (module
         notes)."""
         prof, keep = self.prof, self.keep
         known = sorted(
-            (t for t, (p, _) in self.solved.items() if np.isfinite(p)), key=lambda t: abs(t - theta)
+            (t for t, (p, _) in self.solved.items() if np.isfinite(p) and t != exclude),
+            key=lambda t: abs(t - theta),
         )
         tn = known[0]
         zn = self.solved[tn][1]
@@ -251,9 +274,9 @@ def _path(prof: Profiler, x: FloatArray, normal: FloatArray, j: int,
 def _end(walk: _Walker, side: int, half: float) -> float:
     """The interval end on `side` (±1): where g = √P − √P_crit crosses 0, a bound, or ±inf.
 
-    The first step goes to the Wald end (exact for a linear model); then secant
-    steps on the two farthest points inside, a little past the predicted root,
-    until it is bracketed (module notes).
+    The walk: a first step of `FIRST_STEP` half widths, then secant steps on the
+    two farthest points inside, a little past the predicted root, until it is
+    bracketed (module notes).
     """
     prof, j = walk.prof, walk.j
     theta0 = float(walk.x[j])
@@ -268,9 +291,11 @@ def _end(walk: _Walker, side: int, half: float) -> float:
             theta = limit
         g = walk.g(theta)
         if g >= 0:
-            end = _bracketed(walk, (a, ga), (theta, g), tol)
-            # within the accuracy of a bound is the bound (where the model may fail: g = inf)
-            return limit if abs(end - limit) <= tol else end
+            end, inside = _bracketed(walk, (a, ga), (theta, g), tol)
+            if end is not None:
+                # within the accuracy of a bound is the bound (where the model may fail)
+                return limit if abs(end - limit) <= tol else end
+            (theta, g), (a, ga) = inside  # the outside end, solved again, is inside
         if theta == limit:
             return limit
         if theta == a:  # a step below the resolution of θ
@@ -288,16 +313,21 @@ def _end(walk: _Walker, side: int, half: float) -> float:
 
 
 def _bracketed(walk: _Walker, inside: tuple[float, float], outside: tuple[float, float],
-               tol: float) -> float:  # fmt: skip
+               tol: float) -> tuple[float | None, Any]:  # fmt: skip
     """The root of g between a point inside (g < 0) and one outside (g ≥ 0): regula falsi
-    with the Illinois rule, until the next correction or the bracket is below `tol`."""
+    with the Illinois rule, until the next correction or the bracket is below `tol`.
+
+    An outside end far above the line through the two inside ends nearest it is solved
+    again from the nearer one (a start far away can end in another valley); if it is then
+    inside, returns (None, (that end, the inside point before it)) for the walk to go on.
+    """
     (a, ga), (b, gb) = inside, outside
     last, kept = b, 0
     t = b
     for _ in range(ROOT_STEPS):
         t = a - ga * (b - a) / (gb - ga) if np.isfinite(gb) else 0.5 * (a + b)
         if abs(t - last) <= tol or abs(b - a) <= 2.0 * tol:
-            return float(t)
+            return float(t), None
         g = walk.g(t)
         last = t
         if g >= 0:
@@ -305,12 +335,19 @@ def _bracketed(walk: _Walker, inside: tuple[float, float], outside: tuple[float,
             kept = kept + 1 if kept > 0 else 1  # the inside end kept again
             if kept > 1:
                 ga *= 0.5
-        else:
-            a, ga = t, g
-            kept = kept - 1 if kept < 0 else -1  # the outside end kept again
-            if kept < -1:
-                gb *= 0.5
-    return float(t)
+            continue
+        trend = g + (g - ga) / (t - a) * (b - t)  # g at b on the line through a and t
+        a, ga = t, g
+        kept = kept - 1 if kept < 0 else -1  # the outside end kept again
+        if kept < -1:
+            gb *= 0.5
+        if b not in walk.refined and not gb <= trend + OUTLIER * walk.root:
+            walk.refine(b)
+            gb = walk.g(b)
+            if gb < 0:
+                return None, ((b, gb), (a, ga))
+            kept = 0
+    return float(t), None
 
 
 def wants_profile(walk: _Walker, half: float, wald: tuple[float, float]) -> str | None:
@@ -337,11 +374,7 @@ def wants_profile(walk: _Walker, half: float, wald: tuple[float, float]) -> str 
 def _wald_holds(walk: _Walker, half: float) -> bool:
     """Whether the profile meets the Wald ends: √P within `AGREE` of √P_crit at both."""
     v = float(walk.x[walk.j])
-    for s in (-1.0, 1.0):
-        walk(v + s * FIRST_STEP * half)  # the continuation the walk takes too
-        if not abs(walk.g(v + s * half)) <= AGREE * walk.root:
-            return False
-    return True
+    return all(abs(walk.g(v + s * half)) <= AGREE * walk.root for s in (-1.0, 1.0))
 
 
 def profile_solution(sol: Any, which: str | Sequence[str] = "auto", budget: int = BUDGET) -> Any:
@@ -364,9 +397,15 @@ def profile_solution(sol: Any, which: str | Sequence[str] = "auto", budget: int 
     q = prof.quantile
     ci = dict(sol.confidence_interval)
     spent = 0
+    relative = [q * float(sol.standard_error.get(n, np.inf)) / max(abs(v), 1e-300)
+                for n, v in zip(prof.free, x, strict=True)]  # fmt: skip
     order = sorted(
         range(len(prof.free)),
-        key=lambda i: (_per_record(prof.free[i]), not _at_bound(prof, x, i, ci[prof.free[i]])),
+        key=lambda i: (
+            _per_record(prof.free[i]),
+            not _at_bound(prof, x, i, ci[prof.free[i]]),
+            -relative[i],
+        ),
     )
     for j in order:
         name = prof.free[j]
