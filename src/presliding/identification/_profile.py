@@ -44,9 +44,8 @@ compared with the quadratic at both Wald ends; where it departs by more than
 only if √P is within 2 % of √P_crit at both (the profile goes on from those
 points otherwise). `which` may
 name the parameters instead. The shared parameters go before the records' own,
-and among each those whose Wald interval a bound cuts go first, then the widest
-relative to their value: the budget of inner optimisations (`BUDGET`) is spent
-where the Wald interval says least.
+and among each those whose Wald interval a bound cuts go first: the budget of
+inner optimisations (`BUDGET`) is spent where the Wald interval says least.
 """
 
 from __future__ import annotations
@@ -397,15 +396,9 @@ def profile_solution(sol: Any, which: str | Sequence[str] = "auto", budget: int 
     q = prof.quantile
     ci = dict(sol.confidence_interval)
     spent = 0
-    relative = [q * float(sol.standard_error.get(n, np.inf)) / max(abs(v), 1e-300)
-                for n, v in zip(prof.free, x, strict=True)]  # fmt: skip
     order = sorted(
         range(len(prof.free)),
-        key=lambda i: (
-            _per_record(prof.free[i]),
-            not _at_bound(prof, x, i, ci[prof.free[i]]),
-            -relative[i],
-        ),
+        key=lambda i: (_per_record(prof.free[i]), not _at_bound(prof, x, i, ci[prof.free[i]])),
     )
     for j in order:
         name = prof.free[j]
