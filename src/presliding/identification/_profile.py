@@ -202,11 +202,10 @@ class _Walker:
         crit = self.root**2
         for z0, p0 in starts[:RETRIES]:
             self.solves += 1
-            p, z = self._solve(theta, z0)
+            p, z, stuck = self._solve(theta, z0)
             if p < best[0]:
                 best = (p, z)
-            moved = not np.array_equal(z, z0)
-            if moved and (p < p0 - STALL * crit or p < 2.0 * crit):
+            if not stuck and (p < p0 - STALL * crit or p < 2.0 * crit):
                 break
         return best
 
@@ -231,7 +230,7 @@ class _Walker:
             out.append((c, _cost(prof.fun(self.full(c, theta))) - self.c0))
         return sorted(out, key=lambda s: s[1])
 
-    def _solve(self, theta: float, z0: FloatArray) -> tuple[float, FloatArray]:
+    def _solve(self, theta: float, z0: FloatArray) -> tuple[float, FloatArray, bool]:
         prof, keep = self.prof, self.keep
 
         def fun(z: FloatArray) -> FloatArray:
@@ -254,8 +253,10 @@ class _Walker:
                 gtol=1e-9, max_nfev=INNER_EVALUATIONS, step_limit=limit,
             )  # fmt: skip
         except (ValueError, np.linalg.LinAlgError, FloatingPointError):
-            return np.inf, z0
-        return _cost(res.fun) - self.c0, res.x
+            return np.inf, z0, True
+        # stuck: every step from the start rejected (not stationary there: gtol)
+        stuck = res.status != 1 and np.array_equal(res.x, z0)
+        return _cost(res.fun) - self.c0, res.x, stuck
 
 
 def _path(prof: Profiler, x: FloatArray, normal: FloatArray, j: int,
