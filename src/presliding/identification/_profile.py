@@ -22,8 +22,8 @@ regula falsi (Illinois rule) inside the bracket. Every solved point is kept and
 reused, and each inner optimisation starts from the lowest-cost extrapolation
 from the nearest solved points: along the secant of the two nearest, along the
 linearised profile path dz/dθ = −A_zz⁻¹A_zj (A = JᵀJ, the parameters on a bound
-held; also half of it), and the nearest solution itself. The residual of a fit
-with stiction is only piecewise smooth: where the solver cannot lower the cost
+held), each step within the solver's trust box, and the nearest solution
+itself. The residual of a fit with stiction is only piecewise smooth: where the solver cannot lower the cost
 from a start at all, the next start is tried (`RETRIES`), and P(θ) is the
 lowest cost found. An end is known to `END_ACCURACY` of the Wald half width
 (far below the sampling error of any interval end): the search stops when its
@@ -219,10 +219,14 @@ class _Walker:
         )
         tn = known[0]
         zn = self.solved[tn][1]
-        cands = [zn + (theta - tn) * self.path, zn + 0.5 * (theta - tn) * self.path, zn]
+        steps = [(theta - tn) * self.path]
         if len(known) > 1:
             t2 = known[1]
-            cands.insert(0, zn + (theta - tn) * (zn - self.solved[t2][1]) / (tn - t2))
+            steps.insert(0, (theta - tn) * (zn - self.solved[t2][1]) / (tn - t2))
+        if prof.step_limit is not None:  # within the solver's trust box: a start far out
+            limit = prof.step_limit(self.full(zn, tn))[keep]  # can take long to simulate
+            steps = [np.clip(d, -limit, limit) for d in steps]
+        cands = [zn + d for d in steps] + [zn]
         lo, hi = prof.lower[keep], prof.upper[keep]
         out = []
         for c in cands:
