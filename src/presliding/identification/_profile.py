@@ -23,8 +23,9 @@ reused, and each inner optimisation starts from the lowest-cost extrapolation
 from the nearest solved points: along the secant of the two nearest, along the
 linearised profile path dz/dθ = −A_zz⁻¹A_zj (A = JᵀJ, the parameters on a bound
 held), each step within the solver's trust box, and the nearest solution
-itself. The residual of a fit with stiction is only piecewise smooth: where the solver cannot lower the cost
-from a start at all, the next start is tried (`RETRIES`), and P(θ) is the
+itself. The residual of a fit with stiction is only piecewise smooth: where
+the solver cannot lower the cost from a start at all, the next start is tried
+(`RETRIES`), and P(θ) is the
 lowest cost found. An end is known to `END_ACCURACY` of the Wald half width
 (far below the sampling error of any interval end): the search stops when its
 next correction, or the bracket, is smaller than that, or after `ROOT_STEPS`
