@@ -11,9 +11,11 @@ Jacobian costs one more call for all its columns (grouped by the sparsity
 structure: 7 shared columns + 3 record columns).
 
 Target: at most 5 s on the 2-core machine, with the default options
-(two starts compared and the rigid-limit check). Printed: the median and
-range of repeated runs, their ratio to the target, the same without the
-multi-start, the evaluations, and the largest error of the shared parameters.
+(two starts compared and the rigid-limit check, profile intervals where the
+Wald interval is doubtful). Printed: the median and range of repeated runs,
+their ratio to the target, the same without the multi-start, the evaluations,
+the largest error of the shared parameters, and the time of the profile step
+(`identification._profile`) with the parameters it profiled.
 
 Run: python benchmarks/bench_pooled_fit.py [repeats]
 """
@@ -30,11 +32,30 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from _stops import TRUTH, stop_records
 
 from presliding import fit_response
+from presliding.identification import fit_result
 
 TARGET = 5.0
 
 
+_PROFILE_TIME = [0.0]
+
+
+def _timed_profile(original):
+    def profile(*args, **kw):
+        t0 = time.perf_counter()
+        try:
+            return original(*args, **kw)
+        finally:
+            _PROFILE_TIME[0] += time.perf_counter() - t0
+
+    return profile
+
+
+fit_result.profile_solution = _timed_profile(fit_result.profile_solution)
+
+
 def run(records, **kw):
+    _PROFILE_TIME[0] = 0.0
     t0 = time.perf_counter()
     fit = fit_response(records, signal="both", initial_state="preload", **kw)
     return fit, time.perf_counter() - t0
@@ -47,10 +68,11 @@ def main(repeats: int = 5) -> None:
     run(records[:2], max_evaluations=5)  # compile and warm up
     for label, kw in (("default (multi-start, rigid check)", {}),
                       ("single start", {"multistart": False})):  # fmt: skip
-        times, fit = [], None
+        times, fit, profile = [], None, []
         for _ in range(repeats):
             fit, dt = run(records, **kw)
             times.append(dt)
+            profile.append(_PROFILE_TIME[0])
         free = len(fit.parameters) - len(fit.fixed)
         err = max(abs(fit.parameters[k] / v - 1) for k, v in TRUTH.items())
         med = statistics.median(times)
@@ -58,6 +80,9 @@ def main(repeats: int = 5) -> None:
               f"{repeats} runs) = {med / TARGET:.2f} × the {TARGET:g} s target; "
               f"{free} free parameters, {fit.nfev} evaluations, status {fit.status}; largest "
               f"relative error of the shared parameters {100 * err:.2f} %")  # fmt: skip
+        profiled = [k for k, v in fit.interval_method.items() if v == "profile"]
+        print(f"  profile step: median {statistics.median(profile):.2f} s; profiled: "
+              f"{', '.join(profiled) or 'none'}")  # fmt: skip
 
 
 if __name__ == "__main__":

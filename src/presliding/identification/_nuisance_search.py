@@ -36,8 +36,9 @@ from presliding.identification._structured_lm import free_limit, levenberg_marqu
 
 FloatArray = NDArray[np.float64]
 
-#: preload fractions of the grid (both ends: saturated in either direction)
-FRACTIONS = np.linspace(-1.0, 1.0, 11)
+#: preload fractions of the grid (both ends: saturated in either direction), symmetric to
+#: the last bit so that a record and its mirror image see mirrored candidates
+FRACTIONS = np.concatenate((-np.linspace(0.0, 1.0, 6)[:0:-1], np.linspace(0.0, 1.0, 6)))
 #: candidates of each record polished (the best ranks of the grid)
 POLISHED = 3
 #: residual evaluations of the polish (per call, all records together)
@@ -166,14 +167,9 @@ def _polish(problem: PooledProblem, vec: FloatArray, free: set[str],
     fun = problem.residual()
     x0 = np.array([vec[problem.index[x]] for x in pm.free])
 
-    def mirrored_jac(x: FloatArray) -> object:
-        # forward differences step away from zero (a negative value steps down: its upper
-        # end is put at the value), so a record and its mirror image see mirrored steps
-        return jac(pm, x, flo, np.where(x < 0, x, fhi))
-
-    try:
+    try:  # (its forward differences step away from zero: mirror images see mirrored steps)
         lm = levenberg_marquardt(
-            lambda x: fun(pm.full(x)), mirrored_jac, x0, flo, fhi,
+            lambda x: fun(pm.full(x)), lambda x: jac(pm, x, flo, fhi), x0, flo, fhi,
             ftol=1e-8, xtol=1e-10, gtol=1e-12, max_nfev=POLISH_EVALUATIONS,
             step_limit=free_limit(pm, problem.step_limit),
         )  # fmt: skip

@@ -4,8 +4,13 @@ A free parameter that moves only per-record parameters touches only those
 records' rows, so the columns of different records are perturbed together
 (`PooledProblem.column_groups`): every trial point of a Jacobian is simulated
 in one compiled call. Central differences for small problems; forward ones
-from the residual the solver has just evaluated for large ones (one-sided
-downwards at an upper bound).
+from the residual the solver has just evaluated for large ones, each step away
+from zero (up for a value ≥ +0, down for a value ≤ −0; the other way at a
+bound), so a record and its mirror image (positions, velocities and forces
+negated: the records' own parameters change sign, the shared ones do not) take
+mirrored steps and give the same parameters to rounding. The forward trial
+point of a group moves each of its columns in its own direction: one
+simulation per group.
 """
 
 from __future__ import annotations
@@ -23,14 +28,17 @@ __all__ = ["assemble", "difference_columns", "difference_steps"]
 def difference_steps(x: FloatArray, lo: FloatArray, hi: FloatArray, typical: FloatArray,
                      central: bool) -> tuple[FloatArray, FloatArray]:  # fmt: skip
     """The steps up and down of each free parameter, within its bounds; `typical` is the
-    magnitude below which a step does not shrink."""
+    magnitude below which a step does not shrink. Forward steps go away from zero (module
+    notes): exactly one of the two is nonzero, unless both bounds pin the parameter."""
     eps = np.finfo(float).eps
     h = (np.cbrt(eps) if central else np.sqrt(eps)) * np.maximum(
         np.abs(x), typical * (1.0 if central else 1e-2)
     )
-    up = np.minimum(h, hi - x)
-    down = np.minimum(h, x - lo) if central else np.where(up > 0, 0.0, np.minimum(h, x - lo))
-    return up, down
+    up, down = np.minimum(h, hi - x), np.minimum(h, x - lo)
+    if central:
+        return up, down
+    go_down = np.where(np.signbit(x), down > 0, ~(up > 0))
+    return np.where(go_down, 0.0, up), np.where(go_down, down, 0.0)
 
 
 def difference_columns(
@@ -38,33 +46,37 @@ def difference_columns(
     col_rows: list, rigid: bool, base: FloatArray | None,
 ) -> list:  # fmt: skip
     """Each free column's values on its rows: the groups perturbed together, every trial
-    point simulated in one call; one-sided from `base` (the residual at x) when given."""
+    point simulated in one call; one-sided from `base` (the residual at x) when given,
+    each column of a group stepping in its own direction (module notes)."""
     sets = []
     for g in groups:
+        if base is not None:
+            xt = x.copy()
+            xt[g] += up[g] - down[g]
+            sets.append(pm.full(xt))
+            continue
         xp, xm = x.copy(), x.copy()
         xp[g] += up[g]
         xm[g] -= down[g]
-        sets.append(pm.full(xp))
-        if base is None or np.any(down[g] > 0):
-            sets.append(pm.full(xm))
+        sets.extend((pm.full(xp), pm.full(xm)))
     res = problem.residuals(np.array(sets), rigid)
     values: list = [None] * x.shape[0]
-    k = 0
-    for g in groups:
-        plus = res[k]
-        k += 1
-        if base is None or np.any(down[g] > 0):
-            minus = res[k]
-            k += 1
+    for k, g in enumerate(groups):
+        if base is not None:
+            plus, minus = res[k], base
         else:
-            minus = base
+            plus, minus = res[2 * k], res[2 * k + 1]
         with np.errstate(invalid="ignore"):  # a trial point outside the model's range
             diff = plus - minus
         # (an infinite residual on both sides): no usable slope there, none assumed
         diff[~np.isfinite(diff)] = 0.0
         for j in g:
-            span = up[j] + down[j]
             rows = col_rows[j]
+            if base is not None:
+                step = up[j] - down[j]  # signed: the one nonzero side
+                values[j] = diff[rows] / step if step != 0 else np.zeros(rows.shape[0])
+                continue
+            span = up[j] + down[j]
             values[j] = diff[rows] / span if span > 0 else np.zeros(rows.shape[0])
     return values
 

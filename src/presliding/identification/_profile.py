@@ -14,22 +14,39 @@ the HAC variance to the ordinary one. For a model linear in its parameters the
 profile is the quadratic (θ − θ̂)²/h_jj and the interval is exactly the Wald
 (F) interval; otherwise it follows the data: asymmetric, or reaching a bound.
 
-Each end is found by walking out from the optimum in steps of the Wald half
-width, doubling, until the profile crosses P_crit, and then by Brent's method on
-√P − √P_crit. An end past a bound the profile stays below is the bound (the
-data do not exclude it); an end the profile never reaches within 2⁸ Wald
+Each end is a root of g(θ) = √P(θ) − √P_crit, which is linear in θ for a
+linear model. The walk to an end solves at half the Wald half width, then takes
+secant steps on the two farthest points inside (no step longer than the
+distance already walked: a continuation), until the root is bracketed, and
+regula falsi (Illinois rule) inside the bracket. Every solved point is kept and
+reused, and each inner optimisation starts from the lowest-cost extrapolation
+from the nearest solved points: along the secant of the two nearest, along the
+linearised profile path dz/dθ = −A_zz⁻¹A_zj (A = JᵀJ, the parameters on a bound
+held), each step within the solver's trust box, and the nearest solution
+itself. The residual of a fit with stiction is only piecewise smooth: where
+the solver cannot lower the cost from a start at all, the next start is tried
+(`RETRIES`), and P(θ) is the
+lowest cost found. An end is known to `END_ACCURACY` of the Wald half width
+(far below the sampling error of any interval end): the search stops when its
+next correction, or the bracket, is smaller than that, or after `ROOT_STEPS`
+(a profile rough on the scale of P_crit), and the inner optimisations stop
+when the cost decreases by less than a matching share of P_crit. An end within
+that accuracy of a bound, or past a bound the profile stays below, is the bound
+(the data do not exclude it); an end the profile never reaches within 2⁸ Wald
 half widths, with no bound there, is unbounded (±inf), and the fit is then not
 identifiable (`_status`). The inner optimisations use the structured
-Levenberg–Marquardt of `_structured_lm` (dense or pooled sparse Jacobians),
-warm-started on the linearised profile path x̂ + (θ − θ̂)·h[:, j]/h_jj.
+Levenberg–Marquardt of `_structured_lm` (dense or pooled sparse Jacobians).
 
 `profile_solution` chooses the parameters ("auto"): every free parameter
-whose Wald interval reaches a bound, is wide (half width above a quarter of the
-value), or whose cost along the linearised path departs from the quadratic by
-more than 10 % at either Wald end; `which` may name them instead. The shared
-parameters go before the records' own, and among each those whose Wald interval a
-bound cuts go first: the budget of inner optimisations (`BUDGET`) is spent where the
-Wald interval says least.
+whose Wald interval reaches a bound or is wide (half width above a quarter of
+the value) is profiled. For the others the cost along the linearised path is
+compared with the quadratic at both Wald ends; where it departs by more than
+10 %, the profile is solved at the two Wald ends, and the Wald interval is kept
+only if √P is within 2 % of √P_crit at both (the profile goes on from those
+points otherwise). `which` may
+name the parameters instead. The shared parameters go before the records' own,
+and among each those whose Wald interval a bound cuts go first: the budget of
+inner optimisations (`BUDGET`) is spent where the Wald interval says least.
 """
 
 from __future__ import annotations
@@ -48,17 +65,39 @@ FloatArray = NDArray[np.float64]
 
 #: Doublings of the Wald half width tried before an end is called unbounded.
 MAX_DOUBLINGS = 8
-#: Relative departure of the cost from its quadratic model that asks for a profile.
+#: Relative departure of the cost from its quadratic model that asks for a check.
 NONLINEAR = 0.1
 #: Wald half width, as a share of the value, above which an interval is profiled.
 WIDE = 0.25
-#: Relative accuracy of √P at an interval end (1e-5: the end to about 1e-5 of the half width).
-ROOT_TOL = 1e-5
+#: Accuracy of an interval end, as a share of the Wald half width.
+END_ACCURACY = 1e-3
+#: Share of END_ACCURACY·P_crit the inner optimisations leave in the cost (their ftol).
+INNER_SHARE = 0.05
+#: Residual evaluations of one inner optimisation (from a start next to a solved point it
+#: needs a few; one that runs on is in a rough valley, and its cost stays an upper bound).
+INNER_EVALUATIONS = 25
+#: Relative agreement of √P with √P_crit at both Wald ends that keeps a Wald interval.
+AGREE = 0.02
+#: First step of the walk to an end, as a share of the Wald half width; no step is longer
+#: than this or the distance already walked (a continuation: a far extrapolation of the
+#: records' own parameters can land in another valley of their cost).
+FIRST_STEP = 0.5
+#: Starts an inner optimisation may take: the next start is tried only when the solver
+#: could not lower the cost from the previous one at all (a kink of the residual there).
+RETRIES = 2
+#: Excess of g at a bracket's outside end over the line through its inside points, as a
+#: share of √P_crit, that asks for that end to be solved again.
+OUTLIER = 0.25
+#: Decrease of the cost, as a share of P_crit, below which a start counts as stuck.
+STALL = 1e-3
+#: Steps of the root search inside a bracket (more go into chasing a profile that is rough on
+#: the scale of P_crit, where the records' own parameters jump between valleys).
+ROOT_STEPS = 6
 #: Wald half width, as a multiple of the value, beyond which no profile is tried (the data
 #: do not determine the parameter: the judge says so from the Wald interval).
 HOPELESS = 100.0
 #: Inner optimisations a profile step may spend (the rest keep their Wald interval).
-BUDGET = 30
+BUDGET = 20
 
 
 @dataclass(frozen=True, eq=False)
@@ -91,23 +130,40 @@ def _cost(r: FloatArray) -> float:
     return float(r @ r) if np.all(np.isfinite(r)) else np.inf
 
 
-def _inverse_normal(jac: Any) -> FloatArray:
-    """(JᵀJ)⁻¹ by a scaled pseudo-inverse (dense p × p)."""
+def _normal_matrix(jac: Any) -> FloatArray:
+    """JᵀJ, dense p × p."""
     a = (jac.T @ jac).toarray() if sparse.issparse(jac) else jac.T @ jac
-    a = np.asarray(a, dtype=float)
+    return np.asarray(a, dtype=float)
+
+
+def _scaled_pinv(a: FloatArray) -> FloatArray:
+    """The inverse of a symmetric matrix by a pseudo-inverse of its unit-diagonal scaling."""
     d = np.sqrt(np.maximum(np.diag(a), 0.0))
     d[d == 0] = 1.0
     return np.linalg.pinv(a / np.outer(d, d), rcond=1e-12) / np.outer(d, d)
 
 
-class _Walker:
-    """Profile of one parameter: inner optimisations with a shared budget."""
+def _inverse_normal(jac: Any) -> FloatArray:
+    """(JᵀJ)⁻¹ by a scaled pseudo-inverse (dense p × p)."""
+    return _scaled_pinv(_normal_matrix(jac))
 
-    def __init__(self, prof: Profiler, x: FloatArray, c0: float, hinv: FloatArray, j: int):
+
+class _Walker:
+    """Profile of one parameter: P(θ) by inner optimisations, every solved point kept."""
+
+    def __init__(self, prof: Profiler, x: FloatArray, c0: float, normal: FloatArray, j: int,
+                 threshold: float):  # fmt: skip
         self.prof, self.x, self.c0, self.j = prof, x, c0, j
         self.keep = np.array([i for i in range(x.shape[0]) if i != j], dtype=int)
-        self.path = hinv[self.keep, j] / hinv[j, j] if hinv[j, j] > 0 else np.zeros(len(self.keep))
+        self.path = _path(prof, x, normal, j, self.keep)
+        self.root = float(np.sqrt(threshold))
+        self.solved: dict[float, tuple[float, FloatArray]] = {float(x[j]): (0.0, x[self.keep])}
+        self.refined: set[float] = set()
         self.solves = 0
+        # the cost left by an inner optimisation moves an end by about δP/(2·P_crit) of the
+        # half width: a small share of END_ACCURACY
+        share = INNER_SHARE * END_ACCURACY * threshold / c0 if c0 > 0 else 0.0
+        self.ftol = float(np.clip(share, 1e-12, 1e-6))
 
     def full(self, z: FloatArray, theta: float) -> FloatArray:
         out = self.x.copy()
@@ -115,15 +171,72 @@ class _Walker:
         out[self.j] = theta
         return out
 
-    def __call__(self, theta: float, warm: tuple[float, FloatArray] | None) -> tuple:
-        """(P(θ), the others at the optimum) for the parameter held at θ."""
+    def g(self, theta: float) -> float:
+        """√P(θ) − √P_crit (inf where the model fails)."""
+        p = self(theta)
+        return float(np.sqrt(max(p, 0.0))) - self.root if np.isfinite(p) else np.inf
+
+    def __call__(self, theta: float) -> float:
+        """P(θ): the cost with the parameter held at θ and the others re-optimised."""
+        theta = float(theta)
+        if theta not in self.solved:
+            self.solved[theta] = self._run(theta, self._starts(theta))
+        return self.solved[theta][0]
+
+    def refine(self, theta: float) -> float:
+        """P(θ) solved again from the nearest other solved point; the lower of the two."""
+        theta = float(theta)
+        if theta not in self.refined:
+            self.refined.add(theta)
+            again = self._run(theta, self._starts(theta, exclude=theta))
+            if again[0] < self.solved[theta][0]:
+                self.solved[theta] = again
+        return self.solved[theta][0]
+
+    def _run(self, theta: float, starts: list) -> tuple[float, FloatArray]:
+        """The inner optimisation from the first start, and from the next where the solver
+        took no step, or stayed above 2·P_crit lowering the cost by less than a share
+        `STALL` of P_crit (a kink there, or another valley)."""
+        if self.keep.size == 0:
+            return starts[0][1], starts[0][0]
+        best = (np.inf, starts[0][0])
+        crit = self.root**2
+        for z0, p0 in starts[:RETRIES]:
+            self.solves += 1
+            p, z, stuck = self._solve(theta, z0)
+            if p < best[0]:
+                best = (p, z)
+            if not stuck and (p < p0 - STALL * crit or p < 2.0 * crit):
+                break
+        return best
+
+    def _starts(self, theta: float, exclude: float | None = None) -> list:
+        """The extrapolations from the nearest solved points, lowest cost first (module
+        notes)."""
         prof, keep = self.prof, self.keep
+        known = sorted(
+            (t for t, (p, _) in self.solved.items() if np.isfinite(p) and t != exclude),
+            key=lambda t: abs(t - theta),
+        )
+        tn = known[0]
+        zn = self.solved[tn][1]
+        steps = [(theta - tn) * self.path]
+        if len(known) > 1:
+            t2 = known[1]
+            steps.insert(0, (theta - tn) * (zn - self.solved[t2][1]) / (tn - t2))
+        if prof.step_limit is not None:  # within the solver's trust box: a start far out
+            limit = prof.step_limit(self.full(zn, tn))[keep]  # can take long to simulate
+            steps = [np.clip(d, -limit, limit) for d in steps]
+        cands = [zn + d for d in steps] + [zn]
         lo, hi = prof.lower[keep], prof.upper[keep]
-        base_t, base_z = warm if warm is not None else (self.x[self.j], self.x[keep])
-        z0 = np.clip(base_z + (theta - base_t) * self.path, lo, hi)
-        self.solves += 1
-        if keep.size == 0:
-            return _cost(prof.fun(self.full(z0, theta))) - self.c0, z0
+        out = []
+        for c in cands:
+            c = np.clip(c, lo, hi)
+            out.append((c, _cost(prof.fun(self.full(c, theta))) - self.c0))
+        return sorted(out, key=lambda s: s[1])
+
+    def _solve(self, theta: float, z0: FloatArray) -> tuple[float, FloatArray, bool]:
+        prof, keep = self.prof, self.keep
 
         def fun(z: FloatArray) -> FloatArray:
             return prof.fun(self.full(z, theta))
@@ -141,103 +254,132 @@ class _Walker:
 
         try:
             res = levenberg_marquardt(
-                fun, jac, z0, lo, hi, ftol=1e-10, xtol=1e-9, gtol=1e-9,
-                max_nfev=5 + keep.size, step_limit=limit,
+                fun, jac, z0, prof.lower[keep], prof.upper[keep], ftol=self.ftol, xtol=1e-9,
+                gtol=1e-9, max_nfev=INNER_EVALUATIONS, step_limit=limit,
             )  # fmt: skip
         except (ValueError, np.linalg.LinAlgError, FloatingPointError):
-            return np.inf, z0
-        return _cost(res.fun) - self.c0, res.x
+            return np.inf, z0, True
+        # stuck: every step from the start rejected (not stationary there: gtol)
+        stuck = res.status != 1 and np.array_equal(res.x, z0)
+        return _cost(res.fun) - self.c0, res.x, stuck
 
 
-def _end(walk: _Walker, side: int, half: float, threshold: float) -> float:
-    """The interval end on `side` (±1): where P crosses `threshold`, a bound, or ±inf.
+def _path(prof: Profiler, x: FloatArray, normal: FloatArray, j: int,
+          keep: NDArray[np.int_]) -> FloatArray:  # fmt: skip
+    """dz/dθ of the linearised profile: −A_zz⁻¹A_zj over the others not on a bound (a
+    parameter on a bound stays there: its column says nothing about moving past it)."""
+    out = np.zeros(keep.shape[0])
+    inside = (x[keep] > prof.lower[keep]) & (x[keep] < prof.upper[keep])
+    inner = keep[inside]
+    if inner.size:
+        out[inside] = -_scaled_pinv(normal[np.ix_(inner, inner)]) @ normal[inner, j]
+    return out
 
-    Secant steps on g(θ) = √P(θ) − √P_crit (linear in θ for a linear model, so
-    the first step, to the Wald end, is exact there) until the crossing is
-    bracketed, then regula falsi with the Illinois rule.
+
+def _end(walk: _Walker, side: int, half: float) -> float:
+    """The interval end on `side` (±1): where g = √P − √P_crit crosses 0, a bound, or ±inf.
+
+    The walk: a first step of `FIRST_STEP` half widths, then secant steps on the
+    two farthest points inside, a little past the predicted root, until it is
+    bracketed (module notes).
     """
     prof, j = walk.prof, walk.j
     theta0 = float(walk.x[j])
     limit = float(prof.upper[j] if side > 0 else prof.lower[j])
     if theta0 == limit:
         return limit
-    root = float(np.sqrt(threshold))
-
-    def g_at(theta: float, warm: tuple) -> tuple[float, FloatArray]:
-        p, z = walk(theta, warm)
-        return (float(np.sqrt(max(p, 0.0))) - root if np.isfinite(p) else np.inf), z
-
-    warm: tuple[float, FloatArray] = (theta0, walk.x[walk.keep])
-    a, ga = theta0, -root
-    theta = theta0 + side * half
+    tol = END_ACCURACY * half
+    prev, (a, ga) = None, (theta0, -walk.root)
+    theta = theta0 + side * FIRST_STEP * half
     for _ in range(3 * MAX_DOUBLINGS):
         if (theta - limit) * side >= 0:
             theta = limit
-        g, z = g_at(theta, warm)
+        g = walk.g(theta)
         if g >= 0:
-            break
+            end, inside = _bracketed(walk, (a, ga), (theta, g), tol)
+            if end is not None:
+                # within the accuracy of a bound is the bound (where the model may fail)
+                return limit if abs(end - limit) <= tol else end
+            (theta, g), (a, ga) = inside  # the outside end, solved again, is inside
         if theta == limit:
             return limit
         if theta == a:  # a step below the resolution of θ
             return theta
-        slope = (g - ga) / (theta - a)
-        a, ga, warm = theta, g, (theta, z)
-        reach = abs(theta - theta0)
+        prev, (a, ga) = (a, ga), (theta, g)
+        reach = abs(a - theta0)
         if reach > 2.0**MAX_DOUBLINGS * half:
             return side * np.inf
-        guess = -g / slope * side if slope * side > 0 else np.inf  # distance still to go
-        theta += side * min(max(1.2 * guess, 0.25 * reach), reach)
-    else:
-        return side * np.inf
-    if g > 1.0 * root:  # far past the threshold: a jump to another valley? try the linear path
-        g2, _ = g_at(theta, (theta0, walk.x[walk.keep]))
-        g = min(g, g2)
-        if g < 0:
-            return _end_from(walk, side, theta, g_at, threshold)
-    if g <= ROOT_TOL * root:
-        return theta
-    state = {"warm": warm}
-
-    def g_root(t: float) -> float:
-        gt, zt = g_at(t, state["warm"])
-        if gt < 0:
-            state["warm"] = (t, zt)
-        return gt
-
-    from scipy.optimize import brentq
-
-    try:
-        return float(brentq(g_root, a, theta, xtol=1e-7 * abs(theta - theta0), rtol=1e-12,
-                            maxiter=10))  # fmt: skip
-    except (ValueError, RuntimeError):
-        return float(theta)
+        rise = (ga - prev[1]) / abs(a - prev[0])  # of g per unit of distance outwards
+        dist = -ga / rise if rise > 0 else np.inf
+        if dist <= tol:
+            return a + side * dist
+        theta = a + side * min(dist + tol, max(reach, FIRST_STEP * half))
+    return side * np.inf
 
 
-def _end_from(walk: _Walker, side: int, theta: float, g_at: Any, threshold: float) -> float:
-    """Continue the walk past `theta` (found inside the interval after a second start)."""
-    return _end(walk, side, abs(theta - float(walk.x[walk.j])), threshold)
+def _bracketed(walk: _Walker, inside: tuple[float, float], outside: tuple[float, float],
+               tol: float) -> tuple[float | None, Any]:  # fmt: skip
+    """The root of g between a point inside (g < 0) and one outside (g ≥ 0): regula falsi
+    with the Illinois rule, until the next correction or the bracket is below `tol`.
+
+    An outside end far above the line through the two inside ends nearest it is solved
+    again from the nearer one (a start far away can end in another valley); if it is then
+    inside, returns (None, (that end, the inside point before it)) for the walk to go on.
+    """
+    (a, ga), (b, gb) = inside, outside
+    last, kept = b, 0
+    t = b
+    for _ in range(ROOT_STEPS):
+        t = a - ga * (b - a) / (gb - ga) if np.isfinite(gb) else 0.5 * (a + b)
+        if abs(t - last) <= tol or abs(b - a) <= 2.0 * tol:
+            return float(t), None
+        g = walk.g(t)
+        last = t
+        if g >= 0:
+            b, gb = t, g
+            kept = kept + 1 if kept > 0 else 1  # the inside end kept again
+            if kept > 1:
+                ga *= 0.5
+            continue
+        trend = g + (g - ga) / (t - a) * (b - t)  # g at b on the line through a and t
+        a, ga = t, g
+        kept = kept - 1 if kept < 0 else -1  # the outside end kept again
+        if kept < -1:
+            gb *= 0.5
+        if b not in walk.refined and not gb <= trend + OUTLIER * walk.root:
+            walk.refine(b)
+            gb = walk.g(b)
+            if gb < 0:
+                return None, ((b, gb), (a, ga))
+            kept = 0
+    return float(t), None
 
 
-def wants_profile(
-    prof: Profiler, x: FloatArray, c0: float, hinv: FloatArray, j: int, half: float,
-    wald: tuple[float, float],
-) -> bool:  # fmt: skip
-    """The "auto" choice: bound reached, wide, or a cost that is not quadratic (module notes)."""
+def wants_profile(walk: _Walker, half: float, wald: tuple[float, float]) -> str | None:
+    """The "auto" choice (module notes): "profile" (a bound reached, or wide), "check" (the
+    cost along the linearised path departs from the quadratic), or None (Wald holds)."""
+    prof, x, j = walk.prof, walk.x, walk.j
     v = float(x[j])
     if wald[0] > v - half or wald[1] < v + half or v in (prof.lower[j], prof.upper[j]):
-        return True
+        return "profile"
     if half > WIDE * abs(v):
-        return True
-    step = half * hinv[:, j] / hinv[j, j]
-    expected = half * half / hinv[j, j]
+        return "profile"
+    expected = walk.root**2
     for s in (-1.0, 1.0):
-        xs = x + s * step
-        if np.any(xs < prof.lower) or np.any(xs > prof.upper):
-            return True
-        rise = _cost(prof.fun(xs)) - c0
+        theta = v + s * half
+        z = x[walk.keep] + s * half * walk.path
+        if np.any(z < prof.lower[walk.keep]) or np.any(z > prof.upper[walk.keep]):
+            return "check"
+        rise = _cost(prof.fun(walk.full(z, theta))) - walk.c0
         if not abs(rise - expected) <= NONLINEAR * expected:
-            return True
-    return False
+            return "check"
+    return None
+
+
+def _wald_holds(walk: _Walker, half: float) -> bool:
+    """Whether the profile meets the Wald ends: √P within `AGREE` of √P_crit at both."""
+    v = float(walk.x[walk.j])
+    return all(abs(walk.g(v + s * half)) <= AGREE * walk.root for s in (-1.0, 1.0))
 
 
 def profile_solution(sol: Any, which: str | Sequence[str] = "auto", budget: int = BUDGET) -> Any:
@@ -252,11 +394,11 @@ def profile_solution(sol: Any, which: str | Sequence[str] = "auto", budget: int 
     if prof is None or sol.status == "failed" or not prof.free:
         return replace(sol, interval_method=methods)
     x = np.array([sol.values[n] for n in prof.free], dtype=float)
-    r = prof.fun(x)
-    c0 = _cost(r)
+    c0 = _cost(prof.fun(x))
     if not np.isfinite(c0):
         return replace(sol, interval_method=methods)
-    hinv = _inverse_normal(prof.jacobian(x))
+    normal = _normal_matrix(prof.jacobian(x))
+    hinv = _scaled_pinv(normal)
     q = prof.quantile
     ci = dict(sol.confidence_interval)
     spent = 0
@@ -274,16 +416,18 @@ def profile_solution(sol: Any, which: str | Sequence[str] = "auto", budget: int 
             continue
         if half > HOPELESS * abs(x[j]):  # undetermined already: its Wald interval stays
             continue
-        if which == "auto":
-            if not wants_profile(prof, x, c0, hinv, j, half, ci[name]):
-                continue
-        elif which != "all" and name not in which:
+        if which != "auto" and which != "all" and name not in which:
             continue
         if spent >= budget:
             break
-        threshold = half * half / hinv[j, j]
-        walk = _Walker(prof, x, c0, hinv, j)
-        lo, hi = _end(walk, -1, half, threshold), _end(walk, +1, half, threshold)
+        walk = _Walker(prof, x, c0, normal, j, half * half / hinv[j, j])
+        need = wants_profile(walk, half, ci[name]) if which == "auto" else "profile"
+        if need is None:
+            continue
+        if need == "check" and _wald_holds(walk, half):
+            spent += walk.solves
+            continue
+        lo, hi = _end(walk, -1, half), _end(walk, +1, half)
         if sol.status == "not_identifiable":  # a check widened the interval: never narrow it
             lo, hi = min(lo, ci[name][0]), max(hi, ci[name][1])
         ci[name] = (lo, hi)
