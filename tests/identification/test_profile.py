@@ -40,7 +40,7 @@ def test_a_linear_model_gives_the_exact_f_interval():
 
 def test_a_nonlinear_model_gets_an_asymmetric_interval_where_the_profile_crosses():
     """Each end agrees with the closed-form profile's crossing to 1e-3 of the Wald half width
-    t·SE (`_profile.END_ACCURACY`). That is the accuracy the search is built for: an end's
+    t·SE (`_profile_walk.END_ACCURACY`). That is the accuracy the search is built for: an end's
     sampling error is of the order of the half width itself (the estimate moves by SE from one
     data set to the next), so 1e-3 of it changes no coverage, and asking more only spends
     inner optimisations. The requirement is stated in the parameter, where it matters, not in
@@ -112,30 +112,3 @@ def test_a_parameter_whose_wald_interval_a_bound_cuts_is_profiled_first():
     assert prof.interval_method == {"a": "wald", "b": "wald", "c": "profile"}
     full = profile_solution(sol, "all")
     assert set(full.interval_method.values()) == {"profile"}
-
-
-def test_a_quadratic_profile_costs_two_inner_optimisations_per_end():
-    """The walk solves at half the Wald half width and then at the secant's root: for a model
-    linear in its parameters that is the end (no bracketing search, no point solved twice)."""
-    from presliding.identification import _profile as pr
-
-    x = np.linspace(0.0, 1.0, 40)
-    y = 1.5 - 0.7 * x + 0.4 * x**2 + np.random.default_rng(3).normal(0.0, 0.05, x.shape)
-    design = np.column_stack([np.ones_like(x), x, x**2])
-    sol = solve_least_squares(
-        lambda p: design @ p - y, {"a": 0.0, "b": 0.0, "c": 0.0}, jacobian=lambda p: design,
-        tolerance=1e-12,
-    )  # fmt: skip
-    prof = sol.profiler
-    v = np.array([sol.values[n] for n in prof.free])
-    c0 = float(sol.residual @ sol.residual)
-    normal = design.T @ design
-    hinv = np.linalg.inv(normal)
-    for j, name in enumerate(prof.free):
-        half = prof.quantile * sol.standard_error[name]
-        walk = pr._Walker(prof, v, c0, normal, j, half * half / hinv[j, j])
-        for side in (-1, 1):
-            solves = walk.solves
-            end = pr._end(walk, side, half)
-            assert abs(end - (v[j] + side * half)) <= 1e-6 * half
-            assert walk.solves - solves <= 2

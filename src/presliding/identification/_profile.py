@@ -14,28 +14,10 @@ the HAC variance to the ordinary one. For a model linear in its parameters the
 profile is the quadratic (θ − θ̂)²/h_jj and the interval is exactly the Wald
 (F) interval; otherwise it follows the data: asymmetric, or reaching a bound.
 
-Each end is a root of g(θ) = √P(θ) − √P_crit, which is linear in θ for a
-linear model. The walk to an end solves at half the Wald half width, then takes
-secant steps on the two farthest points inside (no step longer than the
-distance already walked: a continuation), until the root is bracketed, and
-regula falsi (Illinois rule) inside the bracket. Every solved point is kept and
-reused, and each inner optimisation starts from the lowest-cost extrapolation
-from the nearest solved points: along the secant of the two nearest, along the
-linearised profile path dz/dθ = −A_zz⁻¹A_zj (A = JᵀJ, the parameters on a bound
-held), each step within the solver's trust box, and the nearest solution
-itself. The residual of a fit with stiction is only piecewise smooth: where
-the solver cannot lower the cost from a start at all, the next start is tried
-(`RETRIES`), and P(θ) is the
-lowest cost found. An end is known to `END_ACCURACY` of the Wald half width
-(far below the sampling error of any interval end): the search stops when its
-next correction, or the bracket, is smaller than that, or after `ROOT_STEPS`
-(a profile rough on the scale of P_crit), and the inner optimisations stop
-when the cost decreases by less than a matching share of P_crit. An end within
-that accuracy of a bound, or past a bound the profile stays below, is the bound
-(the data do not exclude it); an end the profile never reaches within 2⁸ Wald
-half widths, with no bound there, is unbounded (±inf), and the fit is then not
-identifiable (`_status`). The inner optimisations use the structured
-Levenberg–Marquardt of `_structured_lm` (dense or pooled sparse Jacobians).
+Each end is found by a walk from the optimum (`_profile_walk`: continuation, secant
+steps, regula falsi inside the bracket, every solved point kept and reused); an end
+the profile never reaches is unbounded (±inf), and the fit is then not identifiable
+(`_status`).
 
 `profile_solution` chooses the parameters ("auto"): every free parameter
 whose Wald interval reaches a bound or is wide (half width above a quarter of
@@ -51,83 +33,37 @@ inner optimisations (`BUDGET`) is spent where the Wald interval says least.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
-from dataclasses import dataclass, replace
+from collections.abc import Sequence
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
-from numpy.typing import NDArray
 from scipy import sparse
 
-from presliding.identification._structured_lm import levenberg_marquardt
+from presliding.identification._profile_walk import (
+    FloatArray,
+    Profiler,
+    Walker,
+    cost,
+    interval_end,
+    scaled_pinv,
+)
 
-FloatArray = NDArray[np.float64]
+# `Profiler` (defined with the walk that uses it) is named here too: the solver builds it
+# for this module
+__all__ = ["Profiler", "profile_solution", "wants_profile"]
 
-#: Doublings of the Wald half width tried before an end is called unbounded.
-MAX_DOUBLINGS = 8
 #: Relative departure of the cost from its quadratic model that asks for a check.
 NONLINEAR = 0.1
 #: Wald half width, as a share of the value, above which an interval is profiled.
 WIDE = 0.25
-#: Accuracy of an interval end, as a share of the Wald half width.
-END_ACCURACY = 1e-3
-#: Share of END_ACCURACY·P_crit the inner optimisations leave in the cost (their ftol).
-INNER_SHARE = 0.05
-#: Residual evaluations of one inner optimisation (from a start next to a solved point it
-#: needs a few; one that runs on is in a rough valley, and its cost stays an upper bound).
-INNER_EVALUATIONS = 25
 #: Relative agreement of √P with √P_crit at both Wald ends that keeps a Wald interval.
 AGREE = 0.02
-#: First step of the walk to an end, as a share of the Wald half width; no step is longer
-#: than this or the distance already walked (a continuation: a far extrapolation of the
-#: records' own parameters can land in another valley of their cost).
-FIRST_STEP = 0.5
-#: Starts an inner optimisation may take: the next start is tried only when the solver
-#: could not lower the cost from the previous one at all (a kink of the residual there).
-RETRIES = 2
-#: Excess of g at a bracket's outside end over the line through its inside points, as a
-#: share of √P_crit, that asks for that end to be solved again.
-OUTLIER = 0.25
-#: Decrease of the cost, as a share of P_crit, below which a start counts as stuck.
-STALL = 1e-3
-#: Steps of the root search inside a bracket (more go into chasing a profile that is rough on
-#: the scale of P_crit, where the records' own parameters jump between valleys).
-ROOT_STEPS = 6
 #: Wald half width, as a multiple of the value, beyond which no profile is tried (the data
 #: do not determine the parameter: the judge says so from the Wald interval).
 HOPELESS = 100.0
 #: Inner optimisations a profile step may spend (the rest keep their Wald interval).
 BUDGET = 20
-
-
-@dataclass(frozen=True, eq=False)
-class Profiler:
-    """What the profile needs of a solved problem, in the free coordinates."""
-
-    fun: Callable[[FloatArray], FloatArray]
-    jac: Callable[[FloatArray], Any] | None  # None: central differences
-    free: tuple[str, ...]
-    lower: FloatArray
-    upper: FloatArray
-    quantile: float  # t_{n−p} at the level
-    step_limit: Callable[[FloatArray], FloatArray] | None = None
-
-    def jacobian(self, x: FloatArray) -> Any:
-        if self.jac is not None:
-            return self.jac(x)
-        r0 = self.fun(x)
-        out = np.empty((r0.shape[0], x.shape[0]))
-        for j in range(x.shape[0]):
-            h = 1e-6 * max(abs(x[j]), 1e-8)
-            a, b = x.copy(), x.copy()
-            a[j] = min(x[j] + h, self.upper[j])
-            b[j] = max(x[j] - h, self.lower[j])
-            out[:, j] = (self.fun(a) - self.fun(b)) / (a[j] - b[j])
-        return out
-
-
-def _cost(r: FloatArray) -> float:
-    return float(r @ r) if np.all(np.isfinite(r)) else np.inf
 
 
 def _normal_matrix(jac: Any) -> FloatArray:
@@ -136,226 +72,12 @@ def _normal_matrix(jac: Any) -> FloatArray:
     return np.asarray(a, dtype=float)
 
 
-def _scaled_pinv(a: FloatArray) -> FloatArray:
-    """The inverse of a symmetric matrix by a pseudo-inverse of its unit-diagonal scaling."""
-    d = np.sqrt(np.maximum(np.diag(a), 0.0))
-    d[d == 0] = 1.0
-    return np.linalg.pinv(a / np.outer(d, d), rcond=1e-12) / np.outer(d, d)
-
-
 def _inverse_normal(jac: Any) -> FloatArray:
     """(JᵀJ)⁻¹ by a scaled pseudo-inverse (dense p × p)."""
-    return _scaled_pinv(_normal_matrix(jac))
+    return scaled_pinv(_normal_matrix(jac))
 
 
-class _Walker:
-    """Profile of one parameter: P(θ) by inner optimisations, every solved point kept."""
-
-    def __init__(self, prof: Profiler, x: FloatArray, c0: float, normal: FloatArray, j: int,
-                 threshold: float):  # fmt: skip
-        self.prof, self.x, self.c0, self.j = prof, x, c0, j
-        self.keep = np.array([i for i in range(x.shape[0]) if i != j], dtype=int)
-        self.path = _path(prof, x, normal, j, self.keep)
-        self.root = float(np.sqrt(threshold))
-        self.solved: dict[float, tuple[float, FloatArray]] = {float(x[j]): (0.0, x[self.keep])}
-        self.refined: set[float] = set()
-        self.solves = 0
-        # the cost left by an inner optimisation moves an end by about δP/(2·P_crit) of the
-        # half width: a small share of END_ACCURACY
-        share = INNER_SHARE * END_ACCURACY * threshold / c0 if c0 > 0 else 0.0
-        self.ftol = float(np.clip(share, 1e-12, 1e-6))
-
-    def full(self, z: FloatArray, theta: float) -> FloatArray:
-        out = self.x.copy()
-        out[self.keep] = z
-        out[self.j] = theta
-        return out
-
-    def g(self, theta: float) -> float:
-        """√P(θ) − √P_crit (inf where the model fails)."""
-        p = self(theta)
-        return float(np.sqrt(max(p, 0.0))) - self.root if np.isfinite(p) else np.inf
-
-    def __call__(self, theta: float) -> float:
-        """P(θ): the cost with the parameter held at θ and the others re-optimised."""
-        theta = float(theta)
-        if theta not in self.solved:
-            self.solved[theta] = self._run(theta, self._starts(theta))
-        return self.solved[theta][0]
-
-    def refine(self, theta: float) -> float:
-        """P(θ) solved again from the nearest other solved point; the lower of the two."""
-        theta = float(theta)
-        if theta not in self.refined:
-            self.refined.add(theta)
-            again = self._run(theta, self._starts(theta, exclude=theta))
-            if again[0] < self.solved[theta][0]:
-                self.solved[theta] = again
-        return self.solved[theta][0]
-
-    def _run(self, theta: float, starts: list) -> tuple[float, FloatArray]:
-        """The inner optimisation from the first start, and from the next where the solver
-        took no step, or stayed above 2·P_crit lowering the cost by less than a share
-        `STALL` of P_crit (a kink there, or another valley)."""
-        if self.keep.size == 0:
-            return starts[0][1], starts[0][0]
-        best = (np.inf, starts[0][0])
-        crit = self.root**2
-        for z0, p0 in starts[:RETRIES]:
-            self.solves += 1
-            p, z, stuck = self._solve(theta, z0)
-            if p < best[0]:
-                best = (p, z)
-            if not stuck and (p < p0 - STALL * crit or p < 2.0 * crit):
-                break
-        return best
-
-    def _starts(self, theta: float, exclude: float | None = None) -> list:
-        """The extrapolations from the nearest solved points, lowest cost first (module
-        notes)."""
-        prof, keep = self.prof, self.keep
-        known = sorted(
-            (t for t, (p, _) in self.solved.items() if np.isfinite(p) and t != exclude),
-            key=lambda t: abs(t - theta),
-        )
-        tn = known[0]
-        zn = self.solved[tn][1]
-        steps = [(theta - tn) * self.path]
-        if len(known) > 1:
-            t2 = known[1]
-            steps.insert(0, (theta - tn) * (zn - self.solved[t2][1]) / (tn - t2))
-        if prof.step_limit is not None:  # within the solver's trust box: a start far out
-            limit = prof.step_limit(self.full(zn, tn))[keep]  # can take long to simulate
-            steps = [np.clip(d, -limit, limit) for d in steps]
-        cands = [zn + d for d in steps] + [zn]
-        lo, hi = prof.lower[keep], prof.upper[keep]
-        out = []
-        for c in cands:
-            c = np.clip(c, lo, hi)
-            out.append((c, _cost(prof.fun(self.full(c, theta))) - self.c0))
-        return sorted(out, key=lambda s: s[1])
-
-    def _solve(self, theta: float, z0: FloatArray) -> tuple[float, FloatArray, bool]:
-        prof, keep = self.prof, self.keep
-
-        def fun(z: FloatArray) -> FloatArray:
-            return prof.fun(self.full(z, theta))
-
-        def jac(z: FloatArray) -> Any:
-            out = prof.jacobian(self.full(z, theta))
-            return out.tocsc()[:, keep] if sparse.issparse(out) else out[:, keep]
-
-        limit = None
-        if prof.step_limit is not None:
-            step_limit = prof.step_limit
-
-            def limit(z: FloatArray) -> FloatArray:
-                return step_limit(self.full(z, theta))[keep]
-
-        try:
-            res = levenberg_marquardt(
-                fun, jac, z0, prof.lower[keep], prof.upper[keep], ftol=self.ftol, xtol=1e-9,
-                gtol=1e-9, max_nfev=INNER_EVALUATIONS, step_limit=limit,
-            )  # fmt: skip
-        except (ValueError, np.linalg.LinAlgError, FloatingPointError):
-            return np.inf, z0, True
-        # stuck: every step from the start rejected (not stationary there: gtol)
-        stuck = res.status != 1 and np.array_equal(res.x, z0)
-        return _cost(res.fun) - self.c0, res.x, stuck
-
-
-def _path(prof: Profiler, x: FloatArray, normal: FloatArray, j: int,
-          keep: NDArray[np.int_]) -> FloatArray:  # fmt: skip
-    """dz/dθ of the linearised profile: −A_zz⁻¹A_zj over the others not on a bound (a
-    parameter on a bound stays there: its column says nothing about moving past it)."""
-    out = np.zeros(keep.shape[0])
-    inside = (x[keep] > prof.lower[keep]) & (x[keep] < prof.upper[keep])
-    inner = keep[inside]
-    if inner.size:
-        out[inside] = -_scaled_pinv(normal[np.ix_(inner, inner)]) @ normal[inner, j]
-    return out
-
-
-def _end(walk: _Walker, side: int, half: float) -> float:
-    """The interval end on `side` (±1): where g = √P − √P_crit crosses 0, a bound, or ±inf.
-
-    The walk: a first step of `FIRST_STEP` half widths, then secant steps on the
-    two farthest points inside, a little past the predicted root, until it is
-    bracketed (module notes).
-    """
-    prof, j = walk.prof, walk.j
-    theta0 = float(walk.x[j])
-    limit = float(prof.upper[j] if side > 0 else prof.lower[j])
-    if theta0 == limit:
-        return limit
-    tol = END_ACCURACY * half
-    prev, (a, ga) = None, (theta0, -walk.root)
-    theta = theta0 + side * FIRST_STEP * half
-    for _ in range(3 * MAX_DOUBLINGS):
-        if (theta - limit) * side >= 0:
-            theta = limit
-        g = walk.g(theta)
-        if g >= 0:
-            end, inside = _bracketed(walk, (a, ga), (theta, g), tol)
-            if end is not None:
-                # within the accuracy of a bound is the bound (where the model may fail)
-                return limit if abs(end - limit) <= tol else end
-            (theta, g), (a, ga) = inside  # the outside end, solved again, is inside
-        if theta == limit:
-            return limit
-        if theta == a:  # a step below the resolution of θ
-            return theta
-        prev, (a, ga) = (a, ga), (theta, g)
-        reach = abs(a - theta0)
-        if reach > 2.0**MAX_DOUBLINGS * half:
-            return side * np.inf
-        rise = (ga - prev[1]) / abs(a - prev[0])  # of g per unit of distance outwards
-        dist = -ga / rise if rise > 0 else np.inf
-        if dist <= tol:
-            return a + side * dist
-        theta = a + side * min(dist + tol, max(reach, FIRST_STEP * half))
-    return side * np.inf
-
-
-def _bracketed(walk: _Walker, inside: tuple[float, float], outside: tuple[float, float],
-               tol: float) -> tuple[float | None, Any]:  # fmt: skip
-    """The root of g between a point inside (g < 0) and one outside (g ≥ 0): regula falsi
-    with the Illinois rule, until the next correction or the bracket is below `tol`.
-
-    An outside end far above the line through the two inside ends nearest it is solved
-    again from the nearer one (a start far away can end in another valley); if it is then
-    inside, returns (None, (that end, the inside point before it)) for the walk to go on.
-    """
-    (a, ga), (b, gb) = inside, outside
-    last, kept = b, 0
-    t = b
-    for _ in range(ROOT_STEPS):
-        t = a - ga * (b - a) / (gb - ga) if np.isfinite(gb) else 0.5 * (a + b)
-        if abs(t - last) <= tol or abs(b - a) <= 2.0 * tol:
-            return float(t), None
-        g = walk.g(t)
-        last = t
-        if g >= 0:
-            b, gb = t, g
-            kept = kept + 1 if kept > 0 else 1  # the inside end kept again
-            if kept > 1:
-                ga *= 0.5
-            continue
-        trend = g + (g - ga) / (t - a) * (b - t)  # g at b on the line through a and t
-        a, ga = t, g
-        kept = kept - 1 if kept < 0 else -1  # the outside end kept again
-        if kept < -1:
-            gb *= 0.5
-        if b not in walk.refined and not gb <= trend + OUTLIER * walk.root:
-            walk.refine(b)
-            gb = walk.g(b)
-            if gb < 0:
-                return None, ((b, gb), (a, ga))
-            kept = 0
-    return float(t), None
-
-
-def wants_profile(walk: _Walker, half: float, wald: tuple[float, float]) -> str | None:
+def wants_profile(walk: Walker, half: float, wald: tuple[float, float]) -> str | None:
     """The "auto" choice (module notes): "profile" (a bound reached, or wide), "check" (the
     cost along the linearised path departs from the quadratic), or None (Wald holds)."""
     prof, x, j = walk.prof, walk.x, walk.j
@@ -370,13 +92,13 @@ def wants_profile(walk: _Walker, half: float, wald: tuple[float, float]) -> str 
         z = x[walk.keep] + s * half * walk.path
         if np.any(z < prof.lower[walk.keep]) or np.any(z > prof.upper[walk.keep]):
             return "check"
-        rise = _cost(prof.fun(walk.full(z, theta))) - walk.c0
+        rise = cost(prof.fun(walk.full(z, theta))) - walk.c0
         if not abs(rise - expected) <= NONLINEAR * expected:
             return "check"
     return None
 
 
-def _wald_holds(walk: _Walker, half: float) -> bool:
+def _wald_holds(walk: Walker, half: float) -> bool:
     """Whether the profile meets the Wald ends: √P within `AGREE` of √P_crit at both."""
     v = float(walk.x[walk.j])
     return all(abs(walk.g(v + s * half)) <= AGREE * walk.root for s in (-1.0, 1.0))
@@ -394,11 +116,11 @@ def profile_solution(sol: Any, which: str | Sequence[str] = "auto", budget: int 
     if prof is None or sol.status == "failed" or not prof.free:
         return replace(sol, interval_method=methods)
     x = np.array([sol.values[n] for n in prof.free], dtype=float)
-    c0 = _cost(prof.fun(x))
+    c0 = cost(prof.fun(x))
     if not np.isfinite(c0):
         return replace(sol, interval_method=methods)
     normal = _normal_matrix(prof.jacobian(x))
-    hinv = _scaled_pinv(normal)
+    hinv = scaled_pinv(normal)
     q = prof.quantile
     ci = dict(sol.confidence_interval)
     spent = 0
@@ -420,14 +142,14 @@ def profile_solution(sol: Any, which: str | Sequence[str] = "auto", budget: int 
             continue
         if spent >= budget:
             break
-        walk = _Walker(prof, x, c0, normal, j, half * half / hinv[j, j])
+        walk = Walker(prof, x, c0, normal, j, half * half / hinv[j, j])
         need = wants_profile(walk, half, ci[name]) if which == "auto" else "profile"
         if need is None:
             continue
         if need == "check" and _wald_holds(walk, half):
             spent += walk.solves
             continue
-        lo, hi = _end(walk, -1, half), _end(walk, +1, half)
+        lo, hi = interval_end(walk, -1, half), interval_end(walk, +1, half)
         if sol.status == "not_identifiable":  # a check widened the interval: never narrow it
             lo, hi = min(lo, ci[name][0]), max(hi, ci[name][1])
         ci[name] = (lo, hi)
