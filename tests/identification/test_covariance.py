@@ -98,7 +98,7 @@ def _linked_design(ratio: float, dt: float = 1e-3, n: int = 300):
     shared columns, and per record a start-like column (its velocity sensitivity dies out
     within a few samples, its position one stays) and a transient one."""
     from presliding.identification._covariance import Link
-    from presliding.identification._pooled_problem import difference_matrix
+    from presliding.identification._pooled_record import difference_matrix
 
     t = np.arange(n) * dt
     k = np.arange(n)

@@ -12,6 +12,7 @@ from presliding.identification._fit_engine import FitPlan, Found, run_fit
 from presliding.identification._fit_problem import FitOptions, FitProblem
 from presliding.identification._least_squares import solve_least_squares
 from presliding.identification._model_spec import ModelSpec
+from presliding.identification._pooled_record import as_record
 from presliding.identification._separable_problem import (
     Separable,
     separable_problem,
@@ -100,7 +101,7 @@ def test_a_pooled_problem_carries_its_records_and_structured_jacobian():
     model = PIFriction(0.3, [4000.0, 1000.0], breakaway=[0.35] * 2)
     records, nuisance = stop_records(2, 2, model, samples=300)
     spec = ModelSpec(2, True, None, 32)
-    rec = pp.PooledProblem([pp.as_record(m) for m in records], spec, (1.0, 50.0), "preload",
+    rec = pp.PooledProblem([as_record(m) for m in records], spec, (1.0, 50.0), "preload",
                            offset=False, suffix=True)  # fmt: skip
     truth = {"mass": 2.0, "coulomb_level": 1.0, "coulomb": 0.3, "stiffness_1": 4000.0,
              "stiffness_2": 1000.0}  # fmt: skip

@@ -9,6 +9,7 @@ from presliding import PIFriction, Uniform, cross_validate, fit_response
 from presliding.identification import _pooled_problem as pp
 from presliding.identification._least_squares import _parameter_map
 from presliding.identification._model_spec import ModelSpec, centroid_bank
+from presliding.identification._pooled_record import as_record
 from presliding.identification._structured_lm import _normal
 from tests.helpers import stop_records
 
@@ -50,7 +51,7 @@ def test_noise_free_pooled_stops_recover_every_parameter(clean):
 def test_structured_jacobian_equals_dense_differences(clean):
     """Grouped columns (one per kind of record parameter) give every column exactly."""
     records, nuisance = clean
-    recs = [pp.as_record(m) for m in records[:3]]
+    recs = [as_record(m) for m in records[:3]]
     problem = pp.PooledProblem(recs, ModelSpec(4, True, None, 32), (1.0, 50.0), "preload",
                                offset=False, suffix=True)  # fmt: skip
     truth = _truth(nuisance)
@@ -234,22 +235,6 @@ def _exact_stop(seed: int = 2):
                           applied_force=m.applied_force), nuisance[0]  # fmt: skip
 
 
-def test_difference_quotient_is_detected_to_rounding():
-    exact, diff, _ = _exact_stop()
-    t, y = diff.time, diff.position
-    assert pp.difference_order(t, y, diff.velocity) == 1
-    assert pp.difference_order(t, y, np.gradient(y, t, edge_order=2)) == 2
-    assert pp.difference_order(t, y, exact.velocity) == 0  # a measured velocity
-    assert pp.as_record(diff).difference == 1
-    assert pp.as_record(diff, "measured").difference == 0
-    assert pp.as_record(exact).difference == 0
-    assert pp.as_record(exact, "difference").difference == 1
-    from presliding import Measurement
-
-    only_y = Measurement(t, position=y, applied_force=diff.applied_force)
-    assert pp.as_record(only_y).difference == 1
-
-
 def test_velocity_difference_quotient_fits_the_initial_velocity_exactly():
     """Velocity = numpy.gradient of an exact position: compared through the same quotient,
     the true initial velocity is the optimum (residual ~0); compared with the exact model
@@ -287,7 +272,7 @@ def test_difference_velocity_rows_are_the_quotient_of_the_position_rows():
     """The premise of the covariance's links: with v = numpy.gradient(y, t) the velocity
     residual and Jacobian of each record are w_v/w_y·D times its position ones."""
     records, nuisance = stop_records(4, 2, MODEL, quantum=1e-6, noise=2e-7)
-    recs = [pp.as_record(m) for m in records]
+    recs = [as_record(m) for m in records]
     assert all(r.difference == 1 for r in recs)
     problem = pp.PooledProblem(recs, ModelSpec(4, True, None, 32), (2.0, 300.0), "preload",
                                offset=False, suffix=True)  # fmt: skip
@@ -308,6 +293,6 @@ def test_difference_velocity_rows_are_the_quotient_of_the_position_rows():
                                    atol=1e-6 * np.max(np.abs(quotient)))  # fmt: skip
         np.testing.assert_allclose(r[link.velocity], link.ratio * (d @ r[link.position]),
                                    atol=1e-9 * np.max(np.abs(r[link.velocity])))  # fmt: skip
-    measured = pp.PooledProblem([pp.as_record(m, "measured") for m in records], problem.spec,
+    measured = pp.PooledProblem([as_record(m, "measured") for m in records], problem.spec,
                                 (2.0, 300.0), "preload", offset=False, suffix=True)  # fmt: skip
     assert measured.links == []

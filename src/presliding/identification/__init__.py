@@ -31,6 +31,7 @@ _fit_progress.py    what a fit shows while it runs (`progress=`): stages, evalua
 _structured_lm.py   Levenberg–Marquardt on structured normal equations (large pooled fits)
 _model_spec.py      the fitted models as named parameters (elements, densities)
 _pooled_kernel.py   compiled batched responses of many records and parameter sets
+_pooled_record.py   a measurement as a pooled record; its velocity as a difference quotient
 _pooled_problem.py  the pooled residual and its structured Jacobian
 _pooled_jacobian.py the finite differences of that Jacobian, records' columns together
 _pooled_banks.py    the banks (c1, k_j, r_j) of many parameter sets as kernel arrays

@@ -22,7 +22,7 @@ from numpy.typing import NDArray
 from presliding.identification import _pi_regression as pr
 from presliding.identification import _response_tools as rt
 from presliding.identification._model_spec import ModelSpec
-from presliding.identification._pooled_problem import Record
+from presliding.identification._pooled_record import Record
 
 FloatArray = NDArray[np.float64]
 

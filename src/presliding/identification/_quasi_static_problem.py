@@ -22,7 +22,8 @@ from numpy.typing import NDArray
 
 from presliding.identification import _quasi_static_kernel as qk
 from presliding.identification._model_spec import TINY, ModelSpec
-from presliding.identification._pooled_problem import PooledProblem, Record
+from presliding.identification._pooled_problem import PooledProblem
+from presliding.identification._pooled_record import Record
 
 FloatArray = NDArray[np.float64]
 

@@ -40,6 +40,7 @@ from presliding.identification import _pi_regression as pr
 from presliding.identification import _pooled_problem as pp
 from presliding.identification._fit_options import check_varies
 from presliding.identification._least_squares import Solution, solve_least_squares
+from presliding.identification._pooled_record import VELOCITY, Record, as_record
 from presliding.identification._profile import profile_solution
 from presliding.measurement.measurement import Measurement
 
@@ -48,7 +49,7 @@ NEED = {"velocity": ("velocity",), "position": ("position",), "both": ("velocity
 
 def check_records(
     records: Any, signal: str, signals: tuple[str, ...], velocity: str = "auto"
-) -> list[pp.Record]:
+) -> list[Record]:
     """The records as a checked list (each a Measurement with the signals compared);
     `velocity` says how a record's velocity is compared (`_pooled_problem.as_record`)."""
     if isinstance(records, Measurement):
@@ -69,7 +70,7 @@ def check_records(
         m.require(*NEED[signal], purpose=f"fit_response(signal={signal!r})")
         which = "velocity" if m.velocity is not None else "position"
         check_varies(which, getattr(m, which))
-    velocity = as_choice("velocity", velocity, pp.VELOCITY)
+    velocity = as_choice("velocity", velocity, VELOCITY)
     if velocity == "difference":
         for i, m in enumerate(found):
             if m.position is None:
@@ -77,10 +78,10 @@ def check_records(
                     "`velocity='difference'` compares the difference quotient of the position; "
                     f"got a record without a position (record {i})."
                 )
-    return [pp.as_record(m, velocity) for m in found]
+    return [as_record(m, velocity) for m in found]
 
 
-def check_quasi_static_records(records: Any) -> list[pp.Record]:
+def check_quasi_static_records(records: Any) -> list[Record]:
     """The records of a quasi-static fit as a checked list (position and applied force)."""
     found = [records] if isinstance(records, Measurement) else as_list("records", records)
     if not found:
@@ -91,7 +92,7 @@ def check_quasi_static_records(records: Any) -> list[pp.Record]:
         position, force = m.require("position", "applied_force", purpose="fit_quasi_static")
         check_varies("position", position)
         check_varies("applied_force", force)
-    return [pp.as_record(m) for m in found]
+    return [as_record(m) for m in found]
 
 
 def check_model_values(spec: Any, fixed: dict, tied: dict, initial: Mapping | None) -> None:
@@ -279,7 +280,7 @@ def record_bootstrap(
 
 
 # ---------------------------------------------------------------------- residual set-up
-def signal_weights(signal: str, recs: list[pp.Record], weights: Any) -> tuple[float, float]:
+def signal_weights(signal: str, recs: list[Record], weights: Any) -> tuple[float, float]:
     """Weights of the velocity and position residuals (0: not compared)."""
     extra = {"velocity": 1.0, "position": 1.0}
     if weights is not None:
