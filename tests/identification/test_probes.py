@@ -39,9 +39,9 @@ def test_the_rigid_corner_and_the_split_moves():
 
 
 def test_a_fit_in_the_valley_of_an_element_that_never_engaged_finds_the_true_one():
-    """Quantised stops started in the valley where k_4 → 0 and F_c ≈ 1.3 (cost 3.6 % above
+    """Quantised stops started in the valley where k_4 → 0 and F_c ≈ 1.3 (cost 36 % above
     the true valley): a single solve stays there; the search's probes leave it."""
-    records, nuisance = stop_records(10, 4, MODEL, quantum=1e-6, noise=2e-7)
+    records, nuisance = stop_records(10, 3, MODEL, samples=400, quantum=1e-6, noise=2e-7)
     start = {**SHARED, "stiffness_1": 5000.0, "stiffness_4": 5.0, "coulomb_level": 1.5}
     for i, n in enumerate(nuisance):
         start.update({f"{k}_{i + 1}": n[k] for k in
