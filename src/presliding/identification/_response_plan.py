@@ -35,6 +35,8 @@ from dataclasses import dataclass, replace
 from functools import partial
 from typing import Any
 
+import numpy as np
+
 from presliding.identification import _pooled_problem as pp
 from presliding.identification._fit_engine import FitPlan, FitRun, Found
 from presliding.identification._fit_options import check_enough
@@ -167,10 +169,17 @@ def _search(req: ResponseRequest, flags: _Flags, run: FitRun) -> Found:
         run.stage("search: the optimum polished with the velocity's difference quotient")
         polished = run.solve(sol.values)
         sol = polished if polished.status != "failed" else sol
-    if flags.search and flags.discrete_equal and rec.n_rec > 1 and sol.status != "failed":
+    if flags.search and flags.discrete_equal and rec.n_rec > 1 and _elements_carry(sol):
         run.stage("search: probes of the neighbouring valleys from the best optimum")
         sol, n_starts, at_best = _probe(req, flags, run, sol, n_starts, at_best)
     return Found(sol, n_starts, at_best, count)
+
+
+def _elements_carry(sol: Solution) -> bool:
+    """Whether the elements carry force at the optimum (c1 below F_c): otherwise their
+    stiffnesses do not enter the residual and the probes' moves have no meaning."""
+    v = sol.values
+    return sol.status != "failed" and v.get("coulomb", 0.0) < v.get("coulomb_level", np.inf)
 
 
 def _probe(req: ResponseRequest, flags: _Flags, run: FitRun, sol: Solution, n_starts: int,
