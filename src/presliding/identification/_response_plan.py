@@ -176,10 +176,12 @@ def _search(req: ResponseRequest, flags: _Flags, run: FitRun) -> Found:
 
 
 def _elements_carry(sol: Solution) -> bool:
-    """Whether the elements carry force at the optimum (c1 below F_c): otherwise their
-    stiffnesses do not enter the residual and the probes' moves have no meaning."""
+    """Whether the search ended at an optimum (not on the evaluation cap) where the elements
+    carry force (c1 below F_c): otherwise their stiffnesses do not enter the residual and
+    the probes' moves have no meaning."""
     v = sol.values
-    return sol.status != "failed" and v.get("coulomb", 0.0) < v.get("coulomb_level", np.inf)
+    at_optimum = sol.status in ("converged", "not_identifiable", "at_bound")  # not a cap
+    return at_optimum and v.get("coulomb", 0.0) < v.get("coulomb_level", np.inf)
 
 
 def _probe(req: ResponseRequest, flags: _Flags, run: FitRun, sol: Solution, n_starts: int,
@@ -188,7 +190,8 @@ def _probe(req: ResponseRequest, flags: _Flags, run: FitRun, sol: Solution, n_st
     re-engaged and the rigid corner left (each solved on when it ends near the best), the
     element split moved (solved on only when already below the best)."""
     p, k_names = run.problem, req.spec.k_names
-    budget = PROBE_EVALUATIONS
+    assert run.options.max_evaluations is not None
+    budget = min(PROBE_EVALUATIONS, run.options.max_evaluations)  # the user's cap holds
     moved = engage_starts(sol.values, k_names) + corner_starts(sol.values, k_names)
     best, probes = solve_probes(p.records, run.solve, moved, sol, budget)
     best, split = solve_probes(p.records, run.solve, split_starts(sol.values, k_names), best,
