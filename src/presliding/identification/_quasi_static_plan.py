@@ -48,6 +48,7 @@ from presliding.identification._least_squares import Solution
 from presliding.identification._model_spec import DENSITIES, ModelSpec
 from presliding.identification._nuisance_search import search_nuisance
 from presliding.identification._parameters import check_levels, resolve_parameters
+from presliding.identification._probes import other_valley, solve_probes, split_starts
 from presliding.identification._quasi_static_errors import with_run_floor
 from presliding.identification._quasi_static_problem import QuasiStaticProblem
 from presliding.identification._quasi_static_start import lift_density, quasi_static_start
@@ -64,7 +65,6 @@ from presliding.identification._response_setup import (
     record_starts,
 )
 from presliding.identification._search import (
-    REFINE_WITHIN,
     SAME_OPTIMUM,
     TIE,
     at_floor,
@@ -212,10 +212,6 @@ def _starts(req: QuasiStaticRequest, run: FitRun) -> list[dict[str, float]]:
     return starts
 
 
-#: share of the smaller stiffness moved between neighbouring elements by the split probes
-SPLIT_SHARES = (0.1, -0.1)
-
-
 def _search(req: QuasiStaticRequest, run: FitRun) -> Found:
     """The starts (`_starts_search`), then the element split probed (module notes)."""
     found = _starts_search(req, run)
@@ -224,15 +220,8 @@ def _search(req: QuasiStaticRequest, run: FitRun) -> Found:
         return found
     if not np.isfinite(cost(sol)):
         return found
-    best, probes = sol, []
-    for a, b in zip(spec.k_names[:-1], spec.k_names[1:], strict=True):
-        for share in SPLIT_SHARES:
-            begin = dict(sol.values)
-            move = share * min(begin[a], begin[b])
-            begin[a], begin[b] = begin[a] - move, begin[b] + move
-            probes.append(run.solve(begin))
-            if cost(probes[-1]) < cost(best) * (1.0 - TIE):
-                best = probes[-1]
+    best, probes = solve_probes(run.problem.records, run.solve,
+                                split_starts(sol.values, spec.k_names), sol)  # fmt: skip
     at_best = sum(1 for t in probes if same_point(run.problem.records, t.values, best.values)
                   or cost(t) <= cost(best) * (1.0 + SAME_OPTIMUM))  # fmt: skip
     if best is sol:  # a probe that found a lower optimum leaves the starts' best behind
@@ -262,22 +251,12 @@ def _starts_search(req: QuasiStaticRequest, run: FitRun) -> Found:
         again = run.solve(values)
         sol = again if cost(again) < cost(sol) else sol
     run.evaluations += count
-    tries = [_other_valley(run, t, sol) for t in tries]
+    tries = [other_valley(p.records, run.solve, t, sol) for t in tries]
     best = min(tries, key=cost)
     sol = best if cost(best) < cost(sol) * (1.0 - TIE) else sol
     at_best = sum(1 for t in tries if same_point(p.records, t.values, sol.values)
                   or cost(t) <= cost(sol) * (1.0 + SAME_OPTIMUM))  # fmt: skip
     return Found(sol, len(tries), at_best, count)
-
-
-def _other_valley(run: FitRun, t: Solution, sol: Solution) -> Solution:
-    """A start's short solve that ended near the best's cost in another basin, solved on to
-    its own optimum (a second valley the intervals must not hide, `_alternatives`)."""
-    near = np.isfinite(cost(t)) and cost(t) <= REFINE_WITHIN * cost(sol)
-    if t.status != "max_evaluations" or not near or same_point(run.problem.records, t.values,
-                                                                 sol.values):  # fmt: skip
-        return t
-    return run.solve(t.values)
 
 
 def _split(req: QuasiStaticRequest, run: FitRun, sol: Solution) -> Solution:

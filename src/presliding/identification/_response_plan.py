@@ -13,7 +13,12 @@ the options. `response_plan` gives the fit's own steps:
   search's floor rule and starts were set on the exact comparison: with the
   quotient it stopped in a basin 5–7 % above the optimum (the rule allows
   3 × the floor) on seeds where the exact one went on to the optimum;
-  the polish moves the parameters only by the quotient's bias;
+  the polish moves the parameters only by the quotient's bias. A pooled fit
+  then probes the neighbouring valleys from the best optimum (`_probes`: an
+  element that never engaged re-engaged, the rigid corner left, the element
+  split moved; each a short solve of `PROBE_EVALUATIONS`, solved on when it
+  ends near the best): the starts all derive from one regression start and
+  can miss a valley next to the one they reach;
 * checks: the rigid corner and coalesced elements, the start from rest of a
   single record, interchangeable elements relabelled, the rigid limit of the
   smallest-threshold element (`_response_checks`);
@@ -30,12 +35,20 @@ from dataclasses import dataclass, replace
 from functools import partial
 from typing import Any
 
+import numpy as np
+
 from presliding.identification import _pooled_problem as pp
 from presliding.identification._fit_engine import FitPlan, FitRun, Found
 from presliding.identification._fit_options import check_enough
 from presliding.identification._fit_problem import FitOptions, FitProblem
 from presliding.identification._least_squares import LARGE_PROBLEM, Solution
 from presliding.identification._parameters import kept_parameters
+from presliding.identification._probes import (
+    corner_starts,
+    engage_starts,
+    solve_probes,
+    split_starts,
+)
 from presliding.identification._response_box import start_and_box
 from presliding.identification._response_checks import (
     escape_corner,
@@ -49,11 +62,19 @@ from presliding.identification._response_checks import (
 from presliding.identification._response_request import ResponseRequest
 from presliding.identification._response_result import PER_UNIT_MASS, response_result
 from presliding.identification._response_setup import prune_elements, signal_weights
-from presliding.identification._search import adaptive_search, global_start
+from presliding.identification._search import (
+    SAME_OPTIMUM,
+    adaptive_search,
+    cost,
+    global_start,
+    same_point,
+)
 from presliding.measurement.measurement import common_axis
 
 __all__ = ["response_plan", "response_problem"]
 
+#: evaluations of a probe's short solve (`_probes`; solved on when it ends near the best)
+PROBE_EVALUATIONS = 40
 #: evaluations of the rigid-limit refit of a large pooled problem (an upper bound of its
 #: cost suffices to flag the rigid corner; the refit starts at the optimum)
 RIGID_EVALUATIONS = 30
@@ -148,7 +169,37 @@ def _search(req: ResponseRequest, flags: _Flags, run: FitRun) -> Found:
         run.stage("search: the optimum polished with the velocity's difference quotient")
         polished = run.solve(sol.values)
         sol = polished if polished.status != "failed" else sol
+    if flags.search and flags.discrete_equal and rec.n_rec > 1 and _elements_carry(sol):
+        run.stage("search: probes of the neighbouring valleys from the best optimum")
+        sol, n_starts, at_best = _probe(req, flags, run, sol, n_starts, at_best)
     return Found(sol, n_starts, at_best, count)
+
+
+def _elements_carry(sol: Solution) -> bool:
+    """Whether the search ended at an optimum (not on the evaluation cap) where the elements
+    carry force (c1 below F_c): otherwise their stiffnesses do not enter the residual and
+    the probes' moves have no meaning."""
+    v = sol.values
+    at_optimum = sol.status in ("converged", "not_identifiable", "at_bound")  # not a cap
+    return at_optimum and v.get("coulomb", 0.0) < v.get("coulomb_level", np.inf)
+
+
+def _probe(req: ResponseRequest, flags: _Flags, run: FitRun, sol: Solution, n_starts: int,
+           at_best: int) -> tuple[Solution, int, int]:  # fmt: skip
+    """The probes of `_probes` from the best optimum: an element that never engaged
+    re-engaged and the rigid corner left (each solved on when it ends near the best), the
+    element split moved (solved on only when already below the best)."""
+    p, k_names = run.problem, req.spec.k_names
+    assert run.options.max_evaluations is not None
+    budget = min(PROBE_EVALUATIONS, run.options.max_evaluations)  # the user's cap holds
+    moved = engage_starts(sol.values, k_names) + corner_starts(sol.values, k_names)
+    best, probes = solve_probes(p.records, run.solve, moved, sol, budget)
+    best, split = solve_probes(p.records, run.solve, split_starts(sol.values, k_names), best,
+                               budget, within=1.0)  # fmt: skip
+    probes += split
+    at = sum(1 for t in probes if same_point(p.records, t.values, best.values)
+             or cost(t) <= cost(best) * (1.0 + SAME_OPTIMUM))  # fmt: skip
+    return best, n_starts + len(probes), at + (at_best if best is sol else 0)
 
 
 def _corner_checks(req: ResponseRequest, flags: _Flags, run: FitRun, sol: Solution) -> Solution:
