@@ -31,6 +31,18 @@ def _truth(nuisance):
     return out
 
 
+def _at_truth(recs, nuisance, weights):
+    """The pooled problem of `recs` (4 elements), the truth as its vector, the dense Jacobian."""
+    problem = pp.PooledProblem(recs, ModelSpec(4, True, None, 32), weights, "preload",
+                               offset=False, suffix=True)  # fmt: skip
+    truth = _truth(nuisance)
+    problem.set_typical(truth)
+    pm = _parameter_map(tuple(problem.names), {}, {})
+    x = np.array([truth[n] for n in problem.names])
+    lo, hi = np.full(x.shape, -np.inf), np.full(x.shape, np.inf)
+    return problem, pm, x, lo, hi, problem.free_jacobian(sparse_output=False)(pm, x, lo, hi)
+
+
 def test_noise_free_pooled_stops_recover_every_parameter(clean):
     records, nuisance = clean
     fit = fit_response(records, signal="both", initial_state="preload")
@@ -52,16 +64,9 @@ def test_structured_jacobian_equals_dense_differences(clean):
     """Grouped columns (one per kind of record parameter) give every column exactly."""
     records, nuisance = clean
     recs = [as_record(m) for m in records[:3]]
-    problem = pp.PooledProblem(recs, ModelSpec(4, True, None, 32), (1.0, 50.0), "preload",
-                               offset=False, suffix=True)  # fmt: skip
-    truth = _truth(nuisance)
-    problem.set_typical(truth)
-    pm = _parameter_map(tuple(problem.names), {}, {})
-    x = np.array([truth[n] for n in problem.names])
-    lo, hi = np.full(x.shape, -np.inf), np.full(x.shape, np.inf)
+    problem, pm, x, lo, hi, jac = _at_truth(recs, nuisance, (1.0, 50.0))
     groups = problem.column_groups(pm)
     assert len(groups) == 7 + 3  # shared columns alone, record columns three by three
-    jac = problem.free_jacobian(sparse_output=False)(pm, x, lo, hi)
     for j in range(x.shape[0]):
         h = 1e-6 * max(abs(x[j]), 1e-3)
         xp, xm = x.copy(), x.copy()
@@ -274,14 +279,7 @@ def test_difference_velocity_rows_are_the_quotient_of_the_position_rows():
     records, nuisance = stop_records(4, 2, MODEL, quantum=1e-6, noise=2e-7)
     recs = [as_record(m) for m in records]
     assert all(r.difference == 1 for r in recs)
-    problem = pp.PooledProblem(recs, ModelSpec(4, True, None, 32), (2.0, 300.0), "preload",
-                               offset=False, suffix=True)  # fmt: skip
-    truth = _truth(nuisance)
-    problem.set_typical(truth)
-    pm = _parameter_map(tuple(problem.names), {}, {})
-    x = np.array([truth[n] for n in problem.names])
-    lo, hi = np.full(x.shape, -np.inf), np.full(x.shape, np.inf)
-    jac = problem.free_jacobian(sparse_output=False)(pm, x, lo, hi)
+    problem, _, x, _, _, jac = _at_truth(recs, nuisance, (2.0, 300.0))
     r = problem.residuals(x[None])[0]
     links = problem.links
     assert len(links) == 2
