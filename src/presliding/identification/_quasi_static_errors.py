@@ -45,6 +45,7 @@ from numpy.typing import NDArray
 from scipy import sparse
 
 from presliding.identification._noise_floor import noise_variance
+from presliding.identification._profile import _inverse_normal
 from presliding.identification._solution import Solution
 from presliding.identification.uncertainty import bounded_interval
 
@@ -85,15 +86,11 @@ def run_matrix(problem: Any, residual: FloatArray) -> sparse.csr_matrix:
 
 
 def floor_variances(jac: Any, runs: sparse.csr_matrix) -> FloatArray:
-    """diag(H⁻¹ Jᵀ Σ J H⁻¹) with Σ = SᵀS (module notes); columns scaled, pseudo-inverse."""
-    dense = jac.toarray() if sparse.issparse(jac) else np.asarray(jac, dtype=float)
-    norms = np.linalg.norm(dense, axis=0)
-    norms[norms == 0] = 1.0
-    scaled = dense / norms
-    hinv = np.linalg.pinv(scaled.T @ scaled, rcond=1e-12, hermitian=True)
-    g = np.asarray(runs @ scaled)
-    meat = g.T @ g
-    return np.diag(hinv @ meat @ hinv) / norms**2
+    """diag(H⁻¹ Jᵀ Σ J H⁻¹) with Σ = GᵀG (module notes); H⁻¹ as the profile forms it."""
+    hinv = _inverse_normal(jac)
+    g = runs @ jac
+    g = g.toarray() if sparse.issparse(g) else np.asarray(g, dtype=float)
+    return np.diag(hinv @ (g.T @ g) @ hinv)
 
 
 def with_run_floor(sol: Solution, problem: Any) -> Solution:
