@@ -82,11 +82,69 @@ def _assemble(o_y, o_v, index, w_v, w_y, data, out):  # pragma: no cover - compi
             out[p, i] = w_v[i] * o_v[p, j] + w_y[i] * o_y[p, j] - data[i]
 
 
+def _quotients(o_y, o_v, form, j0, j1, j2, ca, cb, cc):  # pragma: no cover - compiled
+    """o_v[p, i] = the difference quotient of o_y[p] at the planned samples (`quotient_plan`):
+    form 0: ca·y[j0] + cb·y[j1] + cc·y[j2]; form 1: (y[j1] − y[j0]) / ca."""
+    n_par = o_y.shape[0]
+    for p in range(n_par):
+        for i in range(form.shape[0]):
+            if form[i] == 0:
+                o_v[p, i] = ca[i] * o_y[p, j0[i]] + cb[i] * o_y[p, j1[i]] + cc[i] * o_y[p, j2[i]]
+            elif form[i] == 1:
+                o_v[p, i] = (o_y[p, j1[i]] - o_y[p, j0[i]]) / ca[i]
+
+
+def quotient_plan(t, offset, order, plan):
+    """Fill `plan` (form, j0, j1, j2, ca, cb, cc; each (S,)) for the samples
+    offset..offset + len(t) − 1: ``numpy.gradient(y, t, edge_order=order)`` of a record's
+    positions written term by term, with numpy's coefficients and in its order of
+    operations, so that the compiled quotient equals numpy's to the last bit. Samples left
+    at form −1 keep their velocity."""
+    form, j0, j1, j2, ca, cb, cc = plan
+    n = t.shape[0]
+    i = np.arange(n)
+    sl = slice(offset, offset + n)
+    dx = np.diff(t)
+    uniform = bool((dx == dx[0]).all())
+    inner = slice(offset + 1, offset + n - 1)
+    j0[inner], j1[inner], j2[inner] = offset + i[:-2], offset + i[1:-1], offset + i[2:]
+    if uniform:  # (f[2:] − f[:-2]) / (2·dx)
+        form[inner], ca[inner] = 1, 2.0 * dx[0]
+        j1[inner] = offset + i[2:]
+    else:
+        dx1, dx2 = dx[:-1], dx[1:]
+        form[inner] = 0
+        ca[inner] = -(dx2) / (dx1 * (dx1 + dx2))
+        cb[inner] = (dx2 - dx1) / (dx1 * dx2)
+        cc[inner] = dx1 / (dx2 * (dx1 + dx2))
+    first, last = sl.start, sl.stop - 1
+    if order != 2:  # one-sided at both ends
+        form[first], j0[first], j1[first], ca[first] = 1, first, first + 1, dx[0]
+        form[last], j0[last], j1[last], ca[last] = 1, last - 1, last, dx[-1]
+        return
+    d = dx[0]
+    form[first], j0[first], j1[first], j2[first] = 0, first, first + 1, first + 2
+    form[last], j0[last], j1[last], j2[last] = 0, last - 2, last - 1, last
+    if uniform:
+        ca[first], cb[first], cc[first] = -1.5 / d, 2.0 / d, -0.5 / d
+        ca[last], cb[last], cc[last] = 0.5 / d, -2.0 / d, 1.5 / d
+        return
+    dx1, dx2 = dx[0], dx[1]
+    ca[first] = -(2.0 * dx1 + dx2) / (dx1 * (dx1 + dx2))
+    cb[first] = (dx1 + dx2) / (dx1 * dx2)
+    cc[first] = -dx1 / (dx2 * (dx1 + dx2))
+    dx1, dx2 = dx[-2], dx[-1]
+    ca[last] = (dx2) / (dx1 * (dx1 + dx2))
+    cb[last] = -(dx2 + dx1) / (dx1 * dx2)
+    cc[last] = (2.0 * dx2 + dx1) / (dx2 * (dx1 + dx2))
+
+
 # Parallel forms for batches of parameter sets (a Jacobian); serial forms for one
 # set, where a parallel region costs more than it saves on a busy machine.
 pooled_responses_parallel = njit(cache=True, parallel=True)(_pooled_responses)
 pooled_responses_serial = njit(cache=True)(_pooled_responses)
 assemble = njit(cache=True)(_assemble)  # memory bound: serial is as fast
+quotients = njit(cache=True)(_quotients)
 
 
 def pooled_responses(mass, *args):

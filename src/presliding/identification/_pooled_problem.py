@@ -97,6 +97,7 @@ class PooledProblem:
         self.rows = self._row_blocks()
         self.n_res = int(self.rows[-1][1].stop) if self.rows else 0
         self._layout()
+        self._plan_quotients()
         self.data = self._residual_of(
             np.concatenate([r.position for r in records])[None],
             np.concatenate([r.velocity for r in records])[None],
@@ -248,11 +249,31 @@ class PooledProblem:
         of the simulated positions where the record's velocity is one (module notes)."""
         if self.exact_velocity:
             return
+        if self._quotient is not None:  # every such record in one compiled pass
+            pk.quotients(o_y, o_v, *self._quotient)
+        for i in self._short:  # too short for its quotient: numpy says why
+            rec = self.records[i]
+            a, b = self.t_off[i], self.t_off[i + 1]
+            o_v[:, a:b] = np.gradient(o_y[:, a:b], rec.time, axis=1,
+                                      edge_order=2 if rec.difference == 2 else 1)  # fmt: skip
+
+    def _plan_quotients(self) -> None:
+        """The compiled form of each record's difference quotient (`pk.quotient_plan`)."""
+        n = self.t_all.shape[0]
+        plan = (np.full(n, -1, dtype=np.int64), *(np.zeros(n, dtype=np.int64) for _ in range(3)),
+                *(np.zeros(n) for _ in range(3)))  # fmt: skip
+        self._short: list[int] = []
+        used = False
         for i, rec in enumerate(self.records):
-            if rec.difference:
-                a, b = self.t_off[i], self.t_off[i + 1]
-                o_v[:, a:b] = np.gradient(o_y[:, a:b], rec.time, axis=1,
-                                          edge_order=2 if rec.difference == 2 else 1)  # fmt: skip
+            if not rec.difference:
+                continue
+            order = 2 if rec.difference == 2 else 1
+            if rec.time.shape[0] < order + 1:
+                self._short.append(i)
+                continue
+            pk.quotient_plan(rec.time, int(self.t_off[i]), order, plan)
+            used = True
+        self._quotient = plan if used else None
 
     def residuals(self, sets: FloatArray, rigid: bool = False) -> FloatArray:
         """Residual of every parameter set (P, n_res); inf rows where a simulation failed."""
@@ -293,10 +314,14 @@ class PooledProblem:
         def jac(pm: _Map, x: FloatArray, lo: FloatArray, hi: FloatArray) -> Any:
             if id(pm) not in cache:
                 rows = [self.rows_of_column(pm, j) for j in range(len(pm.free))]
-                cache[id(pm)] = (pm, self.column_groups(pm), rows)
-            _, groups, col_rows = cache[id(pm)]
+                groups = self.column_groups(pm)
+                layout = pj.ForwardLayout(groups, rows, self.n_res) if sparse_output else None
+                cache[id(pm)] = (pm, groups, rows, layout)
+            _, groups, col_rows, layout = cache[id(pm)]
             up, down = pj.difference_steps(x, lo, hi, self.typical(pm), central)
             base = None if central else self._last_residual(rigid, pm.full(x))
+            if base is not None and layout is not None:  # the usual case: one gather
+                return pj.forward_jacobian(self, pm, x, up, down, groups, layout, rigid, base)
             values = pj.difference_columns(self, pm, x, up, down, groups, col_rows, rigid, base)
             return pj.assemble(values, col_rows, self.n_res, x.shape[0], sparse_output)
 

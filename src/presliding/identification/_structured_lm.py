@@ -190,52 +190,102 @@ def _normal(J: Any, r: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
 
     A CSC Jacobian of a pooled fit has full columns (shared parameters) and
     columns that share one block of rows (a record's own parameters): JᵀJ is
-    assembled from those blocks, never from a sparse product.
+    assembled from those blocks, never from a sparse product. The structure is
+    the same at every iterate of a solve: its analysis (`_Layout`) is kept for
+    the next call with the same structure.
     """
     if not sparse.issparse(J):
         A = J.T @ J
         return A, J.T @ r, np.sqrt(np.maximum(np.diag(A), 0.0))
     J = J.tocsc()
     n, p = J.shape
-    ptr, idx, val = J.indptr, J.indices, J.data
+    ptr, val = J.indptr, J.data
+    lay = _layout(J)
+    F = np.empty((n, lay.full.shape[0]))
+    for c, j in enumerate(lay.full):  # rows of a full column are 0..n−1 in order
+        F[:, c] = val[ptr[j] : ptr[j + 1]]
+    A = np.zeros((p, p))
+    A[np.ix_(lay.full, lay.full)] = F.T @ F
+    g = np.zeros(p)
+    g[lay.full] = F.T @ r
+    if lay.blocks is None:  # blocks that overlap (ties across records): a sparse product
+        others = lay.others
+        sub = J[:, others]
+        A[np.ix_(others, others)] = (sub.T @ sub).toarray()
+        A[np.ix_(lay.full, others)] = (sub.T @ F).T
+        A[np.ix_(others, lay.full)] = A[np.ix_(lay.full, others)].T
+        g[others] = sub.T @ r
+        return A, g, np.sqrt(np.maximum(np.diag(A), 0.0))
+    full = lay.full
+    for cols, rows, at in lay.blocks:
+        P = np.column_stack([val[ptr[j] : ptr[j + 1]] for j in cols])
+        cross = F[rows].T @ P
+        if at is None:
+            A[np.ix_(cols, cols)] = P.T @ P
+            A[np.ix_(full, cols)] = cross
+            A[np.ix_(cols, full)] = cross.T
+        else:  # consecutive columns: plain slices
+            A[at, at] = P.T @ P
+            A[full, at] = cross
+            A[at, full] = cross.T
+        g[cols] = P.T @ r[rows]
+    return A, g, np.sqrt(np.maximum(np.diag(A), 0.0))
+
+
+@dataclass(frozen=True)
+class _Layout:
+    """The structure of a pooled CSC Jacobian (`_normal`)."""
+
+    indptr: NDArray[np.int_]
+    indices: NDArray[np.int_]
+    full: NDArray[np.int_]  # columns with every row, in order
+    others: NDArray[np.int_]  # the other nonzero columns
+    #: (columns, their rows as a slice or indices, the columns as a slice or None) of every
+    #: block of columns sharing their rows; None when blocks overlap
+    blocks: list[tuple[NDArray[np.int_], Any, slice | None]] | None
+
+
+_LAYOUTS: list[_Layout] = []  # the last structure analysed (one)
+
+
+def _layout(J: Any) -> _Layout:
+    """The analysis of a CSC Jacobian's structure, reused while it stays the same."""
+    ptr, idx = J.indptr, J.indices
+    for lay in _LAYOUTS:
+        same_ptr = lay.indptr is ptr or np.array_equal(lay.indptr, ptr)
+        if same_ptr and (lay.indices is idx or np.array_equal(lay.indices, idx)):
+            return lay
+    n = J.shape[0]
     nnz = np.diff(ptr)
     full = np.flatnonzero(nnz == n)
-    F = np.empty((n, full.shape[0]))
-    for c, j in enumerate(full):  # rows of a full column are 0..n−1 in order
-        F[idx[ptr[j] : ptr[j + 1]], c] = val[ptr[j] : ptr[j + 1]]
-    A = np.zeros((p, p))
-    A[np.ix_(full, full)] = F.T @ F
-    g = np.zeros(p)
-    g[full] = F.T @ r
-    blocks: dict[tuple, list[int]] = {}
-    for j in np.flatnonzero((nnz < n) & (nnz > 0)):
+    full = np.array([j for j in full if np.array_equal(idx[ptr[j] : ptr[j + 1]], np.arange(n))],
+                    dtype=np.int_)  # fmt: skip
+    others = np.array([j for j in range(J.shape[1]) if nnz[j] > 0 and j not in set(full)],
+                      dtype=np.int_)  # fmt: skip
+    found: dict[tuple, list[int]] = {}
+    for j in others:
         rows = idx[ptr[j] : ptr[j + 1]]
-        blocks.setdefault((int(rows[0]), int(rows[-1]), int(nnz[j])), []).append(int(j))
-    others = np.flatnonzero((nnz < n) & (nnz > 0))
-    spans = sorted((first, last) for first, last, _ in blocks)
+        found.setdefault((int(rows[0]), int(rows[-1]), int(nnz[j])), []).append(int(j))
+    spans = sorted((first, last) for first, last, _ in found)
     disjoint = all(b[0] > a[1] for a, b in itertools.pairwise(spans))
     same = disjoint and all(
         np.array_equal(idx[ptr[j] : ptr[j + 1]], idx[ptr[cols[0]] : ptr[cols[0] + 1]])
-        for cols in blocks.values()
+        for cols in found.values()
         for j in cols
     )
-    if not same:  # blocks that overlap (ties across records): a sparse product
-        sub = J[:, others]
-        A[np.ix_(others, others)] = (sub.T @ sub).toarray()
-        A[np.ix_(full, others)] = (sub.T @ F).T
-        A[np.ix_(others, full)] = A[np.ix_(full, others)].T
-        g[others] = sub.T @ r
-        return A, g, np.sqrt(np.maximum(np.diag(A), 0.0))
-    for block in blocks.values():
-        cols = np.array(block)
-        rows = idx[ptr[cols[0]] : ptr[cols[0] + 1]]
-        P = np.column_stack([val[ptr[j] : ptr[j + 1]] for j in cols])
-        A[np.ix_(cols, cols)] = P.T @ P
-        cross = F[rows].T @ P
-        A[np.ix_(full, cols)] = cross
-        A[np.ix_(cols, full)] = cross.T
-        g[cols] = P.T @ r[rows]
-    return A, g, np.sqrt(np.maximum(np.diag(A), 0.0))
+    blocks: list | None = None
+    if same:
+        blocks = []
+        for (first, last, count), cols in found.items():
+            rows: Any = idx[ptr[cols[0]] : ptr[cols[0] + 1]].copy()
+            if last - first + 1 == count:  # a contiguous block of rows
+                rows = slice(first, last + 1)
+            c = np.array(cols, dtype=np.int_)
+            at = slice(cols[0], cols[-1] + 1) if cols[-1] - cols[0] + 1 == len(cols) else None
+            blocks.append((c, rows, at))
+    lay = _Layout(ptr.copy(), idx.copy(), full, others, blocks)
+    _LAYOUTS[:] = [lay]
+    return lay
 
 
 def free_limit(pm: Any, step_limit: Any) -> Any:
