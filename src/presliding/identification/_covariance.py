@@ -70,15 +70,25 @@ import numpy as np
 from numpy.typing import NDArray
 
 from presliding.identification.uncertainty import (
-    _bartlett_meat as bartlett_meat,
-)
-from presliding.identification.uncertainty import (
+    _RANK_TOL,
+    _singular,
     andrews_bandwidth,
     hac_covariance,
     ols_covariance,
 )
+from presliding.identification.uncertainty import (
+    _bartlett_meat as bartlett_meat,
+)
 
-__all__ = ["MAX_LEVERAGE", "Link", "fit_covariance", "leverage", "linked_sandwich", "white_floor"]
+__all__ = [
+    "MAX_LEVERAGE",
+    "Link",
+    "fit_covariance",
+    "leverage",
+    "linked_sandwich",
+    "undetermined_columns",
+    "white_floor",
+]
 
 FloatArray = NDArray[np.float64]
 
@@ -243,3 +253,23 @@ def fit_covariance(
     with np.errstate(invalid="ignore", divide="ignore"):
         scale = np.where(sd_plain > 0, sd / sd_plain, 0.0)
     return plain * np.outer(scale, scale), undetermined, widths
+
+
+def undetermined_columns(jac: FloatArray, blocks: Any) -> list[int] | None:
+    """The columns `fit_covariance` finds undetermined, without the covariance: the same
+    scaled factorisation as `uncertainty.hac_covariance` (a dead column, or a large entry
+    of a right singular vector below its rank tolerance). None where `fit_covariance`
+    takes another route (no blocks, or no more rows than columns): the caller then
+    computes the covariance itself."""
+    n, p = jac.shape
+    if blocks is None or n <= p or p == 0:
+        return None
+    jac = np.asarray(jac, dtype=float)
+    norms = np.linalg.norm(jac, axis=0)
+    dead = norms == 0
+    s, vt = _singular(jac / np.where(dead, 1.0, norms))
+    keep = s > _RANK_TOL * s[0] if s[0] > 0 else np.zeros_like(s, dtype=bool)
+    undetermined = set(np.flatnonzero(dead).tolist())
+    for row in vt[~keep]:
+        undetermined |= set(np.flatnonzero(np.abs(row) > 1e-3).tolist())
+    return sorted(undetermined)

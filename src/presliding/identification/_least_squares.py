@@ -24,10 +24,12 @@ from __future__ import annotations
 
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
+from functools import partial
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
+from scipy import sparse
 
 from presliding._validation import (
     as_bounds,
@@ -36,7 +38,7 @@ from presliding._validation import (
     as_real_scalar,
     fmt,
 )
-from presliding.identification._covariance import fit_covariance
+from presliding.identification._covariance import fit_covariance, undetermined_columns
 from presliding.identification._fit_options import (  # noqa: F401 (their home before)
     check_budget,
     check_constraints,
@@ -57,7 +59,15 @@ from presliding.identification.uncertainty import (
 
 FloatArray = NDArray[np.float64]
 Tie = str | tuple[str, float] | tuple[str, float, float]
-__all__ = ["LARGE_PROBLEM", "STATUSES", "Solution", "Tie", "name_list", "solve_least_squares"]
+__all__ = [
+    "LARGE_PROBLEM",
+    "STATUSES",
+    "Solution",
+    "Tie",
+    "complete",
+    "name_list",
+    "solve_least_squares",
+]
 
 #: residuals × free parameters² above which a structured problem takes `levenberg_marquardt`
 LARGE_PROBLEM = 2e7
@@ -85,6 +95,7 @@ def solve_least_squares(
     step_limit: Callable[[FloatArray], FloatArray] | None = None,
     method: str = "auto",
     progress: Any = None,
+    errors: bool = True,
 ) -> Solution:
     """Minimise ‖residual(p)‖² over named parameters, some fixed or tied.
 
@@ -135,6 +146,11 @@ def solve_least_squares(
     progress : FitProgress, optional
         Counts the residual evaluations and shows them with the cost
         (`presliding.identification._fit_progress`); it does not change the result.
+    errors : bool
+        False defers the covariance (of blocks of residuals, the costly part of a large
+        pooled solve) for a solve that may be discarded (a start of a search): the
+        solution then has the values, residual, status and message it would have, no
+        errors yet, and `complete` gives the complete one (the same as with True).
 
     Returns
     -------
@@ -164,7 +180,17 @@ def solve_least_squares(
     found = _outcome(setup, res, fun)
     if isinstance(found, Solution):
         return found
+    if not errors:
+        deferred = _deferred(setup, found, residual, jac, step_limit, blocks, clusters, links)
+        if deferred is not None:
+            return deferred
     return _solution(setup, found, residual, jac, step_limit, blocks, clusters, links)
+
+
+def complete(sol: Solution) -> Solution:
+    """A solution with its errors: one whose covariance was deferred (``errors=False``)
+    computed now, any other as it is."""
+    return sol.pending() if sol.pending is not None else sol
 
 
 # ---------------------------------------------------------------------- the steps
@@ -306,7 +332,7 @@ def _outcome(setup: _Setup, res: Any, fun: Callable) -> _Found | Solution:
     )
     if not np.all(np.isfinite(r)):
         return _failed(setup, x, "the residual is not finite at the optimum")
-    if not np.any(jac_free):
+    if not (jac_free.count_nonzero() if sparse.issparse(jac_free) else np.any(jac_free)):
         return _failed(
             setup, x,
             "the residual does not change with any parameter (insensitive or failed model)",
@@ -333,7 +359,7 @@ def _solution(
     widths: tuple[int, ...] = ()
     with threadpool_limits(limits=1, user_api="blas"):  # tall, thin factorisations
         cov, undetermined, got = fit_covariance(
-            found.jac_free, r, blocks if pm.free else None, clusters, links
+            _dense(found.jac_free), r, blocks if pm.free else None, clusters, links
         )
         widths = tuple(got)
     full = pm.full(found.x)
@@ -341,11 +367,7 @@ def _solution(
     se = np.sqrt(np.maximum(var, 0.0))
     for j in undetermined:
         se[pm.matrix[:, j] != 0] = np.inf
-    status, message = found.status, found.message
-    if undetermined and status == "converged":
-        status = "not_identifiable"
-        which = {names[i] for j in undetermined for i in np.flatnonzero(pm.matrix[:, j])}
-        message = f"the data do not determine {name_list(which, names)} (singular Jacobian)"
+    status, message = _verdict(setup, found, undetermined)
     dof = max(r.shape[0] - len(pm.free), 1)
     q = float(stats.t.ppf(0.5 + setup.level / 2, dof))
     profiler = None
@@ -373,6 +395,65 @@ def _solution(
         },
         ties=_ties(setup.tied), profiler=profiler,
     )  # fmt: skip
+
+
+def _verdict(setup: _Setup, found: _Found, undetermined: Any) -> tuple[str, str]:
+    """The status and message of a solve: not identifiable where the Jacobian is singular."""
+    names, pm = setup.names, setup.pm
+    status, message = found.status, found.message
+    if undetermined and status == "converged":
+        status = "not_identifiable"
+        which = {names[i] for j in undetermined for i in np.flatnonzero(pm.matrix[:, j])}
+        message = f"the data do not determine {name_list(which, names)} (singular Jacobian)"
+    return status, message
+
+
+def _dense(jac: Any) -> FloatArray:
+    return jac.toarray() if sparse.issparse(jac) else jac
+
+
+def _deferred(
+    setup: _Setup, found: _Found, residual: Callable, jac: Any, step_limit: Any, blocks: Any,
+    clusters: Any, links: Any,
+) -> Solution | None:  # fmt: skip
+    """The solution without its covariance (``errors=False``): values, residual, status and
+    message as `_solution` gives them (the undetermined columns found the same way), its
+    errors NaN until `complete`. None where the covariance takes no blocks."""
+    from threadpoolctl import threadpool_limits
+
+    pm, names = setup.pm, setup.names
+    if not pm.free:
+        return None
+    with threadpool_limits(limits=1, user_api="blas"):
+        undetermined = undetermined_columns(_dense(found.jac_free), blocks)
+    if undetermined is None:
+        return None
+    status, message = _verdict(setup, found, undetermined)
+    full = pm.full(found.x)
+    nan = float("nan")
+    return Solution(
+        values=dict(zip(names, full.tolist(), strict=True)),
+        standard_error=dict.fromkeys(names, nan),
+        confidence_interval=dict.fromkeys(names, (nan, nan)),
+        level=setup.level,
+        fixed=tuple(setup.fixed),
+        tied=tuple(setup.tied),
+        residual=found.r,
+        status=status,
+        message=message,
+        n_evaluations=found.evaluations,
+        at_bounds=found.on_bound,
+        free=pm.free,
+        bounds={
+            n: (float(a), float(b))
+            for n, a, b in zip(names, setup.lower, setup.upper, strict=True)
+            if np.isfinite(a) or np.isfinite(b)
+        },
+        ties=_ties(setup.tied),
+        pending=partial(
+            _solution, setup, found, residual, jac, step_limit, blocks, clusters, links
+        ),
+    )
 
 
 def _failed(setup: _Setup, x: FloatArray, msg: str) -> Solution:

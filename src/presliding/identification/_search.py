@@ -41,7 +41,7 @@ from typing import Any
 
 import numpy as np
 
-from presliding.identification._least_squares import Solution
+from presliding.identification._least_squares import Solution, complete
 from presliding.identification._noise_floor import floor_ratios, record_floors
 from presliding.identification._nuisance_search import search_nuisance
 from presliding.identification._pooled_problem import PooledProblem
@@ -221,12 +221,17 @@ def adaptive_search(
        further start reaches the best optimum again (two starts agree: the
        records still above their floors are not a matter of the start).
 
-    Returns the best solution, the number of starts run, how many reached
+    The solves defer their errors (``errors=False``): only the best one's are
+    computed (the covariance of a 20-record fit costs as much as several
+    evaluations). Returns the best solution, the number of starts run, how many reached
     the best optimum (cost within `SAME_OPTIMUM` or the same basin), and the
     residual evaluations of the searches.
     """
     evaluations = 0
     prep = prepare or (lambda v: dict(v))
+
+    def deferred(begin: Any, **kw: Any) -> Solution:  # errors only for the one kept (`complete`)
+        return solve(begin, errors=False, **kw)
 
     def repair(sol: Solution) -> Solution:
         nonlocal evaluations
@@ -238,7 +243,7 @@ def adaptive_search(
                 return sol
             values, _, ev = search_records(problem, sol.values, fixed, bounds, bad)
             evaluations += ev
-            again = solve(values)
+            again = deferred(values)
             if not cost(again) < cost(sol) * (1.0 - SAME_OPTIMUM):
                 return again if cost(again) < cost(sol) else sol
             sol = again
@@ -253,15 +258,15 @@ def adaptive_search(
             evaluations += ev
             if not c < cost(sol) * (1.0 - SAME_OPTIMUM):
                 break
-            sol = solve(values, max_evaluations=short)
+            sol = deferred(values, max_evaluations=short)
         return sol
 
-    best = repair(solve(prep(dict(start))))
+    best = repair(deferred(prep(dict(start))))
     if at_floor(problem, best):  # every record's grid at once, unpolished: a cheap last check
         values, c, ev = search_nuisance(problem, best.values, fixed, bounds, polish=False)
         evaluations += ev
         if c < cost(best) * (1.0 - SAME_OPTIMUM):
-            again = repair(solve(values))
+            again = repair(deferred(values))
             best = again if cost(again) < cost(best) * (1.0 - TIE) else best
     finals = [best]
     if not at_floor(problem, best):
@@ -269,13 +274,13 @@ def adaptive_search(
             evaluations += ev
             values, _, ev = search_nuisance(problem, prep(dict(s)), fixed, bounds)
             evaluations += ev
-            t = alternate(solve(values, max_evaluations=short))
+            t = alternate(deferred(values, max_evaluations=short))
             if (
                 np.isfinite(cost(t))
                 and cost(t) <= REFINE_WITHIN * cost(best)
                 and not same_point(problem, t.values, best.values)
             ):
-                t = repair(solve(t.values))
+                t = repair(deferred(t.values))
             finals.append(t)
             agree = cost(t) <= cost(best) * (1.0 + SAME_OPTIMUM) or same_point(
                 problem, t.values, best.values
@@ -287,7 +292,7 @@ def adaptive_search(
     target = cost(best)
     at_best = sum(1 for f in finals if cost(f) <= target * (1.0 + SAME_OPTIMUM) + 1e-300
                   or same_point(problem, f.values, best.values))  # fmt: skip
-    return best, len(finals), at_best, evaluations
+    return complete(best), len(finals), at_best, evaluations
 
 
 def same_point(problem: PooledProblem, a: Mapping[str, float], b: Mapping[str, float]) -> bool:

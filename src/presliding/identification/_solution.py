@@ -43,6 +43,9 @@ class Solution:
     others: tuple[tuple[dict[str, float], float], ...] = field(
         default=(), repr=False, compare=False
     )
+    #: a solve whose errors were deferred (``errors=False``): returns the complete solution
+    #: (`_least_squares.complete`); None when the errors are in
+    pending: Any = field(default=None, repr=False, compare=False)
 
 
 def name_list(names: Any, order: tuple[str, ...]) -> str:

@@ -36,7 +36,7 @@ class LMResult:
 
     x: FloatArray
     fun: FloatArray
-    jac: FloatArray
+    jac: Any  # the last Jacobian, as `jac` gave it (dense, or a scipy.sparse matrix)
     nfev: int
     status: int  # 0: evaluation limit, 1: gtol, 2: ftol, 3: xtol
     message: str
@@ -101,9 +101,7 @@ def levenberg_marquardt(
         if status:
             break
     active = np.where(state.x <= lower, -1, np.where(state.x >= upper, 1, 0))
-    J = state.J
-    jac_out = J.toarray() if sparse.issparse(J) else J
-    return LMResult(state.x, state.r, jac_out, state.nfev, status, _MESSAGES[status], active)
+    return LMResult(state.x, state.r, state.J, state.nfev, status, _MESSAGES[status], active)
 
 
 def _start(fun: Callable, jac: Callable, x0: FloatArray, lower: FloatArray,
@@ -260,12 +258,13 @@ def _layout(J: Any) -> _Layout:
     full = np.flatnonzero(nnz == n)
     full = np.array([j for j in full if np.array_equal(idx[ptr[j] : ptr[j + 1]], np.arange(n))],
                     dtype=np.int_)  # fmt: skip
-    others = np.array([j for j in range(J.shape[1]) if nnz[j] > 0 and j not in set(full)],
+    taken = set(full.tolist())
+    others = np.array([j for j in range(J.shape[1]) if nnz[j] > 0 and j not in taken],
                       dtype=np.int_)  # fmt: skip
     found: dict[tuple, list[int]] = {}
     for j in others:
-        rows = idx[ptr[j] : ptr[j + 1]]
-        found.setdefault((int(rows[0]), int(rows[-1]), int(nnz[j])), []).append(int(j))
+        first, last = idx[ptr[j]], idx[ptr[j + 1] - 1]
+        found.setdefault((int(first), int(last), int(nnz[j])), []).append(int(j))
     spans = sorted((first, last) for first, last, _ in found)
     disjoint = all(b[0] > a[1] for a, b in itertools.pairwise(spans))
     same = disjoint and all(
@@ -278,7 +277,7 @@ def _layout(J: Any) -> _Layout:
         blocks = []
         for (first, last, count), cols in found.items():
             rows: Any = idx[ptr[cols[0]] : ptr[cols[0] + 1]].copy()
-            if last - first + 1 == count:  # a contiguous block of rows
+            if last - first + 1 == count and np.all(np.diff(rows) == 1):  # contiguous rows
                 rows = slice(first, last + 1)
             c = np.array(cols, dtype=np.int_)
             at = slice(cols[0], cols[-1] + 1) if cols[-1] - cols[0] + 1 == len(cols) else None
