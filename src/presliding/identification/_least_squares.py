@@ -51,7 +51,11 @@ from presliding.identification._parameter_map import tie_triples as _ties
 from presliding.identification._profile import Profiler
 from presliding.identification._solution import Solution, name_list
 from presliding.identification._status import STATUSES as STATUSES
-from presliding.identification._structured_lm import free_limit, levenberg_marquardt
+from presliding.identification._structured_lm import (
+    free_limit,
+    levenberg_marquardt,
+    one_blas_thread,
+)
 from presliding.identification.uncertainty import (
     bounded_interval,
     full_covariance,
@@ -298,10 +302,9 @@ def _objective(
 def _minimise(setup: _Setup, fun: Callable, jac: Any, large: bool, step_limit: Any) -> Any:
     """The optimiser's run: structured LM for large problems, else scipy's trust region."""
     from scipy import optimize
-    from threadpoolctl import threadpool_limits
 
     tol = setup.tolerance
-    with threadpool_limits(limits=1, user_api="blas"):
+    with one_blas_thread():
         if large:
             return levenberg_marquardt(
                 fun, jac, setup.x0, setup.lo, setup.hi, ftol=tol, xtol=tol, gtol=setup.gtol,
@@ -353,11 +356,10 @@ def _solution(
 ) -> Solution:  # fmt: skip
     """The result: covariance (HAC for blocks), errors, intervals and the profiler."""
     from scipy import stats
-    from threadpoolctl import threadpool_limits
 
     pm, names, r = setup.pm, setup.names, found.r
     widths: tuple[int, ...] = ()
-    with threadpool_limits(limits=1, user_api="blas"):  # tall, thin factorisations
+    with one_blas_thread():  # tall, thin factorisations
         cov, undetermined, got = fit_covariance(
             _dense(found.jac_free), r, blocks if pm.free else None, clusters, links
         )
@@ -419,12 +421,10 @@ def _deferred(
     """The solution without its covariance (``errors=False``): values, residual, status and
     message as `_solution` gives them (the undetermined columns found the same way), its
     errors NaN until `complete`. None where the covariance takes no blocks."""
-    from threadpoolctl import threadpool_limits
-
     pm, names = setup.pm, setup.names
     if not pm.free:
         return None
-    with threadpool_limits(limits=1, user_api="blas"):
+    with one_blas_thread():
         undetermined = undetermined_columns(_dense(found.jac_free), blocks)
     if undetermined is None:
         return None

@@ -32,7 +32,11 @@ from numpy.typing import NDArray
 
 from presliding.identification._least_squares import _parameter_map
 from presliding.identification._pooled_problem import PooledProblem
-from presliding.identification._structured_lm import free_limit, levenberg_marquardt
+from presliding.identification._structured_lm import (
+    free_limit,
+    levenberg_marquardt,
+    on_one_blas_thread,
+)
 
 FloatArray = NDArray[np.float64]
 
@@ -102,6 +106,7 @@ def _candidates(problem: PooledProblem, values: Mapping[str, float],
     return np.array(out)
 
 
+@on_one_blas_thread
 def search_nuisance(
     problem: PooledProblem,
     values: Mapping[str, float],

@@ -48,6 +48,7 @@ from presliding.identification._profile_walk import (
     interval_end,
     scaled_pinv,
 )
+from presliding.identification._structured_lm import on_one_blas_thread
 
 # `Profiler` (defined with the walk that uses it) is named here too: the solver builds it
 # for this module
@@ -104,6 +105,7 @@ def _wald_holds(walk: Walker, half: float) -> bool:
     return all(abs(walk.g(v + s * half)) <= AGREE * walk.root for s in (-1.0, 1.0))
 
 
+@on_one_blas_thread
 def profile_solution(sol: Any, which: str | Sequence[str] = "auto", budget: int = BUDGET) -> Any:
     """`sol` (a `Solution`) with profile intervals for the chosen free parameters.
 

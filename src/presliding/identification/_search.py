@@ -45,6 +45,7 @@ from presliding.identification._least_squares import Solution, complete
 from presliding.identification._noise_floor import floor_ratios, record_floors
 from presliding.identification._nuisance_search import search_nuisance
 from presliding.identification._pooled_problem import PooledProblem
+from presliding.identification._structured_lm import on_one_blas_thread
 
 #: residual RMS over the noise floor above which a fit is not at the floor
 FLOOR_FACTOR = 3.0
@@ -111,6 +112,7 @@ def cost(sol: Solution) -> float:
     return c if np.isfinite(c) else np.inf
 
 
+@on_one_blas_thread
 def global_start(
     problem: PooledProblem,
     start: Mapping[str, float],
@@ -194,6 +196,7 @@ def search_records(
     return out, c, ev
 
 
+@on_one_blas_thread
 def adaptive_search(
     problem: PooledProblem,
     solve: Callable[..., Solution],
