@@ -41,7 +41,7 @@ from presliding.identification import _pooled_problem as pp
 from presliding.identification._fit_engine import FitPlan, FitRun, Found
 from presliding.identification._fit_options import check_enough
 from presliding.identification._fit_problem import FitOptions, FitProblem
-from presliding.identification._least_squares import LARGE_PROBLEM, Solution
+from presliding.identification._least_squares import LARGE_PROBLEM, Solution, complete
 from presliding.identification._parameters import kept_parameters
 from presliding.identification._probes import (
     corner_starts,
@@ -69,6 +69,7 @@ from presliding.identification._search import (
     global_start,
     same_point,
 )
+from presliding.identification._structured_lm import on_one_blas_thread
 from presliding.measurement.measurement import common_axis
 
 __all__ = ["response_plan", "response_problem"]
@@ -143,6 +144,7 @@ def response_plan(req: ResponseRequest, problem: FitProblem, options: FitOptions
     )  # fmt: skip
 
 
+@on_one_blas_thread
 def _search(req: ResponseRequest, flags: _Flags, run: FitRun) -> Found:
     """The adaptive multistart (`_search.adaptive_search`)."""
     p = run.problem
@@ -193,13 +195,14 @@ def _probe(req: ResponseRequest, flags: _Flags, run: FitRun, sol: Solution, n_st
     assert run.options.max_evaluations is not None
     budget = min(PROBE_EVALUATIONS, run.options.max_evaluations)  # the user's cap holds
     moved = engage_starts(sol.values, k_names) + corner_starts(sol.values, k_names)
-    best, probes = solve_probes(p.records, run.solve, moved, sol, budget)
-    best, split = solve_probes(p.records, run.solve, split_starts(sol.values, k_names), best,
+    solve = partial(run.solve, errors=False)  # errors only for the best (`complete`)
+    best, probes = solve_probes(p.records, solve, moved, sol, budget)
+    best, split = solve_probes(p.records, solve, split_starts(sol.values, k_names), best,
                                budget, within=1.0)  # fmt: skip
     probes += split
     at = sum(1 for t in probes if same_point(p.records, t.values, best.values)
              or cost(t) <= cost(best) * (1.0 + SAME_OPTIMUM))  # fmt: skip
-    return best, n_starts + len(probes), at + (at_best if best is sol else 0)
+    return complete(best), n_starts + len(probes), at + (at_best if best is sol else 0)
 
 
 def _corner_checks(req: ResponseRequest, flags: _Flags, run: FitRun, sol: Solution) -> Solution:
