@@ -20,6 +20,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from presliding.identification import _pooled_kernel as pk
+
 FloatArray = NDArray[np.float64]
 
 __all__ = [
@@ -138,11 +140,6 @@ def forward_jacobian(
         xt[g] += up[g] - down[g]
         sets.append(pm.full(xt))
     res = problem.residuals(np.array(sets), rigid)
-    with np.errstate(invalid="ignore"):  # a trial point outside the model's range
-        diff = res - base
-    diff[~np.isfinite(diff)] = 0.0  # no usable slope there, none assumed
-    step = (up - down)[layout.column]  # signed: the one nonzero side
-    data = np.zeros(layout.gather.shape[0])
-    np.divide(diff.ravel()[layout.gather], step, out=data, where=step != 0)
-    data[~np.isfinite(data)] = 0.0
+    data = np.empty(layout.gather.shape[0])
+    pk.forward_columns(res, base, layout.gather, layout.column, layout.indices, up - down, data)
     return sparse.csc_matrix((data, layout.indices, layout.indptr), shape=layout.shape)

@@ -139,12 +139,28 @@ def quotient_plan(t, offset, order, plan):
     cc[last] = (2.0 * dx2 + dx1) / (dx2 * (dx1 + dx2))
 
 
+def _forward_columns(res, base, gather, column, rows, step, data):  # pragma: no cover - compiled
+    """The stored values of a forward-difference CSC Jacobian (`_pooled_jacobian`):
+    data[k] = (res.flat[gather[k]] − base[rows[k]]) / step[column[k]], 0 where the
+    difference or the quotient is not finite or the step is 0."""
+    flat = res.ravel()
+    for k in range(data.shape[0]):
+        s = step[column[k]]
+        d = flat[gather[k]] - base[rows[k]]
+        if s == 0.0 or not np.isfinite(d):
+            data[k] = 0.0
+            continue
+        v = d / s
+        data[k] = v if np.isfinite(v) else 0.0
+
+
 # Parallel forms for batches of parameter sets (a Jacobian); serial forms for one
 # set, where a parallel region costs more than it saves on a busy machine.
 pooled_responses_parallel = njit(cache=True, parallel=True)(_pooled_responses)
 pooled_responses_serial = njit(cache=True)(_pooled_responses)
 assemble = njit(cache=True)(_assemble)  # memory bound: serial is as fast
 quotients = njit(cache=True)(_quotients)
+forward_columns = njit(cache=True)(_forward_columns)
 
 
 def pooled_responses(mass, *args):
