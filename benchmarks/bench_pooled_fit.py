@@ -14,14 +14,22 @@ Target: at most 5 s on the 2-core machine, with the default options
 (two starts compared and the rigid-limit check, profile intervals where the
 Wald interval is doubtful). Printed: the median and range of repeated runs,
 their ratio to the target, the same without the multi-start, the evaluations,
-the largest error of the shared parameters, and the time of the profile step
-(`identification._profile`) with the parameters it profiled.
+the largest error of the shared parameters, the time of the profile step
+(`identification._profile`) with the parameters it profiled, and the cost of the
+global nuisance search (`identification._nuisance_search.search_nuisance`, every
+call the adaptive search makes: the records' own parameters on a grid, all
+candidates in one compiled call, then polished): its time, its share of the
+fit's time in the same run, its calls and its residual evaluations.
+
+The load average before and after is printed: on a shared machine the times
+scale with it, the ratios of the same run much less.
 
 Run: python benchmarks/bench_pooled_fit.py [repeats]
 """
 
 from __future__ import annotations
 
+import os
 import statistics
 import sys
 import time
@@ -32,12 +40,13 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from _stops import TRUTH, stop_records
 
 from presliding import fit_response
-from presliding.identification import fit_result
+from presliding.identification import _search, fit_result
 
 TARGET = 5.0
 
 
 _PROFILE_TIME = [0.0]
+_NUISANCE = [0.0, 0]  # time, calls
 
 
 def _timed_profile(original):
@@ -51,11 +60,25 @@ def _timed_profile(original):
     return profile
 
 
+def _timed_nuisance(original):
+    def search(*args, **kw):
+        t0 = time.perf_counter()
+        try:
+            return original(*args, **kw)
+        finally:
+            _NUISANCE[0] += time.perf_counter() - t0
+            _NUISANCE[1] += 1
+
+    return search
+
+
 fit_result.profile_solution = _timed_profile(fit_result.profile_solution)
+_search.search_nuisance = _timed_nuisance(_search.search_nuisance)
 
 
 def run(records, **kw):
     _PROFILE_TIME[0] = 0.0
+    _NUISANCE[:] = [0.0, 0]
     t0 = time.perf_counter()
     fit = fit_response(records, signal="both", initial_state="preload", **kw)
     return fit, time.perf_counter() - t0
@@ -63,19 +86,24 @@ def run(records, **kw):
 
 def main(repeats: int = 5) -> None:
     records, _, sims = stop_records(0, 20)
+    load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
     print(f"records: {len(records)} × {records[0].n_samples} samples; reversals per record "
           f"{min(s.n_reversals for s in sims)}..{max(s.n_reversals for s in sims)}")  # fmt: skip
     run(records[:2], max_evaluations=5)  # compile and warm up
+    medians = {}
     for label, kw in (("default (multi-start, rigid check)", {}),
                       ("single start", {"multistart": False})):  # fmt: skip
-        times, fit, profile = [], None, []
+        times, fit, profile, nuisance, calls = [], None, [], [], 0
         for _ in range(repeats):
             fit, dt = run(records, **kw)
             times.append(dt)
             profile.append(_PROFILE_TIME[0])
+            nuisance.append(_NUISANCE[0])
+            calls = _NUISANCE[1]
         free = len(fit.parameters) - len(fit.fixed)
         err = max(abs(fit.parameters[k] / v - 1) for k, v in TRUTH.items())
         med = statistics.median(times)
+        medians[label] = med
         print(f"{label}: median {med:.2f} s (range {min(times):.2f}..{max(times):.2f} s over "
               f"{repeats} runs) = {med / TARGET:.2f} × the {TARGET:g} s target; "
               f"{free} free parameters, {fit.nfev} evaluations, status {fit.status}; largest "
@@ -83,6 +111,16 @@ def main(repeats: int = 5) -> None:
         profiled = [k for k, v in fit.interval_method.items() if v == "profile"]
         print(f"  profile step: median {statistics.median(profile):.2f} s; profiled: "
               f"{', '.join(profiled) or 'none'}")  # fmt: skip
+        share = statistics.median(n / t for n, t in zip(nuisance, times, strict=True))
+        spent = fit.search.search_evaluations if fit.search is not None else 0
+        print(f"  global nuisance search: median {statistics.median(nuisance):.2f} s = "
+              f"{100 * share:.0f} % of the fit; {calls} call(s), {spent} residual "
+              "evaluations (each grid of candidates one compiled call)")  # fmt: skip
+    default, single = medians.values()
+    print(f"default / single start: {default / single:.2f} (same run)")
+    after = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
+    print(f"load average (1 min) before / after: {load:.2f} / {after:.2f} on {os.cpu_count()} "
+          "cores (the times scale with it on a shared machine)")  # fmt: skip
 
 
 if __name__ == "__main__":
