@@ -23,6 +23,7 @@ cross_validation.py `cross_validate`, `CrossValidation`: leave-one-record-out ta
 model_prediction.py `predict_record`: a given model (a model file's) predicting a record
 uncertainty.py      HAC (Newey–West) covariance, correlations
 _covariance.py      a fit's covariance: the HAC sandwich of leverage-adjusted residuals
+_deferred.py        a solve whose covariance is deferred until the search keeps it
 _least_squares.py   the solver around scipy.optimize.least_squares (bounds, ties, statistics)
 _parameter_map.py   the free/fixed/tied split of named parameters
 _solution.py        `Solution`: the outcome of one least-squares solve

@@ -38,7 +38,8 @@ from presliding._validation import (
     as_real_scalar,
     fmt,
 )
-from presliding.identification._covariance import fit_covariance, undetermined_columns
+from presliding.identification._covariance import fit_covariance
+from presliding.identification._deferred import complete, deferred_solution, dense, verdict
 from presliding.identification._fit_options import (  # noqa: F401 (their home before)
     check_budget,
     check_constraints,
@@ -184,17 +185,9 @@ def solve_least_squares(
     found = _outcome(setup, res, fun)
     if isinstance(found, Solution):
         return found
-    if not errors:
-        deferred = _deferred(setup, found, residual, jac, step_limit, blocks, clusters, links)
-        if deferred is not None:
-            return deferred
-    return _solution(setup, found, residual, jac, step_limit, blocks, clusters, links)
-
-
-def complete(sol: Solution) -> Solution:
-    """A solution with its errors: one whose covariance was deferred (``errors=False``)
-    computed now, any other as it is."""
-    return sol.pending() if sol.pending is not None else sol
+    complete = partial(_solution, setup, found, residual, jac, step_limit, blocks, clusters, links)
+    deferred = None if errors else deferred_solution(setup, found, blocks, complete)
+    return complete() if deferred is None else deferred
 
 
 # ---------------------------------------------------------------------- the steps
@@ -361,7 +354,7 @@ def _solution(
     widths: tuple[int, ...] = ()
     with one_blas_thread():  # tall, thin factorisations
         cov, undetermined, got = fit_covariance(
-            _dense(found.jac_free), r, blocks if pm.free else None, clusters, links
+            dense(found.jac_free), r, blocks if pm.free else None, clusters, links
         )
         widths = tuple(got)
     full = pm.full(found.x)
@@ -369,7 +362,7 @@ def _solution(
     se = np.sqrt(np.maximum(var, 0.0))
     for j in undetermined:
         se[pm.matrix[:, j] != 0] = np.inf
-    status, message = _verdict(setup, found, undetermined)
+    status, message = verdict(setup, found, undetermined)
     dof = max(r.shape[0] - len(pm.free), 1)
     q = float(stats.t.ppf(0.5 + setup.level / 2, dof))
     profiler = None
@@ -397,63 +390,6 @@ def _solution(
         },
         ties=_ties(setup.tied), profiler=profiler,
     )  # fmt: skip
-
-
-def _verdict(setup: _Setup, found: _Found, undetermined: Any) -> tuple[str, str]:
-    """The status and message of a solve: not identifiable where the Jacobian is singular."""
-    names, pm = setup.names, setup.pm
-    status, message = found.status, found.message
-    if undetermined and status == "converged":
-        status = "not_identifiable"
-        which = {names[i] for j in undetermined for i in np.flatnonzero(pm.matrix[:, j])}
-        message = f"the data do not determine {name_list(which, names)} (singular Jacobian)"
-    return status, message
-
-
-def _dense(jac: Any) -> FloatArray:
-    return jac.toarray() if sparse.issparse(jac) else jac
-
-
-def _deferred(
-    setup: _Setup, found: _Found, residual: Callable, jac: Any, step_limit: Any, blocks: Any,
-    clusters: Any, links: Any,
-) -> Solution | None:  # fmt: skip
-    """The solution without its covariance (``errors=False``): values, residual, status and
-    message as `_solution` gives them (the undetermined columns found the same way), its
-    errors NaN until `complete`. None where the covariance takes no blocks."""
-    pm, names = setup.pm, setup.names
-    if not pm.free:
-        return None
-    with one_blas_thread():
-        undetermined = undetermined_columns(_dense(found.jac_free), blocks)
-    if undetermined is None:
-        return None
-    status, message = _verdict(setup, found, undetermined)
-    full = pm.full(found.x)
-    nan = float("nan")
-    return Solution(
-        values=dict(zip(names, full.tolist(), strict=True)),
-        standard_error=dict.fromkeys(names, nan),
-        confidence_interval=dict.fromkeys(names, (nan, nan)),
-        level=setup.level,
-        fixed=tuple(setup.fixed),
-        tied=tuple(setup.tied),
-        residual=found.r,
-        status=status,
-        message=message,
-        n_evaluations=found.evaluations,
-        at_bounds=found.on_bound,
-        free=pm.free,
-        bounds={
-            n: (float(a), float(b))
-            for n, a, b in zip(names, setup.lower, setup.upper, strict=True)
-            if np.isfinite(a) or np.isfinite(b)
-        },
-        ties=_ties(setup.tied),
-        pending=partial(
-            _solution, setup, found, residual, jac, step_limit, blocks, clusters, links
-        ),
-    )
 
 
 def _failed(setup: _Setup, x: FloatArray, msg: str) -> Solution:
