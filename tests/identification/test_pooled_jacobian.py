@@ -68,3 +68,44 @@ def test_a_large_record_and_its_mirror_image_give_the_same_parameters():
     for name in SHARED:
         lo, hi = a.confidence_interval[name]
         assert lo < truth[name] < hi, name
+
+
+def test_gathered_forward_jacobian_equals_its_columns_one_by_one():
+    """`forward_jacobian` (one compiled gather into CSC) against `difference_columns` and
+    `assemble` (each column divided on its own rows), including a column stepping down at a
+    bound and one pinned by its bounds: the same matrix to the last bit."""
+    from presliding.identification import _pooled_jacobian as pj
+    from presliding.identification import _pooled_problem as pp
+    from presliding.identification._least_squares import _parameter_map
+    from presliding.identification._model_spec import ModelSpec
+    from presliding.identification._pooled_record import as_record
+
+    records, truth = stop_records(4, 3, MODEL2, quantum=1e-6, noise=2e-7)
+    recs = [as_record(m) for m in records]
+    problem = pp.PooledProblem(recs, ModelSpec(2, True, None, 32), (1.0, 50.0), "preload",
+                               offset=False, suffix=True)  # fmt: skip
+    values = {"mass": 2.0, "coulomb_level": 0.7, "coulomb": 0.3, "stiffness_1": 4000.0,
+              "stiffness_2": 1000.0}  # fmt: skip
+    for i, n in enumerate(truth):
+        for k in problem.kinds:
+            values[problem.nuisance(k, i)] = n[k]
+    problem.set_typical(values)
+    pm = _parameter_map(tuple(problem.names), {"stiffness_2": 1000.0}, {})
+    x = np.array([values[n] for n in pm.free])
+    lo, hi = np.full(x.shape, -np.inf), np.full(x.shape, np.inf)
+    up_at = pm.free.index(problem.nuisance("preload_fraction", 1))
+    hi[up_at] = x[up_at]  # on its upper bound: steps down
+    pinned = pm.free.index(problem.nuisance("initial_velocity", 2))
+    lo[pinned] = hi[pinned] = x[pinned]
+    base = problem.residual()(pm.full(x))  # the solver's last evaluation
+    got = problem.free_jacobian(sparse_output=True)(pm, x, lo, hi)
+    groups = problem.column_groups(pm)
+    rows = [problem.rows_of_column(pm, j) for j in range(len(pm.free))]
+    up, down = pj.difference_steps(x, lo, hi, problem.typical(pm), central=False)
+    assert down[up_at] > 0 and up[up_at] == 0 and up[pinned] == down[pinned] == 0
+    values_ = pj.difference_columns(problem, pm, x, up, down, groups, rows, False, base)
+    want = pj.assemble(values_, rows, problem.n_res, x.shape[0], True)
+    np.testing.assert_array_equal(got.indptr, want.indptr)
+    np.testing.assert_array_equal(got.indices, want.indices)
+    np.testing.assert_array_equal(got.data, want.data)
+    assert not np.any(got[:, pinned].toarray()) and np.any(got[:, up_at].toarray())
