@@ -66,6 +66,8 @@ class PooledProblem:
         self.velocity = velocity  # how held-out records' velocities are read (`as_record`)
         self.exact_velocity = False  # True: the exact velocity compared (`exact_velocity_compared`)
         self._last: tuple | None = None  # the last residual evaluated (`residual`)
+        self._links: list[Link] | None = None  # (`links`)
+        self._columns: dict[tuple, tuple] = {}  # a parameter map's columns (`free_jacobian`)
         self.w_v, self.w_y = signal_weights
         self.initial_state = initial_state
         self.n_rec = len(records)
@@ -158,13 +160,14 @@ class PooledProblem:
         block (both compared), for the covariance (`_covariance.Link`)."""
         if not (self.w_v and self.w_y) or self.exact_velocity:
             return []
-        out = []
-        for i, rec in enumerate(self.records):
-            if rec.difference:
-                (_, vel), (_, pos) = [b for b in self.rows if b[0] == i]
-                out.append(Link(vel, pos, difference_matrix(rec.time, rec.difference),
-                                self.w_v / self.w_y))  # fmt: skip
-        return out
+        if self._links is None:  # made once: they depend on the records' times alone
+            self._links = []
+            for i, rec in enumerate(self.records):
+                if rec.difference:
+                    (_, vel), (_, pos) = [b for b in self.rows if b[0] == i]
+                    self._links.append(Link(vel, pos, difference_matrix(rec.time, rec.difference),
+                                            self.w_v / self.w_y))  # fmt: skip
+        return list(self._links)
 
     def record_rows(self, i: int) -> NDArray[np.intp]:
         """Residual rows of record i."""
@@ -312,11 +315,14 @@ class PooledProblem:
         cache: dict[int, tuple] = {}
 
         def jac(pm: _Map, x: FloatArray, lo: FloatArray, hi: FloatArray) -> Any:
-            if id(pm) not in cache:
-                rows = [self.rows_of_column(pm, j) for j in range(len(pm.free))]
-                groups = self.column_groups(pm)
-                layout = pj.ForwardLayout(groups, rows, self.n_res) if sparse_output else None
-                cache[id(pm)] = (pm, groups, rows, layout)
+            if id(pm) not in cache:  # each map's columns laid out once for the problem
+                key = (pm.free, pm.matrix.tobytes(), sparse_output)
+                if key not in self._columns:
+                    rows = [self.rows_of_column(pm, j) for j in range(len(pm.free))]
+                    groups = self.column_groups(pm)
+                    layout = pj.ForwardLayout(groups, rows, self.n_res) if sparse_output else None
+                    self._columns[key] = (groups, rows, layout)
+                cache[id(pm)] = (pm, *self._columns[key])
             _, groups, col_rows, layout = cache[id(pm)]
             up, down = pj.difference_steps(x, lo, hi, self.typical(pm), central)
             base = None if central else self._last_residual(rigid, pm.full(x))
@@ -340,13 +346,9 @@ class PooledProblem:
         Shared parameters: half their value (or their typical size); initial
         positions and velocities: a tenth of the records' spans; preloads: 0.25.
         """
-        out = np.empty(len(self.names))
-        for j, x in enumerate(self.names):
-            kind = next((k for k in NUISANCE if x.startswith(k)), None)
-            if kind is None:
-                out[j] = 0.5 * max(abs(p[j]), 1e6 * self._typ[x])
-            else:
-                out[j] = self._limits[kind]
+        shared, floor, out = self._step_parts
+        out = out.copy()
+        out[shared] = 0.5 * np.maximum(np.abs(p[shared]), floor)
         return out
 
     def typical(self, pm: _Map) -> FloatArray:
@@ -365,6 +367,10 @@ class PooledProblem:
         for x in self.names:
             kind = next((k for k in NUISANCE if x.startswith(k)), None)
             self._typ[x] = floor[kind] if kind else 1e-6 * max(abs(start.get(x, 0.0)), TINY)
+        kinds = [next((k for k in NUISANCE if x.startswith(k)), None) for x in self.names]
+        shared = np.array([k is None for k in kinds], dtype=bool)
+        self._step_parts = (shared, 1e6 * np.array([self._typ[x] for x in self.names])[shared],
+                            np.array([self._limits[k] if k else 0.0 for k in kinds]))  # fmt: skip
 
     def records_of_column(self, pm: _Map, j: int) -> set[int] | None:
         """Records a free parameter touches (None: all)."""
