@@ -217,7 +217,10 @@ def _normal(J: Any, r: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
         return A, g, np.sqrt(np.maximum(np.diag(A), 0.0))
     full = lay.full
     for cols, rows, at in lay.blocks:
-        P = np.column_stack([val[ptr[j] : ptr[j + 1]] for j in cols])
+        if at is None:
+            P = np.column_stack([val[ptr[j] : ptr[j + 1]] for j in cols])
+        else:  # consecutive columns of equal rows: one stretch of the values
+            P = np.ascontiguousarray(val[ptr[at.start] : ptr[at.stop]].reshape(len(cols), -1).T)
         cross = F[rows].T @ P
         if at is None:
             A[np.ix_(cols, cols)] = P.T @ P
