@@ -52,7 +52,7 @@ from presliding.identification._search import REFINE_WITHIN, TIE, cost, same_poi
 __all__ = ["SHARES", "flat_direction", "flat_probe", "flat_starts"]
 
 #: shares of the step to the first stiffness's bound taken along the flat direction
-SHARES = (0.3, 0.6)
+SHARES = (0.5,)
 
 
 def flat_direction(
