@@ -13,18 +13,23 @@ miss it by several standard errors.
 
 The probe (`flat_probe`), from the best optimum θ̂:
 
-1. h = (JᵀJ)⁻¹ (scaled pseudo-inverse, `_profile_walk.scaled_pinv`); its
-   block h_kk over the free k_j is their covariance with every other parameter
-   re-optimised. The flattest direction of the split is the eigenvector u of
-   the largest eigenvalue of h_kk/(k kᵀ) (relative, so that a stiff and a soft
-   element weigh alike), δk = u·k;
+1. A = JᵀJ at θ̂, split into the free k_j and the other free parameters z;
+   the Schur complement S = A_kk − A_kz A_zz⁻¹ A_zk (A_zz⁻¹ by the scaled
+   pseudo-inverse, `_profile_walk.scaled_pinv`) is the curvature of the cost
+   in the k_j with every other parameter re-optimised (S⁻¹ = h_kk, their block
+   of (JᵀJ)⁻¹). The flattest direction of the split is the eigenvector u of
+   the smallest eigenvalue of diag(k) S diag(k) (relative steps, so that a
+   stiff and a soft element weigh alike), δk = u·k. S is used, not h_kk: two
+   elements coalesced (k_a = k_b, one column twice in J) leave S singular
+   along their split, which the pseudo-inverse h_kk would hide;
 2. every other parameter follows the linearised profile path,
-   δθ = h_{:,k} h_kk⁻¹ δk (the records' own initial position, velocity and
+   δz = −A_zz⁻¹ A_zk δk (the records' own initial position, velocity and
    preload included), clipped to the bounds;
 3. both ways (±δθ), steps of `SHARES` of the step that brings the first
    stiffness to its bound (0, or an upper bound), at most the step that moves
    one stiffness by the largest of them: far, but every k_j stays inside;
-4. each start solved short (`budget` evaluations); the lowest of those that
+4. each start (one of two mirror images, for elements of equal break-away
+   force) solved short (`budget` evaluations); the lowest of those that
    ended within `REFINE_WITHIN` × the best's cost in another basin is solved
    on to its own optimum (`_probes.other_valley`). Every optimum a solve
    reaches is kept on the run, so one that the profile's threshold does not
@@ -47,7 +52,7 @@ from presliding.identification._least_squares import Solution
 from presliding.identification._probes import other_valley
 from presliding.identification._profile import _normal_matrix
 from presliding.identification._profile_walk import FloatArray, scaled_pinv
-from presliding.identification._search import REFINE_WITHIN, TIE, cost, same_point
+from presliding.identification._search import REFINE_WITHIN, SAME_POINT, TIE, cost, same_point
 
 __all__ = ["SHARES", "flat_direction", "flat_probe", "flat_starts"]
 
@@ -72,14 +77,16 @@ def flat_direction(
     normal = _normal_matrix(prof.jacobian(x))
     if not np.all(np.isfinite(normal)):
         return None
-    h = scaled_pinv(normal)
-    h_kk, k = h[np.ix_(ks, ks)], x[ks]
-    if not np.all(np.isfinite(h_kk)) or not np.any(np.diag(h_kk) > 0):
-        return None
-    _, vectors = np.linalg.eigh(h_kk / np.outer(k, k))
-    dk = vectors[:, -1] * k
-    step = h[:, ks] @ np.linalg.lstsq(h_kk, dk, rcond=1e-12)[0]
-    step[ks] = dk  # exact on the stiffnesses (the path's round-off elsewhere)
+    zs = [i for i in range(len(free)) if i not in ks]
+    a_kz = normal[np.ix_(ks, zs)]
+    inv_zz = scaled_pinv(normal[np.ix_(zs, zs)]) if zs else np.zeros((0, 0))
+    schur = normal[np.ix_(ks, ks)] - a_kz @ inv_zz @ a_kz.T
+    k = x[ks]
+    _, vectors = np.linalg.eigh(schur * np.outer(k, k))
+    dk = vectors[:, 0] * k
+    step = np.zeros(len(free))
+    step[ks] = dk
+    step[zs] = -inv_zz @ a_kz.T @ dk
     return free, step
 
 
@@ -131,8 +138,13 @@ def flat_probe(
     the probe's solutions (the one solved on in place of its short solve). With
     `interchangeable` elements (equal break-away forces) a solution is compared with
     `sol` after relabelling its elements in `sol`'s order (`_alternatives.canonical`)."""
-    short = [solve(begin, max_evaluations=budget) for begin in flat_starts(sol, k_names, shares)]
     labels = list(k_names) if interchangeable and set(k_names) <= set(sol.free) else []
+    starts: list[dict[str, float]] = []
+    for begin in flat_starts(sol, k_names, shares):  # a mirror image of one is that one
+        seen = [canonical(s, sol.values, labels) for s in starts]
+        if not any(_alike(canonical(begin, sol.values, labels), s) for s in seen):
+            starts.append(begin)
+    short = [solve(begin, max_evaluations=budget) for begin in starts]
 
     def elsewhere(t: Solution) -> bool:  # interchangeable elements relabelled first
         return not same_point(problem, canonical(t.values, sol.values, labels), sol.values)
@@ -144,3 +156,11 @@ def flat_probe(
         short[i] = other_valley(problem, solve, short[i], sol)
     best = min(short, key=cost, default=sol)
     return (best if cost(best) < cost(sol) * (1.0 - TIE) else sol), short
+
+
+def _alike(a: dict[str, float], b: dict[str, float]) -> bool:
+    """Two starts equal to `SAME_POINT` in every value (a split of coalesced elements taken
+    both ways: one start after relabelling)."""
+    names = list(a)
+    return bool(np.allclose([a[x] for x in names], [b[x] for x in names], rtol=SAME_POINT,
+                            atol=0.0))  # fmt: skip
