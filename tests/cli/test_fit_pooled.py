@@ -92,3 +92,46 @@ def test_pooled_fits_show_each_left_out_record(tmp_path, capsys, monkeypatch):
     assert capsys.readouterr().err == ""
     a, b = ((tmp_path / x / "model.toml").read_text().split("[friction]")[1] for x in "ab")
     assert a == b
+
+
+def _quotient_files(tmp_path):
+    """Stops whose velocity column is the position's difference quotient (as a drive logs)."""
+    records, _ = stop_records(7, 3, MODEL)
+    paths = []
+    for i, r in enumerate(records):
+        path = tmp_path / f"drive{i + 1}.csv"
+        v = np.gradient(r.position, r.time)
+        np.savetxt(path, np.column_stack([r.time, r.position, v, r.applied_force]),
+                   delimiter=",", header="time [s],position [m],velocity [m/s],applied_force [N]",
+                   comments="")  # fmt: skip
+        paths.append(str(path))
+    return paths
+
+
+def test_velocity_option_says_what_the_velocity_column_is(tmp_path, capsys):
+    """--velocity difference compares the model's own quotient: the truth to rounding;
+    --velocity measured compares the exact model velocity with the quotient: biased."""
+    paths = _quotient_files(tmp_path)
+    common = ["--kind", "response", "--elements", "2", "--signal", "both", "--initial-state",
+              "preload", "--no-cross-validation", "--quiet"]  # fmt: skip
+    fits = {}
+    for choice in ("difference", "measured"):
+        out = tmp_path / choice
+        code = main(["fit", *paths, *common, "--velocity", choice, "-o", str(out)])
+        fits[choice] = (code, (out / "report.md").read_text())
+    code, _ = fits["difference"]
+    assert code == 0, capsys.readouterr()
+    spec = load_model(tmp_path / "difference" / "model.toml")
+    assert spec.model.coulomb == pytest.approx(0.3, rel=1e-8)
+    assert spec.motion.mass == pytest.approx(2.0, rel=1e-8)
+    code, report = fits["measured"]
+    assert code == 1 and "not_identifiable" in report  # the quotient's bias: not the truth
+
+
+@pytest.mark.parametrize("kind", ["quasi-static", "virgin"])
+def test_velocity_option_is_refused_where_no_velocity_is_compared(tmp_path, capsys, kind):
+    paths = _stop_files(tmp_path, 2)
+    code = main(["fit", *paths, "--kind", kind, "--velocity", "measured", "--quiet",
+                 "-o", str(tmp_path / "out")])  # fmt: skip
+    err = capsys.readouterr().err
+    assert code == 2 and "--velocity measured is for --kind response" in err, err

@@ -105,3 +105,31 @@ def test_torque_loops_whose_element_split_has_two_optima_say_so():
         lo, hi = fit.confidence_interval[name]
         assert lo <= truth <= hi, name
         assert fit.interval_method[name] == "union"
+
+
+def test_an_optimum_of_another_comparison_is_compared_on_the_best_objective():
+    """A search may solve under another comparison than the final one (the pooled response
+    fit: the exact velocity, then the difference quotient of the position). Its optimum is
+    compared on the cost of the best's objective: at a ≈ 4.5 the final cost is far above
+    the threshold, although that solve's own cost equalled the best's."""
+    data = 4.0 * X + 1.0 + NOISE
+    comparison = {"shift": 0.5}
+
+    def residual(p):
+        return p[0] * X + p[1] - data - comparison["shift"] * X
+
+    problem = FitProblem(("a", "b"), {"a": 1.0, "b": 0.0}, {}, {}, {},
+                         residual_function=residual)  # fmt: skip
+
+    def search(run):
+        first = run.solve()  # under the search's comparison: a ≈ 4.5
+        comparison["shift"] = 0.0
+        return Found(run.solve(first.values), 2, 1)  # the final comparison: a ≈ 4
+
+    def result(run, sol, boot, summary):
+        return FitResult.from_solution(sol, None, X, data, data + sol.residual,
+                                       signal_label="signal")  # fmt: skip
+
+    fit = run_fit(problem, FitOptions(0.95, 200, 1e-10), FitPlan(search, result))
+    assert fit.parameters["a"] == pytest.approx(4.0, abs=0.05)
+    assert fit.status == "converged" and fit.alternatives == (), fit.message

@@ -146,6 +146,16 @@ def _add_pooled_options(fit: argparse.ArgumentParser) -> None:
         help="response: what is compared (default: velocity when every file has it, else position)",
     )
     fit.add_argument(
+        "--velocity",
+        choices=("auto", "difference", "measured"),
+        default=None,
+        help="response: what each file's velocity is, and so what the model's velocity is "
+        "compared with: difference (the position's difference quotient, as a drive logs it; "
+        "the model's position goes through the same quotient), measured (a tachometer, a "
+        "vibrometer, a filtered estimate: the exact model velocity), auto (default: "
+        "difference where the velocity equals the position's quotient, else measured)",
+    )
+    fit.add_argument(
         "--density",
         choices=("uniform", "exponential", "piecewise_constant"),
         default=None,

@@ -46,6 +46,10 @@ def _options(args: argparse.Namespace, records: list[Any]) -> dict[str, Any]:
         raise UserError(f"--max-evaluations must be 1 or more; got {args.max_evaluations}.")
     if args.bootstrap < 0:
         raise UserError(f"--bootstrap must be 0 or more; got {args.bootstrap}.")
+    velocity = getattr(args, "velocity", None)
+    if velocity is not None and args.kind != "response":
+        raise UserError(f"--velocity {velocity} is for --kind response (the only kind that "
+                        f"compares a velocity); drop it for --kind {args.kind}.")  # fmt: skip
     out: dict[str, Any] = {"n_elements": n, "max_evaluations": args.max_evaluations}
     if args.kind == "virgin":
         if args.density is not None:
@@ -58,7 +62,8 @@ def _options(args: argparse.Namespace, records: list[Any]) -> dict[str, Any]:
         signal = args.signal or (
             "velocity" if all(m.velocity is not None for m in records) else "position"
         )
-        out.update(signal=signal, mass=args.mass, prune=args.prune, viscous=args.viscous)
+        out.update(signal=signal, mass=args.mass, prune=args.prune, viscous=args.viscous,
+                   velocity=velocity or "auto")  # fmt: skip
         out["initial_state"] = args.initial_state or "saturated"
     else:
         out["initial_state"] = args.initial_state or "preload"

@@ -6,7 +6,9 @@ profile interval is found by walking outward from the best optimum
 (`_profile`), so a second valley at almost the same cost, further out, is
 missed: the interval excludes it although the data do not.
 
-The rule, with the profile's own likelihood-ratio threshold. For a free
+The rule, with the profile's own likelihood-ratio threshold, each optimum's
+cost χ²(θ') evaluated again with the best's objective (`_cost_now`: a solve of
+the search may have compared another velocity). For a free
 parameter θ_j the profile interval at level α is where the profile
 P(θ) = χ²(θ) − χ²_min stays below P_j = t²·SE_j²/h_jj (h = (JᵀJ)⁻¹, the HAC
 scaling included through SE_j). Another optimum θ' with χ²(θ') − χ²_min ≤ P_j
@@ -91,6 +93,16 @@ def _thresholds(sol: Solution) -> dict[str, float]:
     return out
 
 
+def _cost_now(sol: Solution, values: Mapping[str, float]) -> float:
+    """‖r‖² of `values` under `sol`'s own objective (its profiler's residual). An optimum
+    reached under another comparison (the search compares the exact simulated velocity,
+    the polish then the difference quotient of the position, `_response_plan`) has its
+    cost from that comparison: compared as it is, a rise would mix two objectives."""
+    prof = sol.profiler
+    r = prof.fun(np.array([values[n] for n in prof.free], dtype=float))
+    return float(r @ r) if np.all(np.isfinite(r)) else np.inf
+
+
 def _apart(a: float, b: float) -> bool:
     return abs(a - b) > RESOLUTION * max(abs(a), abs(b), 1e-300)
 
@@ -104,18 +116,22 @@ def hidden_optima(sol: Solution) -> tuple[Solution, tuple[Alternative, ...]]:
     thresholds = _thresholds(sol)
     ci, methods = dict(sol.confidence_interval), dict(sol.interval_method)
     found = []
-    for values, c in sol.others:
+    for values, _ in sol.others:
+        outside = [name for name in thresholds
+                   if not sol.confidence_interval[name][0] <= values[name]
+                   <= sol.confidence_interval[name][1]
+                   and _apart(values[name], sol.values[name])]  # fmt: skip
+        if not outside:
+            continue
+        c = _cost_now(sol, values)
         rise = c - c0
         if not np.isfinite(rise):
             continue
-        differs = []
-        for name, limit in thresholds.items():
-            lo, hi = sol.confidence_interval[name]
+        differs = [name for name in outside if rise <= thresholds[name]]
+        for name in differs:
             v = values[name]
-            if rise <= limit and not lo <= v <= hi and _apart(v, sol.values[name]):
-                differs.append(name)
-                ci[name] = (min(ci[name][0], v), max(ci[name][1], v))
-                methods[name] = "union"
+            ci[name] = (min(ci[name][0], v), max(ci[name][1], v))
+            methods[name] = "union"
         if differs:
             found.append(Alternative(dict(values), float(c), float(rise), tuple(differs)))
     if not found:

@@ -19,7 +19,8 @@ gives the fit's own steps:
   then the element split is probed: from the best, a tenth of the smaller
   stiffness moved between neighbouring elements, both ways, each solved (the
   split is the least determined direction of the loops; another optimum that
-  the profile's threshold does not exclude is reported, `_alternatives`);
+  the profile's threshold does not exclude is reported, `_alternatives`), and
+  so is its flattest direction, stepped far both ways (`_flat_probe`);
 * checks: coalesced elements split, elements relabelled stiffest first;
 * result: the errors raised to the floor that runs of equal quantised samples
   imply (`_quasi_static_errors`: a record's initial position is fixed by its
@@ -44,6 +45,7 @@ from presliding.identification._fit_options import (
     element_count,
 )
 from presliding.identification._fit_problem import FitOptions, FitProblem
+from presliding.identification._flat_probe import flat_probe
 from presliding.identification._least_squares import Solution
 from presliding.identification._model_spec import DENSITIES, ModelSpec
 from presliding.identification._nuisance_search import search_nuisance
@@ -222,6 +224,10 @@ def _search(req: QuasiStaticRequest, run: FitRun) -> Found:
         return found
     best, probes = solve_probes(run.problem.records, run.solve,
                                 split_starts(sol.values, spec.k_names), sol)  # fmt: skip
+    assert run.options.max_evaluations is not None
+    best, flat = flat_probe(run.problem.records, run.solve, best, spec.k_names,
+                            min(run.options.max_evaluations, 40))  # fmt: skip
+    probes += flat
     at_best = sum(1 for t in probes if same_point(run.problem.records, t.values, best.values)
                   or cost(t) <= cost(best) * (1.0 + SAME_OPTIMUM))  # fmt: skip
     if best is sol:  # a probe that found a lower optimum leaves the starts' best behind

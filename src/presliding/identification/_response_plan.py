@@ -41,6 +41,7 @@ from presliding.identification import _pooled_problem as pp
 from presliding.identification._fit_engine import FitPlan, FitRun, Found
 from presliding.identification._fit_options import check_enough
 from presliding.identification._fit_problem import FitOptions, FitProblem
+from presliding.identification._flat_probe import flat_probe
 from presliding.identification._least_squares import LARGE_PROBLEM, Solution, complete
 from presliding.identification._parameters import kept_parameters
 from presliding.identification._probes import (
@@ -200,6 +201,8 @@ def _probe(req: ResponseRequest, flags: _Flags, run: FitRun, sol: Solution, n_st
     best, split = solve_probes(p.records, solve, split_starts(sol.values, k_names), best,
                                budget, within=1.0)  # fmt: skip
     probes += split
+    best, flat = flat_probe(p.records, solve, best, k_names, budget)  # `_flat_probe`
+    probes += flat
     at = sum(1 for t in probes if same_point(p.records, t.values, best.values)
              or cost(t) <= cost(best) * (1.0 + SAME_OPTIMUM))  # fmt: skip
     return complete(best), n_starts + len(probes), at + (at_best if best is sol else 0)
