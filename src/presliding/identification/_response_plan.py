@@ -201,7 +201,7 @@ def _probe(req: ResponseRequest, flags: _Flags, run: FitRun, sol: Solution, n_st
     best, split = solve_probes(p.records, solve, split_starts(sol.values, k_names), best,
                                budget, within=1.0)  # fmt: skip
     probes += split
-    best, flat = flat_probe(p.records, solve, best, k_names, budget)  # `_flat_probe`
+    best, flat = flat_probe(p.records, solve, complete(best), k_names, budget)  # needs H
     probes += flat
     at = sum(1 for t in probes if same_point(p.records, t.values, best.values)
              or cost(t) <= cost(best) * (1.0 + SAME_OPTIMUM))  # fmt: skip
