@@ -34,7 +34,10 @@ The probe (`flat_probe`), from the best optimum θ̂:
    on to its own optimum (`_probes.other_valley`). Every optimum a solve
    reaches is kept on the run, so one that the profile's threshold does not
    exclude widens the intervals and makes the fit ``not_identifiable`` (rule
-   ``optima``, `_alternatives`); a lower one becomes the best.
+   ``optima``, `_alternatives`); a lower one in another basin becomes the
+   best (a solve that stayed in θ̂'s basin never does: in a flat valley it ends
+   lower within the solver's tolerance, and differently for starts equal only
+   to rounding, which would break the mirror symmetry).
 
 Its cost: one Jacobian at θ̂, 2·len(`SHARES`) short solves and at most one solve
 on. A well-determined split costs the same and changes nothing: the short
@@ -154,7 +157,10 @@ def flat_probe(
     if apart:
         i = min(apart, key=lambda j: cost(short[j]))
         short[i] = other_valley(problem, solve, short[i], sol)
-    best = min(short, key=cost, default=sol)
+    # a solve that stayed in `sol`'s basin does not move the fit: in a flat valley it ends
+    # lower within the solver's tolerance, differently for starts equal only to rounding
+    # (a record and its mirror image)
+    best = min((t for t in short if elsewhere(t)), key=cost, default=sol)
     return (best if cost(best) < cost(sol) * (1.0 - TIE) else sol), short
 
 
