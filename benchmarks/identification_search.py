@@ -29,7 +29,9 @@ appended there as JSON lines, and its Jacobian and residual saved next to it
 (``path.<design><seed>.npz``), so that covariance estimates can be compared
 offline on the same fits.
 
-Run: python benchmarks/identification_search.py [study] [seeds]
+Run: python benchmarks/identification_search.py [study] [seeds] [--seeds i,j,...]
+(``--seeds 23,31`` runs those seed indices only, e.g. to check the seeds that failed;
+``--first k`` starts at index k).
 """
 
 from __future__ import annotations
@@ -169,7 +171,7 @@ def _row(design, seed, fit, truth, floor) -> dict:
 
 
 def _study(
-    design: str, label: str, seeds: int, seed0: int, draw, shared: dict, fit_fn, ref_fn, detail
+    design: str, label: str, seeds, seed0: int, draw, shared: dict, fit_fn, ref_fn, detail
 ) -> None:
     """One design over seeds: draw records and their own parameters, fit, fit again from the
     truth (the noise floor), and tally statuses, the floor and coverage per parameter."""
@@ -177,7 +179,8 @@ def _study(
     statuses, cover = Counter(), {}
     at_floor = wrong = 0
     capture = _Capture() if DUMP else None
-    for seed in range(seeds):
+    chosen = list(range(seeds)) if isinstance(seeds, int) else list(seeds)
+    for seed in chosen:
         pairs = draw(np.random.default_rng(seed0 + seed))
         records = [p[0] for p in pairs]
         if capture is not None:
@@ -202,10 +205,10 @@ def _study(
             f"(truth {ref.search.residual_over_floor:.2f}), {detail(fit)}",
             flush=True,
         )
-    _summary(label, statuses, at_floor, wrong, cover, seeds, time.perf_counter() - t0)
+    _summary(label, statuses, at_floor, wrong, cover, len(chosen), time.perf_counter() - t0)
 
 
-def study_stops(seeds: int, n_records: int = 8) -> None:
+def study_stops(seeds, n_records: int = 8) -> None:
     _study(
         "stops", "pooled stops, random preloads", seeds, 5000,
         lambda rng: [random_stop(rng) for _ in range(n_records)], TRUTH,
@@ -235,7 +238,7 @@ def random_loop(rng: np.random.Generator, samples: int = 600) -> tuple:
     return Measurement(t, position=y, applied_force=u), nuisance
 
 
-def study_loops(seeds: int, n_records: int = 4) -> None:
+def study_loops(seeds, n_records: int = 4) -> None:
     _study(
         "loops", "torque loops with preload", seeds, 7000,
         lambda rng: [random_loop(rng) for _ in range(n_records)], LOOP_TRUTH,
@@ -320,13 +323,32 @@ def study_speed(seeds: int = 6) -> None:
     print(f"20 × 1000: median {np.median(times):.2f} s, max {max(times):.2f} s over {seeds} seeds")
 
 
+def _seed_list(argv: list[str]) -> tuple[list[str], int | list[int]]:
+    """The positional arguments, and the seed indices: ``--seeds i,j`` or ``--first k``
+    (with the count, indices k … k + count − 1) or the count alone (0 … count − 1)."""
+    args, chosen, first = [], None, 0
+    it = iter(argv)
+    for a in it:
+        if a == "--seeds":
+            chosen = [int(x) for x in next(it).split(",") if x]
+        elif a == "--first":
+            first = int(next(it))
+        else:
+            args.append(a)
+    count = int(args[1]) if len(args) > 1 else 40
+    if chosen is not None:
+        return args, chosen
+    return args, count if first == 0 else list(range(first, first + count))
+
+
 def main() -> None:
-    study = sys.argv[1] if len(sys.argv) > 1 else "all"
-    seeds = int(sys.argv[2]) if len(sys.argv) > 2 else 40
+    args, chosen = _seed_list(sys.argv[1:])
+    study = args[0] if args else "all"
+    seeds = chosen if isinstance(chosen, int) else len(chosen)
     if study in ("stops", "all"):
-        study_stops(seeds)
+        study_stops(chosen)
     if study in ("loops", "all"):
-        study_loops(seeds)
+        study_loops(chosen)
     if study in ("guide", "all"):
         study_guide(seeds)
     if study in ("mirror", "all"):

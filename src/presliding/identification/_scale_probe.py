@@ -1,0 +1,133 @@
+"""The probe along the scale of eq. 17: the mass and every force scaled together.
+
+In a free motion (u = 0) eq. 17, m·ÿ + c1·sign(ẏ) + Σ k_j (y − x_j) = 0, is
+unchanged when the mass, F_c, c1, σ and every stiffness (the element forces
+k_j·(y − x_j); the thresholds r_j = c_j/k_j stay) are multiplied by one
+factor s. Only the applied force fixes that scale, in the short forced part
+of a stop. The pooled residual of stops is therefore nearly flat along the
+scale, with a staircase of local minima on it: each record's own block
+(initial position, velocity, preload fraction) compensates the wrong scale in
+its forced part, and on a wrong scale its best block sits in another basin
+than on the true one. A local solve from such a minimum does not leave it
+(mass and forces 18–26 % low at a cost 19–21 % above the true valley's, a
+residual the noise-floor rule cannot tell from the floor); neither does a
+move of the shared parameters alone with the blocks kept, since the blocks
+belong to the wrong scale.
+
+`scale_probe` moves along the scale from the best optimum: the shared model
+parameters multiplied by each factor of `SCALES` (up and down), every
+record's block searched again globally for the scaled values (the nuisance
+grid and its polish, `_nuisance_search`), a short solve of everything, solved
+on when it ends near the best (`_probes.other_valley`), and, when that ends
+within `REFINE_WITHIN` of the best, the blocks searched once more for the
+shared values it reached and solved again (the alternation of the search). A
+step that lowers the cost becomes the best and the probe steps on in the same
+direction (`ROUNDS` steps at most), since the staircase can take more than one
+step to its foot.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping, Sequence
+
+from presliding.identification._least_squares import Solution
+from presliding.identification._nuisance_search import search_nuisance
+from presliding.identification._pooled_problem import PooledProblem
+from presliding.identification._probes import other_valley
+from presliding.identification._search import REFINE_WITHIN, SAME_OPTIMUM, cost
+
+__all__ = ["ROUNDS", "SCALES", "scale_probe", "scaled", "scaled_names"]
+
+#: factors of one step along the scale, up first then down (symmetric in log)
+SCALES = (1.25, 0.8)
+#: steps along the scale in a direction that keeps lowering the cost
+ROUNDS = 3
+
+
+def scaled_names(problem: PooledProblem, fixed: Mapping[str, float],
+                 tied: Mapping[str, object] | None = None) -> list[str]:  # fmt: skip
+    """The parameters eq. 17's scale moves: the mass, σ and the discrete model's forces and
+    stiffnesses. Empty when one of them is fixed or tied (the scale is then pinned) or the
+    model is a density (its parameters mix forces and thresholds)."""
+    spec = problem.spec
+    if spec.density is not None or "mass" not in problem.shared:
+        return []
+    names = ["mass", *spec.names, *(["viscous"] if "viscous" in problem.shared else [])]
+    if any(x in fixed or x in (tied or {}) for x in names):
+        return []
+    return names
+
+
+def scaled(values: Mapping[str, float], names: Sequence[str], factor: float) -> dict[str, float]:
+    """`values` with the parameters `names` multiplied by `factor`."""
+    out = dict(values)
+    for x in names:
+        out[x] = factor * values[x]
+    return out
+
+
+def _inside(values: Mapping[str, float], bounds: Mapping[str, tuple[float, float]]) -> bool:
+    for x, v in values.items():
+        lo, hi = bounds.get(x, (-float("inf"), float("inf")))
+        if not lo <= v <= hi:
+            return False
+    return True
+
+
+def _step(
+    problem: PooledProblem,
+    solve: Callable[..., Solution],
+    best: Solution,
+    names: Sequence[str],
+    factor: float,
+    fixed: Mapping[str, float],
+    bounds: Mapping[str, tuple[float, float]],
+    budget: int,
+) -> tuple[Solution | None, int]:
+    """One step along the scale (module notes); None when it leaves the bounds."""
+    begin = scaled(best.values, names, factor)
+    if not _inside({x: begin[x] for x in names}, bounds):
+        return None, 0
+    values, _, spent = search_nuisance(problem, begin, fixed, bounds)
+    t = other_valley(problem, solve, solve(values, max_evaluations=budget), best)
+    if t.status == "failed" or not cost(t) <= REFINE_WITHIN * cost(best):
+        return t, spent
+    again, c, ev = search_nuisance(problem, t.values, fixed, bounds)
+    spent += ev
+    if c < cost(t) * (1.0 - SAME_OPTIMUM):
+        other = solve(again)
+        t = other if cost(other) < cost(t) else t
+    return t, spent
+
+
+def scale_probe(
+    problem: PooledProblem,
+    solve: Callable[..., Solution],
+    best: Solution,
+    names: Sequence[str],
+    fixed: Mapping[str, float],
+    bounds: Mapping[str, tuple[float, float]],
+    budget: int,
+    scales: Sequence[float] = SCALES,
+    rounds: int = ROUNDS,
+) -> tuple[Solution, list[Solution], int]:
+    """Steps along eq. 17's scale from `best` (module notes): the best of all, every
+    step's solution and the residual evaluations of the nuisance searches."""
+    steps: list[Solution] = []
+    spent = 0
+    directions = list(scales)
+    for _ in range(rounds):
+        improved = None
+        for factor in directions:
+            t, ev = _step(problem, solve, best, names, factor, fixed, bounds, budget)
+            spent += ev
+            if t is None:
+                continue
+            steps.append(t)
+            if cost(t) < cost(best) * (1.0 - SAME_OPTIMUM):
+                improved, directions = t, [factor]
+                break
+        if improved is None:
+            break
+        best = improved
+    return best, steps, spent
