@@ -208,15 +208,49 @@ def _study(
     _summary(label, statuses, at_floor, wrong, cover, len(chosen), time.perf_counter() - t0)
 
 
+class _Timed:
+    """Wall time of one step of the fit (a module function wrapped), per fit and in all."""
+
+    def __init__(self, module: str, name: str) -> None:
+        self.module, self.name = sys.modules[module], name
+        self.original = getattr(self.module, name)
+        self.last = self.total = 0.0
+        self.fit = self.fits = 0.0
+
+        def timed(*a, **k):
+            t = time.perf_counter()
+            try:
+                return self.original(*a, **k)
+            finally:
+                self.last += time.perf_counter() - t
+
+        setattr(self.module, name, timed)
+
+    def wrap(self, fit_fn):
+        def run(records):
+            self.last, t = 0.0, time.perf_counter()
+            out = fit_fn(records)
+            self.fit, self.fits = time.perf_counter() - t, self.fits + 1
+            self.total += self.last
+            return out
+
+        return run
+
+
 def study_stops(seeds, n_records: int = 8) -> None:
+    """Pooled stops; per seed also the fit's wall time and that of its probe along eq. 17's
+    scale (`_scale_probe`)."""
+    probe = _Timed("presliding.identification._response_plan", "scale_probe")
     _study(
         "stops", "pooled stops, random preloads", seeds, 5000,
         lambda rng: [random_stop(rng) for _ in range(n_records)], TRUTH,
-        lambda records: fit_response(records, **OPTIONS),
+        probe.wrap(lambda records: fit_response(records, **OPTIONS)),
         lambda records, truth: fit_response(records, **OPTIONS, initial=truth, multistart=False),
         lambda fit: f"mass {fit.parameters['mass']:.4g}, starts "
-        f"{fit.n_starts_at_best}/{fit.n_starts}",
+        f"{fit.n_starts_at_best}/{fit.n_starts}, fit {probe.fit:.1f} s of which the scale "
+        f"probe {probe.last:.1f} s",
     )  # fmt: skip
+    print(f"  scale probe: {probe.total / max(probe.fits, 1):.2f} s per fit on average")
 
 
 LOOP_MODEL = PIFriction(0.05, [2e4, 6e3, 2e3], breakaway=[0.15, 0.15, 0.15])

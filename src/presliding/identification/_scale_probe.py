@@ -22,13 +22,18 @@ on when it ends near the best (`_probes.other_valley`), and, when that ends
 within `REFINE_WITHIN` of the best, the blocks searched once more for the
 shared values it reached and solved again (the alternation of the search). A
 step that lowers the cost becomes the best and the probe steps on in the same
-direction (`ROUNDS` steps at most), since the staircase can take more than one
-step to its foot.
+direction, since the staircase can take more than one step to its foot (each
+step's solve moves little along the scale: it ends on the stair next to the
+scaled start); a step after a move that does not lower the cost overshot, and
+the step is halved in log, tried either way, while above `FINEST` (`ROUNDS`
+rounds at most). From the true valley both first steps fail: two steps.
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping, Sequence
+
+import numpy as np
 
 from presliding.identification._least_squares import Solution
 from presliding.identification._nuisance_search import search_nuisance
@@ -36,12 +41,14 @@ from presliding.identification._pooled_problem import PooledProblem
 from presliding.identification._probes import other_valley
 from presliding.identification._search import REFINE_WITHIN, SAME_OPTIMUM, cost
 
-__all__ = ["ROUNDS", "SCALES", "scale_probe", "scaled", "scaled_names"]
+__all__ = ["FINEST", "ROUNDS", "SCALES", "scale_probe", "scaled", "scaled_names"]
 
 #: factors of one step along the scale, up first then down (symmetric in log)
 SCALES = (1.25, 0.8)
-#: steps along the scale in a direction that keeps lowering the cost
-ROUNDS = 3
+#: rounds of steps along the scale at most
+ROUNDS = 6
+#: the finest step: a step that overshot is halved (in log) while above this factor
+FINEST = 1.05
 
 
 def scaled_names(problem: PooledProblem, fixed: Mapping[str, float],
@@ -115,19 +122,23 @@ def scale_probe(
     step's solution and the residual evaluations of the nuisance searches."""
     steps: list[Solution] = []
     spent = 0
-    directions = list(scales)
+    directions, factor = list(scales), None
     for _ in range(rounds):
         improved = None
-        for factor in directions:
-            t, ev = _step(problem, solve, best, names, factor, fixed, bounds, budget)
+        for f in directions:
+            t, ev = _step(problem, solve, best, names, f, fixed, bounds, budget)
             spent += ev
             if t is None:
                 continue
             steps.append(t)
             if cost(t) < cost(best) * (1.0 - SAME_OPTIMUM):
-                improved, directions = t, [factor]
+                improved, factor = t, f
                 break
-        if improved is None:
-            break
-        best = improved
+        if improved is not None:
+            best, directions = improved, [factor]
+            continue
+        if factor is None or abs(np.log(factor)) < 2 * np.log(FINEST):
+            break  # no step lowered the cost, or the step cannot be halved again
+        factor = float(np.sqrt(factor))  # overshot: half the step (in log), either way
+        directions = [factor, 1.0 / factor]
     return best, steps, spent
