@@ -124,7 +124,7 @@ def scale_probe(
     spent = 0
     directions, factor = list(scales), None
     for _ in range(rounds):
-        improved = None
+        improved: tuple[Solution, float] | None = None
         for f in directions:
             t, ev = _step(problem, solve, best, names, f, fixed, bounds, budget)
             spent += ev
@@ -132,10 +132,11 @@ def scale_probe(
                 continue
             steps.append(t)
             if cost(t) < cost(best) * (1.0 - SAME_OPTIMUM):
-                improved, factor = t, f
+                improved = (t, f)
                 break
         if improved is not None:
-            best, directions = improved, [factor]
+            best, factor = improved
+            directions = [factor]
             continue
         if factor is None or abs(np.log(factor)) < 2 * np.log(FINEST):
             break  # no step lowered the cost, or the step cannot be halved again
