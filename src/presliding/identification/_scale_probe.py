@@ -17,10 +17,12 @@ belong to the wrong scale.
 `scale_probe` moves along the scale from the best optimum: the shared model
 parameters multiplied by each factor of `SCALES` (up and down), every
 record's block searched again globally for the scaled values (the nuisance
-grid and its polish, `_nuisance_search`), a short solve of everything, solved
-on when it ends near the best (`_probes.other_valley`), and, when that ends
-within `REFINE_WITHIN` of the best, the blocks searched once more for the
-shared values it reached and solved again (the alternation of the search). A
+grid and its polish, `_nuisance_search`), a short solve of everything and,
+only when that short solve already went below the best (a step onto a lower
+stair does: measured on the study's stops), the solve on to its optimum
+(`_probes.other_valley`), the blocks searched once more for the shared values
+it reached and solved again (the alternation of the search). A step that does
+not lower the cost costs one nuisance search and one short solve. A
 step that lowers the cost becomes the best and the probe steps on in the same
 direction, since the staircase can take more than one step to its foot (each
 step's solve moves little along the scale: it ends on the stair next to the
@@ -39,7 +41,7 @@ from presliding.identification._least_squares import Solution
 from presliding.identification._nuisance_search import search_nuisance
 from presliding.identification._pooled_problem import PooledProblem
 from presliding.identification._probes import other_valley
-from presliding.identification._search import REFINE_WITHIN, SAME_OPTIMUM, cost
+from presliding.identification._search import SAME_OPTIMUM, cost
 
 __all__ = ["FINEST", "ROUNDS", "SCALES", "scale_probe", "scaled", "scaled_names"]
 
@@ -96,8 +98,8 @@ def _step(
     if not _inside({x: begin[x] for x in names}, bounds):
         return None, 0
     values, _, spent = search_nuisance(problem, begin, fixed, bounds)
-    t = other_valley(problem, solve, solve(values, max_evaluations=budget), best)
-    if t.status == "failed" or not cost(t) <= REFINE_WITHIN * cost(best):
+    t = other_valley(problem, solve, solve(values, max_evaluations=budget), best, within=1.0)
+    if t.status == "failed" or not cost(t) < cost(best):
         return t, spent
     again, c, ev = search_nuisance(problem, t.values, fixed, bounds)
     spent += ev
