@@ -343,14 +343,16 @@ def study_speed(seeds: int = 6) -> None:
     search_module = sys.modules["presliding.identification._search"]
     search_module.search_nuisance = timed
     times = []
+    probe = _Timed("presliding.identification._response_plan", "scale_probe")
     for seed in range(seeds):
         records, _, _ = stop_records(seed, 20)
         spent[0] = 0.0
         t = time.perf_counter()
-        fit = fit_response(records, **OPTIONS)
+        fit = probe.wrap(lambda r: fit_response(r, **OPTIONS))(records)
         times.append(time.perf_counter() - t)
         print(f"20 × 1000, seed {seed}: {times[-1]:.2f} s (target 5 s), of which the nuisance "
-              f"search {spent[0]:.2f} s; status {fit.status}, RMS/floor "
+              f"search {spent[0]:.2f} s, the scale probe {probe.last:.2f} s; status "
+              f"{fit.status}, RMS/floor "
               f"{fit.search.residual_over_floor:.2f}, starts "
               f"{fit.n_starts_at_best}/{fit.n_starts}", flush=True)  # fmt: skip
     search_module.search_nuisance = original
