@@ -9,7 +9,7 @@ scale, with a staircase of local minima on it: each record's own block
 (initial position, velocity, preload fraction) compensates the wrong scale in
 its forced part, and on a wrong scale its best block sits in another basin
 than on the true one. A local solve from such a minimum does not leave it
-(mass and forces 18–26 % low at a cost 19–21 % above the true valley's, a
+(mass and forces 18–27 % low at a cost 19–21 % above the true valley's, a
 residual the noise-floor rule cannot tell from the floor); neither does a
 move of the shared parameters alone with the blocks kept, since the blocks
 belong to the wrong scale.
