@@ -29,7 +29,9 @@ appended there as JSON lines, and its Jacobian and residual saved next to it
 (``path.<design><seed>.npz``), so that covariance estimates can be compared
 offline on the same fits.
 
-Run: python benchmarks/identification_search.py [study] [seeds]
+Run: python benchmarks/identification_search.py [study] [seeds] [--seeds i,j,...]
+(``--seeds 23,31`` runs those seed indices only, e.g. to check the seeds that failed;
+``--first k`` starts at index k; ``--records N`` pools N stops per fit instead of 8).
 """
 
 from __future__ import annotations
@@ -61,6 +63,8 @@ QUANTUM, NOISE = 1e-6, 2e-7
 #: per-seed rows (estimates, SEs, intervals, truth) appended here when set
 DUMP = os.environ.get("PRESLIDING_STUDY_DUMP")
 OPTIONS = {"signal": "both", "initial_state": "preload"}
+#: records per pooled fit of the ``stops`` study (``--records N`` changes it)
+RECORDS = 8
 
 
 def random_stop(rng: np.random.Generator, samples: int = 1000) -> tuple:
@@ -169,7 +173,7 @@ def _row(design, seed, fit, truth, floor) -> dict:
 
 
 def _study(
-    design: str, label: str, seeds: int, seed0: int, draw, shared: dict, fit_fn, ref_fn, detail
+    design: str, label: str, seeds, seed0: int, draw, shared: dict, fit_fn, ref_fn, detail
 ) -> None:
     """One design over seeds: draw records and their own parameters, fit, fit again from the
     truth (the noise floor), and tally statuses, the floor and coverage per parameter."""
@@ -177,7 +181,8 @@ def _study(
     statuses, cover = Counter(), {}
     at_floor = wrong = 0
     capture = _Capture() if DUMP else None
-    for seed in range(seeds):
+    chosen = list(range(seeds)) if isinstance(seeds, int) else list(seeds)
+    for seed in chosen:
         pairs = draw(np.random.default_rng(seed0 + seed))
         records = [p[0] for p in pairs]
         if capture is not None:
@@ -202,18 +207,55 @@ def _study(
             f"(truth {ref.search.residual_over_floor:.2f}), {detail(fit)}",
             flush=True,
         )
-    _summary(label, statuses, at_floor, wrong, cover, seeds, time.perf_counter() - t0)
+    _summary(label, statuses, at_floor, wrong, cover, len(chosen), time.perf_counter() - t0)
 
 
-def study_stops(seeds: int, n_records: int = 8) -> None:
+class _Timed:
+    """Wall time of one step of the fit (a module function wrapped), per fit and in all."""
+
+    def __init__(self, module: str, name: str) -> None:
+        __import__(module)
+        self.module, self.name = sys.modules[module], name
+        self.original = getattr(self.module, name, None)
+        self.last = self.total = 0.0
+        self.fit = self.fits = 0.0
+        if self.original is None:  # a version of the library without that step
+            return
+
+        def timed(*a, **k):
+            t = time.perf_counter()
+            try:
+                return self.original(*a, **k)
+            finally:
+                self.last += time.perf_counter() - t
+
+        setattr(self.module, name, timed)
+
+    def wrap(self, fit_fn):
+        def run(records):
+            self.last, t = 0.0, time.perf_counter()
+            out = fit_fn(records)
+            self.fit, self.fits = time.perf_counter() - t, self.fits + 1
+            self.total += self.last
+            return out
+
+        return run
+
+
+def study_stops(seeds, n_records: int = RECORDS) -> None:
+    """Pooled stops; per seed also the fit's wall time and that of its probe along eq. 17's
+    scale (`_scale_probe`)."""
+    probe = _Timed("presliding.identification._response_plan", "scale_probe")
     _study(
         "stops", "pooled stops, random preloads", seeds, 5000,
         lambda rng: [random_stop(rng) for _ in range(n_records)], TRUTH,
-        lambda records: fit_response(records, **OPTIONS),
+        probe.wrap(lambda records: fit_response(records, **OPTIONS)),
         lambda records, truth: fit_response(records, **OPTIONS, initial=truth, multistart=False),
         lambda fit: f"mass {fit.parameters['mass']:.4g}, starts "
-        f"{fit.n_starts_at_best}/{fit.n_starts}",
+        f"{fit.n_starts_at_best}/{fit.n_starts}, fit {probe.fit:.1f} s of which the scale "
+        f"probe {probe.last:.1f} s",
     )  # fmt: skip
+    print(f"  scale probe: {probe.total / max(probe.fits, 1):.2f} s per fit on average")
 
 
 LOOP_MODEL = PIFriction(0.05, [2e4, 6e3, 2e3], breakaway=[0.15, 0.15, 0.15])
@@ -235,7 +277,7 @@ def random_loop(rng: np.random.Generator, samples: int = 600) -> tuple:
     return Measurement(t, position=y, applied_force=u), nuisance
 
 
-def study_loops(seeds: int, n_records: int = 4) -> None:
+def study_loops(seeds, n_records: int = 4) -> None:
     _study(
         "loops", "torque loops with preload", seeds, 7000,
         lambda rng: [random_loop(rng) for _ in range(n_records)], LOOP_TRUTH,
@@ -306,27 +348,51 @@ def study_speed(seeds: int = 6) -> None:
     search_module = sys.modules["presliding.identification._search"]
     search_module.search_nuisance = timed
     times = []
+    probe = _Timed("presliding.identification._response_plan", "scale_probe")
     for seed in range(seeds):
         records, _, _ = stop_records(seed, 20)
         spent[0] = 0.0
         t = time.perf_counter()
-        fit = fit_response(records, **OPTIONS)
+        fit = probe.wrap(lambda r: fit_response(r, **OPTIONS))(records)
         times.append(time.perf_counter() - t)
         print(f"20 × 1000, seed {seed}: {times[-1]:.2f} s (target 5 s), of which the nuisance "
-              f"search {spent[0]:.2f} s; status {fit.status}, RMS/floor "
+              f"search {spent[0]:.2f} s, the scale probe {probe.last:.2f} s; status "
+              f"{fit.status}, RMS/floor "
               f"{fit.search.residual_over_floor:.2f}, starts "
               f"{fit.n_starts_at_best}/{fit.n_starts}", flush=True)  # fmt: skip
     search_module.search_nuisance = original
     print(f"20 × 1000: median {np.median(times):.2f} s, max {max(times):.2f} s over {seeds} seeds")
 
 
+def _seed_list(argv: list[str]) -> tuple[list[str], int | list[int]]:
+    """The positional arguments, and the seed indices: ``--seeds i,j`` or ``--first k``
+    (with the count, indices k … k + count − 1) or the count alone (0 … count − 1)."""
+    args, chosen, first = [], None, 0
+    it = iter(argv)
+    for a in it:
+        if a == "--seeds":
+            chosen = [int(x) for x in next(it).split(",") if x]
+        elif a == "--first":
+            first = int(next(it))
+        elif a == "--records":
+            global RECORDS
+            RECORDS = int(next(it))
+        else:
+            args.append(a)
+    count = int(args[1]) if len(args) > 1 else 40
+    if chosen is not None:
+        return args, chosen
+    return args, count if first == 0 else list(range(first, first + count))
+
+
 def main() -> None:
-    study = sys.argv[1] if len(sys.argv) > 1 else "all"
-    seeds = int(sys.argv[2]) if len(sys.argv) > 2 else 40
+    args, chosen = _seed_list(sys.argv[1:])
+    study = args[0] if args else "all"
+    seeds = chosen if isinstance(chosen, int) else len(chosen)
     if study in ("stops", "all"):
-        study_stops(seeds)
+        study_stops(chosen, RECORDS)
     if study in ("loops", "all"):
-        study_loops(seeds)
+        study_loops(chosen)
     if study in ("guide", "all"):
         study_guide(seeds)
     if study in ("mirror", "all"):

@@ -45,6 +45,7 @@ _quasi_static_errors.py    the error floor of runs of equal quantised samples
 _nuisance_search.py  each record's own parameters searched on a grid, the shared ones held
 _search.py          the search step: starts, alternation, the noise-floor rule, its summary
 _probes.py          probes of the valleys next to the best optimum (engage, corner, split)
+_scale_probe.py     the probe along eq. 17's scale (mass and forces together, blocks re-searched)
 _flat_probe.py      a far step along the least determined split of the k_j, solved short
 _noise_floor.py     the noise floor of the data: quantum and high-frequency noise
 _model_order.py     ``n_elements="auto"``: the number of elements by BIC

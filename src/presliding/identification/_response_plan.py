@@ -17,8 +17,13 @@ the options. `response_plan` gives the fit's own steps:
   then probes the neighbouring valleys from the best optimum (`_probes`: an
   element that never engaged re-engaged, the rigid corner left, the element
   split moved; each a short solve of `PROBE_EVALUATIONS`, solved on when it
-  ends near the best): the starts all derive from one regression start and
-  can miss a valley next to the one they reach;
+  ends near the best), then steps along eq. 17's scale, the mass and every
+  force scaled together with every record's block searched again
+  (`_scale_probe`), and last takes a far step both ways along the least
+  determined split of the stiffnesses (`_flat_probe`): the starts all derive
+  from one regression start and can miss a valley next to the one they reach.
+  The probes' solves defer their covariance (`_deferred`); the best one's is
+  computed once, before the flat-direction probe, which needs its normal matrix;
 * checks: the rigid corner and coalesced elements, the start from rest of a
   single record, interchangeable elements relabelled, the rigid limit of the
   smallest-threshold element (`_response_checks`);
@@ -63,6 +68,7 @@ from presliding.identification._response_checks import (
 from presliding.identification._response_request import ResponseRequest
 from presliding.identification._response_result import PER_UNIT_MASS, response_result
 from presliding.identification._response_setup import prune_elements, signal_weights
+from presliding.identification._scale_probe import scale_probe, scaled_names
 from presliding.identification._search import (
     SAME_OPTIMUM,
     adaptive_search,
@@ -191,7 +197,8 @@ def _probe(req: ResponseRequest, flags: _Flags, run: FitRun, sol: Solution, n_st
            at_best: int) -> tuple[Solution, int, int]:  # fmt: skip
     """The probes of `_probes` from the best optimum: an element that never engaged
     re-engaged and the rigid corner left (each solved on when it ends near the best), the
-    element split moved (solved on only when already below the best)."""
+    element split moved (solved on only when already below the best); then the steps along
+    eq. 17's scale (`_scale_probe`)."""
     p, k_names = run.problem, req.spec.k_names
     assert run.options.max_evaluations is not None
     budget = min(PROBE_EVALUATIONS, run.options.max_evaluations)  # the user's cap holds
@@ -201,6 +208,17 @@ def _probe(req: ResponseRequest, flags: _Flags, run: FitRun, sol: Solution, n_st
     best, split = solve_probes(p.records, solve, split_starts(sol.values, k_names), best,
                                budget, within=1.0)  # fmt: skip
     probes += split
+    names = scaled_names(p.records, p.fixed, p.tied)
+    if names:  # along eq. 17's scale, every record's block searched again (`_scale_probe`)
+        before = best
+        best, steps, spent = scale_probe(p.records, solve, best, names, p.fixed, p.bounds,
+                                         budget)  # fmt: skip
+        run.evaluations += spent
+        probes += steps
+        if best is not before:  # the true scale's valley can hold an element not engaged
+            moved = engage_starts(best.values, k_names) + corner_starts(best.values, k_names)
+            best, again = solve_probes(p.records, solve, moved, best, budget)
+            probes += again
     best, flat = flat_probe(p.records, solve, complete(best), k_names, budget)  # needs H
     probes += flat
     at = sum(1 for t in probes if same_point(p.records, t.values, best.values)

@@ -1,0 +1,147 @@
+"""The probe along the scale of eq. 17: the mass and every force scaled together.
+
+In a free motion (u = 0) eq. 17, m·ÿ + c1·sign(ẏ) + Σ k_j (y − x_j) = 0, is
+unchanged when the mass, F_c, c1, σ and every stiffness (the element forces
+k_j·(y − x_j); the thresholds r_j = c_j/k_j stay) are multiplied by one
+factor s. Only the applied force fixes that scale, in the short forced part
+of a stop. The pooled residual of stops is therefore nearly flat along the
+scale, with a staircase of local minima on it: each record's own block
+(initial position, velocity, preload fraction) compensates the wrong scale in
+its forced part, and on a wrong scale its best block sits in another basin
+than on the true one. A local solve from such a minimum does not leave it
+(mass and forces 18–27 % low at a cost 19–21 % above the true valley's, a
+residual the noise-floor rule cannot tell from the floor); neither does a
+move of the shared parameters alone with the blocks kept, since the blocks
+belong to the wrong scale.
+
+`scale_probe` moves along the scale from the best optimum: the shared model
+parameters multiplied by each factor of `SCALES` (up and down), every
+record's block searched again globally for the scaled values (the nuisance
+grid and its polish, `_nuisance_search`), a short solve of everything and,
+only when that short solve already went below the best (a step onto a lower
+stair does: measured on the study's stops), the solve on to its optimum
+(`_probes.other_valley`), the blocks searched once more for the shared values
+it reached and solved again (the alternation of the search). A step that does
+not lower the cost costs one nuisance search and one short solve. A
+step that lowers the cost becomes the best and the probe steps on in the same
+direction, since the staircase can take more than one step to its foot (each
+step's solve moves little along the scale: it ends on the stair next to the
+scaled start); a step after a move that does not lower the cost overshot, and
+the step is halved in log, tried either way, while above `FINEST` (`ROUNDS`
+rounds at most). From the true valley both first steps fail: two steps.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping, Sequence
+
+import numpy as np
+
+from presliding.identification._least_squares import Solution
+from presliding.identification._nuisance_search import search_nuisance
+from presliding.identification._pooled_problem import PooledProblem
+from presliding.identification._probes import other_valley
+from presliding.identification._search import SAME_OPTIMUM, cost
+
+__all__ = ["FINEST", "ROUNDS", "SCALES", "scale_probe", "scaled", "scaled_names"]
+
+#: factors of one step along the scale, up first then down (symmetric in log)
+SCALES = (1.25, 0.8)
+#: rounds of steps along the scale at most
+ROUNDS = 6
+#: the finest step: a step that overshot is halved (in log) while above this factor
+FINEST = 1.05
+
+
+def scaled_names(problem: PooledProblem, fixed: Mapping[str, float],
+                 tied: Mapping[str, object] | None = None) -> list[str]:  # fmt: skip
+    """The parameters eq. 17's scale moves: the mass, σ and the discrete model's forces and
+    stiffnesses. Empty when one of them is fixed or tied (the scale is then pinned) or the
+    model is a density (its parameters mix forces and thresholds)."""
+    spec = problem.spec
+    if spec.density is not None or "mass" not in problem.shared:
+        return []
+    names = ["mass", *spec.names, *(["viscous"] if "viscous" in problem.shared else [])]
+    if any(x in fixed or x in (tied or {}) for x in names):
+        return []
+    return names
+
+
+def scaled(values: Mapping[str, float], names: Sequence[str], factor: float) -> dict[str, float]:
+    """`values` with the parameters `names` multiplied by `factor`."""
+    out = dict(values)
+    for x in names:
+        out[x] = factor * values[x]
+    return out
+
+
+def _inside(values: Mapping[str, float], bounds: Mapping[str, tuple[float, float]]) -> bool:
+    for x, v in values.items():
+        lo, hi = bounds.get(x, (-float("inf"), float("inf")))
+        if not lo <= v <= hi:
+            return False
+    return True
+
+
+def _step(
+    problem: PooledProblem,
+    solve: Callable[..., Solution],
+    best: Solution,
+    names: Sequence[str],
+    factor: float,
+    fixed: Mapping[str, float],
+    bounds: Mapping[str, tuple[float, float]],
+    budget: int,
+) -> tuple[Solution | None, int]:
+    """One step along the scale (module notes); None when it leaves the bounds."""
+    begin = scaled(best.values, names, factor)
+    if not _inside({x: begin[x] for x in names}, bounds):
+        return None, 0
+    values, _, spent = search_nuisance(problem, begin, fixed, bounds)
+    t = other_valley(problem, solve, solve(values, max_evaluations=budget), best, within=1.0)
+    if t.status == "failed" or not cost(t) < cost(best):
+        return t, spent
+    again, c, ev = search_nuisance(problem, t.values, fixed, bounds)
+    spent += ev
+    if c < cost(t) * (1.0 - SAME_OPTIMUM):
+        other = solve(again)
+        t = other if cost(other) < cost(t) else t
+    return t, spent
+
+
+def scale_probe(
+    problem: PooledProblem,
+    solve: Callable[..., Solution],
+    best: Solution,
+    names: Sequence[str],
+    fixed: Mapping[str, float],
+    bounds: Mapping[str, tuple[float, float]],
+    budget: int,
+    scales: Sequence[float] = SCALES,
+    rounds: int = ROUNDS,
+) -> tuple[Solution, list[Solution], int]:
+    """Steps along eq. 17's scale from `best` (module notes): the best of all, every
+    step's solution and the residual evaluations of the nuisance searches."""
+    steps: list[Solution] = []
+    spent = 0
+    directions, factor = list(scales), None
+    for _ in range(rounds):
+        improved: tuple[Solution, float] | None = None
+        for f in directions:
+            t, ev = _step(problem, solve, best, names, f, fixed, bounds, budget)
+            spent += ev
+            if t is None:
+                continue
+            steps.append(t)
+            if cost(t) < cost(best) * (1.0 - SAME_OPTIMUM):
+                improved = (t, f)
+                break
+        if improved is not None:
+            best, factor = improved
+            directions = [factor]
+            continue
+        if factor is None or abs(np.log(factor)) < 2 * np.log(FINEST):
+            break  # no step lowered the cost, or the step cannot be halved again
+        factor = float(np.sqrt(factor))  # overshot: half the step (in log), either way
+        directions = [factor, 1.0 / factor]
+    return best, steps, spent
