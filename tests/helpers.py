@@ -154,6 +154,49 @@ def stop_records(seed: int, n_records: int, model: PIFriction, mass: float = 2.0
     return out, truth
 
 
+def random_preload_stops(seed: int, model: PIFriction, n_records: int = 4, samples: int = 500,
+                         mass: float = 2.0):  # fmt: skip
+    """Stops of the search study's design: each record's preload anywhere in ±0.8 F_m of
+    either sign, initial velocities of both signs, a decelerating force of random level and
+    length, a 1 µm encoder with 0.2 µm noise, velocity from the quantised position."""
+    from presliding import Measurement, preloaded_state, simulate
+
+    rng = np.random.default_rng(seed)
+    t = np.arange(samples) * 1e-3
+    out = []
+    for _ in range(n_records):
+        v0 = rng.choice([-1.0, 1.0]) * rng.uniform(0.02, 0.06)
+        d = float(np.sign(v0))
+        f0 = rng.uniform(-0.8, 0.8) * model.max_elastic_force
+        y0 = rng.uniform(-1e-3, 1e-3)
+        state = preloaded_state(model, f0, direction=d, position=y0)
+        u = np.where(t < rng.uniform(0.03, 0.08), -d * rng.uniform(0.1, 0.6), 0.0)
+        res = simulate(model, mass, applied_force=(t, u), initial_position=y0,
+                       initial_velocity=v0, initial_state=state, t_eval=t)  # fmt: skip
+        y = 1e-6 * np.round((res.position + 2e-7 * rng.standard_normal(samples)) / 1e-6)
+        out.append(Measurement(t, position=y, velocity=np.gradient(y, t), applied_force=u))
+    return out
+
+
+def pooled_problem_at(records, nuisance, shared: dict[str, float], n_elements: int = 2):
+    """The pooled problem of stop records with equal break-away forces (preload start), its
+    typical scales set at `shared` and each record's true own values (`nuisance`, as
+    `stop_records` returns them); returns the problem and those values."""
+    from presliding.identification import _pooled_problem as pp
+    from presliding.identification._model_spec import ModelSpec
+    from presliding.identification._pooled_record import as_record
+
+    spec = ModelSpec(n_elements, True, None, 32)
+    problem = pp.PooledProblem([as_record(m) for m in records], spec, (1.0, 50.0), "preload",
+                               offset=False, suffix=True)  # fmt: skip
+    values = dict(shared)
+    for i, n in enumerate(nuisance):
+        for k in problem.kinds:
+            values[problem.nuisance(k, i)] = n[k]
+    problem.set_typical(values)
+    return problem, values
+
+
 # ----------------------------------------------------------------- the bad-input review
 # Every public entry point meets bad values of every class that applies to each of its
 # arguments (the tables are in tests/**/test_bad_inputs.py). The promise checked: a

@@ -13,7 +13,7 @@ from presliding import (
     preloaded_state,
     simulate,
 )
-from tests.helpers import stop_records
+from tests.helpers import random_preload_stops, stop_records
 from tests.identification.test_fit_quasi_static import _loops
 
 MODEL2 = PIFriction(0.3, [4000.0, 1000.0], breakaway=[0.35, 0.35])
@@ -77,23 +77,8 @@ def test_mirror_image_of_torque_loops_gives_the_same_parameters():
 
 
 def _random_preload_stops(seed: int, n: int = 4, samples: int = 500, mass: float = 2.0):
-    """Stops with preloads anywhere in ±0.8 F_m of either sign, both directions, a 1 µm
-    encoder with 0.2 µm noise, velocity from differences."""
-    rng = np.random.default_rng(seed)
-    t = np.arange(samples) * 1e-3
-    out = []
-    for _ in range(n):
-        v0 = rng.choice([-1.0, 1.0]) * rng.uniform(0.02, 0.06)
-        d = float(np.sign(v0))
-        f0 = rng.uniform(-0.8, 0.8) * MODEL2.max_elastic_force
-        y0 = rng.uniform(-1e-3, 1e-3)
-        state = preloaded_state(MODEL2, f0, direction=d, position=y0)
-        u = np.where(t < rng.uniform(0.03, 0.08), -d * rng.uniform(0.1, 0.6), 0.0)
-        res = simulate(MODEL2, mass, applied_force=(t, u), initial_position=y0,
-                       initial_velocity=v0, initial_state=state, t_eval=t)  # fmt: skip
-        y = 1e-6 * np.round((res.position + 2e-7 * rng.standard_normal(samples)) / 1e-6)
-        out.append(Measurement(t, position=y, velocity=np.gradient(y, t), applied_force=u))
-    return out
+    """Stops with preloads anywhere in ±0.8 F_m (`tests.helpers.random_preload_stops`)."""
+    return random_preload_stops(seed, MODEL2, n, samples, mass)
 
 
 def test_random_sign_preloads_reach_the_noise_floor():

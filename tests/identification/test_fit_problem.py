@@ -7,12 +7,10 @@ import pytest
 
 from presliding import PIFriction
 from presliding.identification import _pi_regression as pr
-from presliding.identification import _pooled_problem as pp
 from presliding.identification._fit_engine import FitPlan, Found, run_fit
 from presliding.identification._fit_problem import FitOptions, FitProblem
 from presliding.identification._least_squares import solve_least_squares
 from presliding.identification._model_spec import ModelSpec
-from presliding.identification._pooled_record import as_record
 from presliding.identification._separable_problem import (
     Separable,
     separable_problem,
@@ -20,7 +18,7 @@ from presliding.identification._separable_problem import (
 )
 from presliding.identification.fit_presliding import _direction, fit_presliding
 from presliding.signals import piecewise_linear
-from tests.helpers import stop_records
+from tests.helpers import pooled_problem_at, stop_records
 
 TRUE = PIFriction(0.3, [50.0, 20.0], threshold=[0.01, 0.05])
 PATH = piecewise_linear([0.0, 0.3, -0.3, 0.2, -0.1, 0.25], 2e-3)
@@ -101,14 +99,9 @@ def test_a_pooled_problem_carries_its_records_and_structured_jacobian():
     model = PIFriction(0.3, [4000.0, 1000.0], breakaway=[0.35] * 2)
     records, nuisance = stop_records(2, 2, model, samples=300)
     spec = ModelSpec(2, True, None, 32)
-    rec = pp.PooledProblem([as_record(m) for m in records], spec, (1.0, 50.0), "preload",
-                           offset=False, suffix=True)  # fmt: skip
-    truth = {"mass": 2.0, "coulomb_level": 1.0, "coulomb": 0.3, "stiffness_1": 4000.0,
-             "stiffness_2": 1000.0}  # fmt: skip
-    for i, n in enumerate(nuisance):
-        for k in rec.kinds:
-            truth[rec.nuisance(k, i)] = n[k]
-    rec.set_typical(truth)
+    rec, truth = pooled_problem_at(records, nuisance, {
+        "mass": 2.0, "coulomb_level": 1.0, "coulomb": 0.3, "stiffness_1": 4000.0,
+        "stiffness_2": 1000.0})  # fmt: skip
     problem = FitProblem(tuple(rec.names), truth, {}, {}, {}, records=rec, spec=spec,
                          method="lm")  # fmt: skip
     x = np.array([truth[n] for n in problem.names])

@@ -11,7 +11,7 @@ import pytest
 
 from presliding import Measurement, PIFriction, fit_response
 from presliding.identification._pooled_jacobian import difference_steps
-from tests.helpers import stop_records
+from tests.helpers import pooled_problem_at, stop_records
 
 MODEL2 = PIFriction(0.3, [4000.0, 1000.0], breakaway=[0.35, 0.35])
 SHARED = ("mass", "coulomb_level", "coulomb", "stiffness_1", "stiffness_2")
@@ -75,21 +75,12 @@ def test_gathered_forward_jacobian_equals_its_columns_one_by_one():
     `assemble` (each column divided on its own rows), including a column stepping down at a
     bound and one pinned by its bounds: the same matrix to the last bit."""
     from presliding.identification import _pooled_jacobian as pj
-    from presliding.identification import _pooled_problem as pp
     from presliding.identification._least_squares import _parameter_map
-    from presliding.identification._model_spec import ModelSpec
-    from presliding.identification._pooled_record import as_record
 
     records, truth = stop_records(4, 3, MODEL2, quantum=1e-6, noise=2e-7)
-    recs = [as_record(m) for m in records]
-    problem = pp.PooledProblem(recs, ModelSpec(2, True, None, 32), (1.0, 50.0), "preload",
-                               offset=False, suffix=True)  # fmt: skip
-    values = {"mass": 2.0, "coulomb_level": 0.7, "coulomb": 0.3, "stiffness_1": 4000.0,
-              "stiffness_2": 1000.0}  # fmt: skip
-    for i, n in enumerate(truth):
-        for k in problem.kinds:
-            values[problem.nuisance(k, i)] = n[k]
-    problem.set_typical(values)
+    problem, values = pooled_problem_at(records, truth, {
+        "mass": 2.0, "coulomb_level": 0.7, "coulomb": 0.3, "stiffness_1": 4000.0,
+        "stiffness_2": 1000.0})  # fmt: skip
     pm = _parameter_map(tuple(problem.names), {"stiffness_2": 1000.0}, {})
     x = np.array([values[n] for n in pm.free])
     lo, hi = np.full(x.shape, -np.inf), np.full(x.shape, np.inf)

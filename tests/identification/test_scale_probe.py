@@ -4,15 +4,15 @@ from __future__ import annotations
 
 import inspect
 
-import numpy as np
 import pytest
 
-from presliding import Measurement, PIFriction, fit_response, preloaded_state, simulate
+from presliding import Measurement, PIFriction, fit_response
 from presliding.identification._fit_engine import FitRun, cost
 from presliding.identification._nuisance_search import search_nuisance
 from presliding.identification._response_plan import response_problem
 from presliding.identification._response_request import check_response
 from presliding.identification._scale_probe import scale_probe, scaled, scaled_names
+from tests.helpers import random_preload_stops
 
 MODEL = PIFriction(0.3, [4000.0, 2000.0, 1000.0, 500.0], breakaway=[0.175] * 4)
 SHARED = {"mass": 2.0, "coulomb_level": 1.0, "coulomb": 0.3, "stiffness_1": 4000.0,
@@ -21,23 +21,8 @@ OPTIONS = {"signal": "both", "initial_state": "preload"}
 
 
 def _stops(seed: int, n: int, samples: int = 600) -> list[Measurement]:
-    """Stops of the search study's design: preload anywhere in ±0.8 F_m of either sign,
-    initial velocities of both signs, a decelerating force of random level and length,
-    a 1 µm encoder with 0.2 µm noise, velocity from the quantised position."""
-    rng = np.random.default_rng(seed)
-    t = np.arange(samples) * 1e-3
-    out = []
-    for _ in range(n):
-        v0 = rng.choice([-1.0, 1.0]) * rng.uniform(0.02, 0.06)
-        d = float(np.sign(v0))
-        frac, y0 = rng.uniform(-0.8, 0.8), rng.uniform(-1e-3, 1e-3)
-        state = preloaded_state(MODEL, frac * MODEL.max_elastic_force, direction=d, position=y0)
-        u = np.where(t < rng.uniform(0.03, 0.08), -d * rng.uniform(0.1, 0.6), 0.0)
-        res = simulate(MODEL, 2.0, applied_force=(t, u), initial_position=y0,
-                       initial_velocity=v0, initial_state=state, t_eval=t)  # fmt: skip
-        y = 1e-6 * np.round((res.position + 2e-7 * rng.standard_normal(samples)) / 1e-6)
-        out.append(Measurement(t, position=y, velocity=np.gradient(y, t), applied_force=u))
-    return out
+    """Stops of the search study's design (`tests.helpers.random_preload_stops`)."""
+    return random_preload_stops(seed, MODEL, n, samples)
 
 
 def _run(records, **options) -> FitRun:
