@@ -86,6 +86,9 @@ PROBE_EVALUATIONS = 40
 #: evaluations of the rigid-limit refit of a large pooled problem (an upper bound of its
 #: cost suffices to flag the rigid corner; the refit starts at the optimum)
 RIGID_EVALUATIONS = 30
+#: evaluations after which that refit is judged: one still far above the optimum ends there
+#: (`_response_checks.CLEAR`)
+RIGID_JUDGE = 10
 
 
 def response_problem(req: ResponseRequest) -> tuple[FitProblem, FitOptions]:
@@ -258,8 +261,10 @@ def _rigid_limit(flags: _Flags, run: FitRun, sol: Solution) -> Solution:
     p = run.problem
     capped = (lambda *a, **k: run.solve(*a, max_evaluations=RIGID_EVALUATIONS, **k)) \
         if flags.large else run.solve  # fmt: skip
+    judge = (lambda *a, **k: run.solve(*a, max_evaluations=RIGID_JUDGE, **k)) \
+        if flags.large and RIGID_JUDGE < RIGID_EVALUATIONS else None  # fmt: skip
     return rigid_check(sol, capped, p.records, p.names, p.fixed, p.tied, run.options.level,
-                       refine=run.solve if flags.large else None)  # fmt: skip
+                       refine=run.solve if flags.large else None, judge=judge)  # fmt: skip
 
 
 def _prune(req: ResponseRequest, refit_with: Callable[..., Any], run: FitRun,
