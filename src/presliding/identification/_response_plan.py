@@ -173,14 +173,17 @@ def _search(req: ResponseRequest, flags: _Flags, run: FitRun) -> Found:
                 yield {x: e[x] for x in p.names}, spent if j == 0 else 0
 
     run.stage("search: the regression start, then the records that do not fit")
-    with rec.exact_velocity_compared():
+    polish = bool(rec.w_v and any(r.difference for r in rec.records))
+    with rec.exact_velocity_compared():  # no errors for an optimum polished next
         sol, n_starts, at_best, count = adaptive_search(rec, run.solve, start, more_starts,
-                                                        p.fixed, p.bounds, flags.short)  # fmt: skip
+                                                        p.fixed, p.bounds, flags.short,
+                                                        errors=not polish)  # fmt: skip
     run.evaluations += count
-    if rec.w_v and any(r.difference for r in rec.records) and sol.status != "failed":
+    if polish and sol.status != "failed":
         run.stage("search: the optimum polished with the velocity's difference quotient")
         polished = run.solve(sol.values)
         sol = polished if polished.status != "failed" else sol
+    sol = complete(sol)
     if flags.search and flags.discrete_equal and rec.n_rec > 1 and _elements_carry(sol):
         run.stage("search: probes of the neighbouring valleys from the best optimum")
         sol, n_starts, at_best = _probe(req, flags, run, sol, n_starts, at_best)

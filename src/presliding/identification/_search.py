@@ -206,6 +206,7 @@ def adaptive_search(
     bounds: Mapping[str, tuple[float, float]],
     short: int,
     prepare: Callable[[dict[str, float]], dict[str, float]] | None = None,
+    errors: bool = True,
 ) -> tuple[Solution, int, int, int]:
     """The cheapest route first, further starts only while the fit is above the floor.
 
@@ -226,9 +227,11 @@ def adaptive_search(
 
     The solves defer their errors (``errors=False``): only the best one's are
     computed (the covariance of a 20-record fit costs as much as several
-    evaluations). Returns the best solution, the number of starts run, how many reached
-    the best optimum (cost within `SAME_OPTIMUM` or the same basin), and the
-    residual evaluations of the searches.
+    evaluations), and with ``errors=False`` not even its (for a caller that solves
+    on from it, `_deferred.complete` computes them when needed). Returns the best
+    solution, the number of starts run, how many reached the best optimum (cost
+    within `SAME_OPTIMUM` or the same basin), and the residual evaluations of the
+    searches.
     """
     evaluations = 0
     prep = prepare or (lambda v: dict(v))
@@ -295,7 +298,7 @@ def adaptive_search(
     target = cost(best)
     at_best = sum(1 for f in finals if cost(f) <= target * (1.0 + SAME_OPTIMUM) + 1e-300
                   or same_point(problem, f.values, best.values))  # fmt: skip
-    return complete(best), len(finals), at_best, evaluations
+    return complete(best) if errors else best, len(finals), at_best, evaluations
 
 
 def same_point(problem: PooledProblem, a: Mapping[str, float], b: Mapping[str, float]) -> bool:
