@@ -15,7 +15,7 @@ from typing import Any
 
 import numpy as np
 
-from presliding.identification._least_squares import Solution
+from presliding.identification._least_squares import Solution, complete
 
 _BOUND = 1e-8  # a parameter below this fraction of its scale sits on its bound 0
 #: a rigid refit whose cost after `judge`'s evaluations is this many times t²·s² above the
@@ -148,6 +148,7 @@ def rigid_check(
             return rigid_check(free, solve, problem, names, fixed, tied, level, refine, True)
     if excess > q2:
         return sol
+    alt = complete(alt)  # a refit's covariance deferred by `solve`, computed now
     ci = dict(sol.confidence_interval)
     for x in names:
         if x in alt.confidence_interval and x not in extra and x not in fixed:

@@ -262,9 +262,10 @@ def _rigid_limit(flags: _Flags, run: FitRun, sol: Solution) -> Solution:
         return sol
     run.stage("check: the rigid limit of the smallest-threshold element")
     p = run.problem
-    capped = (lambda *a, **k: run.solve(*a, max_evaluations=RIGID_EVALUATIONS, **k)) \
-        if flags.large else run.solve  # fmt: skip
-    judge = (lambda *a, **k: run.solve(*a, max_evaluations=RIGID_JUDGE, **k)) \
+    # the capped refits' covariance only where they flag the corner (`rigid_check`)
+    capped = (lambda *a, **k: run.solve(*a, max_evaluations=RIGID_EVALUATIONS, errors=False,
+                                        **k)) if flags.large else run.solve  # fmt: skip
+    judge = (lambda *a, **k: run.solve(*a, max_evaluations=RIGID_JUDGE, errors=False, **k)) \
         if flags.large and RIGID_JUDGE < RIGID_EVALUATIONS else None  # fmt: skip
     return rigid_check(sol, capped, p.records, p.names, p.fixed, p.tied, run.options.level,
                        refine=run.solve if flags.large else None, judge=judge)  # fmt: skip
