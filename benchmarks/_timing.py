@@ -1,7 +1,8 @@
-"""Timing and input helpers shared by the operator benchmarks.
+"""Timing and input helpers shared by the benchmarks.
 
 `seconds` is the median time of one call (each repeat calls until at least
-`min_time` passed, so short calls are averaged over many); `through` samples a
+`min_time` passed, so short calls are averaged over many); `accumulating` wraps a
+function so that its calls add their seconds and count to a total; `through` samples a
 path of turning points with every sample monotone to the next (the operators'
 sampling assumption), `per_segment` samples per monotone piece.
 """
@@ -29,6 +30,22 @@ def seconds(call: Callable[[], object], repeats: int, min_time: float = 0.1) -> 
                 break
         out.append(elapsed / reps)
     return statistics.median(out)
+
+
+def accumulating(original: Callable[..., object], total: list) -> Callable[..., object]:
+    """`original`, adding each call's seconds to ``total[0]`` and, where `total` has a second
+    entry, one to ``total[1]``."""
+
+    def timed(*args, **kw):
+        t0 = time.perf_counter()
+        try:
+            return original(*args, **kw)
+        finally:
+            total[0] += time.perf_counter() - t0
+            if len(total) > 1:
+                total[1] += 1
+
+    return timed
 
 
 def through(turns: np.ndarray, per_segment: int = 10) -> np.ndarray:

@@ -38,6 +38,7 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from _stops import TRUTH, stop_records
+from _timing import accumulating
 
 from presliding import fit_response
 from presliding.identification import _search, fit_result
@@ -49,31 +50,8 @@ _PROFILE_TIME = [0.0]
 _NUISANCE = [0.0, 0]  # time, calls
 
 
-def _timed_profile(original):
-    def profile(*args, **kw):
-        t0 = time.perf_counter()
-        try:
-            return original(*args, **kw)
-        finally:
-            _PROFILE_TIME[0] += time.perf_counter() - t0
-
-    return profile
-
-
-def _timed_nuisance(original):
-    def search(*args, **kw):
-        t0 = time.perf_counter()
-        try:
-            return original(*args, **kw)
-        finally:
-            _NUISANCE[0] += time.perf_counter() - t0
-            _NUISANCE[1] += 1
-
-    return search
-
-
-fit_result.profile_solution = _timed_profile(fit_result.profile_solution)
-_search.search_nuisance = _timed_nuisance(_search.search_nuisance)
+fit_result.profile_solution = accumulating(fit_result.profile_solution, _PROFILE_TIME)
+_search.search_nuisance = accumulating(_search.search_nuisance, _NUISANCE)
 
 
 def run(records, **kw):

@@ -48,6 +48,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from _stops import MASS, TRUTH, model, stop_records
+from _timing import accumulating
 
 from presliding import (
     Measurement,
@@ -336,17 +337,9 @@ def study_speed(seeds: int = 6) -> None:
 
     fit_response(stop_records(0, 2)[0], **OPTIONS, max_evaluations=5)  # compile
     spent = [0.0]
-    original = ns.search_nuisance
-
-    def timed(*a, **k):
-        t = time.perf_counter()
-        try:
-            return original(*a, **k)
-        finally:
-            spent[0] += time.perf_counter() - t
-
     search_module = sys.modules["presliding.identification._search"]
-    search_module.search_nuisance = timed
+    original = ns.search_nuisance
+    search_module.search_nuisance = accumulating(original, spent)
     times = []
     probe = _Timed("presliding.identification._response_plan", "scale_probe")
     for seed in range(seeds):
