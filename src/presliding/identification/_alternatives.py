@@ -79,12 +79,12 @@ def canonical(values: Mapping[str, float], best: Mapping[str, float],
 
 def _thresholds(sol: Solution) -> dict[str, float]:
     """The profile's threshold P_j = (t·SE_j)²/h_jj of each free parameter (module notes)."""
-    from presliding.identification._profile import _inverse_normal
+    from presliding.identification._normal_equations import inverse_normal
 
     prof = sol.profiler
     x = np.array([sol.values[n] for n in prof.free], dtype=float)
     jac = prof.jacobian(x)
-    hinv = _inverse_normal(jac)
+    hinv = inverse_normal(jac)
     out = {}
     for j, name in enumerate(prof.free):
         se = float(sol.standard_error.get(name, np.inf))

@@ -22,8 +22,7 @@ from numpy.typing import NDArray
 from scipy import sparse
 
 from presliding.identification._covariance import undetermined_columns
-from presliding.identification._parameter_map import tie_triples
-from presliding.identification._solution import Solution, name_list
+from presliding.identification._solution import Solution, name_list, solution_of
 from presliding.identification._structured_lm import one_blas_thread
 
 __all__ = ["complete", "deferred_solution", "dense", "verdict"]
@@ -58,26 +57,16 @@ def deferred_solution(setup: Any, found: Any, blocks: Any,
     """The solution of a solve (`_least_squares`: its `_Setup` and `_Found`) without its
     covariance (module notes); `full_solution()` computes the complete one. None where the
     covariance takes no blocks of residuals (it is then cheap: computed at once)."""
-    pm, names = setup.pm, setup.names
-    if not pm.free:
+    if not setup.pm.free:
         return None
     with one_blas_thread():
         undetermined = undetermined_columns(dense(found.jac_free), blocks)
     if undetermined is None:
         return None
+    names = setup.names
     status, message = verdict(setup, found, undetermined)
     nan = float("nan")
-    return Solution(
-        values=dict(zip(names, pm.full(found.x).tolist(), strict=True)),
-        standard_error=dict.fromkeys(names, nan),
-        confidence_interval=dict.fromkeys(names, (nan, nan)),
-        level=setup.level, fixed=tuple(setup.fixed), tied=tuple(setup.tied), residual=found.r,
-        status=status, message=message, n_evaluations=found.evaluations,
-        at_bounds=found.on_bound, free=pm.free,
-        bounds={
-            n: (float(a), float(b))
-            for n, a, b in zip(names, setup.lower, setup.upper, strict=True)
-            if np.isfinite(a) or np.isfinite(b)
-        },
-        ties=tie_triples(setup.tied), pending=full_solution,
+    return solution_of(
+        setup, found, status, message, standard_error=dict.fromkeys(names, nan),
+        confidence_interval=dict.fromkeys(names, (nan, nan)), pending=full_solution,
     )  # fmt: skip

@@ -15,7 +15,7 @@ The probe (`flat_probe`), from the best optimum θ̂:
 
 1. A = JᵀJ at θ̂, split into the free k_j and the other free parameters z;
    the Schur complement S = A_kk − A_kz A_zz⁻¹ A_zk (A_zz⁻¹ by the scaled
-   pseudo-inverse, `_profile_walk.scaled_pinv`) is the curvature of the cost
+   pseudo-inverse, `_normal_equations.scaled_pinv`) is the curvature of the cost
    in the k_j with every other parameter re-optimised (S⁻¹ = h_kk, their block
    of (JᵀJ)⁻¹). The flattest direction of the split is the eigenvector u of
    the smallest eigenvalue of diag(k) S diag(k) (relative steps, so that a
@@ -52,9 +52,8 @@ import numpy as np
 
 from presliding.identification._alternatives import canonical
 from presliding.identification._least_squares import Solution
+from presliding.identification._normal_equations import FloatArray, normal_matrix, scaled_pinv
 from presliding.identification._probes import other_valley
-from presliding.identification._profile import _normal_matrix
-from presliding.identification._profile_walk import FloatArray, scaled_pinv
 from presliding.identification._search import REFINE_WITHIN, SAME_POINT, TIE, cost, same_point
 
 __all__ = ["SHARES", "flat_direction", "flat_probe", "flat_starts"]
@@ -77,7 +76,7 @@ def flat_direction(
     if len(ks) < 2:
         return None
     x = np.array([sol.values[n] for n in free], dtype=float)
-    normal = _normal_matrix(prof.jacobian(x))
+    normal = normal_matrix(prof.jacobian(x))
     if not np.all(np.isfinite(normal)):
         return None
     zs = [i for i in range(len(free)) if i not in ks]

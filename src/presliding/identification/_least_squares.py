@@ -48,9 +48,8 @@ from presliding.identification._fit_options import (  # noqa: F401 (their home b
 from presliding.identification._parameter_map import ParameterMap as _Map
 from presliding.identification._parameter_map import free_bounds as _free_bounds
 from presliding.identification._parameter_map import parameter_map as _parameter_map
-from presliding.identification._parameter_map import tie_triples as _ties
 from presliding.identification._profile import Profiler
-from presliding.identification._solution import Solution, name_list
+from presliding.identification._solution import Solution, name_list, solution_of
 from presliding.identification._status import STATUSES as STATUSES
 from presliding.identification._structured_lm import (
     free_limit,
@@ -372,23 +371,13 @@ def _solution(
             setup.hi, q, free_limit(pm, step_limit),
         )  # fmt: skip
     lower, upper = setup.lower, setup.upper
-    return Solution(
-        values=dict(zip(names, full.tolist(), strict=True)),
-        standard_error=dict(zip(names, se.tolist(), strict=True)),
+    return solution_of(
+        setup, found, status, message, standard_error=dict(zip(names, se.tolist(), strict=True)),
         confidence_interval={
             n: bounded_interval(v, q * s, lower[i], upper[i])
             for i, (n, v, s) in enumerate(zip(names, full, se, strict=True))
         },
-        level=setup.level, fixed=tuple(setup.fixed), tied=tuple(setup.tied), residual=r,
-        status=status, message=message, n_evaluations=found.evaluations,
-        covariance=full_covariance(pm.matrix, cov, se), bandwidths=widths,
-        at_bounds=found.on_bound, free=pm.free,
-        bounds={
-            n: (float(a), float(b))
-            for n, a, b in zip(names, lower, upper, strict=True)
-            if np.isfinite(a) or np.isfinite(b)
-        },
-        ties=_ties(setup.tied), profiler=profiler,
+        covariance=full_covariance(pm.matrix, cov, se), bandwidths=widths, profiler=profiler,
     )  # fmt: skip
 
 

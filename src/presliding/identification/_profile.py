@@ -38,15 +38,14 @@ from dataclasses import replace
 from typing import Any
 
 import numpy as np
-from scipy import sparse
 
+from presliding.identification._normal_equations import normal_matrix, scaled_pinv
 from presliding.identification._profile_walk import (
     FloatArray,
     Profiler,
     Walker,
     cost,
     interval_end,
-    scaled_pinv,
 )
 from presliding.identification._structured_lm import on_one_blas_thread
 
@@ -65,17 +64,6 @@ AGREE = 0.02
 HOPELESS = 100.0
 #: Inner optimisations a profile step may spend (the rest keep their Wald interval).
 BUDGET = 20
-
-
-def _normal_matrix(jac: Any) -> FloatArray:
-    """JᵀJ, dense p × p."""
-    a = (jac.T @ jac).toarray() if sparse.issparse(jac) else jac.T @ jac
-    return np.asarray(a, dtype=float)
-
-
-def _inverse_normal(jac: Any) -> FloatArray:
-    """(JᵀJ)⁻¹ by a scaled pseudo-inverse (dense p × p)."""
-    return scaled_pinv(_normal_matrix(jac))
 
 
 def wants_profile(walk: Walker, half: float, wald: tuple[float, float]) -> str | None:
@@ -121,7 +109,7 @@ def profile_solution(sol: Any, which: str | Sequence[str] = "auto", budget: int 
     c0 = cost(prof.fun(x))
     if not np.isfinite(c0):
         return replace(sol, interval_method=methods)
-    normal = _normal_matrix(prof.jacobian(x))
+    normal = normal_matrix(prof.jacobian(x))
     hinv = scaled_pinv(normal)
     q = prof.quantile
     ci = dict(sol.confidence_interval)

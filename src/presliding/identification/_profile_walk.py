@@ -39,11 +39,12 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy import sparse
 
+from presliding.identification._normal_equations import scaled_pinv
 from presliding.identification._structured_lm import levenberg_marquardt
 
 FloatArray = NDArray[np.float64]
 
-__all__ = ["Profiler", "Walker", "cost", "interval_end", "scaled_pinv"]
+__all__ = ["Profiler", "Walker", "cost", "interval_end"]
 
 #: Doublings of the Wald half width tried before an end is called unbounded.
 MAX_DOUBLINGS = 8
@@ -100,13 +101,6 @@ class Profiler:
 def cost(r: FloatArray) -> float:
     """r·r, inf where the model fails (a residual not finite)."""
     return float(r @ r) if np.all(np.isfinite(r)) else np.inf
-
-
-def scaled_pinv(a: FloatArray) -> FloatArray:
-    """The inverse of a symmetric matrix by a pseudo-inverse of its unit-diagonal scaling."""
-    d = np.sqrt(np.maximum(np.diag(a), 0.0))
-    d[d == 0] = 1.0
-    return np.linalg.pinv(a / np.outer(d, d), rcond=1e-12) / np.outer(d, d)
 
 
 class Walker:

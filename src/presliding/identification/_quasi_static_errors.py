@@ -45,7 +45,7 @@ from numpy.typing import NDArray
 from scipy import sparse
 
 from presliding.identification._noise_floor import noise_variance
-from presliding.identification._profile import _inverse_normal
+from presliding.identification._normal_equations import inverse_normal
 from presliding.identification._solution import Solution
 from presliding.identification.uncertainty import bounded_interval
 
@@ -87,7 +87,7 @@ def run_matrix(problem: Any, residual: FloatArray) -> sparse.csr_matrix:
 
 def floor_variances(jac: Any, runs: sparse.csr_matrix) -> FloatArray:
     """diag(H⁻¹ Jᵀ Σ J H⁻¹) with Σ = GᵀG (module notes); H⁻¹ as the profile forms it."""
-    hinv = _inverse_normal(jac)
+    hinv = inverse_normal(jac)
     g = runs @ jac
     g = g.toarray() if sparse.issparse(g) else np.asarray(g, dtype=float)
     return np.diag(hinv @ (g.T @ g) @ hinv)

@@ -1,4 +1,8 @@
-"""The outcome of one least-squares solve: `Solution` (values, errors, status), names listed."""
+"""The outcome of one least-squares solve: `Solution` (values, errors, status), names listed.
+
+`solution_of` builds it from a solve's checked options and where the optimiser
+stopped (`_least_squares`), with its errors or, deferred (`_deferred`), without.
+"""
 
 from __future__ import annotations
 
@@ -8,9 +12,11 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from presliding.identification._parameter_map import tie_triples
+
 FloatArray = NDArray[np.float64]
 
-__all__ = ["Solution", "name_list"]
+__all__ = ["Solution", "name_list", "solution_of"]
 
 _LISTED = 6  # names listed in a message before "and N more"
 
@@ -54,3 +60,23 @@ def name_list(names: Any, order: tuple[str, ...]) -> str:
     ordered = sorted(set(names), key=lambda n: (rank.get(n, len(rank)), n))
     shown = ", ".join(ordered[:_LISTED])
     return shown + (f" and {len(ordered) - _LISTED} more" if len(ordered) > _LISTED else "")
+
+
+def solution_of(setup: Any, found: Any, status: str, message: str, **errors: Any) -> Solution:
+    """The `Solution` of a solve: `setup` its checked options (`_least_squares._Setup`),
+    `found` where the optimiser stopped (`_least_squares._Found`), the status and message
+    judged, and `errors` the fields of the errors (standard errors and intervals at least;
+    the covariance, bandwidths and profiler, or `pending`, where there are)."""
+    pm, names = setup.pm, setup.names
+    return Solution(
+        values=dict(zip(names, pm.full(found.x).tolist(), strict=True)),
+        level=setup.level, fixed=tuple(setup.fixed), tied=tuple(setup.tied), residual=found.r,
+        status=status, message=message, n_evaluations=found.evaluations,
+        at_bounds=found.on_bound, free=pm.free,
+        bounds={
+            n: (float(a), float(b))
+            for n, a, b in zip(names, setup.lower, setup.upper, strict=True)
+            if np.isfinite(a) or np.isfinite(b)
+        },
+        ties=tie_triples(setup.tied), **errors,
+    )  # fmt: skip
