@@ -59,6 +59,8 @@ def test_a_split_on_a_plateau_is_not_identifiable_with_the_plateau_in_its_interv
     assert "split" in out.message and "stiffness_1 + stiffness_2" in out.message
     assert np.isinf(out.standard_error["stiffness_1"])
     assert np.isinf(out.standard_error["stiffness_2"])
+    names = list(out.values)
+    assert all(np.isinf(out.covariance[names.index(x), names.index(x)]) for x in K)
     lo, hi = out.confidence_interval["stiffness_1"]
     assert lo <= 5.0 <= hi and abs(lo - 0.5 * (sol.values["stiffness_1"]
                                                + sol.values["stiffness_2"])) < 1e-6  # fmt: skip

@@ -24,7 +24,8 @@ segment through it) and every other free parameter refitted, a short solve
 rises by no more than the profile's threshold P = t²·SE²/h (h = (JᵀJ)⁻¹; the
 smaller of the pair's, `_profile`), the data do not determine the split: the
 fit is ``not_identifiable`` (a flat profile, rule ``profile`` of `_status`),
-both standard errors are infinite (no curvature describes a plateau), and the
+both standard errors and variances are infinite (no curvature describes a
+plateau; as for a singular Jacobian, `uncertainty.full_covariance`), and the
 intervals hold the fit and the merged point: k_a ∈ [S/2, k̂_a] and k_b ∈ [k̂_b,
 S/2], with their own ends kept where they reach further. A split the records
 determine (an element that slides) rises far above P at the merged point and
@@ -104,9 +105,14 @@ def undetermined_split(
     if not found:
         return sol
     se, ci = dict(sol.standard_error), dict(sol.confidence_interval)
+    names = list(sol.values)
+    cov = None if sol.covariance is None else np.array(sol.covariance, dtype=float)
     parts = []
     for a, b, half, share in found:
         se[a] = se[b] = np.inf
+        if cov is not None:  # an undetermined parameter's variance is infinite (as a
+            for x in (a, b):  # singular Jacobian's, `uncertainty.full_covariance`)
+                cov[names.index(x), names.index(x)] = np.inf
         ci[a] = (min(ci[a][0], half), max(ci[a][1], sol.values[a]))
         ci[b] = (min(ci[b][0], sol.values[b]), max(ci[b][1], half))
         parts.append(
@@ -122,4 +128,4 @@ def undetermined_split(
     )
     old = sol.message if sol.status == "not_identifiable" else ""
     return replace(sol, status="not_identifiable", standard_error=se, confidence_interval=ci,
-                   message="; ".join(x for x in (message, old) if x))  # fmt: skip
+                   covariance=cov, message="; ".join(x for x in (message, old) if x))  # fmt: skip
