@@ -3,6 +3,8 @@ interchangeable elements with their covariance (`_response_checks.relabelled`)."
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 
 from presliding.identification._least_squares import solve_least_squares
@@ -98,3 +100,18 @@ def test_relabelling_carries_the_covariance_with_the_names():
     i, j, o = (names.index(x) for x in ("stiffness_1", "stiffness_2", "offset"))
     assert out.covariance[i, o] == sol.covariance[j, o] != sol.covariance[i, o]
     assert out.standard_error["stiffness_1"] != sol.standard_error["stiffness_1"]
+
+
+def test_a_pair_whose_intervals_hold_the_merged_point_is_not_refitted():
+    """Elements nearly equal within their errors: the merged point says nothing new."""
+    model = _model(6.0, 50.0)
+    data = _data(model, (5.0, 3.0, 0.5), 1.0)
+    sol, _ = _fit(model, data, (6.5, 1.5, 0.5))
+    half = 0.5 * (sol.values["stiffness_1"] + sol.values["stiffness_2"])
+    ci = {**sol.confidence_interval, "stiffness_1": (half - 1.0, sol.values["stiffness_1"] + 1)}
+
+    def never(*args, **kwargs):
+        raise AssertionError("no refit expected")
+
+    out = undetermined_split(replace(sol, confidence_interval=ci), never, K)
+    assert out.status == sol.status and out.standard_error == sol.standard_error

@@ -19,7 +19,8 @@ profile walk from it may stop anywhere on the plateau.
 The check (`undetermined_split`), for each pair of neighbouring free elements
 (a stiffer than b, labels stiffest first): their sum S held, both set to S/2
 (the two merged; every split between the fit's and its mirror image lies on the
-segment through it) and every other free parameter refitted, a short solve
+segment through it; a pair whose intervals hold S/2 already is skipped) and every
+other free parameter refitted, a short solve
 (`BUDGET` evaluations: it can only overstate the profile there). If the cost
 rises by no more than the profile's threshold P = t²·SE²/h (h = (JᵀJ)⁻¹; the
 smaller of the pair's, `_profile`), the data do not determine the split: the
@@ -96,6 +97,8 @@ def undetermined_split(
         if a not in limits or b not in limits:
             continue
         half = 0.5 * (sol.values[a] + sol.values[b])
+        if sol.confidence_interval[a][0] <= half or half <= sol.confidence_interval[b][1]:
+            continue  # the merged point inside an interval already: nothing to widen
         merged = solve({**sol.values, a: half, b: half}, extra={a: half, b: half},
                        max_evaluations=budget)  # fmt: skip
         rise = _cost(merged) - c0
