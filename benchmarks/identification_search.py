@@ -23,7 +23,11 @@ Data generated with the library (exact event method) with a 1 µm encoder,
 Coverage is printed per parameter (a record's own parameters pooled over
 records) with its binomial standard error, the mean and spread of
 z = (estimate − truth)/SE (a mean away from 0 is a bias, a spread above 1 a
-standard error too small) and the median relative width. With
+standard error too small; formed where the error is finite, the seeds with
+|z| > 5 counted and those with an infinite error, a parameter the fit reports
+undetermined, counted apart) and the median relative width. Interchangeable
+elements (equal break-away forces) are labelled stiffest first by the fits, and
+the truths are listed in that order, so each is compared with its own element. With
 PRESLIDING_STUDY_DUMP=path each fit's estimates, errors and intervals are
 appended there as JSON lines, and its Jacobian and residual saved next to it
 (``path.<design><seed>.npz``), so that covariance estimates can be compared
@@ -98,27 +102,33 @@ def _summary(label, statuses, at_floor, wrong, cover, seeds, elapsed) -> None:
 
 
 def coverage_table(cover: dict) -> None:
-    """Per parameter: coverage ± binomial SE, mean |z| and relative width, share profiled.
+    """Per parameter: coverage ± binomial SE, mean and spread of z, how many |z| > 5, how
+    many have no z, relative width, share profiled.
 
     ``cover[name]`` lists (inside, z, relative width, profiled) per interval;
     z = (estimate − truth)/SE tells a bias (mean z ≠ 0) from a too-small SE
-    (std z > 1).
+    (std z > 1); it is formed only where the fit reports a finite, positive error
+    (an infinite one, a parameter the fit reports undetermined, or 0 is counted
+    under ``no z``).
     """
-    print(f"  {'parameter':<20}{'n':>5}{'coverage':>16}{'mean z':>9}{'std z':>8}"
-          f"{'width/|truth|':>15}{'profiled':>10}")  # fmt: skip
+    print(f"  {'parameter':<20}{'n':>5}{'coverage':>16}{'mean z':>9}{'std z':>8}{'|z|>5':>7}"
+          f"{'no z':>7}{'width/|truth|':>15}{'profiled':>10}")  # fmt: skip
     for name, rows in cover.items():
         a = np.array(rows, dtype=float)
         n, p = len(a), float(np.mean(a[:, 0]))
         se = np.sqrt(p * (1 - p) / n)
         z = a[np.isfinite(a[:, 1]), 1]
-        print(f"  {name:<20}{n:>5}{100 * p:>9.1f} ± {100 * se:>4.1f}%{np.mean(z):>9.2f}"
-              f"{np.std(z):>8.2f}{np.median(a[:, 2]):>15.3g}{np.mean(a[:, 3]):>10.2f}")  # fmt: skip
+        mean, spread = (np.mean(z), np.std(z)) if z.size else (np.nan, np.nan)
+        print(f"  {name:<20}{n:>5}{100 * p:>9.1f} ± {100 * se:>4.1f}%{mean:>9.2f}"
+              f"{spread:>8.2f}{int(np.sum(np.abs(z) > 5)):>7}{n - z.size:>7}"
+              f"{np.median(a[:, 2]):>15.3g}{np.mean(a[:, 3]):>10.2f}")  # fmt: skip
 
 
 def _entry(fit, name: str, value: float) -> tuple[float, float, float, float]:
     lo, hi = fit.confidence_interval[name]
     est, se = fit.parameters[name], fit.standard_error[name]
-    z = (est - value) / se if se > 0 else np.nan
+    # an infinite error (a parameter the fit reports undetermined) has no z: counted apart
+    z = (est - value) / se if np.isfinite(se) and se > 0 else np.nan
     width = (hi - lo) / max(abs(value), 1e-12)
     return (
         float(lo <= value <= hi),

@@ -108,3 +108,35 @@ def test_densities_are_recovered_from_torque_loops(name, density, names):
     assert fit.parameters["coulomb"] == pytest.approx(0.1, rel=2e-3)
     for x in names:  # the fit's 32-cell discretisation: O(1/32²) of F_m
         assert fit.parameters[x] == pytest.approx(density[x], rel=5e-3), x
+
+
+def test_loops_that_never_make_two_elements_slide_leave_their_split_undetermined():
+    """Two quantised loops (10 nm, 2 nm noise) whose swings never reach the thresholds of
+    the two softer elements: only k_2 + k_3 is seen. The optimum sits at the edge of that
+    plateau, where its linearised errors were some 1e-5 of the value and the truth
+    thousands of them away; the fit says the split is not determined, its errors are
+    infinite and its intervals hold the truth (`_split_check`)."""
+    rng = np.random.default_rng(7016)
+    t = np.linspace(0.0, 4.0, 300)
+    records = []
+    for _ in range(2):
+        f0 = rng.uniform(-0.8, 0.8) * 0.25 * MODEL.max_elastic_force
+        d, amp = rng.choice([-1.0, 1.0]), rng.uniform(0.25, 0.33)
+        u = f0 + d * amp * np.sin(np.pi * t) * (1 - 0.1 * t / 4)
+        state = preloaded_state(MODEL, f0, direction=-d, position=rng.uniform(-1e-5, 1e-5))
+        y = quasi_static_response(MODEL, u, state).position
+        y = 1e-8 * np.round((y + 2e-9 * rng.standard_normal(t.size)) / 1e-8)
+        records.append(Measurement(t, position=y, applied_force=u))
+    fit = fit_quasi_static(records, 3)
+    assert fit.status == "not_identifiable", fit.message
+    assert "split" in fit.message and "stiffness_2 + stiffness_3" in fit.message
+    k2, k3 = 6e3, 2e3
+    total = fit.parameters["stiffness_2"] + fit.parameters["stiffness_3"]
+    assert total == pytest.approx(k2 + k3, rel=1e-3)  # the sum is determined
+    for name, truth in (("stiffness_2", k2), ("stiffness_3", k3)):
+        lo, hi = fit.confidence_interval[name]
+        assert lo <= truth <= hi
+        assert np.isinf(fit.standard_error[name])
+        assert fit.interval_method[name] in ("profile", "union")
+    # the merged point bounds the labelled intervals: k_2 >= k_3 on both
+    assert fit.confidence_interval["stiffness_2"][0] == pytest.approx(total / 2, rel=1e-6)

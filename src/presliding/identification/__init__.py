@@ -43,6 +43,7 @@ _quasi_static_start.py     quasi-static start values (eq. 8 as a regression)
 _quasi_static_plan.py      `fit_quasi_static` as a problem and its search, checks, result
 _quasi_static_kernel.py    compiled quasi-static positions of many records and parameter sets
 _quasi_static_errors.py    the error floor of runs of equal quantised samples
+_split_check.py     a split of neighbouring elements the records do not determine (a plateau)
 _nuisance_search.py  each record's own parameters searched on a grid, the shared ones held
 _search.py          the search step: starts, alternation, the noise-floor rule, its summary
 _probes.py          probes of the valleys next to the best optimum (engage, corner, split)

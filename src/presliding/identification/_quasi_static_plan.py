@@ -21,7 +21,10 @@ gives the fit's own steps:
   split is the least determined direction of the loops; another optimum that
   the profile's threshold does not exclude is reported, `_alternatives`), and
   so is its flattest direction, stepped far both ways (`_flat_probe`);
-* checks: coalesced elements split, elements relabelled stiffest first;
+* checks: coalesced elements split, elements relabelled stiffest first, then a
+  split of neighbouring elements the records do not determine made
+  ``not_identifiable`` with its plateau in the intervals (`_split_check`: an
+  element that never slides leaves only the sum of the stiffnesses);
 * result: the errors raised to the floor that runs of equal quantised samples
   imply (`_quasi_static_errors`: a record's initial position is fixed by its
   first samples alone), the model, the preloads as forces, the note of an F_c
@@ -73,6 +76,7 @@ from presliding.identification._search import (
     global_start,
     same_point,
 )
+from presliding.identification._split_check import undetermined_split
 from presliding.measurement.measurement import Measurement, common_axis
 
 __all__ = ["STATES", "check_quasi_static", "quasi_static_plan", "quasi_static_problem"]
@@ -185,7 +189,7 @@ def quasi_static_problem(req: QuasiStaticRequest) -> tuple[FitProblem, FitOption
 def quasi_static_plan(req: QuasiStaticRequest) -> FitPlan:
     """The quasi-static fit's own steps (module notes)."""
     return FitPlan(
-        search=partial(_search, req), checks=(partial(_split, req),),
+        search=partial(_search, req), checks=(partial(_split, req), partial(_plateau, req)),
         result=partial(_result, req), bootstrap=req.bootstrap, seed=req.seed,
     )  # fmt: skip
 
@@ -274,6 +278,14 @@ def _split(req: QuasiStaticRequest, run: FitRun, sol: Solution) -> Solution:
     return sol
 
 
+def _plateau(req: QuasiStaticRequest, run: FitRun, sol: Solution) -> Solution:
+    """A split of neighbouring elements the records do not determine (`_split_check`)."""
+    spec = req.spec
+    if spec.density is not None or not spec.equal or spec.n < 2 or _shaped(req):
+        return sol
+    return undetermined_split(sol, run.solve, spec.k_names)
+
+
 def _result(req: QuasiStaticRequest, run: FitRun, sol: Solution, boot: Any,
             summary: Any) -> Any:  # fmt: skip
     """The public result: position against the applied force (module notes)."""
@@ -304,6 +316,11 @@ def _result(req: QuasiStaticRequest, run: FitRun, sol: Solution, boot: Any,
         note = (f"F_c sits on its lower bound {fmt(floor)} (the largest applied force or "
                 "`min_coulomb_level`): the loops do not determine it")  # fmt: skip
         result = replace(result, notes=(note,))
+    flat = {x: "profile" for x in spec.k_names  # a plateau's ends: points of the profile
+            if result.interval_method.get(x) == "wald"
+            and not np.isfinite(result.standard_error[x])}  # fmt: skip
+    if flat:
+        result = replace(result, interval_method={**result.interval_method, **flat})
     spans = tuple(zip(records.t_off[:-1].tolist(), records.t_off[1:].tolist(), strict=True))
     return replace(result, records=spans if records.n_rec > 1 else (), bootstrap=boot,
                    predictor=QuasiStaticPredictor(records, values), search=summary)  # fmt: skip

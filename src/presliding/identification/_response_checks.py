@@ -227,14 +227,7 @@ def smallest_threshold_first(sol: Solution, k_names: list[str], c_names: list[st
     rename = {}
     for i, j in enumerate(order):
         rename[k_names[int(j)]], rename[c_names[int(j)]] = k_names[i], c_names[i]
-
-    def relabel(d: dict) -> dict:
-        out = dict(d)
-        out.update({rename[x]: d[x] for x in rename})
-        return out
-
-    return replace(sol, values=relabel(sol.values), standard_error=relabel(sol.standard_error),
-                   confidence_interval=relabel(sol.confidence_interval))  # fmt: skip
+    return relabelled(sol, rename)
 
 
 def stiffest_first(sol: Solution, k_names: list[str]) -> Solution:
@@ -243,17 +236,35 @@ def stiffest_first(sol: Solution, k_names: list[str]) -> Solution:
     They are interchangeable, so only the sorted set is meaningful.
     """
     order = np.argsort([-sol.values[x] for x in k_names], kind="stable")
-    rename = {k_names[int(j)]: k_names[i] for i, j in enumerate(order)}
+    return relabelled(sol, {k_names[int(j)]: k_names[i] for i, j in enumerate(order)})
+
+
+def relabelled(sol: Solution, rename: dict[str, str]) -> Solution:
+    """`sol` with its parameters renamed (`rename`: old name → new name, a permutation of
+    interchangeable elements): values, errors, intervals, bounds reached and the covariance
+    (rows and columns in the order of `values`) move together. A solve whose covariance was
+    deferred is completed first (its errors belong to the old labels)."""
+    rename = {a: b for a, b in rename.items() if a != b}
+    if not rename:
+        return sol
+    sol = complete(sol)
 
     def relabel(d: dict) -> dict:
         out = dict(d)
-        out.update({rename[x]: d[x] for x in k_names})
+        out.update({rename[x]: d[x] for x in rename if x in d})
         return out
 
+    cov = sol.covariance
+    if cov is not None:
+        names = list(sol.values)
+        old = {b: a for a, b in rename.items()}  # new name → the name it had
+        idx = [names.index(old.get(n, n)) for n in names]
+        cov = np.asarray(cov)[np.ix_(idx, idx)]
     return replace(
         sol,
         values=relabel(sol.values),
         standard_error=relabel(sol.standard_error),
         confidence_interval=relabel(sol.confidence_interval),
         at_bounds=tuple(rename.get(x, x) for x in sol.at_bounds),
+        covariance=cov,
     )
