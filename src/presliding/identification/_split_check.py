@@ -42,10 +42,10 @@ from collections.abc import Callable, Sequence
 from dataclasses import replace
 
 import numpy as np
-from scipy import sparse
 
 from presliding.identification._deferred import complete
-from presliding.identification._profile_walk import scaled_pinv
+from presliding.identification._normal_equations import normal_matrix, scaled_pinv
+from presliding.identification._search import cost
 from presliding.identification._solution import Solution
 
 __all__ = ["BUDGET", "undetermined_split"]
@@ -55,20 +55,15 @@ BUDGET = 20
 _OPTIMUM = ("converged", "not_identifiable", "at_bound")
 
 
-def _cost(sol: Solution) -> float:
-    c = float(sol.residual @ sol.residual) if sol.status != "failed" else np.inf
-    return c if np.isfinite(c) else np.inf
-
-
 def _thresholds(sol: Solution) -> dict[str, float]:
     """The profile's threshold P_j = (t·SE_j)²/h_jj of each free parameter (module notes)."""
     prof = sol.profiler
     x = np.array([sol.values[n] for n in prof.free], dtype=float)
     jac = prof.jacobian(x)
-    normal = (jac.T @ jac).toarray() if sparse.issparse(jac) else jac.T @ jac
+    normal = normal_matrix(jac)
     if not np.all(np.isfinite(normal)):
         return {}
-    hinv = scaled_pinv(np.asarray(normal, dtype=float))
+    hinv = scaled_pinv(normal)
     out = {}
     for j, name in enumerate(prof.free):
         se = float(sol.standard_error.get(name, np.inf))
@@ -87,10 +82,10 @@ def undetermined_split(
         return sol
     sol = complete(sol)
     free = [x for x in k_names if x in sol.free and sol.values[x] > 0]
-    if len(free) < 2 or not np.isfinite(_cost(sol)):
+    if len(free) < 2 or not np.isfinite(cost(sol)):
         return sol
     limits = _thresholds(sol)
-    c0 = _cost(sol)
+    c0 = cost(sol)
     ranked = sorted(free, key=lambda x: -sol.values[x])
     found = []
     for a, b in itertools.pairwise(ranked):
@@ -101,7 +96,7 @@ def undetermined_split(
             continue  # the merged point inside an interval already: nothing to widen
         merged = solve({**sol.values, a: half, b: half}, extra={a: half, b: half},
                        max_evaluations=budget)  # fmt: skip
-        rise = _cost(merged) - c0
+        rise = cost(merged) - c0
         limit = min(limits[a], limits[b])
         if rise <= limit:
             found.append((a, b, half, rise / limit))
