@@ -119,6 +119,8 @@ def minimise(
             step = np.clip(step, -limit, limit)
         xn = np.clip(x + step, lower, upper)
         step = xn - x
+        if not np.any(step) or not np.isfinite(lam):  # no step left to try
+            break
         predicted = -float(2.0 * g @ step + step @ A @ step)
         rn_new = fun(xn)
         nfev += 1
@@ -134,7 +136,7 @@ def minimise(
             it.refresh(x, r)
             continue
         lam *= nu
-        nu *= 2.0
+        nu = min(2.0 * nu, 1e3)
         if blocks and predicted > 0:  # the records' own steps, the shared ones held
             x, r, c, nfev, accepted = _record_steps(
                 fun, x, r, c, nfev, A, g, d2, free, blocks, lam_b, limit, lower, upper
