@@ -148,8 +148,9 @@ def profile_solution(sol: Any, which: str | Sequence[str] = "auto", budget: int 
     hinv = scaled_pinv(normal)
     q = prof.quantile
     ses = np.array([sol.standard_error.get(n, np.inf) for n in prof.free], dtype=float)
-    crits = (q * ses) ** 2 / np.where(np.diag(hinv) > 0, np.diag(hinv), np.inf)
-    crits = crits[np.isfinite(crits) & (crits > 0)]
+    diag = np.diag(hinv)
+    usable = np.isfinite(ses) & (ses > 0) & (diag > 0)
+    crits = (q * ses[usable]) ** 2 / diag[usable]
     drop = _settled(prof, x, c0, SETTLE * INNER_SHARE * float(np.min(crits))) if crits.size else 0.0
     ci = dict(sol.confidence_interval)
     spent = 1 if drop > 0 else 0
