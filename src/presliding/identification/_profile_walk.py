@@ -57,7 +57,7 @@ END_ACCURACY = 1e-3
 INNER_SHARE = 0.5
 #: Residual evaluations of one inner optimisation (from a start next to a solved point it
 #: needs a few; one that runs on is in a rough valley, and its cost stays an upper bound).
-INNER_EVALUATIONS = 25
+INNER_EVALUATIONS = 15
 #: First step of the walk to an end, as a share of the Wald half width; no step is longer
 #: than this or the distance already walked (a continuation: a far extrapolation of the
 #: records' own parameters can land in another valley of their cost).
