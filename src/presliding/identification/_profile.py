@@ -208,15 +208,16 @@ def _settled(prof: Profiler, x: FloatArray, c0: float, tol: float) -> float:
 
 def _resolved_ends(walk: Walker, half: float, need: str) -> tuple[float, float] | str | None:
     """The profile ends, "wald" where the profile meets the Wald ends ("check"), or None where
-    the profile is not resolved on the scale of P_crit (module notes): the optimum is not a
-    minimum on that scale (`SETTLE`), or P at the first step or at an end differs by more
+    the profile is not resolved on the scale of P_crit (module notes): P at the first points
+    solved (the Wald ends for a check, else the first steps) or at an end differs by more
     than `SETTLE`·P_crit when solved from two starts."""
     v = float(walk.x[walk.j])
+    first = 1.0 if need == "check" else FIRST_STEP
+    for side in (-1.0, 1.0):
+        if not walk.repeatable(v + side * first * half, SETTLE):
+            return None
     if need == "check" and _wald_holds(walk, half):
         return "wald"
-    for side in (-1.0, 1.0):
-        if not walk.repeatable(v + side * FIRST_STEP * half, SETTLE):
-            return None
     ends = []
     for side in (-1, 1):
         end = interval_end(walk, side, half)

@@ -156,6 +156,7 @@ class Walker:
         starts = self._starts(theta, exclude=theta)
         if self.keep.size == 0 or len(starts) < 2:
             return True
+        self.solves += 1
         p, z, _ = self._solve(theta, starts[-1][0])
         if p < first:
             self.solved[theta] = (p, z)
