@@ -85,8 +85,9 @@ NEAR_BOUND = 1e-6
 #: its Wald interval: the optimum is not a minimum on the scale of its interval, and a
 #: profile measured from it would be decided by where the inner optimisations stop.
 SETTLE = 0.1
-#: Inner optimisations a profile step may spend (the rest keep their Wald interval).
-BUDGET = 20
+#: Inner optimisations a profile step may spend, the second solves of its checks included (the
+#: rest keep their Wald interval).
+BUDGET = 40
 
 
 def _normal_matrix(jac: Any) -> FloatArray:
