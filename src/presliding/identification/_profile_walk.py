@@ -18,7 +18,8 @@ lowest cost found. An end is known to `END_ACCURACY` of the Wald half width
 (far below the sampling error of any interval end): the search stops when its
 next correction, or the bracket, is smaller than that, or after `ROOT_STEPS`
 (a profile rough on the scale of P_crit), and the inner optimisations stop
-when the cost decreases by less than a matching share of P_crit. An end within
+when the decrease the Gauss–Newton model still predicts is below a matching share of
+P_crit, or after `INNER_EVALUATIONS`. An end within
 that accuracy of a bound, or past a bound the profile stays below, is the bound
 (the data do not exclude it); an end the profile never reaches within 2⁸ Wald
 half widths, with no bound there, is unbounded (±inf), and the fit is then not
