@@ -112,3 +112,124 @@ def test_a_parameter_whose_wald_interval_a_bound_cuts_is_profiled_first():
     assert prof.interval_method == {"a": "wald", "b": "wald", "c": "profile"}
     full = profile_solution(sol, "all")
     assert set(full.interval_method.values()) == {"profile"}
+
+
+# ---------------------------------------------------------------- pooled records (blocks)
+def _pooled_decays(seed: int = 5, records: int = 4, sparse_jacobian: bool = True):
+    """Records y_i = A_i·exp(−k·t) + noise: k shared, each record its own amplitude A_i (a
+    pooled fit's structure: the Jacobian has one full column and one block per record).
+    The profile of k has a closed form: each A_i is linear, A_i(k) = e·y_i / e·e."""
+    rng = np.random.default_rng(seed)
+    t = np.linspace(0.0, 3.0, 15)
+    amplitudes = rng.uniform(1.0, 3.0, records)
+    y = amplitudes[:, None] * np.exp(-1.3 * t) + rng.normal(0.0, 0.05, (records, t.size))
+
+    def residual(p):
+        return (p[1:, None] * np.exp(-p[0] * t) - y).ravel()
+
+    def jacobian(p):
+        e = np.exp(-p[0] * t)
+        out = np.zeros((records * t.size, records + 1))
+        for i in range(records):
+            rows = slice(i * t.size, (i + 1) * t.size)
+            out[rows, 0] = -t * p[1 + i] * e
+            out[rows, 1 + i] = e
+        return out
+
+    start = {"rate": 1.0, **{f"amplitude_{i}": 1.0 for i in range(records)}}
+    sol = solve_least_squares(residual, start, jacobian=jacobian, tolerance=1e-12)
+    if sparse_jacobian:
+        from dataclasses import replace
+
+        from scipy import sparse
+
+        prof = replace(sol.profiler, jac=lambda x: sparse.csc_matrix(jacobian(np.asarray(x))))
+        sol = replace(sol, profiler=prof)
+
+    def profile(rate):
+        e = np.exp(-rate * t)
+        a = y @ e / (e @ e)
+        r = a[:, None] * e - y
+        return float(np.sum(r * r))
+
+    return sol, profile, y.size
+
+
+def test_a_pooled_profile_end_meets_the_closed_form():
+    """The inner optimisations with per-record steps (sparse Jacobian with record blocks):
+    each end within 1e-3 of the Wald half width of the closed-form profile's crossing."""
+    sol, profile, n = _pooled_decays()
+    out = profile_solution(sol, ["rate"])
+    assert out.interval_method["rate"] == "profile"
+    k, c0 = sol.values["rate"], float(sol.residual @ sol.residual)
+    p = len(sol.free)
+    q = stats.t.ppf(0.975, n - p)
+    crit = q**2 * c0 / (n - p)
+    half = q * sol.standard_error["rate"]
+    lo, hi = out.confidence_interval["rate"]
+    for end, far in ((lo, k - 4.0 * half), (hi, k + 4.0 * half)):
+        exact = optimize.brentq(lambda r: profile(r) - c0 - crit, k, far, xtol=1e-14)
+        assert abs(end - exact) <= 1e-3 * half
+
+
+def test_profile_ends_do_not_move_with_blas_threads_or_rounding():
+    """The profile step on one BLAS thread and on the default pool, and from an optimum moved
+    by rounding (1e-12 of a standard error): the ends agree to 1e-3 standard errors."""
+    from dataclasses import replace
+
+    from threadpoolctl import threadpool_limits
+
+    sol, _, _ = _pooled_decays(seed=11, records=6)
+    run = profile_solution.__wrapped__  # the step without its one-thread context
+    with threadpool_limits(1):
+        one = run(sol, "all", budget=200)
+    many = run(sol, "all", budget=200)
+    moved = replace(
+        sol, values={n: v + 1e-12 * sol.standard_error[n] for n, v in sol.values.items()}
+    )
+    nudged = profile_solution(moved, "all", budget=200)
+    for name in sol.free:
+        se = sol.standard_error[name]
+        assert one.interval_method[name] == many.interval_method[name] == "profile"
+        for other in (many, nudged):
+            ends = zip(one.confidence_interval[name], other.confidence_interval[name], strict=True)
+            for a, b in ends:
+                assert abs(a - b) <= 1e-3 * se
+
+
+def test_an_optimum_that_is_not_a_minimum_on_the_scale_of_the_interval_keeps_wald():
+    """Values two standard errors away from the optimum along `rate` (the others not
+    re-optimised): re-optimising lowers the cost by far more than P_crit/10, so a profile
+    measured from there would be decided by where the inner optimisations stop. The
+    interval stays the Wald interval the solution carries, and says so."""
+    from dataclasses import replace
+
+    sol, _, _ = _pooled_decays()
+    k, se = sol.values["rate"], sol.standard_error["rate"]
+    off = replace(sol, values={**sol.values, "rate": k + 2.0 * se})
+    out = profile_solution(off, "all")
+    assert set(out.interval_method.values()) == {"wald"}
+    assert out.confidence_interval == off.confidence_interval
+
+
+def test_a_parameter_a_hair_inside_its_bound_is_put_on_it():
+    """`_onto_bounds`: 1e-9 inside a bound goes onto it where the cost does not rise; a
+    parameter well inside stays."""
+    from presliding.identification._profile import _onto_bounds
+
+    x = np.linspace(0.0, 1.0, 20)
+    y = 1.0 - np.exp(-3.0 * x)
+
+    def residual(p):
+        return p[0] * (1.0 - np.exp(-p[1] * x)) - y
+
+    sol = solve_least_squares(
+        residual, {"a": 0.9, "c": 3.0}, bounds={"a": (0.0, 1.0), "c": (0.0, 10.0)}
+    )
+    prof = sol.profiler
+    v = np.array([1.0 - 1e-9, 3.0])
+    c = float(np.sum(residual(v) ** 2))
+    y_on, c_on = _onto_bounds(prof, v, c)
+    assert y_on[0] == 1.0 and y_on[1] == 3.0 and c_on <= c
+    w = np.array([0.5, 3.0])
+    assert np.array_equal(_onto_bounds(prof, w, float(np.sum(residual(w) ** 2)))[0], w)

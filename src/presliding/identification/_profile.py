@@ -19,6 +19,18 @@ steps, regula falsi inside the bracket, every solved point kept and reused); an 
 the profile never reaches is unbounded (±inf), and the fit is then not identifiable
 (`_status`).
 
+A profile is only as good as the inner optimisations that give each P(θ); an end decided
+by where they happen to stop moves with any rounding, and is not an interval the data
+support. So, before any walk: the parameters a hair inside a bound are put on it
+(`NEAR_BOUND`; a saturated preload fraction at 1 − 5e-8 has a column near zero and a cost
+that rises steeply away from the bound); every free parameter is re-optimised once from the
+optimum, and where that lowers the cost by more than `SETTLE`·P_crit of a parameter, its
+optimum is not a minimum on the scale of its interval and it keeps its Wald interval. P is
+measured from the lowest cost known. During a walk, P at the first step and at each end
+inside the bounds is solved from two starts; where they differ by more than
+`SETTLE`·P_crit the profile is not resolved, the parameter keeps its Wald interval and no
+further parameter is profiled (the same inner optimisations would decide them).
+
 `profile_solution` chooses the parameters ("auto"): every free parameter
 whose Wald interval reaches a bound or is wide (half width above a quarter of
 the value) is profiled. For the others the cost along the linearised path is
@@ -40,7 +52,11 @@ from typing import Any
 import numpy as np
 
 from presliding.identification._normal_equations import normal_matrix, scaled_pinv
+from presliding.identification._profile_inner import minimise
 from presliding.identification._profile_walk import (
+    FIRST_STEP,
+    INNER_EVALUATIONS,
+    INNER_SHARE,
     FloatArray,
     Profiler,
     Walker,
@@ -62,8 +78,15 @@ AGREE = 0.02
 #: Wald half width, as a multiple of the value, beyond which no profile is tried (the data
 #: do not determine the parameter: the judge says so from the Wald interval).
 HOPELESS = 100.0
-#: Inner optimisations a profile step may spend (the rest keep their Wald interval).
-BUDGET = 20
+#: Distance from a bound, relative to max(1, |bound|), within which a parameter is put on it.
+NEAR_BOUND = 1e-6
+#: Fall of the cost below the optimum's, as a share of P_crit, beyond which a parameter keeps
+#: its Wald interval: the optimum is not a minimum on the scale of its interval, and a
+#: profile measured from it would be decided by where the inner optimisations stop.
+SETTLE = 0.1
+#: Inner optimisations a profile step may spend, the second solves of its checks included (the
+#: rest keep their Wald interval).
+BUDGET = 40
 
 
 def wants_profile(walk: Walker, half: float, wald: tuple[float, float]) -> str | None:
@@ -109,11 +132,17 @@ def profile_solution(sol: Any, which: str | Sequence[str] = "auto", budget: int 
     c0 = cost(prof.fun(x))
     if not np.isfinite(c0):
         return replace(sol, interval_method=methods)
+    x, c0 = _onto_bounds(prof, x, c0)
     normal = normal_matrix(prof.jacobian(x))
     hinv = scaled_pinv(normal)
     q = prof.quantile
+    ses = np.array([sol.standard_error.get(n, np.inf) for n in prof.free], dtype=float)
+    diag = np.diag(hinv)
+    usable = np.isfinite(ses) & (ses > 0) & (diag > 0)
+    crits = (q * ses[usable]) ** 2 / diag[usable]
+    drop = _settled(prof, x, c0, SETTLE * INNER_SHARE * float(np.min(crits))) if crits.size else 0.0
     ci = dict(sol.confidence_interval)
-    spent = 0
+    spent = 1 if drop > 0 else 0
     order = sorted(
         range(len(prof.free)),
         key=lambda i: (_per_record(prof.free[i]), not _at_bound(prof, x, i, ci[prof.free[i]])),
@@ -132,21 +161,79 @@ def profile_solution(sol: Any, which: str | Sequence[str] = "auto", budget: int 
             continue
         if spent >= budget:
             break
-        walk = Walker(prof, x, c0, normal, j, half * half / hinv[j, j])
+        crit = half * half / hinv[j, j]
+        if drop > SETTLE * crit:  # a lower cost is known: not a minimum on this scale
+            continue
+        walk = Walker(prof, x, c0, normal, j, crit, -drop)
         need = wants_profile(walk, half, ci[name]) if which == "auto" else "profile"
         if need is None:
             continue
-        if need == "check" and _wald_holds(walk, half):
-            spent += walk.solves
-            continue
-        lo, hi = interval_end(walk, -1, half), interval_end(walk, +1, half)
-        if sol.status == "not_identifiable":  # a check widened the interval: never narrow it
-            lo, hi = min(lo, ci[name][0]), max(hi, ci[name][1])
-        ci[name] = (lo, hi)
-        methods[name] = "profile"
+        ends = _resolved_ends(walk, half, need)
+        if isinstance(ends, tuple):
+            lo, hi = ends
+            if sol.status == "not_identifiable":  # a check widened it: never narrow it
+                lo, hi = min(lo, ci[name][0]), max(hi, ci[name][1])
+            ci[name] = (lo, hi)
+            methods[name] = "profile"
         spent += walk.solves
+        if ends is None:  # the inner optimisations do not resolve P here: stop profiling
+            break
     ci.update(_tied_intervals(sol, ci))
     return replace(sol, confidence_interval=ci, interval_method=methods)
+
+
+def _settled(prof: Profiler, x: FloatArray, c0: float, tol: float) -> float:
+    """How far the cost falls below c0 when every free parameter is re-optimised from x (one
+    inner optimisation): 0 at a minimum; above `SETTLE`·P_crit of a parameter, its profile
+    is not measured (module notes)."""
+    if x.shape[0] < 2:
+        return 0.0
+    out = minimise(
+        prof.fun, prof.jacobian, x, prof.lower, prof.upper, tol=tol,
+        max_nfev=INNER_EVALUATIONS, step_limit=prof.step_limit,
+    )  # fmt: skip
+    return max(c0 - out.cost, 0.0)
+
+
+def _resolved_ends(walk: Walker, half: float, need: str) -> tuple[float, float] | str | None:
+    """The profile ends, "wald" where the profile meets the Wald ends ("check"), or None where
+    the profile is not resolved on the scale of P_crit (module notes): P at the first points
+    solved (the Wald ends for a check, else the first steps) or at an end differs by more
+    than `SETTLE`·P_crit when solved from two starts."""
+    v = float(walk.x[walk.j])
+    first = 1.0 if need == "check" else FIRST_STEP
+    for side in (-1.0, 1.0):
+        if not walk.repeatable(v + side * first * half, SETTLE):
+            return None
+    if need == "check" and _wald_holds(walk, half):
+        return "wald"
+    ends = []
+    for side in (-1, 1):
+        end = interval_end(walk, side, half)
+        inside = np.isfinite(end) and end not in (walk.prof.lower[walk.j], walk.prof.upper[walk.j])
+        if inside and not walk.repeatable(end, SETTLE):
+            return None
+        ends.append(end)
+    return ends[0], ends[1]
+
+
+def _onto_bounds(prof: Profiler, x: FloatArray, c0: float) -> tuple[FloatArray, float]:
+    """x with the parameters a hair inside a bound (`NEAR_BOUND`) put on it, where that does
+    not raise the cost.
+
+    A solver stops such a parameter just inside its bound (a preload fraction at 1 − 5e-8,
+    saturated): its column is nearly zero there and the cost rises steeply away from the
+    bound, so the linearised path would move it far, and every inner step would try to.
+    On the bound it is held while its gradient pushes outward.
+    """
+    lo, hi = prof.lower, prof.upper
+    near_lo = np.isfinite(lo) & (x - lo <= NEAR_BOUND * np.maximum(1.0, np.abs(lo)))
+    near_hi = np.isfinite(hi) & (hi - x <= NEAR_BOUND * np.maximum(1.0, np.abs(hi)))
+    if not (near_lo.any() or near_hi.any()):
+        return x, c0
+    y = np.where(near_lo, lo, np.where(near_hi, hi, x))
+    c = cost(prof.fun(y))
+    return (y, c) if c <= c0 * (1.0 + 1e-12) else (x, c0)
 
 
 def _at_bound(prof: Profiler, x: FloatArray, j: int, wald: tuple[float, float]) -> bool:

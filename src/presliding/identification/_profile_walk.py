@@ -18,12 +18,16 @@ lowest cost found. An end is known to `END_ACCURACY` of the Wald half width
 (far below the sampling error of any interval end): the search stops when its
 next correction, or the bracket, is smaller than that, or after `ROOT_STEPS`
 (a profile rough on the scale of P_crit), and the inner optimisations stop
-when the cost decreases by less than a matching share of P_crit. An end within
+when the decrease the Gauss–Newton model still predicts is below a matching share of
+P_crit, or after `INNER_EVALUATIONS`. An end within
 that accuracy of a bound, or past a bound the profile stays below, is the bound
 (the data do not exclude it); an end the profile never reaches within 2⁸ Wald
 half widths, with no bound there, is unbounded (±inf), and the fit is then not
-identifiable (`_status`). The inner optimisations use the structured
-Levenberg–Marquardt of `_structured_lm` (dense or pooled sparse Jacobians).
+identifiable (`_status`). The inner optimisations are `_profile_inner.minimise`
+(Levenberg–Marquardt whose records' own parameters also step per record, stopped by an
+absolute tolerance of the cost in units of P_crit). P is measured from the lowest cost
+known (`Walker.low`, set by `_profile`), and `Walker.repeatable` solves a point from a
+second start to tell whether P there depends on where the solver stops.
 
 `Profiler` is what the walk needs of a solved problem (`_least_squares` builds it),
 `Walker` the profile of one parameter with its solved points, `interval_end` one end.
@@ -40,7 +44,7 @@ from numpy.typing import NDArray
 from scipy import sparse
 
 from presliding.identification._normal_equations import scaled_pinv
-from presliding.identification._structured_lm import levenberg_marquardt
+from presliding.identification._profile_inner import minimise
 
 FloatArray = NDArray[np.float64]
 
@@ -50,11 +54,12 @@ __all__ = ["Profiler", "Walker", "cost", "interval_end"]
 MAX_DOUBLINGS = 8
 #: Accuracy of an interval end, as a share of the Wald half width.
 END_ACCURACY = 1e-3
-#: Share of END_ACCURACY·P_crit the inner optimisations leave in the cost (their ftol).
-INNER_SHARE = 0.05
+#: Share of END_ACCURACY·P_crit the inner optimisations may leave in the cost (their absolute
+#: tolerance: the decrease the Gauss–Newton model still predicts).
+INNER_SHARE = 0.5
 #: Residual evaluations of one inner optimisation (from a start next to a solved point it
 #: needs a few; one that runs on is in a rough valley, and its cost stays an upper bound).
-INNER_EVALUATIONS = 25
+INNER_EVALUATIONS = 15
 #: First step of the walk to an end, as a share of the Wald half width; no step is longer
 #: than this or the distance already walked (a continuation: a far extrapolation of the
 #: records' own parameters can land in another valley of their cost).
@@ -107,7 +112,7 @@ class Walker:
     """Profile of one parameter: P(θ) by inner optimisations, every solved point kept."""
 
     def __init__(self, prof: Profiler, x: FloatArray, c0: float, normal: FloatArray, j: int,
-                 threshold: float):  # fmt: skip
+                 threshold: float, low: float = 0.0):  # fmt: skip
         self.prof, self.x, self.c0, self.j = prof, x, c0, j
         self.keep = np.array([i for i in range(x.shape[0]) if i != j], dtype=int)
         self.path = _path(prof, x, normal, j, self.keep)
@@ -116,9 +121,11 @@ class Walker:
         self.refined: set[float] = set()
         self.solves = 0
         # the cost left by an inner optimisation moves an end by about δP/(2·P_crit) of the
-        # half width: a small share of END_ACCURACY
-        share = INNER_SHARE * END_ACCURACY * threshold / c0 if c0 > 0 else 0.0
-        self.ftol = float(np.clip(share, 1e-12, 1e-6))
+        # half width: a share of END_ACCURACY
+        self.tol = INNER_SHARE * END_ACCURACY * threshold
+        #: the lowest P found (below 0 where the fit's optimum is not a minimum on the scale
+        #: of P_crit: the profile is then measured from it)
+        self.low = low
 
     def full(self, z: FloatArray, theta: float) -> FloatArray:
         out = self.x.copy()
@@ -128,8 +135,27 @@ class Walker:
 
     def g(self, theta: float) -> float:
         """√P(θ) − √P_crit (inf where the model fails)."""
-        p = self(theta)
+        p = self(theta) - self.low
         return float(np.sqrt(max(p, 0.0))) - self.root if np.isfinite(p) else np.inf
+
+    def centre(self) -> float:
+        """g at the optimum (P measured from the lowest cost known, `low`)."""
+        return min(self.g(float(self.x[self.j])), 0.0)
+
+    def repeatable(self, theta: float, share: float) -> bool:
+        """Whether P(θ) solved from two different starts agrees to `share` of P_crit (the
+        lower value is kept). Where it does not, P depends on where the inner
+        optimisations stop, and an end found from it would move with any rounding."""
+        theta = float(theta)
+        first = self(theta)
+        starts = self._starts(theta, exclude=theta)
+        if self.keep.size == 0 or len(starts) < 2:
+            return True
+        self.solves += 1
+        p, z, _ = self._solve(theta, starts[-1][0])
+        if p < first:
+            self.solved[theta] = (p, z)
+        return bool(abs(p - first) <= share * self.root**2)
 
     def __call__(self, theta: float) -> float:
         """P(θ): the cost with the parameter held at θ and the others re-optimised."""
@@ -208,15 +234,16 @@ class Walker:
                 return step_limit(self.full(z, theta))[keep]
 
         try:
-            res = levenberg_marquardt(
-                fun, jac, z0, prof.lower[keep], prof.upper[keep], ftol=self.ftol, xtol=1e-9,
-                gtol=1e-9, max_nfev=INNER_EVALUATIONS, step_limit=limit,
+            res = minimise(
+                fun, jac, z0, prof.lower[keep], prof.upper[keep], tol=self.tol,
+                max_nfev=INNER_EVALUATIONS, step_limit=limit,
             )  # fmt: skip
         except (ValueError, np.linalg.LinAlgError, FloatingPointError):
             return np.inf, z0, True
-        # stuck: every step from the start rejected (not stationary there: gtol)
-        stuck = res.status != 1 and np.array_equal(res.x, z0)
-        return cost(res.fun) - self.c0, res.x, stuck
+        p = res.cost - self.c0
+        self.low = min(self.low, p)
+        # stuck: no step accepted from the start
+        return p, res.x, not res.converged and np.array_equal(res.x, z0)
 
 
 def _path(prof: Profiler, x: FloatArray, normal: FloatArray, j: int,
@@ -244,7 +271,7 @@ def interval_end(walk: Walker, side: int, half: float) -> float:
     if theta0 == limit:
         return limit
     tol = END_ACCURACY * half
-    prev, (a, ga) = None, (theta0, -walk.root)
+    prev, (a, ga) = None, (theta0, walk.centre())
     theta = theta0 + side * FIRST_STEP * half
     for _ in range(3 * MAX_DOUBLINGS):
         if (theta - limit) * side >= 0:

@@ -113,7 +113,7 @@ def _start(fun: Callable, jac: Callable, x0: FloatArray, lower: FloatArray,
     if not np.all(np.isfinite(r)):
         raise ValueError("the residual is not finite at the start")
     J = jac(x)
-    A, g, norms = _normal(J, r)
+    A, g, norms = structured_normal(J, r)
     d = np.where(norms == 0, 1.0, norms)
     lam = 1e-3 * float(np.max(np.diag(A) / d**2))
     return _State(x, r, 0.5 * float(r @ r), J, A, g, norms, d, lam)
@@ -166,7 +166,7 @@ def _iterate(
     if small:
         return 3
     state.J = jac(state.x)
-    state.A, state.g, state.norms = _normal(state.J, state.r)
+    state.A, state.g, state.norms = structured_normal(state.J, state.r)
     state.d = np.maximum(state.d, state.norms)
     state.lam *= max(1.0 / 3.0, 1.0 - (2.0 * rho - 1.0) ** 3)
     state.nu = 2.0
@@ -184,7 +184,7 @@ def _damped_step(A: FloatArray, g: FloatArray, d: FloatArray, lam: float, free: 
     return step
 
 
-def _normal(J: Any, r: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
+def structured_normal(J: Any, r: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
     """JᵀJ (dense), Jᵀr and the column norms, for a dense or a CSC Jacobian.
 
     A CSC Jacobian of a pooled fit has full columns (shared parameters) and
@@ -199,7 +199,7 @@ def _normal(J: Any, r: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
     J = J.tocsc()
     n, p = J.shape
     ptr, val = J.indptr, J.data
-    lay = _layout(J)
+    lay = block_layout(J)
     F = np.empty((n, lay.full.shape[0]))
     for c, j in enumerate(lay.full):  # rows of a full column are 0..n−1 in order
         F[:, c] = val[ptr[j] : ptr[j + 1]]
@@ -236,7 +236,7 @@ def _normal(J: Any, r: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
 
 @dataclass(frozen=True)
 class _Layout:
-    """The structure of a pooled CSC Jacobian (`_normal`)."""
+    """The structure of a pooled CSC Jacobian (`structured_normal`)."""
 
     indptr: NDArray[np.int_]
     indices: NDArray[np.int_]
@@ -250,7 +250,7 @@ class _Layout:
 _LAYOUTS: list[_Layout] = []  # the last structure analysed (one)
 
 
-def _layout(J: Any) -> _Layout:
+def block_layout(J: Any) -> _Layout:
     """The analysis of a CSC Jacobian's structure, reused while it stays the same."""
     ptr, idx = J.indptr, J.indices
     for lay in _LAYOUTS:

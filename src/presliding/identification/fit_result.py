@@ -153,8 +153,11 @@ class FitResult(FitReport, LmfitNames):
     interval_method : dict name -> str
         How each free parameter's interval was formed: ``"profile"`` (profile
         likelihood, `presliding.identification._profile`), ``"wald"``
-        (value ± t·SE, on a log scale from a bound it would cross) or
-        ``"union"`` (widened to hold another local optimum, `alternatives`).
+        (value ± t·SE, on a log scale from a bound it would cross; also where
+        the profile was not resolved on the scale of its threshold: the
+        optimum is not a minimum on that scale, or the profile depends on
+        where its inner optimisations stop) or ``"union"`` (widened to hold
+        another local optimum, `alternatives`).
     alternatives : tuple of Alternative
         Other local optima the search reached whose cost rise over the best is
         within the profile's likelihood-ratio threshold while they put a
