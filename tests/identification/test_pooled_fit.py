@@ -10,7 +10,7 @@ from presliding.identification import _pooled_problem as pp
 from presliding.identification._least_squares import _parameter_map
 from presliding.identification._model_spec import ModelSpec, centroid_bank
 from presliding.identification._pooled_record import as_record
-from presliding.identification._structured_lm import _normal
+from presliding.identification._structured_lm import structured_normal
 from tests.helpers import stop_records
 
 MODEL = PIFriction(0.3, [4000.0, 2000.0, 1000.0, 500.0], breakaway=[0.175] * 4)
@@ -76,7 +76,7 @@ def test_structured_jacobian_equals_dense_differences(clean):
         scale = np.linalg.norm(col) + 1e-300
         assert np.linalg.norm(jac[:, j] - col) <= 1e-4 * scale, problem.names[j]
     sparse_jac = problem.free_jacobian(sparse_output=True)(pm, x, lo, hi)
-    a, g, _ = _normal(sparse_jac, np.ones(problem.n_res))
+    a, g, _ = structured_normal(sparse_jac, np.ones(problem.n_res))
     dense = sparse_jac.toarray()
     np.testing.assert_allclose(a, dense.T @ dense, rtol=1e-12, atol=1e-12 * np.abs(a).max())
     np.testing.assert_allclose(g, dense.T @ np.ones(problem.n_res), rtol=1e-12, atol=1e-9)

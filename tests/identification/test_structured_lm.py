@@ -8,7 +8,7 @@ import numpy as np
 from scipy import sparse
 from threadpoolctl import threadpool_info
 
-from presliding.identification._structured_lm import _normal, one_blas_thread
+from presliding.identification._structured_lm import one_blas_thread, structured_normal
 
 
 def _pooled(rng, n_rec=4, rows=30, shared=3, own=2, tie=False):
@@ -27,7 +27,7 @@ def _pooled(rng, n_rec=4, rows=30, shared=3, own=2, tie=False):
 
 
 def _check(jac, dense, r):
-    a, g, norms = _normal(jac, r)
+    a, g, norms = structured_normal(jac, r)
     np.testing.assert_allclose(a, dense.T @ dense, rtol=1e-12, atol=1e-12)
     np.testing.assert_allclose(g, dense.T @ r, rtol=1e-12, atol=1e-12)
     np.testing.assert_allclose(norms, np.linalg.norm(dense, axis=0), rtol=1e-12)
