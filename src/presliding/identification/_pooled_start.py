@@ -64,11 +64,7 @@ def _solve(blocks: list, rhs: list, lower: FloatArray) -> FloatArray | None:
     # its columns' (the solution of unscaled forces·seconds came out otherwise)
     size = float(np.linalg.norm(b)) or 1.0
     with threadpool_limits(limits=1, user_api="blas"):  # a tall, thin problem
-        return (
-            lsq_linear(mat / scale, b / size, bounds=(lower / size, np.inf), method="bvls").x
-            * size
-            / scale
-        )
+        return lsq_linear(mat / scale, b / size, bounds=(lower / size, np.inf)).x * size / scale
 
 
 def pooled_start(
