@@ -180,16 +180,25 @@ def test_an_undetermined_split_of_the_stiffnesses_is_not_converged():
     ≈ 2985/251/236, the fit from the truth at 1508/1508/457 with the same cost to 2e-5),
     and the local intervals of the first miss the truth by 4–7 standard errors. The probe
     along the flattest direction of the split (`_flat_probe`) reaches the other optimum:
-    the fit is not_identifiable by rule optima, and its intervals hold both optima."""
+    the fit is not_identifiable by rule optima, and its intervals hold both optima. A
+    search that ends in the second valley (k2 = k3, the symmetric saddle) finds the pair
+    not separated instead (rule correlation, their intervals unbounded); either way the
+    intervals hold the truth."""
     records, _ = stop_records(12, 6, MODEL, quantum=1e-6, noise=2e-7)
     fit = fit_response(records, signal="both", initial_state="preload")
-    assert fit.status == "not_identifiable" and "rule optima" in fit.message, fit.message
-    assert fit.alternatives and fit.alternatives[0].rise <= 1e-4 * fit.alternatives[0].cost
-    assert {"stiffness_2", "stiffness_3"} <= set(fit.alternatives[0].differs)
+    assert fit.status == "not_identifiable", fit.message
+    if "rule optima" in fit.message:
+        assert fit.alternatives and fit.alternatives[0].rise <= 1e-4 * fit.alternatives[0].cost
+        assert {"stiffness_2", "stiffness_3"} <= set(fit.alternatives[0].differs)
+        for x in ("stiffness_2", "stiffness_3", "stiffness_4"):
+            lo, hi = fit.confidence_interval[x]
+            assert fit.interval_method[x] == "union"
+            assert lo <= fit.parameters[x] <= hi and lo <= fit.alternatives[0].parameters[x] <= hi
+    else:
+        assert "rule correlation" in fit.message and "stiffness_2 ~ stiffness_3" in fit.message
     for x in ("stiffness_2", "stiffness_3", "stiffness_4"):
         lo, hi = fit.confidence_interval[x]
-        assert fit.interval_method[x] == "union"
-        assert lo <= fit.parameters[x] <= hi and lo <= fit.alternatives[0].parameters[x] <= hi
+        assert lo <= SHARED[x] <= hi
     assert sum(fit.parameters[x] for x in SHARED if x.startswith("stiffness")) == pytest.approx(
         sum(v for x, v in SHARED.items() if x.startswith("stiffness")), rel=0.01
     )  # Σ k_j, the initial stiffness after a reversal (eq. 7), is determined all the same

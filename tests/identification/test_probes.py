@@ -54,3 +54,31 @@ def test_a_fit_in_the_valley_of_an_element_that_never_engaged_finds_the_true_one
     assert fit.parameters["coulomb_level"] == pytest.approx(1.0, rel=0.05)
     cost = float(np.sum((fit.fitted - fit.measured) ** 2))
     assert cost < 0.99 * float(np.sum((local.fitted - local.measured) ** 2))
+
+
+def _solution(values, cost, status):
+    from presliding.identification._solution import Solution
+
+    return Solution(dict(values), {}, {}, 0.95, (), (), np.array([np.sqrt(cost)]), status, "", 1)
+
+
+def test_a_capped_probe_below_the_best_is_solved_on_never_kept_on_its_cap():
+    """A light stage's fine encoder: the main solve stops on its step test a little above
+    the optimum that a probe reaches capped in the same basin; the best is then solved on
+    (a status ``max_evaluations`` on a fit at the noise floor otherwise)."""
+    from presliding.identification._probes import solve_probes
+
+    best = _solution({"mass": 1.0}, 1.0, "converged")
+    calls = []
+
+    def solve(begin, max_evaluations=None):
+        calls.append(max_evaluations)
+        if max_evaluations is not None:  # the probe's short solve: capped below the best
+            return _solution({"mass": 1.001}, 0.9999, "max_evaluations")
+        return _solution({"mass": 1.0015}, 0.9998, "converged")
+
+    problem = type("Problem", (), {"shared": ("mass",)})()
+    found, probes = solve_probes(problem, solve, [{"mass": 1.0}], best, budget=40)
+    assert calls == [40, None]
+    assert found.status == "converged" and found.values["mass"] == 1.0015
+    assert [p.status for p in probes] == ["converged"]

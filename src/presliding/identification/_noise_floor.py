@@ -23,14 +23,25 @@ FloatArray = NDArray[np.float64]
 
 #: share of the largest second differences left out of the high-frequency estimate
 TRIM = 0.1
+#: steps below this many units of rounding of the signal's magnitude are round-off
+ROUNDING = 64 * np.finfo(float).eps
 #: a floor never below this share of the signal's RMS (noise-free data, round-off)
 RELATIVE_FLOOR = 1e-9
 
 
 def quantum(x: FloatArray) -> float:
-    """The quantum of a quantised signal (0 when it is not quantised)."""
+    """The quantum of a quantised signal (0 when it is not quantised).
+
+    Steps at the rounding level of the signal's magnitude are no quanta: the difference
+    quotient of a quantised position (a drive's velocity) has steps of q/(2·Δt) and,
+    where the position stands still between two moving neighbours, steps of a few
+    ulps; taken as the quantum, those made the floor of a record mostly at rest (a
+    stiff stage ringing down) a thousandth of its noise.
+    """
+    x = np.asarray(x, dtype=float)
     steps = np.abs(np.diff(x))
-    steps = steps[steps > 0]
+    rounding = ROUNDING * float(np.max(np.abs(x), initial=0.0))
+    steps = steps[steps > rounding]
     if steps.size < 3:
         return 0.0
     q = float(np.min(steps))

@@ -59,8 +59,12 @@ def _solve(blocks: list, rhs: list, lower: FloatArray) -> FloatArray | None:
         return None
     scale = np.linalg.norm(mat, axis=0)
     scale[scale == 0] = 1.0
+    # the right-hand side scaled too: the solver's start, trust region and stopping
+    # tests are then the same in any consistent units (mm and ms, g, ...), not only
+    # its columns' (the solution of unscaled forces·seconds came out otherwise)
+    size = float(np.linalg.norm(b)) or 1.0
     with threadpool_limits(limits=1, user_api="blas"):  # a tall, thin problem
-        return lsq_linear(mat / scale, b, bounds=(lower, np.inf)).x / scale
+        return lsq_linear(mat / scale, b / size, bounds=(lower / size, np.inf)).x * size / scale
 
 
 def pooled_start(

@@ -26,7 +26,11 @@ The moves (elements of equal break-away force, stiffnesses ``k_names``):
 within `REFINE_WITHIN` of the best's cost in another basin is solved on to
 its own optimum (`other_valley`, the move of the quasi-static starts too);
 a probe that only moves the split, close to the best already, is solved on
-only when its short solve already went below the best (``within=1``).
+only when its short solve already went below the best (``within=1``). A
+probe whose capped solve ended below the best in the same basin is solved on
+too: the best is never a solve stopped on its cap (with a light stage's fine
+encoder the main solve can stop on its step test a few 1e-4 of the cost above
+the optimum that a probe then reaches, capped, in the same basin).
 """
 
 from __future__ import annotations
@@ -122,6 +126,8 @@ def solve_probes(
         t = solve(begin) if budget is None else solve(begin, max_evaluations=budget)
         if budget is not None:
             t = other_valley(problem, solve, t, best, within)
+            if t.status == "max_evaluations" and cost(t) < cost(best) * (1.0 - TIE):
+                t = solve(t.values)  # a capped probe below the best: solved on to its optimum
         probes.append(t)
         if cost(t) < cost(best) * (1.0 - TIE):
             best = t

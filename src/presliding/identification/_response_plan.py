@@ -36,6 +36,7 @@ the options. `response_plan` gives the fit's own steps:
 from __future__ import annotations
 
 from collections.abc import Callable, Iterator
+from contextlib import nullcontext
 from dataclasses import dataclass, replace
 from functools import partial
 from typing import Any
@@ -73,6 +74,7 @@ from presliding.identification._search import (
     SAME_OPTIMUM,
     adaptive_search,
     cost,
+    exact_velocity_stands_in,
     global_start,
     same_point,
 )
@@ -174,7 +176,8 @@ def _search(req: ResponseRequest, flags: _Flags, run: FitRun) -> Found:
 
     run.stage("search: the regression start, then the records that do not fit")
     polish = bool(rec.w_v and any(r.difference for r in rec.records))
-    with rec.exact_velocity_compared():  # no errors for an optimum polished next
+    polish = polish and exact_velocity_stands_in(rec, start)
+    with rec.exact_velocity_compared() if polish else nullcontext():  # no errors if polished
         sol, n_starts, at_best, count = adaptive_search(rec, run.solve, start, more_starts,
                                                         p.fixed, p.bounds, flags.short,
                                                         errors=not polish)  # fmt: skip

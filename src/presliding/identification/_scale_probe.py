@@ -114,6 +114,8 @@ def _step(
     t = other_valley(problem, solve, t, best, within=1.0)
     if t.status == "failed" or not cost(t) < cost(best):
         return t, spent
+    if t.status == "max_evaluations":  # below the best: solved on, never kept on its cap
+        t = solve(t.values)
     again, c, ev = search_nuisance(problem, t.values, fixed, bounds)
     spent += ev
     if c < cost(t) * (1.0 - SAME_OPTIMUM):
