@@ -41,7 +41,8 @@ from presliding.identification._structured_lm import (
 FloatArray = NDArray[np.float64]
 
 #: preload fractions of the grid (both ends: saturated in either direction), symmetric to
-#: the last bit so that a record and its mirror image see mirrored candidates
+#: the last bit so that a record and its mirror image see mirrored candidates (the zero
+#: takes the sign of the record's first motion: +0 and −0 step apart in a forward difference)
 FRACTIONS = np.concatenate((-np.linspace(0.0, 1.0, 6)[:0:-1], np.linspace(0.0, 1.0, 6)))
 #: candidates of each record polished (the best ranks of the grid)
 POLISHED = 3
@@ -92,8 +93,8 @@ def _candidates(problem: PooledProblem, values: Mapping[str, float],
             for i, rec in enumerate(problem.records):
                 if frac is not None:
                     name = problem.nuisance("preload_fraction", i)
-                    if name in free:
-                        cand[problem.index[name]] = frac
+                    if name in free:  # zero signed as the record's motion: mirrored steps
+                        cand[problem.index[name]] = frac or np.copysign(0.0, rec.direction)
                 if "initial_velocity" in kinds:
                     name = problem.nuisance("initial_velocity", i)
                     if name in free:
