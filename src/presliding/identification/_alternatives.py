@@ -35,6 +35,7 @@ from typing import Any
 
 import numpy as np
 
+from presliding.identification._normal_equations import profile_thresholds
 from presliding.identification._solution import Solution, name_list
 
 __all__ = ["RESOLUTION", "Alternative", "canonical", "hidden_optima"]
@@ -77,22 +78,6 @@ def canonical(values: Mapping[str, float], best: Mapping[str, float],
     return out
 
 
-def _thresholds(sol: Solution) -> dict[str, float]:
-    """The profile's threshold P_j = (t·SE_j)²/h_jj of each free parameter (module notes)."""
-    from presliding.identification._normal_equations import inverse_normal
-
-    prof = sol.profiler
-    x = np.array([sol.values[n] for n in prof.free], dtype=float)
-    jac = prof.jacobian(x)
-    hinv = inverse_normal(jac)
-    out = {}
-    for j, name in enumerate(prof.free):
-        se = float(sol.standard_error.get(name, np.inf))
-        if np.isfinite(se) and se > 0 and hinv[j, j] > 0:
-            out[name] = (prof.quantile * se) ** 2 / float(hinv[j, j])
-    return out
-
-
 def _cost_now(sol: Solution, values: Mapping[str, float]) -> float:
     """‖r‖² of `values` under `sol`'s own objective (its profiler's residual). An optimum
     reached under another comparison (the search compares the exact simulated velocity,
@@ -113,7 +98,7 @@ def hidden_optima(sol: Solution) -> tuple[Solution, tuple[Alternative, ...]]:
     if not sol.others or sol.profiler is None or sol.status == "failed":
         return sol, ()
     c0 = float(sol.residual @ sol.residual)
-    thresholds = _thresholds(sol)
+    thresholds = profile_thresholds(sol)
     ci, methods = dict(sol.confidence_interval), dict(sol.interval_method)
     found = []
     for values, _ in sol.others:

@@ -12,6 +12,10 @@ The inverse is a pseudo-inverse of A scaled to a unit diagonal
 (a mass in kg, stiffnesses in N/m, initial positions in m), and an undetermined
 direction shows as a small eigenvalue of the scaled matrix, cut at a relative
 1e-12, not as a column scale.
+
+`profile_thresholds` gives each free parameter's profile threshold
+P_j = (t·SE_j)²/h_jj (`_profile`), the cost rise within which another point
+is as good as the optimum for that parameter (the split check, second optima).
 """
 
 from __future__ import annotations
@@ -22,7 +26,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy import sparse
 
-__all__ = ["inverse_normal", "normal_matrix", "scaled_pinv"]
+__all__ = ["inverse_normal", "normal_matrix", "profile_thresholds", "scaled_pinv"]
 
 FloatArray = NDArray[np.float64]
 
@@ -43,3 +47,21 @@ def scaled_pinv(a: FloatArray) -> FloatArray:
 def inverse_normal(jac: Any) -> FloatArray:
     """(JᵀJ)⁻¹ by the scaled pseudo-inverse (dense p × p)."""
     return scaled_pinv(normal_matrix(jac))
+
+
+def profile_thresholds(sol: Any) -> dict[str, float]:
+    """The profile's threshold P_j = (t·SE_j)²/h_jj of each free parameter of a solution
+    (`_least_squares.Solution` with its profiler), from the Jacobian at its values; only
+    parameters with a finite, positive error (empty when JᵀJ is not finite)."""
+    prof = sol.profiler
+    x = np.array([sol.values[n] for n in prof.free], dtype=float)
+    normal = normal_matrix(prof.jacobian(x))
+    if not np.all(np.isfinite(normal)):
+        return {}
+    hinv = scaled_pinv(normal)
+    out = {}
+    for j, name in enumerate(prof.free):
+        se = float(sol.standard_error.get(name, np.inf))
+        if np.isfinite(se) and se > 0 and hinv[j, j] > 0:
+            out[name] = (prof.quantile * se) ** 2 / float(hinv[j, j])
+    return out

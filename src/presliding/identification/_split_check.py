@@ -44,7 +44,7 @@ from dataclasses import replace
 import numpy as np
 
 from presliding.identification._deferred import complete
-from presliding.identification._normal_equations import normal_matrix, scaled_pinv
+from presliding.identification._normal_equations import profile_thresholds
 from presliding.identification._search import cost
 from presliding.identification._solution import Solution
 
@@ -53,23 +53,6 @@ __all__ = ["BUDGET", "undetermined_split"]
 #: Evaluations of the refit at the merged point of a pair.
 BUDGET = 20
 _OPTIMUM = ("converged", "not_identifiable", "at_bound")
-
-
-def _thresholds(sol: Solution) -> dict[str, float]:
-    """The profile's threshold P_j = (t·SE_j)²/h_jj of each free parameter (module notes)."""
-    prof = sol.profiler
-    x = np.array([sol.values[n] for n in prof.free], dtype=float)
-    jac = prof.jacobian(x)
-    normal = normal_matrix(jac)
-    if not np.all(np.isfinite(normal)):
-        return {}
-    hinv = scaled_pinv(normal)
-    out = {}
-    for j, name in enumerate(prof.free):
-        se = float(sol.standard_error.get(name, np.inf))
-        if np.isfinite(se) and se > 0 and hinv[j, j] > 0:
-            out[name] = (prof.quantile * se) ** 2 / float(hinv[j, j])
-    return out
 
 
 def undetermined_split(
@@ -84,7 +67,7 @@ def undetermined_split(
     free = [x for x in k_names if x in sol.free and sol.values[x] > 0]
     if len(free) < 2 or not np.isfinite(cost(sol)):
         return sol
-    limits = _thresholds(sol)
+    limits = profile_thresholds(sol)
     c0 = cost(sol)
     ranked = sorted(free, key=lambda x: -sol.values[x])
     found = []
