@@ -50,8 +50,9 @@ __all__ = ["FINEST", "JUDGE", "ROUNDS", "SCALES", "scale_probe", "scaled", "scal
 
 #: factors of one step along the scale, up first then down (symmetric in log)
 SCALES = (1.25, 0.8)
-#: rounds of steps along the scale at most
-ROUNDS = 6
+#: rounds of steps along the scale at most (a move that lowers the cost is a round: the
+#: staircase can take several to its foot; the halvings end at `FINEST`, two at most)
+ROUNDS = 12
 #: the finest step: a step that overshot is halved (in log) while above this factor
 FINEST = 1.05
 #: evaluations after which a step's short solve is judged: one still above `REFINE_WITHIN`
