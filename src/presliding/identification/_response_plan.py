@@ -25,9 +25,8 @@ the options. `response_plan` gives the fit's own steps:
   The probes' solves defer their covariance (`_deferred`); the best one's is
   computed once, before the flat-direction probe, which needs its normal matrix;
 * checks: the rigid corner and coalesced elements, the start from rest of a
-  single record, interchangeable elements relabelled (`_response_checks`), a
-  split of neighbouring elements the records do not determine (`_split_check`),
-  the rigid limit of the smallest-threshold element (`_response_checks`);
+  single record, interchangeable elements relabelled, the rigid limit of the
+  smallest-threshold element (`_response_checks`);
 * refit: with ``prune=True``, the fit again without the elements that never
   slide;
 * result: the model, derived values, notes and predictor
@@ -79,7 +78,6 @@ from presliding.identification._search import (
     global_start,
     same_point,
 )
-from presliding.identification._split_check import undetermined_split
 from presliding.identification._structured_lm import on_one_blas_thread
 from presliding.measurement.measurement import common_axis
 
@@ -152,7 +150,7 @@ def response_plan(req: ResponseRequest, problem: FitProblem, options: FitOptions
     return FitPlan(
         search=partial(_search, req, flags),
         checks=(partial(_corner_checks, req, flags), partial(_relabel, req),
-                partial(_plateau, flags), partial(_rigid_limit, flags)),
+                partial(_rigid_limit, flags)),
         refit=partial(_prune, req, refit_with), result=partial(_result, req),
         bootstrap=req.bootstrap, seed=req.seed,
     )  # fmt: skip
@@ -259,16 +257,6 @@ def _relabel(req: ResponseRequest, run: FitRun, sol: Solution) -> Solution:
     if spec.density is None and not spec.equal and not labelled and sol.status != "failed":
         return smallest_threshold_first(sol, spec.k_names, spec.c_names)
     return sol
-
-
-def _plateau(flags: _Flags, run: FitRun, sol: Solution) -> Solution:
-    """A split of neighbouring elements the records do not determine (`_split_check`): a
-    stop that never makes two elements slide sees only their sum."""
-    if not (flags.search and flags.discrete_equal):
-        return sol
-    run.stage("check: splits of neighbouring elements the records do not determine")
-    k_names = run.problem.spec.k_names
-    return undetermined_split(sol, partial(run.solve, errors=False), k_names)
 
 
 def _rigid_limit(flags: _Flags, run: FitRun, sol: Solution) -> Solution:

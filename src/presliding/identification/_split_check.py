@@ -1,5 +1,5 @@
 """The element split the records do not determine: a check of the fits with elements of
-equal break-away force (`fit_quasi_static`, `fit_response`).
+equal break-away force (`fit_quasi_static`).
 
 Why. With equal break-away forces c_j = (F_c − c1)/N the elements differ only in
 their thresholds r_j = c_j/k_j (eq. 6), and an element shows its own stiffness
