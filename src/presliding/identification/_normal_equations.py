@@ -26,7 +26,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy import sparse
 
-__all__ = ["inverse_normal", "normal_matrix", "profile_thresholds", "scaled_pinv"]
+__all__ = ["inverse_normal", "normal_matrix", "profile_thresholds", "scaled_pinv", "thresholds"]
 
 FloatArray = NDArray[np.float64]
 
@@ -49,6 +49,16 @@ def inverse_normal(jac: Any) -> FloatArray:
     return scaled_pinv(normal_matrix(jac))
 
 
+def thresholds(hinv: FloatArray, standard_error: FloatArray, quantile: float) -> FloatArray:
+    """P_j = (t·SE_j)²/h_jj for each parameter (h = (JᵀJ)⁻¹, t the `quantile`); NaN where the
+    error is not finite and positive or h_jj is not positive."""
+    diag = np.diag(hinv)
+    usable = np.isfinite(standard_error) & (standard_error > 0) & (diag > 0)
+    out = np.full(diag.shape[0], np.nan)
+    out[usable] = (quantile * standard_error[usable]) ** 2 / diag[usable]
+    return out
+
+
 def profile_thresholds(sol: Any) -> dict[str, float]:
     """The profile's threshold P_j = (t·SE_j)²/h_jj of each free parameter of a solution
     (`_least_squares.Solution` with its profiler), from the Jacobian at its values; only
@@ -58,10 +68,6 @@ def profile_thresholds(sol: Any) -> dict[str, float]:
     normal = normal_matrix(prof.jacobian(x))
     if not np.all(np.isfinite(normal)):
         return {}
-    hinv = scaled_pinv(normal)
-    out = {}
-    for j, name in enumerate(prof.free):
-        se = float(sol.standard_error.get(name, np.inf))
-        if np.isfinite(se) and se > 0 and hinv[j, j] > 0:
-            out[name] = (prof.quantile * se) ** 2 / float(hinv[j, j])
-    return out
+    ses = np.array([sol.standard_error.get(n, np.inf) for n in prof.free], dtype=float)
+    crits = thresholds(scaled_pinv(normal), ses, prof.quantile)
+    return {n: float(c) for n, c in zip(prof.free, crits, strict=True) if np.isfinite(c)}

@@ -51,8 +51,8 @@ from typing import Any
 
 import numpy as np
 
-from presliding.identification._normal_equations import normal_matrix, scaled_pinv
-from presliding.identification._profile_inner import minimise
+from presliding.identification._normal_equations import normal_matrix, scaled_pinv, thresholds
+from presliding.identification._profile_inner import cost, minimise
 from presliding.identification._profile_walk import (
     FIRST_STEP,
     INNER_EVALUATIONS,
@@ -60,7 +60,6 @@ from presliding.identification._profile_walk import (
     FloatArray,
     Profiler,
     Walker,
-    cost,
     interval_end,
 )
 from presliding.identification._structured_lm import on_one_blas_thread
@@ -137,9 +136,8 @@ def profile_solution(sol: Any, which: str | Sequence[str] = "auto", budget: int 
     hinv = scaled_pinv(normal)
     q = prof.quantile
     ses = np.array([sol.standard_error.get(n, np.inf) for n in prof.free], dtype=float)
-    diag = np.diag(hinv)
-    usable = np.isfinite(ses) & (ses > 0) & (diag > 0)
-    crits = (q * ses[usable]) ** 2 / diag[usable]
+    crits = thresholds(hinv, ses, q)
+    crits = crits[np.isfinite(crits)]
     drop = _settled(prof, x, c0, SETTLE * INNER_SHARE * float(np.min(crits))) if crits.size else 0.0
     ci = dict(sol.confidence_interval)
     spent = 1 if drop > 0 else 0

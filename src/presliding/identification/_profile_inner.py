@@ -39,7 +39,7 @@ from presliding.identification._structured_lm import block_layout, structured_no
 
 FloatArray = NDArray[np.float64]
 
-__all__ = ["Inner", "minimise"]
+__all__ = ["Inner", "cost", "minimise"]
 
 
 @dataclass
@@ -76,7 +76,8 @@ def _step(A: FloatArray, g: FloatArray, d2: FloatArray, lam: float, free: Any) -
     return out
 
 
-def _cost(r: FloatArray) -> float:
+def cost(r: FloatArray) -> float:
+    """r·r, inf where the model fails (a residual not finite)."""
     return float(r @ r) if np.all(np.isfinite(r)) else np.inf
 
 
@@ -88,7 +89,7 @@ def minimise(
     """Minimise r·r within the box from `x0` (module notes); `tol` is absolute in r·r."""
     x = np.clip(x0, lower, upper)
     r = fun(x)
-    c = _cost(r)
+    c = cost(r)
     if not np.isfinite(c):
         return Inner(x, np.inf, 1, False)
     it = _Iterate(jac, x, r)
@@ -124,7 +125,7 @@ def minimise(
         predicted = -float(2.0 * g @ step + step @ A @ step)
         rn_new = fun(xn)
         nfev += 1
-        cn = _cost(rn_new)
+        cn = cost(rn_new)
         rho = (c - cn) / predicted if predicted > 0 else -1.0
         if rho > 0 and cn < c:
             x, r, c = xn, rn_new, cn
@@ -208,4 +209,4 @@ def _record_steps(
             lam_b[b] *= 4.0
     if not accepted:
         return x, r, c, nfev, False
-    return out_x, out_r, _cost(out_r), nfev, True
+    return out_x, out_r, cost(out_r), nfev, True

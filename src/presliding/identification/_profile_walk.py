@@ -44,11 +44,11 @@ from numpy.typing import NDArray
 from scipy import sparse
 
 from presliding.identification._normal_equations import scaled_pinv
-from presliding.identification._profile_inner import minimise
+from presliding.identification._profile_inner import cost, minimise
 
 FloatArray = NDArray[np.float64]
 
-__all__ = ["Profiler", "Walker", "cost", "interval_end"]
+__all__ = ["Profiler", "Walker", "interval_end"]
 
 #: Doublings of the Wald half width tried before an end is called unbounded.
 MAX_DOUBLINGS = 8
@@ -101,11 +101,6 @@ class Profiler:
             b[j] = max(x[j] - h, self.lower[j])
             out[:, j] = (self.fun(a) - self.fun(b)) / (a[j] - b[j])
         return out
-
-
-def cost(r: FloatArray) -> float:
-    """r·r, inf where the model fails (a residual not finite)."""
-    return float(r @ r) if np.all(np.isfinite(r)) else np.inf
 
 
 class Walker:
