@@ -52,6 +52,7 @@ from typing import Any
 import numpy as np
 
 from presliding.identification._normal_equations import normal_matrix, scaled_pinv, thresholds
+from presliding.identification._profile_bound import flat_on_bound, partner_intervals, widen
 from presliding.identification._profile_inner import cost, minimise
 from presliding.identification._profile_walk import (
     FIRST_STEP,
@@ -136,21 +137,39 @@ def profile_solution(sol: Any, which: str | Sequence[str] = "auto", budget: int 
     hinv = scaled_pinv(normal)
     q = prof.quantile
     ses = np.array([sol.standard_error.get(n, np.inf) for n in prof.free], dtype=float)
-    crits = thresholds(hinv, ses, q)
-    crits = crits[np.isfinite(crits)]
+    limits = thresholds(hinv, ses, q)
+    crits = limits[np.isfinite(limits)]
     drop = _settled(prof, x, c0, SETTLE * INNER_SHARE * float(np.min(crits))) if crits.size else 0.0
     ci = dict(sol.confidence_interval)
     spent = 1 if drop > 0 else 0
+    se = dict(sol.standard_error)
+    done: set[int] = set()
+    for p in flat_on_bound(prof, x, ses):  # a column that vanishes on its bound (module notes)
+        if spent >= budget or not np.isfinite(limits[p]) or drop > SETTLE * limits[p]:
+            continue
+        if which not in ("auto", "all") and prof.free[p] not in which:
+            continue
+        walk = Walker(prof, x, c0, normal, p, float(limits[p]), -drop)
+        ci[prof.free[p]], ranges = partner_intervals(walk)
+        methods[prof.free[p]] = "profile"
+        done.add(p)
+        spent += walk.solves
+        for i, rng in ranges.items():
+            if widen(sol.values[prof.free[i]], prof.free[i], rng, ci, se, q):
+                methods[prof.free[i]] = "partner"
+                done.add(i)
     order = sorted(
         range(len(prof.free)),
         key=lambda i: (_per_record(prof.free[i]), not _at_bound(prof, x, i, ci[prof.free[i]])),
     )
     for j in order:
         name = prof.free[j]
-        se = float(sol.standard_error.get(name, np.inf))
-        if not (np.isfinite(se) and se > 0 and hinv[j, j] > 0):
+        if j in done:
             continue
-        half = q * se
+        se_j = float(sol.standard_error.get(name, np.inf))
+        if not (np.isfinite(se_j) and se_j > 0 and hinv[j, j] > 0):
+            continue
+        half = q * se_j
         if half <= 1e-9 * abs(x[j]):  # noise-free data: the Wald interval is a point
             continue
         if half > HOPELESS * abs(x[j]):  # undetermined already: its Wald interval stays
@@ -177,7 +196,24 @@ def profile_solution(sol: Any, which: str | Sequence[str] = "auto", budget: int 
         if ends is None:  # the inner optimisations do not resolve P here: stop profiling
             break
     ci.update(_tied_intervals(sol, ci))
+    if done:
+        return replace(sol, confidence_interval=ci, interval_method=methods,
+                       standard_error=se, covariance=_rescaled(sol, se))  # fmt: skip
     return replace(sol, confidence_interval=ci, interval_method=methods)
+
+
+def _rescaled(sol: Any, se: dict) -> Any:
+    """The covariance with the rows and columns of the parameters whose error was raised
+    (`_profile_bound.widen`) scaled by the ratio of the errors: their correlations kept."""
+    cov = sol.covariance
+    if cov is None:
+        return None
+    scale = np.ones(cov.shape[0])
+    for i, name in enumerate(sol.values):
+        old = float(sol.standard_error.get(name, np.nan))
+        if np.isfinite(old) and old > 0 and np.isfinite(se.get(name, np.nan)):
+            scale[i] = se[name] / old
+    return cov * np.outer(scale, scale)
 
 
 def _settled(prof: Profiler, x: FloatArray, c0: float, tol: float) -> float:
