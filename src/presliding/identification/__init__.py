@@ -6,6 +6,7 @@ _status.py          the one status judge of every fit (its rules tabled), exit c
 _profile.py         profile-likelihood intervals on the least-squares core
 _profile_walk.py    the walk to one end of a profile interval (continuation, regula falsi)
 _profile_inner.py   a profile point's inner optimisation (LM with per-record steps)
+_profile_bound.py   a column vanishing on its bound: profiled inward, its partners' ranges
 _normal_equations.py  JᵀJ and its scaled pseudo-inverse (profile, probes, alternatives)
 _alternatives.py    other local optima within the profile's threshold: widened intervals
 _parameters.py      initial, bounds, fixed, tied and lmfit.Parameters, checked together

@@ -31,6 +31,15 @@ inside the bounds is solved from two starts; where they differ by more than
 `SETTLE`·P_crit the profile is not resolved, the parameter keeps its Wald interval and no
 further parameter is profiled (the same inner optimisations would decide them).
 
+A parameter whose column vanishes on its bound (a preload fraction saturated in the
+direction of the record's first motion: its Wald interval spans [−1, 1]) is profiled first,
+inward from the bound (`_profile_bound`): its interval is [end, bound], and every other
+parameter's interval is widened to the values it takes along that walk within the threshold
+(``interval_method`` "partner", its standard error raised to match). Their Wald intervals,
+read where the Jacobian does not see the partner move, are far too short, and so would be
+their own profiles: with a zero column and gradient the inner optimisations never move the
+partner off the bound. Those parameters are not profiled again.
+
 `profile_solution` chooses the parameters ("auto"): every free parameter
 whose Wald interval reaches a bound or is wide (half width above a quarter of
 the value) is profiled. For the others the cost along the linearised path is
@@ -52,7 +61,12 @@ from typing import Any
 import numpy as np
 
 from presliding.identification._normal_equations import normal_matrix, scaled_pinv, thresholds
-from presliding.identification._profile_bound import flat_on_bound, partner_intervals, widen
+from presliding.identification._profile_bound import (
+    flat_on_bound,
+    partner_intervals,
+    walk_threshold,
+    widen,
+)
 from presliding.identification._profile_inner import cost, minimise
 from presliding.identification._profile_walk import (
     FIRST_STEP,
@@ -122,7 +136,7 @@ def profile_solution(sol: Any, which: str | Sequence[str] = "auto", budget: int 
 
     `which` is "auto" (module notes), "all", or the names to profile. The
     intervals of tied parameters follow their target's. `interval_method` names
-    each free parameter's method ("profile" or "wald").
+    each free parameter's method ("profile", "partner" or "wald").
     """
     prof: Profiler | None = sol.profiler
     methods = dict.fromkeys(sol.free, "wald")
@@ -145,11 +159,12 @@ def profile_solution(sol: Any, which: str | Sequence[str] = "auto", budget: int 
     se = dict(sol.standard_error)
     done: set[int] = set()
     for p in flat_on_bound(prof, x, ses):  # a column that vanishes on its bound (module notes)
-        if spent >= budget or not np.isfinite(limits[p]) or drop > SETTLE * limits[p]:
+        crit = walk_threshold(limits, p)
+        if spent >= budget or not np.isfinite(crit) or drop > SETTLE * crit:
             continue
         if which not in ("auto", "all") and prof.free[p] not in which:
             continue
-        walk = Walker(prof, x, c0, normal, p, float(limits[p]), -drop)
+        walk = Walker(prof, x, c0, normal, p, crit, -drop)
         ci[prof.free[p]], ranges = partner_intervals(walk)
         methods[prof.free[p]] = "profile"
         done.add(p)

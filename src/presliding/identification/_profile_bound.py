@@ -11,22 +11,25 @@ stops study an initial velocity sat 28 standard errors (of 1.3e-5 m/s) from the 
 holding it at the truth and re-optimising moves the preload inward to 0.66 and raises the
 cost by a few profile thresholds only.
 
-Such a parameter p (free, on a finite bound, its Wald half width t·SE_p at least its range:
-`flat_on_bound`) is profiled inward from the bound: the walk of `_profile_walk`
-(continuation from the bound, secant steps, regula falsi), with steps in units of its range
-(`STEP`) instead of its Wald half width, to where P(p) = χ²(p) − χ²_min reaches its threshold
-P_p = t²·SE_p²/h_pp (the HAC scaling of the rows it acts on: a ratio of two variances that
-the vanishing column scales alike, so it stays defined). Its interval is [end, bound]
-("profile").
+Such a parameter p (free, on a finite bound, its Wald half width t·SE_p at least its range,
+or its error infinite: `flat_on_bound`) is profiled inward from the bound: the walk of
+`_profile_walk` (continuation from the bound, secant steps, regula falsi), with steps in
+units of its range (`STEP`) instead of its Wald half width, to where P(p) = χ²(p) − χ²_min
+reaches the threshold of `walk_threshold`: the largest of the other free parameters'
+P_j = t²·SE_j²/h_jj (the largest HAC inflation of the fit; t²·s² for independent
+residuals). Its own is a ratio of two variances that the vanishing column sends to
+infinity, each cut by a different rank tolerance: any number. Its interval is
+[end, bound] ("profile").
 
-Every point solved on the way, with P ≤ P_p, holds the re-optimised values of all the other
-parameters: a point of the confidence region at that level. Each other parameter θ_j gets
-the hull of its Wald interval and the values it takes at those points (the last one
-interpolated at the end): the range the data allow it while p moves over its interval
-(``interval_method`` "partner", where that widens it). Its standard error becomes the larger
-of its own and the half width of that interval over t, its covariance row scaled alike (a
-Wald error read at the bound says nothing of the partner's move). The interval's far end is
-a lower bound on its own profile end at P_p, and never shorter than Wald.
+Every point solved on the way with P within that threshold holds the re-optimised values
+of all the other parameters: a point of the confidence region at that level. Each other
+parameter θ_j gets the hull of its Wald interval and the values it takes at those points
+(the last one interpolated at the end): the range the data allow it while p moves over its
+interval (``interval_method`` "partner", where that widens it). Its standard error becomes
+the larger of its own and the new interval's width over 2·t, its covariance row and column
+scaled alike (a Wald error read at the bound says nothing of the partner's move). Those
+values lie inside θ_j's own profile interval at that threshold (P_j(θ_j) ≤ P(p) there), so
+the interval is never longer than that profile's, and never shorter than Wald.
 """
 
 from __future__ import annotations
@@ -40,7 +43,7 @@ from presliding.identification._profile_walk import (
     interval_end,
 )
 
-__all__ = ["STEP", "flat_on_bound", "partner_intervals"]
+__all__ = ["STEP", "flat_on_bound", "partner_intervals", "walk_threshold", "widen"]
 
 #: The walk's unit step (its "half width"), as a share of the parameter's range: the first
 #: point is half of it inward from the bound, later steps no longer than the distance walked.
@@ -49,15 +52,23 @@ STEP = 0.125
 
 def flat_on_bound(prof: Profiler, x: FloatArray, ses: FloatArray) -> list[int]:
     """The free parameters on a finite bound whose Wald half width t·SE spans their range (a
-    column that vanishes there), with a finite error (module notes)."""
+    column that vanishes there; an infinite error where it is exactly zero)."""
     lo, hi = prof.lower, prof.upper
     out = []
     for i in range(x.shape[0]):
-        if not (np.isfinite(lo[i]) and np.isfinite(hi[i]) and np.isfinite(ses[i])):
+        if not (np.isfinite(lo[i]) and np.isfinite(hi[i])):
             continue
         if x[i] in (lo[i], hi[i]) and prof.quantile * ses[i] >= hi[i] - lo[i]:
             out.append(i)
     return out
+
+
+def walk_threshold(limits: FloatArray, p: int) -> float:
+    """The walk's threshold (module notes): the largest finite threshold of the free parameters
+    other than `p`; NaN where there is none."""
+    others = np.delete(limits, p)
+    others = others[np.isfinite(others) & (others > 0)]
+    return float(np.max(others)) if others.size else float("nan")
 
 
 def partner_intervals(walk: Walker) -> tuple[tuple[float, float], dict[int, tuple[float, float]]]:

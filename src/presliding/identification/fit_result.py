@@ -156,8 +156,12 @@ class FitResult(FitReport, LmfitNames):
         (value ± t·SE, on a log scale from a bound it would cross; also where
         the profile was not resolved on the scale of its threshold: the
         optimum is not a minimum on that scale, or the profile depends on
-        where its inner optimisations stop) or ``"union"`` (widened to hold
-        another local optimum, `alternatives`).
+        where its inner optimisations stop), ``"partner"`` (widened to the
+        values it takes along the profile of a parameter whose column vanishes
+        on its bound, such as a preload saturated in the motion's direction,
+        `presliding.identification._profile_bound`; its standard error raised
+        to match) or ``"union"`` (widened to hold another local optimum,
+        `alternatives`).
     alternatives : tuple of Alternative
         Other local optima the search reached whose cost rise over the best is
         within the profile's likelihood-ratio threshold while they put a
