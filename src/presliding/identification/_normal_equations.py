@@ -16,6 +16,13 @@ direction shows as a small eigenvalue of the scaled matrix, cut at a relative
 `profile_thresholds` gives each free parameter's profile threshold
 P_j = (t·SE_j)²/h_jj (`_profile`), the cost rise within which another point
 is as good as the optimum for that parameter (the split check, second optima).
+
+A parameter on a bound whose column vanishes there (`flat_on_bound`: a preload saturated
+in the direction of the motion) has no such threshold: SE_p and h_pp both go to infinity,
+each cut by a different rank tolerance. It and the parameters whose intervals its profile
+widened (``interval_method`` "partner", `_profile_bound`) take the level of that profile,
+`carried_threshold`: the largest P_j of the others, h computed without the flat columns
+(a column small but not zero would enter h through the pseudo-inverse's scaling).
 """
 
 from __future__ import annotations
@@ -26,7 +33,15 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy import sparse
 
-__all__ = ["inverse_normal", "normal_matrix", "profile_thresholds", "scaled_pinv", "thresholds"]
+__all__ = [
+    "carried_threshold",
+    "flat_on_bound",
+    "inverse_normal",
+    "normal_matrix",
+    "profile_thresholds",
+    "scaled_pinv",
+    "thresholds",
+]
 
 FloatArray = NDArray[np.float64]
 
@@ -59,15 +74,50 @@ def thresholds(hinv: FloatArray, standard_error: FloatArray, quantile: float) ->
     return out
 
 
+def flat_on_bound(lower: FloatArray, upper: FloatArray, x: FloatArray, standard_error: FloatArray,
+                  quantile: float) -> list[int]:  # fmt: skip
+    """The free parameters on a finite bound whose Wald half width t·SE spans their range: a
+    column that vanishes there (an infinite error where it is exactly zero)."""
+    out = []
+    for i in range(x.shape[0]):
+        lo, hi = lower[i], upper[i]
+        on = np.isfinite(lo) and np.isfinite(hi) and x[i] in (lo, hi)
+        if on and not quantile * standard_error[i] < hi - lo:  # an infinite error too
+            out.append(i)
+    return out
+
+
+def carried_threshold(normal: FloatArray, standard_error: FloatArray, quantile: float,
+                      exclude: list[int]) -> float:  # fmt: skip
+    """The largest finite P_j of the free parameters not in `exclude`, h the inverse of JᵀJ
+    without them (module notes); NaN where there is none."""
+    keep = np.array([i for i in range(normal.shape[0]) if i not in exclude], dtype=int)
+    if keep.size == 0:
+        return float("nan")
+    limits = thresholds(scaled_pinv(normal[np.ix_(keep, keep)]), standard_error[keep], quantile)
+    limits = limits[np.isfinite(limits) & (limits > 0)]
+    return float(np.max(limits)) if limits.size else float("nan")
+
+
 def profile_thresholds(sol: Any) -> dict[str, float]:
     """The profile's threshold P_j = (t·SE_j)²/h_jj of each free parameter of a solution
-    (`_least_squares.Solution` with its profiler), from the Jacobian at its values; only
-    parameters with a finite, positive error (empty when JᵀJ is not finite)."""
+    (`_least_squares.Solution` with its profiler), from the Jacobian at its values; the
+    carried level for a column flat on its bound and the parameters it widened (module
+    notes). Only parameters with a finite, positive threshold (empty when JᵀJ is not
+    finite)."""
     prof = sol.profiler
     x = np.array([sol.values[n] for n in prof.free], dtype=float)
     normal = normal_matrix(prof.jacobian(x))
     if not np.all(np.isfinite(normal)):
         return {}
     ses = np.array([sol.standard_error.get(n, np.inf) for n in prof.free], dtype=float)
-    crits = thresholds(scaled_pinv(normal), ses, prof.quantile)
+    flat = flat_on_bound(prof.lower, prof.upper, x, ses, prof.quantile)
+    crits = np.full(x.shape[0], np.nan)
+    keep = np.array([i for i in range(x.shape[0]) if i not in flat], dtype=int)
+    if keep.size:
+        crits[keep] = thresholds(scaled_pinv(normal[np.ix_(keep, keep)]), ses[keep], prof.quantile)
+    methods = getattr(sol, "interval_method", {}) or {}
+    carried = [i for i, n in enumerate(prof.free) if i in flat or methods.get(n) == "partner"]
+    if flat:
+        crits[carried] = carried_threshold(normal, ses, prof.quantile, carried)
     return {n: float(c) for n, c in zip(prof.free, crits, strict=True) if np.isfinite(c)}

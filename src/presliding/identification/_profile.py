@@ -60,13 +60,14 @@ from typing import Any
 
 import numpy as np
 
-from presliding.identification._normal_equations import normal_matrix, scaled_pinv, thresholds
-from presliding.identification._profile_bound import (
+from presliding.identification._normal_equations import (
+    carried_threshold,
     flat_on_bound,
-    partner_intervals,
-    walk_threshold,
-    widen,
+    normal_matrix,
+    scaled_pinv,
+    thresholds,
 )
+from presliding.identification._profile_bound import partner_intervals, widen
 from presliding.identification._profile_inner import cost, minimise
 from presliding.identification._profile_walk import (
     FIRST_STEP,
@@ -158,8 +159,9 @@ def profile_solution(sol: Any, which: str | Sequence[str] = "auto", budget: int 
     spent = 1 if drop > 0 else 0
     se = dict(sol.standard_error)
     done: set[int] = set()
-    for p in flat_on_bound(prof, x, ses):  # a column that vanishes on its bound (module notes)
-        crit = walk_threshold(limits, p)
+    flat = flat_on_bound(prof.lower, prof.upper, x, ses, q)
+    for p in flat:  # a column that vanishes on its bound (module notes)
+        crit = carried_threshold(normal, ses, q, flat)
         if spent >= budget or not np.isfinite(crit) or drop > SETTLE * crit:
             continue
         if which not in ("auto", "all") and prof.free[p] not in which:

@@ -12,14 +12,15 @@ holding it at the truth and re-optimising moves the preload inward to 0.66 and r
 cost by a few profile thresholds only.
 
 Such a parameter p (free, on a finite bound, its Wald half width t·SE_p at least its range,
-or its error infinite: `flat_on_bound`) is profiled inward from the bound: the walk of
-`_profile_walk` (continuation from the bound, secant steps, regula falsi), with steps in
-units of its range (`STEP`) instead of its Wald half width, to where P(p) = χ²(p) − χ²_min
-reaches the threshold of `walk_threshold`: the largest of the other free parameters'
-P_j = t²·SE_j²/h_jj (the largest HAC inflation of the fit; t²·s² for independent
-residuals). Its own is a ratio of two variances that the vanishing column sends to
-infinity, each cut by a different rank tolerance: any number. Its interval is
-[end, bound] ("profile").
+or its error infinite: `_normal_equations.flat_on_bound`) is profiled inward from the
+bound: the walk of `_profile_walk` (continuation from the bound, secant steps, regula
+falsi), with steps in units of its range (`STEP`) instead of its Wald half width, to where
+P(p) = χ²(p) − χ²_min reaches the threshold of `_normal_equations.carried_threshold`: the
+largest of the other free parameters' P_j = t²·SE_j²/h_jj, h = (JᵀJ)⁻¹ without p (the
+largest HAC inflation of the fit; t²·s² for independent residuals). Its own is a ratio of
+two variances that the vanishing column sends to infinity, each cut by a different rank
+tolerance: any number. Its interval is [end, bound] ("profile"), and the second optima
+(`_alternatives`) read that threshold for it and for the parameters below.
 
 Every point solved on the way with P within that threshold holds the re-optimised values
 of all the other parameters: a point of the confidence region at that level. Each other
@@ -38,37 +39,15 @@ import numpy as np
 
 from presliding.identification._profile_walk import (
     FloatArray,
-    Profiler,
     Walker,
     interval_end,
 )
 
-__all__ = ["STEP", "flat_on_bound", "partner_intervals", "walk_threshold", "widen"]
+__all__ = ["STEP", "partner_intervals", "widen"]
 
 #: The walk's unit step (its "half width"), as a share of the parameter's range: the first
 #: point is half of it inward from the bound, later steps no longer than the distance walked.
 STEP = 0.125
-
-
-def flat_on_bound(prof: Profiler, x: FloatArray, ses: FloatArray) -> list[int]:
-    """The free parameters on a finite bound whose Wald half width t·SE spans their range (a
-    column that vanishes there; an infinite error where it is exactly zero)."""
-    lo, hi = prof.lower, prof.upper
-    out = []
-    for i in range(x.shape[0]):
-        if not (np.isfinite(lo[i]) and np.isfinite(hi[i])):
-            continue
-        if x[i] in (lo[i], hi[i]) and prof.quantile * ses[i] >= hi[i] - lo[i]:
-            out.append(i)
-    return out
-
-
-def walk_threshold(limits: FloatArray, p: int) -> float:
-    """The walk's threshold (module notes): the largest finite threshold of the free parameters
-    other than `p`; NaN where there is none."""
-    others = np.delete(limits, p)
-    others = others[np.isfinite(others) & (others > 0)]
-    return float(np.max(others)) if others.size else float("nan")
 
 
 def partner_intervals(walk: Walker) -> tuple[tuple[float, float], dict[int, tuple[float, float]]]:
