@@ -21,12 +21,17 @@ A parameter on a bound whose column vanishes there (`flat_on_bound`: a preload s
 in the direction of the motion) has no such threshold: SE_p and h_pp both go to infinity,
 each cut by a different rank tolerance. It and the parameters whose intervals its profile
 widened (``interval_method`` "partner", `_profile_bound`) take the level of that profile,
-`carried_threshold`: the largest P_j of the others, h computed without the flat columns
-(a column small but not zero would enter h through the pseudo-inverse's scaling).
+`carried_threshold`: the largest P_j of the others outside the flat column's record (a
+record's own errors carry that column in some share, each cut differently: one of them
+had a threshold a thousand times the others'), h computed without those (a column small but
+not zero would enter h through the pseudo-inverse's scaling), or t²·s² where every free
+parameter is carried.
 """
 
 from __future__ import annotations
 
+import re
+from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
@@ -87,11 +92,23 @@ def flat_on_bound(lower: FloatArray, upper: FloatArray, x: FloatArray, standard_
     return out
 
 
+#: The names of a record's own parameters in a pooled fit: ``<prefix>_<record>``.
+_OWN = re.compile(r"^(initial_position|initial_velocity|preload_fraction)_(\d+)$")
+
+
+def _records(names: Sequence[str], among: list[int]) -> set[int]:
+    """The columns of every record's own parameters of which one is in `among`."""
+    tags = {m.group(2) for i in among if (m := _OWN.match(names[i]))}
+    return {i for i, n in enumerate(names) if (m := _OWN.match(n)) and m.group(2) in tags}
+
+
 def carried_threshold(normal: FloatArray, standard_error: FloatArray, quantile: float,
-                      exclude: list[int]) -> float:  # fmt: skip
-    """The largest finite P_j of the free parameters not in `exclude`, h the inverse of JᵀJ
-    without them (module notes); NaN where there is none."""
-    keep = np.array([i for i in range(normal.shape[0]) if i not in exclude], dtype=int)
+                      exclude: list[int], names: Sequence[str] = ()) -> float:  # fmt: skip
+    """The largest finite P_j of the free parameters not in `exclude` nor of the records of
+    the parameters in `exclude` (`names`: their errors carry the flat column in some share),
+    h the inverse of JᵀJ without those (module notes); NaN where there is none."""
+    out = set(exclude) | (_records(names, exclude) if names else set())
+    keep = np.array([i for i in range(normal.shape[0]) if i not in out], dtype=int)
     if keep.size == 0:
         return float("nan")
     limits = thresholds(scaled_pinv(normal[np.ix_(keep, keep)]), standard_error[keep], quantile)
@@ -119,5 +136,9 @@ def profile_thresholds(sol: Any) -> dict[str, float]:
     methods = getattr(sol, "interval_method", {}) or {}
     carried = [i for i, n in enumerate(prof.free) if i in flat or methods.get(n) == "partner"]
     if flat:
-        crits[carried] = carried_threshold(normal, ses, prof.quantile, carried)
+        level = carried_threshold(normal, ses, prof.quantile, carried, prof.free)
+        if not np.isfinite(level):  # every free parameter carried: independent residuals'
+            r = np.asarray(sol.residual, dtype=float)
+            level = prof.quantile**2 * float(r @ r) / max(r.shape[0] - x.shape[0], 1)
+        crits[carried] = level
     return {n: float(c) for n, c in zip(prof.free, crits, strict=True) if np.isfinite(c)}

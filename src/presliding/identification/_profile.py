@@ -161,7 +161,7 @@ def profile_solution(sol: Any, which: str | Sequence[str] = "auto", budget: int 
     done: set[int] = set()
     flat = flat_on_bound(prof.lower, prof.upper, x, ses, q)
     for p in flat:  # a column that vanishes on its bound (module notes)
-        crit = carried_threshold(normal, ses, q, flat)
+        crit = carried_threshold(normal, ses, q, flat, prof.free)
         if spent >= budget or not np.isfinite(crit) or drop > SETTLE * crit:
             continue
         if which not in ("auto", "all") and prof.free[p] not in which:
