@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 from scipy import optimize, stats
 
+from presliding import Measurement, PIFriction, fit_response, preloaded_state, simulate
 from presliding.identification._least_squares import solve_least_squares
 from presliding.identification._normal_equations import profile_thresholds
 from presliding.identification._profile import profile_solution
@@ -75,3 +76,66 @@ def test_a_flat_column_on_its_bound_is_profiled_inward_and_widens_its_partners()
     limits = profile_thresholds(out)
     assert limits["fraction"] == pytest.approx(crit, rel=1e-9)  # t²·s²: all three carried
     assert limits["offset"] == limits["slope"] == limits["fraction"]
+
+
+def _stops(seed: int, n_records: int, samples: int):
+    """Stops of the search study's design (`tests.helpers.random_preload_stops`), with each
+    record's initial velocity and preload fraction."""
+    model = PIFriction(0.3, [4000.0, 2000.0, 1000.0, 500.0], breakaway=[0.175] * 4)
+    rng = np.random.default_rng(seed)
+    t = np.arange(samples) * 1e-3
+    out = []
+    for _ in range(n_records):
+        v0 = rng.choice([-1.0, 1.0]) * rng.uniform(0.02, 0.06)
+        d = float(np.sign(v0))
+        fraction = rng.uniform(-0.8, 0.8)
+        y0 = rng.uniform(-1e-3, 1e-3)
+        state = preloaded_state(model, fraction * model.max_elastic_force, direction=d,
+                                position=y0)  # fmt: skip
+        u = np.where(t < rng.uniform(0.03, 0.08), -d * rng.uniform(0.1, 0.6), 0.0)
+        res = simulate(model, 2.0, applied_force=(t, u), initial_position=y0,
+                       initial_velocity=v0, initial_state=state, t_eval=t)  # fmt: skip
+        y = 1e-6 * np.round((res.position + 2e-7 * rng.standard_normal(samples)) / 1e-6)
+        meas = Measurement(t, position=y, velocity=np.gradient(y, t), applied_force=u)
+        out.append((meas, v0, fraction))
+    return out
+
+
+def test_an_initial_velocity_whose_preload_is_saturated_gets_an_interval_from_its_profile(
+    monkeypatch,
+):
+    """Three stops; the first one's preload (0.69 in the motion's direction) fits on its bound
+    1, where its column vanishes. Read there, the initial velocity's Wald error is 1.9e-5 m/s
+    and the truth 19 of them away; the preload's profile inward from the bound holds the
+    truth, and the velocity's interval follows it (z about 4 on the raised error)."""
+    from presliding.identification import fit_result
+
+    drawn = _stops(5020, 5, 1000)
+    (meas, v0, fraction), others = drawn[2], [drawn[0], drawn[4]]
+    records = [meas] + [o[0] for o in others]
+    seen = []
+    original = fit_result.profile_solution
+
+    def keep(sol, *args, **kwargs):
+        seen.append(sol)
+        return original(sol, *args, **kwargs)
+
+    monkeypatch.setattr(fit_result, "profile_solution", keep)
+    fit = fit_response(records, signal="both", initial_state="preload")
+    wald = min(seen, key=lambda s: float(s.residual @ s.residual))
+    assert fit.parameters["preload_fraction_1"] == pytest.approx(1.0, abs=1e-12)
+    # the case: the Wald interval read on the bound misses the initial velocity by far
+    name = "initial_velocity_1"
+    lo, hi = wald.confidence_interval[name]
+    assert not lo <= v0 <= hi
+    assert abs(wald.values[name] - v0) > 10.0 * wald.standard_error[name]
+
+    lo_f, hi_f = fit.confidence_interval["preload_fraction_1"]
+    assert fit.interval_method["preload_fraction_1"] == "profile"
+    assert hi_f == 1.0 and lo_f <= fraction < hi_f
+    assert fit.interval_method[name] == "partner"
+    lo_v, hi_v = fit.confidence_interval[name]
+    assert lo_v < lo and hi_v >= hi  # widened towards the side the preload's move allows
+    assert abs(fit.parameters[name] - v0) < 5.0 * fit.standard_error[name]
+    t = (hi - wald.values[name]) / wald.standard_error[name]  # the fit's quantile
+    assert fit.standard_error[name] == pytest.approx((hi_v - lo_v) / (2.0 * t), rel=1e-9)
