@@ -139,3 +139,5 @@ def test_an_initial_velocity_whose_preload_is_saturated_gets_an_interval_from_it
     assert abs(fit.parameters[name] - v0) < 5.0 * fit.standard_error[name]
     t = (hi - wald.values[name]) / wald.standard_error[name]  # the fit's quantile
     assert fit.standard_error[name] == pytest.approx((hi_v - lo_v) / (2.0 * t), rel=1e-9)
+    line = next(x for x in fit.report().splitlines() if x.startswith(name))
+    assert "saturated parameter's profile" in line

@@ -107,6 +107,8 @@ class FitReport:
                 note += f" (at its bound {bound_text(self.bounds.get(n), v)})"
             if self.interval_method.get(n) == "union":
                 note += " (interval widened to hold another optimum)"
+            elif self.interval_method.get(n) == "partner":
+                note += " (interval along a saturated parameter's profile)"
             unit = self.units.get(n, "")
             line = f"{n:<{width}}{v:>14.6g} {unit:<10}{se:>11.3g}   {interval_text(lo, hi)}{note}"
             if n in boot:
