@@ -19,7 +19,7 @@ parameters multiplied by each factor of `SCALES` (up and down), every
 record's block searched again globally for the scaled values (the nuisance
 grid and its polish, `_nuisance_search`), a short solve of everything (judged
 after `JUDGE` evaluations: one still above `REFINE_WITHIN` × the best's cost
-ends there, the others are solved from the step's start again) and,
+ends there, the others are solved on from where the judge left them) and,
 only when that short solve already went below the best (a step onto a lower
 stair does: measured on the study's stops), the solve on to its optimum
 (`_probes.other_valley`), the blocks searched once more for the shared values
@@ -130,7 +130,7 @@ def _step(
     if t.status == "max_evaluations" and budget > JUDGE:
         if not cost(t) < REFINE_WITHIN * cost(best):
             return t, spent
-        t = solve(values, max_evaluations=budget)  # heading below: solved from its start again
+        t = solve(t.values, max_evaluations=budget - JUDGE)  # heading below: solved on
     t = other_valley(problem, solve, t, best, within=1.0)
     if t.status == "failed" or not cost(t) < cost(best):
         return t, spent
