@@ -17,9 +17,10 @@ their ratio to the target, the same without the multi-start, the evaluations,
 the largest error of the shared parameters, the time of the profile step
 (`identification._profile`) with the parameters it profiled, and the cost of the
 global nuisance search (`identification._nuisance_search.search_nuisance`, every
-call the adaptive search makes: the records' own parameters on a grid, all
-candidates in one compiled call, then polished): its time, its share of the
-fit's time in the same run, its calls and its residual evaluations.
+call the adaptive search and the probe along eq. 17's scale make: the records' own
+parameters on a grid, all candidates in one compiled call, then polished): its
+time, its share of the fit's time in the same run, its calls and its residual
+evaluations (the adaptive search's).
 
 The load average before and after is printed: on a shared machine the times
 scale with it, the ratios of the same run much less.
@@ -45,7 +46,7 @@ from _stops import TRUTH, stop_records
 from _timing import accumulating
 
 from presliding import fit_response
-from presliding.identification import _search, fit_result
+from presliding.identification import _scale_probe, _search, fit_result
 
 TARGET = 5.0
 
@@ -56,6 +57,7 @@ _NUISANCE = [0.0, 0]  # time, calls
 
 fit_result.profile_solution = accumulating(fit_result.profile_solution, _PROFILE_TIME)
 _search.search_nuisance = accumulating(_search.search_nuisance, _NUISANCE)
+_scale_probe.search_nuisance = accumulating(_scale_probe.search_nuisance, _NUISANCE)
 
 
 def run(records, **kw):

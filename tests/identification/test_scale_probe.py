@@ -4,10 +4,13 @@ from __future__ import annotations
 
 import inspect
 
+import numpy as np
 import pytest
 
 from presliding import Measurement, PIFriction, fit_response
+from presliding.identification import _scale_probe as sp
 from presliding.identification._fit_engine import FitRun, cost
+from presliding.identification._least_squares import Solution
 from presliding.identification._nuisance_search import search_nuisance
 from presliding.identification._response_plan import response_problem
 from presliding.identification._response_request import check_response
@@ -68,3 +71,32 @@ def test_a_fit_in_the_scaled_down_valley_is_moved_to_the_true_scale():
     assert best.values["mass"] == pytest.approx(2.0, rel=0.03)
     assert best.values["coulomb_level"] == pytest.approx(1.0, rel=0.05)
     assert cost(best) < 0.9 * cost(local)
+
+
+def _outcome(mass: float, c: float) -> Solution:
+    return Solution({"mass": mass}, {}, {}, 0.95, (), (), np.array([np.sqrt(c)]), "converged",
+                    "", 1)  # fmt: skip
+
+
+@pytest.mark.parametrize(("ends", "tried"), [
+    (1.90, [1.25, 0.8]),  # slid back from 1.6 towards the best at 2.0: the foot, the probe ends
+    (1.62, [1.25, 0.8, 0.8, 0.894, 1.118]),  # stayed near its start: on, then halved
+])  # fmt: skip
+def test_a_step_whose_solve_slid_back_towards_the_best_ends_the_probe(monkeypatch, ends, tried):
+    """The probe's course (`_step` scripted): the first step up fails, the step down from
+    mass 2.0 (start 1.6) lowers the cost. A solve that slid back along the scale from its
+    start 1.6 to 1.90 (more than half the step, in log) found the foot between the start and
+    the old best: no further step. One that stayed on the stair next to its start (1.62)
+    is followed by a step on in the same direction and, when that fails, by the halvings."""
+    calls = []
+
+    def step(problem, solve, best, names, factor, fixed, bounds, budget):
+        calls.append(round(factor, 3))
+        if len(calls) == 2:  # the step down lowers the cost
+            return _outcome(ends, 1.0), 0
+        return _outcome(best.values["mass"] * factor, 5.0), 0
+
+    monkeypatch.setattr(sp, "_step", step)
+    best, _, _ = sp.scale_probe(None, None, _outcome(2.0, 2.0), ["mass"], {}, {}, 40)
+    assert best.values["mass"] == ends and sp.cost(best) == 1.0
+    assert calls[: len(tried)] == tried and len(calls) == (2 if ends == 1.90 else 7)

@@ -47,6 +47,7 @@ _quasi_static_kernel.py    compiled quasi-static positions of many records and p
 _quasi_static_errors.py    the error floor of runs of equal quantised samples
 _split_check.py     a split of neighbouring elements the records do not determine (a plateau)
 _nuisance_search.py  each record's own parameters searched on a grid, the shared ones held
+_block_lm.py        Levenberg–Marquardt on every record's own block at once (the grid's polish)
 _search.py          the search step: starts, alternation, the noise-floor rule, its summary
 _probes.py          probes of the valleys next to the best optimum (engage, corner, split)
 _scale_probe.py     the probe along eq. 17's scale (mass and forces together, blocks re-searched)
