@@ -16,8 +16,10 @@ has P(θ'_j) ≤ χ²(θ') − χ²_min ≤ P_j: its value θ'_j belongs to the 
 set of θ_j. When it lies outside the reported interval (and apart from the
 best by more than the solver's resolution), that parameter
 
-* has its interval widened to the union of the interval and θ'_j
-  (``interval_method`` "union"),
+* has its interval widened to the union of the interval and the other optimum's
+  own interval at the level left to it, θ'_j ± t·SE_j·√(1 − ρ/P_j) for a rise
+  ρ = χ²(θ') − χ²_min (the second valley's profile, with the best's curvature,
+  crosses P_j there; ``interval_method`` "union"),
 * makes the fit ``not_identifiable`` (rule ``optima`` of `_status`), the
   message naming the parameter and both values,
 
@@ -92,6 +94,17 @@ def _apart(a: float, b: float) -> bool:
     return abs(a - b) > RESOLUTION * max(abs(a), abs(b), 1e-300)
 
 
+def _valley(sol: Solution, name: str, v: float, rise: float, limit: float) -> tuple[float, float]:
+    """The other optimum's own interval of `name` at the level left to it (module notes),
+    held inside the parameter's bounds; its value alone where the error is not finite."""
+    se = float(sol.standard_error.get(name, np.nan))
+    if not (np.isfinite(se) and se > 0):
+        return v, v
+    half = sol.profiler.quantile * se * float(np.sqrt(max(0.0, 1.0 - rise / limit)))
+    i = sol.profiler.free.index(name)
+    return max(v - half, float(sol.profiler.lower[i])), min(v + half, float(sol.profiler.upper[i]))
+
+
 def hidden_optima(sol: Solution) -> tuple[Solution, tuple[Alternative, ...]]:
     """`sol` with the intervals widened to the other optima within the profile threshold,
     its status and message by rule ``optima``, and those optima (module notes)."""
@@ -114,8 +127,8 @@ def hidden_optima(sol: Solution) -> tuple[Solution, tuple[Alternative, ...]]:
             continue
         differs = [name for name in outside if rise <= thresholds[name]]
         for name in differs:
-            v = values[name]
-            ci[name] = (min(ci[name][0], v), max(ci[name][1], v))
+            lo, hi = _valley(sol, name, values[name], rise, thresholds[name])
+            ci[name] = (min(ci[name][0], lo), max(ci[name][1], hi))
             methods[name] = "union"
         if differs:
             found.append(Alternative(dict(values), float(c), float(rise), tuple(differs)))

@@ -44,6 +44,7 @@ __all__ = [
     "inverse_normal",
     "normal_matrix",
     "profile_thresholds",
+    "record_of",
     "scaled_pinv",
     "thresholds",
 ]
@@ -92,14 +93,22 @@ def flat_on_bound(lower: FloatArray, upper: FloatArray, x: FloatArray, standard_
     return out
 
 
-#: The names of a record's own parameters in a pooled fit: ``<prefix>_<record>``.
-_OWN = re.compile(r"^(initial_position|initial_velocity|preload_fraction)_(\d+)$")
+#: The names of a record's own parameters: ``<prefix>_<record>`` in a pooled fit, the
+#: prefix alone in a fit of one record.
+_OWN = re.compile(r"^(initial_position|initial_velocity|preload_fraction)(?:_(\d+))?$")
+
+
+def record_of(name: str) -> str | None:
+    """The record of a record's own parameter: its number in a pooled fit, "" in a fit of
+    one record; None for the shared parameters."""
+    m = _OWN.match(name)
+    return (m.group(2) or "") if m else None
 
 
 def _records(names: Sequence[str], among: list[int]) -> set[int]:
     """The columns of every record's own parameters of which one is in `among`."""
-    tags = {m.group(2) for i in among if (m := _OWN.match(names[i]))}
-    return {i for i, n in enumerate(names) if (m := _OWN.match(n)) and m.group(2) in tags}
+    tags = {record_of(names[i]) for i in among} - {None}
+    return {i for i, n in enumerate(names) if record_of(n) in tags}
 
 
 def carried_threshold(normal: FloatArray, standard_error: FloatArray, quantile: float,

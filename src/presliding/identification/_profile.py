@@ -64,6 +64,7 @@ from presliding.identification._normal_equations import (
     carried_threshold,
     flat_on_bound,
     normal_matrix,
+    record_of,
     scaled_pinv,
     thresholds,
 )
@@ -300,7 +301,7 @@ def _at_bound(prof: Profiler, x: FloatArray, j: int, wald: tuple[float, float]) 
 
 
 def _per_record(name: str) -> bool:
-    return name.startswith(("initial_velocity", "initial_position", "preload_fraction"))
+    return record_of(name) is not None
 
 
 def _tied_intervals(sol: Any, ci: dict) -> dict:
