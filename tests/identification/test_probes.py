@@ -82,3 +82,16 @@ def test_a_capped_probe_below_the_best_is_solved_on_never_kept_on_its_cap():
     assert calls == [40, None]
     assert found.status == "converged" and found.values["mass"] == 1.0015
     assert [p.status for p in probes] == ["converged"]
+
+
+def test_no_element_is_re_engaged_beside_the_rigid_corner():
+    """From a corner at k_1 ~ 1e15 every other element looked dead (below 1 % of k_1): the
+    three starts that re-engaged them let c1 fall to 0 beside the near-rigid element, whose
+    response rings at MHz after each stop (a 300-sample fit spent 140 s there)."""
+    values = {"coulomb_level": 1.0, "coulomb": 0.3, "stiffness_1": 9e15,
+              "stiffness_2": 5164.9, "stiffness_3": 1620.0, "stiffness_4": 688.4}  # fmt: skip
+    assert engage_starts(values, K) == []
+    # an element dead beside the next-stiffest one is still re-engaged
+    _, kept = engage_starts({**values, "stiffness_4": 20.0}, K)
+    assert kept["stiffness_4"] == 5164.9  # the median of the others, the corner among them
+    assert corner_starts(values, K)[0]["stiffness_1"] == 2 * 5164.9

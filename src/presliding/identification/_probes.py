@@ -10,7 +10,11 @@ valley within the profile's threshold is reported (`_alternatives`).
 The moves (elements of equal break-away force, stiffnesses ``k_names``):
 
 * `engage_starts`: an element that carries almost no stiffness
-  (k_j < `DEAD` × the largest) never engaged; F_c then sits where the
+  (k_j < `DEAD` × the largest, the next one where the largest sits at the rigid
+  corner: from a corner at k_1 ~ 1e15 every other element looked dead, and the
+  three starts that re-engaged them let c1 fall to 0 beside the near-rigid
+  element, whose response then rings at MHz after each stop: ~6e5 reversals per
+  record and evaluation, 140 s of a 300-sample fit) never engaged; F_c then sits where the
   engaged elements saturate, above the true level. The start re-engages it:
   k_j set to the median of the others and F_c lowered so that the force the
   engaged elements carried at saturation stays, c1 + (n − 1)·c, with
@@ -81,6 +85,9 @@ def engage_starts(values: Mapping[str, float], k_names: Sequence[str]) -> list[d
     n, largest = len(k), max(k, default=0.0)
     if n < 2 or not largest > 0 or "coulomb_level" not in values:
         return []
+    ranked = sorted(k, reverse=True)
+    if ranked[1] > 0 and ranked[0] / ranked[1] >= CORNER:  # the rigid corner (`corner_starts`)
+        largest = ranked[1]  # is no measure of an engaged element: the next one is
     starts = []
     for j, x in enumerate(k_names):
         if k[j] >= DEAD * largest:
