@@ -94,3 +94,36 @@ def test_a_pair_that_only_comes_close_is_left_to_its_covariance():
 
     out = coalesced_split(split_coalesced(sol, solve, K), solve, K)
     assert out.status == "converged" and out.standard_error == sol.standard_error
+
+
+def test_a_fit_in_the_coulomb_corner_is_restarted_with_softer_elements():
+    """5 kHz stops: c1 = 1.088 above the parameter F_c = 0.224 (the elements carry nothing,
+    no gradient leads back), the stiffnesses those of a start 16 times too stiff; 2 × the
+    noise floor. The restarts from the model's F_c with the elements 10 and 100 times
+    softer reach the floor."""
+    from presliding.identification._response_checks import escape_coulomb
+
+    k4 = ["stiffness_1", "stiffness_2", "stiffness_3", "stiffness_4"]
+    corner = {"mass": 2.04, "coulomb_level": 0.224, "coulomb": 1.088, "stiffness_1": 76917.0,
+              "stiffness_2": 72899.0, "stiffness_3": 52286.0, "stiffness_4": 21076.0}  # fmt: skip
+    starts = []
+
+    def solve(begin, **kw):
+        starts.append(dict(begin))
+        soft = begin["stiffness_1"] < 1e4  # the second restart (× 0.01) reaches the floor
+        return _solution(begin, NOISE * (1.0 if soft else 1.4))
+
+    sol = escape_coulomb(_solution(corner, NOISE * 1.45), solve, k4)
+    assert len(starts) == 2
+    for share, start in zip((0.1, 0.01), starts, strict=True):
+        assert start["coulomb_level"] == 1.088  # the model's F_c (eq. 9), not the parameter
+        assert start["coulomb"] == pytest.approx(0.6 * 1.088)
+        assert start["stiffness_4"] == pytest.approx(share * 21076.0)
+        assert start["stiffness_1"] <= 2 * start["stiffness_2"]  # off the rigid corner too
+    assert sol.values["stiffness_1"] < 1e4 and float(sol.residual @ sol.residual) == (
+        pytest.approx(float(NOISE @ NOISE))
+    )
+    # elements that carry force: nothing to restart
+    starts.clear()
+    kept = _solution({**corner, "coulomb": 0.2}, NOISE.copy())
+    assert escape_coulomb(kept, solve, k4) is kept and not starts

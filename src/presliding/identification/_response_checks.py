@@ -169,6 +169,34 @@ def escape_corner(sol: Solution, solve, k_names: list[str], ratio: float = 20.0)
     return alt if cost(alt) < cost(sol) else sol
 
 
+#: the stiffnesses of the restarts from the Coulomb corner, as shares of the corner's
+COULOMB_RESTARTS = (0.1, 0.01)
+
+
+def escape_coulomb(sol: Solution, solve, k_names: list[str]) -> Solution:
+    """Refit from starts off the Coulomb corner when the elements carry no force.
+
+    With c1 at or above F_c the elements of equal break-away force carry nothing:
+    the residual does not depend on their stiffnesses, no gradient leads back, and the
+    fit stays a Coulomb-friction fit at 2 × the noise floor (5 kHz stops: a regression
+    start 16 times too stiff, every threshold below the records' swings, slid into it).
+    The restarts: `spread_start` of the corner (c1/F_c at most 3/5) with every stiffness
+    scaled by `COULOMB_RESTARTS` (thresholds 10 and 100 times wider). The best is kept.
+    """
+    v = sol.values
+    if sol.status == "failed" or len(k_names) < 1 or "coulomb_level" not in v:
+        return sol
+    if v["coulomb"] < v["coulomb_level"]:
+        return sol
+    best, level = sol, v["coulomb"]  # the model's F_c: the parameter F_c lies below it
+    for share in COULOMB_RESTARTS:
+        moved = {**v, "coulomb_level": level, **{x: share * v[x] for x in k_names}}
+        alt = solve(spread_start(moved, k_names))
+        if cost(alt) < cost(best):
+            best = alt
+    return best
+
+
 def spread_start(start: dict[str, float], k_names: list[str]) -> dict[str, float]:
     """The regression start moved off the rigid corner: c1/F_c in [1/4, 3/5], k_1 ≤ 2·k_2."""
     s = dict(start)

@@ -24,9 +24,10 @@ the options. `response_plan` gives the fit's own steps:
   from one regression start and can miss a valley next to the one they reach.
   The probes' solves defer their covariance (`_deferred`); the best one's is
   computed once, before the flat-direction probe, which needs its normal matrix;
-* checks: the rigid corner and coalesced elements, the start from rest of a
-  single record, interchangeable elements relabelled, the rigid limit of the
-  smallest-threshold element, and two elements still coalesced after all that
+* checks: the rigid corner, the Coulomb corner (c1 ≥ F_c: the elements carry
+  nothing) and coalesced elements, the start from rest of a single record,
+  interchangeable elements relabelled, the rigid limit of the smallest-threshold
+  element, and two elements still coalesced after all that
   (their split checked, `coalesced_split`) (`_response_checks`);
 * refit: with ``prune=True``, the fit again without the elements that never
   slide;
@@ -61,6 +62,7 @@ from presliding.identification._response_box import start_and_box
 from presliding.identification._response_checks import (
     coalesced_split,
     escape_corner,
+    escape_coulomb,
     polish_initial_velocity,
     rigid_check,
     smallest_threshold_first,
@@ -243,6 +245,7 @@ def _corner_checks(req: ResponseRequest, flags: _Flags, run: FitRun, sol: Soluti
     if flags.search and flags.discrete_equal:
         run.stage("checks: a rigid stiffest element, coalesced elements")
         sol = escape_corner(sol, run.solve, k_names)
+        sol = escape_coulomb(sol, run.solve, k_names)
         sol = split_coalesced(sol, run.solve, k_names)
     if req.single:
         p = run.problem
