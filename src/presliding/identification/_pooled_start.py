@@ -130,39 +130,8 @@ def pooled_start(
         weights = np.zeros_like(grid)
         weights[len(grid) // 2] = (fc - c1) / grid[len(grid) // 2]
     start = {"mass": float(m), **spec.start(fc, c1, grid, weights)}
-    if spec.density is None and not spec.equal and spec.n > 1:
-        start.update(_live_elements(start, spec, fc, c1, grid, weights))
     if viscous:
         start["viscous"] = sigma
     if offset:
         start["offset"] = off
     return start
-
-
-#: an element of the start whose break-away force is below this share of F_m − c1 is dead
-DEAD_SHARE = 0.02
-
-
-def _live_elements(start: dict[str, float], spec: ModelSpec, fc: float, c1: float,
-                   grid: FloatArray, weights: FloatArray) -> dict[str, float]:  # fmt: skip
-    """Elements of free break-away forces that each carry a share of F_m − c1.
-
-    The bounded regression leaves most grid weights at 0 (or at rounding, 1e-16 of the
-    others), and merged into N elements (`_pi_regression.merge_grid`) those give elements of
-    stiffness and break-away force ~1e-13: an element that carries no force has no gradient,
-    and the fit never engages it (pooled stops with break-away forces 0.05/0.1/0.2/0.35 N
-    ended with one element carrying F_m, 2–2.6 times the noise floor). Where one of them
-    carries less than `DEAD_SHARE`, the start is the equal-break-away one: c_j = (F_c − c1)/N,
-    the k_j whose virgin curve is closest to the regression's.
-    """
-    from presliding.identification._model_spec import _spread
-    from presliding.identification._response_tools import equal_breakaway_stiffness
-
-    fm = max(fc - c1, 1e-12 * fc)
-    c = np.array([start[x] for x in spec.c_names])
-    if np.all(c >= DEAD_SHARE * fm):
-        return {}
-    k = _spread(equal_breakaway_stiffness(grid, np.maximum(weights, 0.0), fm / spec.n, spec.n))
-    out = {x: float(v) for x, v in zip(spec.k_names, k, strict=True)}
-    out.update(dict.fromkeys(spec.c_names, float(fm / spec.n)))
-    return out
