@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from presliding import PIFriction, fit_response
-from presliding.identification._probes import corner_starts, engage_starts, split_starts
+from presliding.identification._probes import CORNER, corner_starts, engage_starts, split_starts
 from tests.helpers import stop_records
 
 K = ["stiffness_1", "stiffness_2", "stiffness_3", "stiffness_4"]
@@ -82,3 +82,21 @@ def test_a_capped_probe_below_the_best_is_solved_on_never_kept_on_its_cap():
     assert calls == [40, None]
     assert found.status == "converged" and found.values["mass"] == 1.0015
     assert [p.status for p in probes] == ["converged"]
+
+
+def test_beside_the_rigid_corner_the_engage_starts_leave_the_corner():
+    """From a corner at k_1 ~ 1e15 every other element looks dead (below 1 % of k_1). Started
+    with k_1 kept, the re-engaged starts let c1 fall to 0 beside the near-rigid element,
+    whose response rings at MHz after each stop (~6e5 reversals per record and evaluation:
+    a 300-sample pooled fit spent 130 s there); the corner element starts at `CORNER` times
+    the next one instead (the median of the others then counts it there)."""
+    values = {"coulomb_level": 1.0, "coulomb": 0.3, "stiffness_1": 9e15,
+              "stiffness_2": 5164.9, "stiffness_3": 1620.0, "stiffness_4": 688.4}  # fmt: skip
+    starts = engage_starts(values, K)
+    assert len(starts) == 6  # each of the three elements, F_c lowered and kept
+    cap = CORNER * 5164.9
+    for start in starts:
+        assert start["stiffness_1"] == cap
+        assert max(start[x] for x in K[1:]) <= cap
+    assert starts[1]["stiffness_2"] == np.median([cap, 1620.0, 688.4])  # element 2 re-engaged
+    assert engage_starts({**values, "stiffness_1": 4000.0}, K) == []  # no corner, none dead

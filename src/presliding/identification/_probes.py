@@ -14,7 +14,12 @@ The moves (elements of equal break-away force, stiffnesses ``k_names``):
   engaged elements saturate, above the true level. The start re-engages it:
   k_j set to the median of the others and F_c lowered so that the force the
   engaged elements carried at saturation stays, c1 + (n − 1)·c, with
-  c = (F_c − c1)/n. A second start keeps F_c.
+  c = (F_c − c1)/n. A second start keeps F_c. From the rigid corner (the
+  stiffest element `CORNER` times the next) the corner element starts at
+  `CORNER` times the next one: kept at k_1 ~ 1e15, the re-engaged starts let c1
+  fall to 0 beside the near-rigid element, whose response then rings at MHz
+  after each stop (~6e5 reversals per record and evaluation; 130 s of a
+  300-sample fit).
 * `corner_starts`: the rigid corner, the stiffest element more than `CORNER`
   times the next one (its break-away force joins c1): k_1 reduced to twice
   the next element's.
@@ -81,12 +86,16 @@ def engage_starts(values: Mapping[str, float], k_names: Sequence[str]) -> list[d
     n, largest = len(k), max(k, default=0.0)
     if n < 2 or not largest > 0 or "coulomb_level" not in values:
         return []
+    ranked = sorted(k, reverse=True)
+    cap = np.inf
+    if ranked[1] > 0 and ranked[0] / ranked[1] >= CORNER:  # the rigid corner (`corner_starts`):
+        cap = CORNER * ranked[1]  # its element starts at CORNER × the next one
     starts = []
     for j, x in enumerate(k_names):
         if k[j] >= DEAD * largest:
             continue
-        engaged = dict(values)
-        engaged[x] = float(np.median([k[i] for i in range(n) if i != j]))
+        engaged = {**values, **{y: min(values[y], cap) for y in k_names}}
+        engaged[x] = float(np.median([min(k[i], cap) for i in range(n) if i != j]))
         c1, fc = values["coulomb"], values["coulomb_level"]
         lowered = {**engaged, "coulomb_level": c1 + (n - 1) / n * (fc - c1)}
         starts += [lowered, engaged]

@@ -58,6 +58,7 @@ from presliding.identification._quasi_static_errors import with_run_floor
 from presliding.identification._quasi_static_problem import QuasiStaticProblem
 from presliding.identification._quasi_static_start import lift_density, quasi_static_start
 from presliding.identification._response_checks import (
+    coalesced_split,
     cost,
     split_coalesced,
     spread_start,
@@ -275,6 +276,7 @@ def _split(req: QuasiStaticRequest, run: FitRun, sol: Solution) -> Solution:
     if spec.density is None and spec.equal and not _shaped(req):
         sol = split_coalesced(sol, run.solve, spec.k_names)
         sol = stiffest_first(sol, spec.k_names)
+        sol = coalesced_split(sol, run.solve, spec.k_names, run.options.level)
     return sol
 
 

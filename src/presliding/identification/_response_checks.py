@@ -54,6 +54,9 @@ def split_coalesced(sol: Solution, solve, k_names: list[str], ratio: float = 1.1
     Interchangeable elements with (nearly) equal stiffnesses sit on the
     symmetric saddle, where the Jacobian cannot tell them apart; a start with
     the pair spread by 1.7 each way breaks the symmetry. Kept if it fits better.
+    Where the pair is still coalesced after it (the symmetric point is the
+    optimum, not a saddle: short records whose swings hardly cross the two
+    thresholds), `coalesced_split` says so, after the fit's other checks.
     """
     if sol.status == "failed" or len(k_names) < 2:
         return sol
@@ -64,6 +67,89 @@ def split_coalesced(sol: Solution, solve, k_names: list[str], ratio: float = 1.1
             alt = solve(start)
             return alt if cost(alt) < cost(sol) else sol
     return sol
+
+
+#: two stiffnesses of equal break-away force within this relative difference: one point
+#: of the symmetric pair (the solver's resolution on that flat direction)
+COALESCED = 1e-3
+#: the split d = (k_a − k_b)/2 tried, as shares of S/2 (S = k_a + k_b), until the cost rises
+#: beyond the likelihood-ratio threshold (`coalesced_split`)
+SPLIT_STEPS = (0.1, 0.2, 0.3, 0.4, 0.55, 0.7, 0.85, 1.0)
+
+
+def coalesced_split(sol: Solution, solve, k_names: list[str], level: float = 0.95) -> Solution:
+    """The split of two coalesced elements of equal break-away force, made honest.
+
+    Why. With equal break-away forces c = (F_c − c1)/N, two elements of equal
+    stiffness have the same threshold r = c/k (eq. 6): their columns of the
+    Jacobian are the same, to first order, along the split k_a − k_b at fixed
+    sum. The cost there is not a quadratic of the split (it rises through the
+    kink where one of the two starts to slide first), so the linearised errors
+    of the pair describe nothing: on 300-sample stops they came out ±21 N/m for
+    a pair fitted at 1486/1486 whose truth is 2000/1000 (z of 24, a wrong
+    ``converged``), while the same point reached from the truth gave |ρ| = 1.
+
+    The check, for an optimum whose pair agrees to `COALESCED` (after the split
+    refit came back to it): the split d = (k_a − k_b)/2 held at shares
+    `SPLIT_STEPS` of S/2 with the sum S held and every other free parameter
+    refitted, until the cost rises above t²·s² (the profile's likelihood-ratio
+    bound of `rigid_check`). The pair's standard errors are infinite (no curvature
+    describes the kink), its intervals span the split the data allow (stiffer
+    element [S/2, S/2 + d], the softer [S/2 − d, S/2], the first d that rose
+    above the bound; S/2 each way where none did), and the fit is
+    ``not_identifiable``: the records determine the pair's sum, and a model with
+    one element fewer describes them as well (rule ``profile`` of `_status`).
+    """
+    from scipy import stats
+
+    if sol.status not in ("converged", "not_identifiable", "at_bound"):
+        return sol
+    v = sol.values
+    ranked = sorted(((v[x], x) for x in k_names if x in sol.free), reverse=True)
+    pair = next(((a, b) for a, b in itertools.pairwise(ranked)
+                 if b[0] > 0 and a[0] - b[0] <= COALESCED * a[0]), None)  # fmt: skip
+    dof = sol.residual.shape[0] - len(sol.free)
+    c0 = cost(sol)
+    if pair is None or dof < 1 or not np.isfinite(c0) or not c0 > 0:
+        return sol
+    (ka, xa), (kb, xb) = pair
+    half = 0.5 * (ka + kb)
+    limit = float(stats.t.ppf(0.5 + level / 2, dof)) ** 2 * c0 / dof
+    reach, rise = half, np.nan
+    for share in SPLIT_STEPS:
+        d = share * half
+        held = {xa: half + d, xb: half - d}
+        alt = solve({**v, **held}, extra=held, errors=False)
+        rise = cost(alt) - c0
+        if rise > limit:
+            reach = d
+            break
+    se = {**sol.standard_error, xa: np.inf, xb: np.inf}
+    ci = dict(sol.confidence_interval)
+    (lo_a, hi_a), (lo_b, hi_b) = ci[xa], ci[xb]  # the pair is interchangeable: both ends
+    ci[xa] = (min(lo_a, lo_b, half), max(hi_a, hi_b, half + reach))
+    ci[xb] = (min(lo_a, lo_b, half - reach), max(hi_a, hi_b, half))
+    cov = sol.covariance
+    if cov is not None:  # an undetermined parameter's variance is infinite
+        cov, names = np.array(cov, dtype=float), list(v)
+        for x in (xa, xb):
+            cov[names.index(x), names.index(x)] = np.inf
+    bound = (
+        f"rises above t²·s² only at a split of ±{reach:.4g}"
+        if reach < half
+        else "stays within t²·s² for every split up to one element of stiffness 0"
+    )
+    first, second = sorted((xa, xb), key=k_names.index)  # the labels may be put in order
+    message = (
+        f"the data do not determine the split of {first} and {second}: the two coalesced "
+        f"(both {half:.6g}; elements of equal break-away force and equal stiffness act as "
+        f"one), their sum {ka + kb:.6g} is determined; with the sum held the cost "
+        f"{bound}, so a model with one element fewer describes the records as well; the "
+        "intervals span that split"
+    )
+    old = sol.message if sol.status == "not_identifiable" else ""
+    return replace(sol, status="not_identifiable", standard_error=se, confidence_interval=ci,
+                   covariance=cov, message="; ".join(x for x in (message, old) if x))  # fmt: skip
 
 
 def escape_corner(sol: Solution, solve, k_names: list[str], ratio: float = 20.0) -> Solution:
@@ -81,6 +167,34 @@ def escape_corner(sol: Solution, solve, k_names: list[str], ratio: float = 20.0)
         return sol
     alt = solve(spread_start(sol.values, k_names))
     return alt if cost(alt) < cost(sol) else sol
+
+
+#: the stiffnesses of the restarts from the Coulomb corner, as shares of the corner's
+COULOMB_RESTARTS = (0.1, 0.01)
+
+
+def escape_coulomb(sol: Solution, solve, k_names: list[str]) -> Solution:
+    """Refit from starts off the Coulomb corner when the elements carry no force.
+
+    With c1 at or above F_c the elements of equal break-away force carry nothing:
+    the residual does not depend on their stiffnesses, no gradient leads back, and the
+    fit stays a Coulomb-friction fit at 2 × the noise floor (5 kHz stops: a regression
+    start 16 times too stiff, every threshold below the records' swings, slid into it).
+    The restarts: `spread_start` of the corner (c1/F_c at most 3/5) with every stiffness
+    scaled by `COULOMB_RESTARTS` (thresholds 10 and 100 times wider). The best is kept.
+    """
+    v = sol.values
+    if sol.status == "failed" or len(k_names) < 1 or "coulomb_level" not in v:
+        return sol
+    if v["coulomb"] < v["coulomb_level"]:
+        return sol
+    best, level = sol, v["coulomb"]  # the model's F_c: the parameter F_c lies below it
+    for share in COULOMB_RESTARTS:
+        moved = {**v, "coulomb_level": level, **{x: share * v[x] for x in k_names}}
+        alt = solve(spread_start(moved, k_names))
+        if cost(alt) < cost(best):
+            best = alt
+    return best
 
 
 def spread_start(start: dict[str, float], k_names: list[str]) -> dict[str, float]:

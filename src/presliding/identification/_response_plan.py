@@ -24,9 +24,11 @@ the options. `response_plan` gives the fit's own steps:
   from one regression start and can miss a valley next to the one they reach.
   The probes' solves defer their covariance (`_deferred`); the best one's is
   computed once, before the flat-direction probe, which needs its normal matrix;
-* checks: the rigid corner and coalesced elements, the start from rest of a
-  single record, interchangeable elements relabelled, the rigid limit of the
-  smallest-threshold element (`_response_checks`);
+* checks: the rigid corner, the Coulomb corner (c1 ≥ F_c: the elements carry
+  nothing) and coalesced elements, the start from rest of a single record,
+  interchangeable elements relabelled, the rigid limit of the smallest-threshold
+  element, and two elements still coalesced after all that
+  (their split checked, `coalesced_split`) (`_response_checks`);
 * refit: with ``prune=True``, the fit again without the elements that never
   slide;
 * result: the model, derived values, notes and predictor
@@ -58,7 +60,9 @@ from presliding.identification._probes import (
 )
 from presliding.identification._response_box import start_and_box
 from presliding.identification._response_checks import (
+    coalesced_split,
     escape_corner,
+    escape_coulomb,
     polish_initial_velocity,
     rigid_check,
     smallest_threshold_first,
@@ -150,7 +154,7 @@ def response_plan(req: ResponseRequest, problem: FitProblem, options: FitOptions
     return FitPlan(
         search=partial(_search, req, flags),
         checks=(partial(_corner_checks, req, flags), partial(_relabel, req),
-                partial(_rigid_limit, flags)),
+                partial(_rigid_limit, flags), partial(_coalesced, req, flags)),
         refit=partial(_prune, req, refit_with), result=partial(_result, req),
         bootstrap=req.bootstrap, seed=req.seed,
     )  # fmt: skip
@@ -241,6 +245,7 @@ def _corner_checks(req: ResponseRequest, flags: _Flags, run: FitRun, sol: Soluti
     if flags.search and flags.discrete_equal:
         run.stage("checks: a rigid stiffest element, coalesced elements")
         sol = escape_corner(sol, run.solve, k_names)
+        sol = escape_coulomb(sol, run.solve, k_names)
         sol = split_coalesced(sol, run.solve, k_names)
     if req.single:
         p = run.problem
@@ -272,6 +277,14 @@ def _rigid_limit(flags: _Flags, run: FitRun, sol: Solution) -> Solution:
         if flags.large and RIGID_JUDGE < RIGID_EVALUATIONS else None  # fmt: skip
     return rigid_check(sol, capped, p.records, p.names, p.fixed, p.tied, run.options.level,
                        refine=run.solve if flags.large else None, judge=judge)  # fmt: skip
+
+
+def _coalesced(req: ResponseRequest, flags: _Flags, run: FitRun, sol: Solution) -> Solution:
+    """Two elements of equal break-away force still coalesced: their split checked
+    (`_response_checks.coalesced_split`)."""
+    if not (flags.search and flags.discrete_equal):
+        return sol
+    return coalesced_split(sol, run.solve, req.spec.k_names, run.options.level)
 
 
 def _prune(req: ResponseRequest, refit_with: Callable[..., Any], run: FitRun,
