@@ -23,14 +23,16 @@ least determined direction), and random log-normal perturbations of all its
 shared parameters, each scored by the nuisance grid alone (one batched
 compiled call per candidate).
 
-Noise floor (`_noise_floor`). The rule: a fit the solver calls converged
-whose pooled residual RMS is more than `FLOOR_FACTOR` times the floor
-estimated from the data, while at least one record is fitted within that
-factor of its own floor (so the model family reaches the floor on these
-data) or the starts did not all reach the best optimum (the cost has
-several minima there), is a ``"local_minimum"``; the message names the
-records furthest above their floors. Otherwise a fit far above the floor
-keeps its status, with a note that the model may not describe the data.
+Noise floor (`_noise_floor`). The rule: a fit at an optimum (converged, or
+not identifiable or at a bound by the checks: `_status` applies this rule
+before theirs, and keeps their message after its own) whose pooled residual
+RMS is more than `FLOOR_FACTOR` times the floor estimated from the data,
+while at least one record is fitted within that factor of its own floor (so
+the model family reaches the floor on these data) or the starts did not all
+reach the best optimum (the cost has several minima there), is a
+``"local_minimum"``; the message names the records furthest above their
+floors. Otherwise a fit far above the floor keeps its status, with a note
+that the model may not describe the data.
 """
 
 from __future__ import annotations
@@ -347,7 +349,8 @@ def floor_test(problem: PooledProblem, sol: Solution,
     sizes = np.array([problem.record_rows(i).shape[0] for i in range(problem.n_rec)])
     floor = float(np.sqrt(np.sum(record_floors(problem) * sizes) / np.sum(sizes)))
     reach = bool(np.any(ratios <= FLOOR_FACTOR)) or not starts_agree
-    if sol.status == "converged" and pooled > FLOOR_FACTOR and reach:
+    optimum = sol.status in ("converged", "not_identifiable", "at_bound")  # rules after it
+    if optimum and pooled > FLOOR_FACTOR and reach:
         worst = [int(i) for i in np.argsort(-ratios) if ratios[i] > FLOOR_FACTOR]
         named = ", ".join(f"{i + 1} ({ratios[i]:.3g}×)" for i in worst[:5])
         more = f" and {len(worst) - 5} more" if len(worst) > 5 else ""
@@ -356,5 +359,8 @@ def floor_test(problem: PooledProblem, sol: Solution,
             f"from the data (rule: more than {FLOOR_FACTOR:g} times while some records are "
             f"fitted within it or the starts ended apart); record(s) {named}{more} fit worst"
         )
-        sol = replace(sol, status="local_minimum", message=message)
+        old = "" if sol.status == "converged" else sol.message
+        sol = replace(
+            sol, status="local_minimum", message="; ".join(x for x in (message, old) if x)
+        )
     return sol, tuple(float(r) for r in ratios), floor, pooled
