@@ -90,7 +90,7 @@ def test_a_step_whose_solve_slid_back_towards_the_best_ends_the_probe(monkeypatc
     is followed by a step on in the same direction and, when that fails, by the halvings."""
     calls = []
 
-    def step(problem, solve, best, names, factor, fixed, bounds, budget):
+    def step(problem, solve, best, names, factor, fixed, bounds, budget, tied=None):
         calls.append(round(factor, 3))
         if len(calls) == 2:  # the step down lowers the cost
             return _outcome(ends, 1.0), 0
