@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import inspect
+from dataclasses import replace
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -100,3 +102,38 @@ def test_a_step_whose_solve_slid_back_towards_the_best_ends_the_probe(monkeypatc
     best, _, _ = sp.scale_probe(None, None, _outcome(2.0, 2.0), ["mass"], {}, {}, 40)
     assert best.values["mass"] == ends and sp.cost(best) == 1.0
     assert calls[: len(tried)] == tried and len(calls) == (2 if ends == 1.90 else 7)
+
+
+def test_a_step_holds_the_records_parameters_left_on_a_bound_and_releases_them(monkeypatch):
+    """The step's course (`search_nuisance` and the solver scripted). The search leaves
+    record 1's preload on its bound −1 (saturated memory, invisible in the record): a solve
+    with it free ends where it began, above the best (the solver's column scaling sends the
+    flat preload thousands of trust boxes away; every trial step fails). The step's solve
+    holds it, descends below the best, and one solve of everything releases it."""
+    problem = SimpleNamespace(
+        names=["mass", "initial_position_1", "preload_fraction_1", "preload_fraction_2"],
+        record_of={"mass": None, "initial_position_1": 0, "preload_fraction_1": 0,
+                   "preload_fraction_2": 1},
+        shared=["mass"],
+    )  # fmt: skip
+    bounds = {"preload_fraction_1": (-1.0, 1.0), "preload_fraction_2": (-1.0, 1.0)}
+    searched = {"mass": 1.6, "initial_position_1": 1e-4, "preload_fraction_1": -1.0,
+                "preload_fraction_2": 1.0}  # fmt: skip
+    monkeypatch.setattr(sp, "search_nuisance", lambda p, v, f, b: (dict(searched), 3.0, 7))
+    calls = []
+
+    def solve(values, extra=None, max_evaluations=None):
+        calls.append(dict(extra or {}))
+        if extra is None and values["mass"] == 1.6:  # free from the search: stalled there
+            return replace(_outcome(1.6, 3.0), values=dict(values))
+        return replace(_outcome(1.9, 1.0), values={**values, "mass": 1.9})
+
+    # preload_fraction_2 is fixed by the user: not held by the step (it is not free)
+    t, spent = sp._step(problem, solve, _outcome(2.0, 2.0), ["mass"], 0.8,
+                        {"preload_fraction_2": 1.0}, bounds, 40)  # fmt: skip
+    assert calls[0] == {"preload_fraction_1": -1.0}  # only the free one on its bound
+    assert calls[-1] == {}  # released: everything free in the step's last solve
+    assert cost(t) == pytest.approx(1.0) and t.values["mass"] == 1.9 and spent >= 7
+    # tied record parameters are not held either (the solver cannot hold a tied one)
+    assert sp.on_bound(problem, searched, {"preload_fraction_1": "preload_fraction_2"},
+                       bounds) == {"preload_fraction_2": 1.0}  # fmt: skip
