@@ -42,10 +42,13 @@ valley both first steps fail: two steps.
 
 A record's own parameter that the nuisance search left on a bound of its range
 (a preload fraction of ±1: memory saturated, a grid end) is held during the
-step's solves (`on_bound`), and released in one solve of everything from where
-they ended when the step went below the best (a step that does not is dropped:
-released from its cap, the 20-record benchmark's step down solved 173
-evaluations back to the best). Near saturation a preload is often invisible in the record (its
+step's solves (`on_bound`). A step that went below the best releases them: the
+blocks searched again where its solve ended, then one solve of everything from
+them (or from where it ended, when the search found nothing better); a step
+that did not is dropped as it is. Released from where the held solve ended,
+the 20-record benchmark's steps solved 173 and 226 evaluations on (a preload
+held on its bound was not the record's best); from the blocks searched again,
+8, at the same final cost. Near saturation a preload is often invisible in the record (its
 column a 1e-4 of the others'), and the solver's column scaling then gives it a
 step thousands of times its trust box: clipped there, every trial step moves the
 preload by the box's 0.25 and raises the cost, the damping grows until the step
@@ -154,10 +157,12 @@ def _step(
     t = other_valley(problem, step_solve, t, best, within=1.0)
     if t.status == "failed" or not cost(t) < cost(best):
         return t, spent
-    if held or t.status == "max_evaluations":  # below the best: solved on, every parameter
-        t = solve(t.values)  # free (the held released), never kept on its cap
+    if t.status == "max_evaluations" and not held:  # below the best: never kept on its cap
+        t = solve(t.values)
     again, c, ev = search_nuisance(problem, t.values, fixed, bounds)
     spent += ev
+    if held:  # released: every parameter free, from the blocks searched again when better
+        return solve(again if c < cost(t) else t.values), spent
     if c < cost(t) * (1.0 - SAME_OPTIMUM):
         other = solve(again)
         t = other if cost(other) < cost(t) else t
