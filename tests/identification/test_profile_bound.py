@@ -141,3 +141,24 @@ def test_an_initial_velocity_whose_preload_is_saturated_gets_an_interval_from_it
     assert fit.standard_error[name] == pytest.approx((hi_v - lo_v) / (2.0 * t), rel=1e-9)
     line = next(x for x in fit.report().splitlines() if x.startswith(name))
     assert "saturated parameter's profile" in line
+
+
+def test_a_flat_column_a_hair_inside_its_bound_is_profiled_from_the_bound():
+    """A solver stops a saturated preload at 1 − 3e-5 as well as on 1 (light stage, seed 3 of
+    the design study: its record's velocity 6.8 standard errors from the truth): the column
+    is as flat there, the walk starts on the bound and the partners widen the same."""
+    from dataclasses import replace
+
+    y = _data()
+    sol = solve_least_squares(
+        lambda p: _model(p) - y, {"offset": 0.0, "slope": 0.0, "fraction": 0.5},
+        bounds={"fraction": (-1.0, 1.0)}, tolerance=1e-12,
+    )  # fmt: skip
+    on = profile_solution(sol)
+    inside = profile_solution(replace(sol, values={**sol.values, "fraction": 1.0 - 3e-5}))
+    assert inside.interval_method["fraction"] == "profile"
+    assert inside.confidence_interval["fraction"][1] == 1.0
+    for name in ("offset", "slope", "fraction"):
+        assert inside.confidence_interval[name] == pytest.approx(on.confidence_interval[name],
+                                                                 rel=1e-6, abs=1e-9)  # fmt: skip
+    assert inside.interval_method["offset"] == inside.interval_method["slope"] == "partner"

@@ -39,6 +39,7 @@ from numpy.typing import NDArray
 from scipy import sparse
 
 __all__ = [
+    "NEAR_FLAT",
     "carried_threshold",
     "flat_on_bound",
     "inverse_normal",
@@ -80,15 +81,23 @@ def thresholds(hinv: FloatArray, standard_error: FloatArray, quantile: float) ->
     return out
 
 
+#: Distance from a bound, as a share of the range, within which a flat column counts as on it
+#: (a solver stops a saturated preload at 1 − 3e-5 as well as on 1).
+NEAR_FLAT = 1e-3
+
+
 def flat_on_bound(lower: FloatArray, upper: FloatArray, x: FloatArray, standard_error: FloatArray,
                   quantile: float) -> list[int]:  # fmt: skip
-    """The free parameters on a finite bound whose Wald half width t·SE spans their range: a
-    column that vanishes there (an infinite error where it is exactly zero)."""
+    """The free parameters on (or within `NEAR_FLAT` of) a finite bound whose Wald half width
+    t·SE spans their range: a column that vanishes there (an infinite error where it is
+    exactly zero)."""
     out = []
     for i in range(x.shape[0]):
         lo, hi = lower[i], upper[i]
-        on = np.isfinite(lo) and np.isfinite(hi) and x[i] in (lo, hi)
-        if on and not quantile * standard_error[i] < hi - lo:  # an infinite error too
+        if not (np.isfinite(lo) and np.isfinite(hi)):
+            continue
+        near = min(x[i] - lo, hi - x[i]) <= NEAR_FLAT * (hi - lo)
+        if near and not quantile * standard_error[i] < hi - lo:  # an infinite error too
             out.append(i)
     return out
 

@@ -149,10 +149,11 @@ def profile_solution(sol: Any, which: str | Sequence[str] = "auto", budget: int 
     if not np.isfinite(c0):
         return replace(sol, interval_method=methods)
     x, c0 = _onto_bounds(prof, x, c0)
-    normal = normal_matrix(prof.jacobian(x))
-    hinv = scaled_pinv(normal)
     q = prof.quantile
     ses = np.array([sol.standard_error.get(n, np.inf) for n in prof.free], dtype=float)
+    x, c0 = _flat_onto_bounds(prof, x, c0, ses)
+    normal = normal_matrix(prof.jacobian(x))
+    hinv = scaled_pinv(normal)
     limits = thresholds(hinv, ses, q)
     crits = limits[np.isfinite(limits)]
     drop = _settled(prof, x, c0, SETTLE * INNER_SHARE * float(np.min(crits))) if crits.size else 0.0
@@ -286,6 +287,21 @@ def _onto_bounds(prof: Profiler, x: FloatArray, c0: float) -> tuple[FloatArray, 
     y = np.where(near_lo, lo, np.where(near_hi, hi, x))
     c = cost(prof.fun(y))
     return (y, c) if c <= c0 * (1.0 + 1e-12) else (x, c0)
+
+
+def _flat_onto_bounds(prof: Profiler, x: FloatArray, c0: float,
+                      ses: FloatArray) -> tuple[FloatArray, float]:  # fmt: skip
+    """x with the flat columns near a bound (`flat_on_bound`) put on it, where that raises
+    the cost by no more than 1e-6 of it (a few thousandths of a profile threshold): the
+    walk inward starts on the bound, and the interval reaches it."""
+    flat = flat_on_bound(prof.lower, prof.upper, x, ses, prof.quantile)
+    y = x.copy()
+    for i in flat:
+        y[i] = prof.upper[i] if prof.upper[i] - x[i] <= x[i] - prof.lower[i] else prof.lower[i]
+    if np.array_equal(y, x):
+        return x, c0
+    c = cost(prof.fun(y))
+    return (y, c) if c <= c0 * (1.0 + 1e-6) else (x, c0)
 
 
 def _at_bound(prof: Profiler, x: FloatArray, j: int, wald: tuple[float, float]) -> bool:

@@ -11,16 +11,17 @@ stops study an initial velocity sat 28 standard errors (of 1.3e-5 m/s) from the 
 holding it at the truth and re-optimising moves the preload inward to 0.66 and raises the
 cost by a few profile thresholds only.
 
-Such a parameter p (free, on a finite bound, its Wald half width t·SE_p at least its range,
-or its error infinite: `_normal_equations.flat_on_bound`) is profiled inward from the
-bound: the walk of `_profile_walk` (continuation from the bound, secant steps, regula
-falsi), with steps in units of its range (`STEP`) instead of its Wald half width, to where
-P(p) = χ²(p) − χ²_min reaches the threshold of `_normal_equations.carried_threshold`: the
-largest of the other free parameters' P_j = t²·SE_j²/h_jj, h = (JᵀJ)⁻¹ without p (the
-largest HAC inflation of the fit; t²·s² for independent residuals). Its own is a ratio of
-two variances that the vanishing column sends to infinity, each cut by a different rank
-tolerance: any number. Its interval is [end, bound] ("profile"), and the second optima
-(`_alternatives`) read that threshold for it and for the parameters below.
+Such a parameter p (free, on a finite bound or within `NEAR_FLAT` of it, where it is put on
+the bound if that costs nothing, its Wald half width t·SE_p at least its range, or its error
+infinite: `_normal_equations.flat_on_bound`) is profiled inward from the bound: the walk of
+`_profile_walk` (continuation from the bound, secant steps, regula falsi), with steps in
+units of its range (`STEP`) instead of its Wald half width, to where P(p) = χ²(p) − χ²_min
+reaches the threshold of `_normal_equations.carried_threshold`: the largest of the other
+free parameters' P_j = t²·SE_j²/h_jj, h = (JᵀJ)⁻¹ without p (the largest HAC inflation of
+the fit; t²·s² for independent residuals). Its own is a ratio of two variances that the
+vanishing column sends to infinity, each cut by a different rank tolerance: any number. Its
+interval is [end, bound] ("profile"), and the second optima (`_alternatives`) read that
+threshold for it and for the parameters below.
 
 Every point solved on the way with P within that threshold holds the re-optimised values
 of all the other parameters: a point of the confidence region at that level. Each other
@@ -56,7 +57,8 @@ def partner_intervals(walk: Walker) -> tuple[tuple[float, float], dict[int, tupl
     threshold, the last one interpolated at the end."""
     prof, j = walk.prof, walk.j
     v = float(walk.x[j])
-    side = -1 if v >= prof.upper[j] else 1
+    side = -1 if prof.upper[j] - v <= v - prof.lower[j] else 1  # inward from the nearer
+    bound = float(prof.upper[j] if side < 0 else prof.lower[j])
     span = float(prof.upper[j] - prof.lower[j])
     end = interval_end(walk, side, STEP * span)
     end = float(np.clip(end, prof.lower[j], prof.upper[j]))
@@ -73,7 +75,7 @@ def partner_intervals(walk: Walker) -> tuple[tuple[float, float], dict[int, tupl
             inside.append((theta, z))
     ranges: dict[int, tuple[float, float]] = {}
     if not inside:
-        return (min(v, end), max(v, end)), ranges
+        return (min(v, end, bound), max(v, end, bound)), ranges
     zs = [z for _, z in inside]
     last_theta, last_z = inside[-1]
     if beyond is not None and beyond[0] != last_theta:
@@ -82,7 +84,7 @@ def partner_intervals(walk: Walker) -> tuple[tuple[float, float], dict[int, tupl
     arr = np.array(zs)
     for col, i in enumerate(walk.keep):
         ranges[int(i)] = (float(np.min(arr[:, col])), float(np.max(arr[:, col])))
-    return (min(v, end), max(v, end)), ranges
+    return (min(v, end, bound), max(v, end, bound)), ranges
 
 
 def widen(value: float, name: str, rng: tuple[float, float], ci: dict, se: dict,
