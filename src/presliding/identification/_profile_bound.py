@@ -44,11 +44,14 @@ from presliding.identification._profile_walk import (
     interval_end,
 )
 
-__all__ = ["STEP", "partner_intervals", "widen"]
+__all__ = ["ACCURACY", "STEP", "partner_intervals", "widen"]
 
 #: The walk's unit step (its "half width"), as a share of the parameter's range: the first
 #: point is half of it inward from the bound, later steps no longer than the distance walked.
 STEP = 0.125
+#: The accuracy of the end, in units of that step: 1 % of the range (a preload's interval
+#: needs no more, and each further digit costs a re-optimisation of every parameter).
+ACCURACY = 0.04
 
 
 def partner_intervals(walk: Walker) -> tuple[tuple[float, float], dict[int, tuple[float, float]]]:
@@ -60,7 +63,7 @@ def partner_intervals(walk: Walker) -> tuple[tuple[float, float], dict[int, tupl
     side = -1 if prof.upper[j] - v <= v - prof.lower[j] else 1  # inward from the nearer
     bound = float(prof.upper[j] if side < 0 else prof.lower[j])
     span = float(prof.upper[j] - prof.lower[j])
-    end = interval_end(walk, side, STEP * span)
+    end = interval_end(walk, side, STEP * span, ACCURACY)
     end = float(np.clip(end, prof.lower[j], prof.upper[j]))
     crit = walk.root**2
     points = sorted(walk.solved.items(), key=lambda kv: side * (kv[0] - v))

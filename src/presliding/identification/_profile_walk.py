@@ -253,19 +253,19 @@ def _path(prof: Profiler, x: FloatArray, normal: FloatArray, j: int,
     return out
 
 
-def interval_end(walk: Walker, side: int, half: float) -> float:
+def interval_end(walk: Walker, side: int, half: float, accuracy: float = END_ACCURACY) -> float:
     """The interval end on `side` (±1): where g = √P − √P_crit crosses 0, a bound, or ±inf.
 
     The walk: a first step of `FIRST_STEP` half widths, then secant steps on the
     two farthest points inside, a little past the predicted root, until it is
-    bracketed (module notes).
+    bracketed (module notes); the end to `accuracy` half widths.
     """
     prof, j = walk.prof, walk.j
     theta0 = float(walk.x[j])
     limit = float(prof.upper[j] if side > 0 else prof.lower[j])
     if theta0 == limit:
         return limit
-    tol = END_ACCURACY * half
+    tol = accuracy * half
     prev, (a, ga) = None, (theta0, walk.centre())
     theta = theta0 + side * FIRST_STEP * half
     for _ in range(3 * MAX_DOUBLINGS):
