@@ -155,10 +155,11 @@ def stop_records(seed: int, n_records: int, model: PIFriction, mass: float = 2.0
 
 
 def random_preload_stops(seed: int, model: PIFriction, n_records: int = 4, samples: int = 500,
-                         mass: float = 2.0):  # fmt: skip
+                         mass: float = 2.0, truth: bool = False):  # fmt: skip
     """Stops of the search study's design: each record's preload anywhere in ±0.8 F_m of
     either sign, initial velocities of both signs, a decelerating force of random level and
-    length, a 1 µm encoder with 0.2 µm noise, velocity from the quantised position."""
+    length, a 1 µm encoder with 0.2 µm noise, velocity from the quantised position. With
+    `truth`, each record comes as (record, initial velocity, preload fraction)."""
     from presliding import Measurement, preloaded_state, simulate
 
     rng = np.random.default_rng(seed)
@@ -167,14 +168,16 @@ def random_preload_stops(seed: int, model: PIFriction, n_records: int = 4, sampl
     for _ in range(n_records):
         v0 = rng.choice([-1.0, 1.0]) * rng.uniform(0.02, 0.06)
         d = float(np.sign(v0))
-        f0 = rng.uniform(-0.8, 0.8) * model.max_elastic_force
+        fraction = rng.uniform(-0.8, 0.8)
         y0 = rng.uniform(-1e-3, 1e-3)
-        state = preloaded_state(model, f0, direction=d, position=y0)
+        state = preloaded_state(model, fraction * model.max_elastic_force, direction=d,
+                                position=y0)  # fmt: skip
         u = np.where(t < rng.uniform(0.03, 0.08), -d * rng.uniform(0.1, 0.6), 0.0)
         res = simulate(model, mass, applied_force=(t, u), initial_position=y0,
                        initial_velocity=v0, initial_state=state, t_eval=t)  # fmt: skip
         y = 1e-6 * np.round((res.position + 2e-7 * rng.standard_normal(samples)) / 1e-6)
-        out.append(Measurement(t, position=y, velocity=np.gradient(y, t), applied_force=u))
+        meas = Measurement(t, position=y, velocity=np.gradient(y, t), applied_force=u)
+        out.append((meas, v0, fraction) if truth else meas)
     return out
 
 

@@ -9,10 +9,11 @@ import numpy as np
 import pytest
 from scipy import optimize, stats
 
-from presliding import Measurement, PIFriction, fit_response, preloaded_state, simulate
+from presliding import PIFriction, fit_response
 from presliding.identification._least_squares import solve_least_squares
 from presliding.identification._normal_equations import profile_thresholds
 from presliding.identification._profile import profile_solution
+from tests.helpers import random_preload_stops
 
 T = np.linspace(0.0, 1.0, 80)
 SHAPE = np.exp(-T)  # close to a line: the offset and slope absorb most of it
@@ -78,29 +79,6 @@ def test_a_flat_column_on_its_bound_is_profiled_inward_and_widens_its_partners()
     assert limits["offset"] == limits["slope"] == limits["fraction"]
 
 
-def _stops(seed: int, n_records: int, samples: int):
-    """Stops of the search study's design (`tests.helpers.random_preload_stops`), with each
-    record's initial velocity and preload fraction."""
-    model = PIFriction(0.3, [4000.0, 2000.0, 1000.0, 500.0], breakaway=[0.175] * 4)
-    rng = np.random.default_rng(seed)
-    t = np.arange(samples) * 1e-3
-    out = []
-    for _ in range(n_records):
-        v0 = rng.choice([-1.0, 1.0]) * rng.uniform(0.02, 0.06)
-        d = float(np.sign(v0))
-        fraction = rng.uniform(-0.8, 0.8)
-        y0 = rng.uniform(-1e-3, 1e-3)
-        state = preloaded_state(model, fraction * model.max_elastic_force, direction=d,
-                                position=y0)  # fmt: skip
-        u = np.where(t < rng.uniform(0.03, 0.08), -d * rng.uniform(0.1, 0.6), 0.0)
-        res = simulate(model, 2.0, applied_force=(t, u), initial_position=y0,
-                       initial_velocity=v0, initial_state=state, t_eval=t)  # fmt: skip
-        y = 1e-6 * np.round((res.position + 2e-7 * rng.standard_normal(samples)) / 1e-6)
-        meas = Measurement(t, position=y, velocity=np.gradient(y, t), applied_force=u)
-        out.append((meas, v0, fraction))
-    return out
-
-
 def test_an_initial_velocity_whose_preload_is_saturated_gets_an_interval_from_its_profile(
     monkeypatch,
 ):
@@ -110,7 +88,8 @@ def test_an_initial_velocity_whose_preload_is_saturated_gets_an_interval_from_it
     truth, and the velocity's interval follows it (z about 4 on the raised error)."""
     from presliding.identification import fit_result
 
-    drawn = _stops(5020, 5, 1000)
+    model = PIFriction(0.3, [4000.0, 2000.0, 1000.0, 500.0], breakaway=[0.175] * 4)
+    drawn = random_preload_stops(5020, model, 5, 1000, truth=True)
     (meas, v0, fraction), others = drawn[2], [drawn[0], drawn[4]]
     records = [meas] + [o[0] for o in others]
     seen = []
