@@ -115,7 +115,7 @@ def coalesced_split(sol: Solution, solve, k_names: list[str], level: float = 0.9
     (ka, xa), (kb, xb) = pair
     half = 0.5 * (ka + kb)
     limit = float(stats.t.ppf(0.5 + level / 2, dof)) ** 2 * c0 / dof
-    reach, rise = half, np.nan
+    reach = half
     for share in SPLIT_STEPS:
         d = share * half
         held = {xa: half + d, xb: half - d}

@@ -225,7 +225,7 @@ def _probe(req: ResponseRequest, flags: _Flags, run: FitRun, sol: Solution, n_st
     if names:  # along eq. 17's scale, every record's block searched again (`_scale_probe`)
         before = best
         best, steps, spent = scale_probe(p.records, solve, best, names, p.fixed, p.bounds,
-                                         budget)  # fmt: skip
+                                         budget, tied=p.tied)  # fmt: skip
         run.evaluations += spent
         probes += steps
         if best is not before:  # the true scale's valley can hold an element not engaged

@@ -148,7 +148,7 @@ def _step(
         return None, 0
     values, _, spent = search_nuisance(problem, begin, fixed, bounds)
     held = on_bound(problem, values, {**fixed, **(tied or {})}, bounds)  # (module notes)
-    step_solve = partial(_held_solve, solve, held) if held else solve
+    step_solve = partial(solve, extra=held) if held else solve
     t = step_solve(values, max_evaluations=min(JUDGE, budget))  # judged early (module notes)
     if t.status == "max_evaluations" and budget > JUDGE:
         if not cost(t) < REFINE_WITHIN * cost(best):
@@ -182,16 +182,6 @@ def on_bound(problem: PooledProblem, values: Mapping[str, float], held: Mapping[
         if not lo < values[x] < hi:
             out[x] = values[x]
     return out
-
-
-def _held_solve(solve: Callable[..., Solution], held: Mapping[str, float],
-                values: Mapping[str, float], **options: object) -> Solution:  # fmt: skip
-    """`solve` with the parameters `held` at their values; without them where the solve
-    cannot hold one (a tie of a record's parameter the caller did not pass)."""
-    try:
-        return solve(values, extra=held, **options)
-    except ValueError:
-        return solve(values, **options)
 
 
 def _returned(best: Solution, moved: Solution, factor: float) -> bool:
