@@ -335,7 +335,8 @@ def _mass_system(control, model: PIFriction, mass: float, dt: float, name, ins, 
                                             float(x[0]),
                                             float(x[1]), float(x[n + 2]),
                                             float(np.atleast_1d(u)[0]), t0, t0 + dt,
-                                            10_000_000)  # fmt: skip
+                                            10_000_000,
+                                            _loop.damped_flag(float(mod.viscous)))  # fmt: skip
         if st != 0:
             raise RuntimeError(f"the plant step at t = {t!r} reached the event limit.")
         return np.concatenate(([y, v], f, [d]))

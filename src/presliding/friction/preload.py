@@ -27,6 +27,7 @@ import numpy as np
 from presliding._validation import as_choice, as_real_scalar, fmt
 from presliding.friction.pi_friction import PIFriction
 from presliding.hysteresis._jit import njit
+from presliding.hysteresis._sorting import stable_argsort
 from presliding.hysteresis.general_pi import MemoryState
 from presliding.hysteresis.operators import PIState
 
@@ -54,7 +55,7 @@ def preload_deformation(k, r, fraction, direction, branch, out):  # pragma: no c
         target = fm * abs(fraction)
         scale = 1.0
     # G(Δ) = Σ k_j min(Δ, scale·r_j) is piecewise linear and increasing: walk its knots
-    order = np.argsort(r)
+    order = stable_argsort(r)
     g = 0.0  # G at the current knot
     slope = 0.0
     for j in range(n):

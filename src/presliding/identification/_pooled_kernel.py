@@ -2,7 +2,7 @@
 
 `pooled_responses` simulates every record of a pooled fit for several parameter
 sets in one compiled call: task (p, i) runs the exact event kernel
-(`presliding.motion._event.run_events`) for parameter set p on record i, in
+(`presliding.motion._event.run_events_sided`, equal sides) for parameter set p on record i, in
 parallel over all tasks (``prange``), and writes position and velocity into
 row p of flat output arrays, each record at its own offset. One call evaluates
 the residual of every record; one more evaluates all the finite-difference
@@ -20,14 +20,14 @@ import numpy as np
 
 from presliding.friction.preload import preload_deformation
 from presliding.hysteresis._jit import njit
-from presliding.motion._event import run_events
+from presliding.motion._event import run_events_sided
 
 RELAXED, BRANCH, VIRGIN = 0, 1, 2
 
 
 def _pooled_responses(  # pragma: no cover - compiled
     mass, c1, sigma, k, r, offset, y0, v0, fraction, mode, direction,
-    t_all, t_off, ut_all, uv_all, u_off, max_events, o_y, o_v, status, n_rev,
+    t_all, t_off, ut_all, uv_all, u_off, max_events, o_y, o_v, status, n_rev, damped,
 ):  # fmt: skip
     """Positions and velocities of every record for every parameter set.
 
@@ -35,7 +35,8 @@ def _pooled_responses(  # pragma: no cover - compiled
     mass, c1, sigma (viscous), offset (P,); k, r (P, N); y0, v0, fraction (P, R); mode,
     direction (R,); t_all (S,) sample times, record i at t_off[i]:t_off[i+1];
     ut_all, uv_all the zero-order-hold pieces of u, record i at
-    u_off[i]:u_off[i+1]. Outputs o_y, o_v (P, S); status, n_rev (P, R).
+    u_off[i]:u_off[i+1]. Outputs o_y, o_v (P, S); status, n_rev (P, R). ``damped``: None
+    when every sigma is 0 (the damped pieces are then not compiled), else True.
     """
     n_par = mass.shape[0]
     n_rec = t_off.shape[0] - 1
@@ -59,11 +60,13 @@ def _pooled_responses(  # pragma: no cover - compiled
         scratch = np.empty((6, n_t))
         none = np.empty(0)  # no viscous record, no piece record
         rev = np.empty((2, 8))
-        res = run_events(
-            mass[p], c1[p], k[p], r[p], f, y0[p, i], v0[p, i], last_dir, u_t, u_val, t_eval,
-            t_eval[n_t - 1], max_events, o_y[p, a:b], o_v[p, a:b], scratch[0], scratch[1],
-            scratch[2], scratch[3], scratch[4], scratch[5], rev[0], rev[1], sigma[p],
-            none, none,
+        # the sided kernel itself (equal sides), which `simulate` compiles already: through
+        # the `run_events` wrapper a cold cache would optimise the whole event kernel again
+        res = run_events_sided(
+            mass[p], c1[p], c1[p], k[p], r[p], r[p], f, y0[p, i], v0[p, i], last_dir, u_t,
+            u_val, t_eval, t_eval[n_t - 1], max_events, o_y[p, a:b], o_v[p, a:b], scratch[0],
+            scratch[1], scratch[2], scratch[3], scratch[4], scratch[5], rev[0], rev[1],
+            sigma[p], sigma[p], none, none, damped,
         )  # fmt: skip
         filled = res[1]
         for j in range(filled, n_t):  # only after an event limit: hold the last values
@@ -163,7 +166,8 @@ quotients = njit(cache=True)(_quotients)
 forward_columns = njit(cache=True)(_forward_columns)
 
 
-def pooled_responses(mass, *args):
-    """`_pooled_responses`, in parallel for several parameter sets."""
+def pooled_responses(mass, c1, sigma, *args):
+    """`_pooled_responses`, in parallel for several parameter sets (its last argument,
+    ``damped``, is set here from `sigma`)."""
     kernel = pooled_responses_parallel if mass.shape[0] > 1 else pooled_responses_serial
-    kernel(mass, *args)
+    kernel(mass, c1, sigma, *args, True if np.any(sigma != 0.0) else None)

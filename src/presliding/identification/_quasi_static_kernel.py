@@ -24,6 +24,7 @@ import numpy as np
 
 from presliding.friction.preload import preload_deformation
 from presliding.hysteresis._jit import njit
+from presliding.hysteresis._sorting import stable_argsort
 
 RELAXED, PRELOAD, CONTINUING = 0, 1, 3
 NO_RESPONSE = -2
@@ -40,7 +41,7 @@ def _travel(k, r, f, s, target, rooms):  # pragma: no cover - compiled
         g += k[j] * sf
         if rooms[j] > 0.0:
             slope += k[j]
-    order = np.argsort(rooms)
+    order = stable_argsort(rooms)
     prev = 0.0
     for m in range(n):
         j = order[m]
