@@ -18,6 +18,8 @@ numba's cache folder is chosen in `presliding._numba_cache` (the package's first
 from __future__ import annotations
 
 import contextlib
+import os
+import shutil
 import sys
 import threading
 import time
@@ -46,6 +48,22 @@ def _isatty(stream: Any) -> bool:
         return False
 
 
+def _shape(stream: Any) -> dict[str, Any]:
+    """tqdm's size options for a terminal `stream`: its own size, followed as it changes;
+    or, where the terminal reports no size (0 × 0: a pseudo-terminal nobody sized, as
+    some consoles, containers and session recorders open), ``COLUMNS``/``LINES`` or
+    80 × 24. tqdm draws nothing at all on a terminal of 0 rows."""
+    try:
+        size = os.get_terminal_size(stream.fileno())
+    except (AttributeError, OSError, ValueError):  # not a real file: tqdm's own defaults
+        return {"dynamic_ncols": True}
+    if size.columns > 0 and size.lines > 0:
+        return {"dynamic_ncols": True}
+    fallback = shutil.get_terminal_size((80, 24))  # COLUMNS and LINES first
+    columns = fallback.columns if fallback.columns > 0 else 80
+    return {"ncols": columns, "nrows": fallback.lines if fallback.lines > 0 else 24}
+
+
 def progress(total: float | None, desc: str, *, quiet: bool = False, unit: str = "it") -> Any:
     """A tqdm bar on stderr (a disabled one when `progress_enabled` is False).
 
@@ -56,7 +74,7 @@ def progress(total: float | None, desc: str, *, quiet: bool = False, unit: str =
 
     return tqdm(
         total=total, desc=desc, unit=unit, disable=not progress_enabled(quiet), file=sys.stderr,
-        leave=False, dynamic_ncols=True,
+        leave=False, **_shape(sys.stderr),
     )  # fmt: skip
 
 
@@ -131,7 +149,7 @@ class Progress:
 
             self._bar = tqdm(
                 total=total, desc=desc, unit=unit, file=self.stream, leave=False,
-                dynamic_ncols=True, mininterval=0.2, delay=self.delay,
+                mininterval=0.2, delay=self.delay, **_shape(self.stream),
             )  # fmt: skip
             if self.delay > 0:  # drawn when the delay ends, even if no update comes then
                 self._timer = threading.Timer(self.delay, self._draw)

@@ -19,8 +19,7 @@ sweep.py, sweep_spec.py     ``presliding sweep`` and its specification files
 loop.py         ``presliding loop``: a PID loop, its exact response and limit cycles
 network.py      ``presliding network``: a structure with friction contacts, report, figures
 report.py       Markdown and HTML reports
-_precompile.py  compiles a later part's kernels in a second process on a cold cache
-precompile.py   `presliding precompile`: the demo's kernels into numba's cache, no files
+precompile.py   `presliding precompile`: every compiled route into numba's cache, no files
 
 May import every layer below it.
 """
