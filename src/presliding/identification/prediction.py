@@ -102,7 +102,7 @@ def count_reversals(position: ArrayLike, tolerance: float | None = None) -> int:
     """
     y = as_signal("position", position)
     tol = reversal_tolerance(y) if tolerance is None else as_nonnegative_scalar(
-        "tolerance", tolerance)  # fmt: skip
+        "tolerance", tolerance, kind="position")  # fmt: skip
     return int(reversal_indices(np.ascontiguousarray(y), tol).shape[0])
 
 

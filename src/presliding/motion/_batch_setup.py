@@ -17,11 +17,10 @@ from presliding._validation import (
     as_parameter_matrix,
     as_parameter_vector,
     as_real_vector,
-    check_derived,
     check_same_length,
     fmt,
 )
-from presliding.friction._model_checks import check_has_friction
+from presliding.friction._model_checks import check_derived, check_has_friction
 from presliding.friction.pi_friction import PIFriction
 from presliding.motion._event import kernel_array
 from presliding.motion._run import check_model, saturation_direction

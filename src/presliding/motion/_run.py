@@ -310,7 +310,6 @@ def run_event(
         o = _buffers(n_out, 9)
         rev = _buffers(cap, 2)
         p_out = np.empty(5 + k.shape[0])
-        # buffers, σ±, the piece, and None where no piece is damped (see `_event`)
         tail = [*o[:7], o[8], *rev, sigma, sigman, o[7], p_out, _event.damped_flag(sigma, sigman)]
         res = _event.run_events_sided(m, c1, c1n, k, r, rn, f, y_start, v_start, last_dir,
                                       u_t, u_val, t_eval, t_end, max_events, *tail)  # fmt: skip
