@@ -201,3 +201,22 @@ def test_a_terminal_that_reports_no_size_still_gets_the_bar(monkeypatch):
         bar._on_compiled("kernel_a")
     os.close(main)
     assert f"presliding demo: {COMPILING}" in text and "0/2 [" in text
+
+
+def test_a_notebook_is_told_from_a_terminal_ipython(monkeypatch):
+    """IPython's shell in a Jupyter kernel has a kernel; the terminal's has none."""
+    import sys
+    import types
+
+    from presliding import _progress
+
+    monkeypatch.delitem(sys.modules, "IPython", raising=False)
+    assert not _progress.in_notebook()
+    for shell, notebook in ((None, False), (types.SimpleNamespace(), False),
+                            (types.SimpleNamespace(kernel=object()), True)):  # fmt: skip
+        fake = types.SimpleNamespace(get_ipython=lambda shell=shell: shell)
+        monkeypatch.setitem(sys.modules, "IPython", fake)
+        assert _progress.in_notebook() is notebook
+        assert _progress.progress_enabled() is notebook  # stderr is no terminal here
+        with Progress("probe", compile_note=False, quiet=True) as bar:
+            assert _progress._interactive(sys.stderr) is notebook and bar.quiet

@@ -149,8 +149,11 @@ def segment(
         spans, reasons = _stops(m, lead_in, rest_speed, min_samples)
     else:
         (y,) = m.require("position", purpose=f"cutting {kind}")
-        tol = _tolerance(y) if tolerance is None else as_positive_scalar(
-            "tolerance", tolerance, kind="position")
+        tol = (
+            _tolerance(y)
+            if tolerance is None
+            else as_positive_scalar("tolerance", tolerance, kind="position")
+        )
         turns = [0, *turning_indices(np.asarray(y, dtype=float), tol).tolist(), y.shape[0] - 1]
         step = 2 if kind == "loops" else 1
         spans = [(turns[i], turns[i + step] + 1) for i in range(0, len(turns) - step, step)]
