@@ -219,4 +219,4 @@ def test_a_notebook_is_told_from_a_terminal_ipython(monkeypatch):
         assert _progress.in_notebook() is notebook
         assert _progress.progress_enabled() is notebook  # stderr is no terminal here
         with Progress("probe", compile_note=False, quiet=True) as bar:
-            assert _progress._interactive(sys.stderr) is notebook and bar.quiet
+            assert bar.interactive is notebook and bar.quiet

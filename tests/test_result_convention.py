@@ -281,3 +281,55 @@ def test_units_follow_the_names():
     assert summarise(np.array([1.0, np.nan, 3.0, 4.0, 5.0])) == "<array 5 float64, 1 … 5>"
     assert summarise(np.arange(3)) == "[0, 1, 2]"
     assert summarise({f"k{i}": float(i) for i in range(10)}).endswith("… 2 more}")
+
+
+def test_a_models_density_is_shown_as_its_fields_with_units_not_as_a_raw_repr():
+    """The model table of a result showed ``'Discrete(stiffness=array([500.,  10., …``."""
+    discrete = ps.simulate(MODEL, 1.0, initial_velocity=0.05, t_end=0.05)
+    uniform = ps.PIFriction(0.1, density=ps.Uniform(height=3.5e7, max_threshold=2e-4))
+    smooth = ps.simulate(uniform, 1.0, initial_velocity=0.01, t_end=0.01, method="implicit",
+                         step=1e-4)  # fmt: skip
+    for res, cell in (
+        (discrete, "<td>density</td><td>Discrete: stiffness = [100, 40] N/m, threshold = ["),
+        (smooth, "<td>density</td><td>Uniform: height = 3.5e+07 N/m², max_threshold = 0.0002 m"),
+    ):
+        page = res._repr_html_()
+        assert cell in page and "array(" not in page
+    pytest.importorskip("pandas")
+    attrs = smooth.to_pandas().attrs["parameters"]
+    assert attrs["density"] == "Uniform: height = 3.5e+07 N/m², max_threshold = 0.0002 m"
+
+
+@pytest.mark.parametrize(
+    "model",
+    [
+        MODEL,
+        ps.PIFriction(0.1, density=ps.Exponential(height=7e7, length=1e-4)),
+        ps.PIFriction(0.5, [500.0], [1.0], coulomb_negative=0.3),
+    ],
+    ids=["elements", "density", "asymmetric"],
+)
+def test_a_friction_model_shows_its_levels_and_parameters_in_a_notebook(model):
+    page = model._repr_html_()
+    tags = _Tags()
+    tags.feed(page)
+    assert tags.open == [] and page.count("<table>") == 2
+    shown = "".join(tags.text)
+    assert "Coulomb level" in shown and "N/m" in shown and "coulomb" in shown
+    if model.is_symmetric:
+        assert f"{model.coulomb_level:.6g}" in shown and f"{model.initial_stiffness:.6g}" in shown
+    else:
+        assert "F_c⁺, F_c⁻" in shown and "coulomb_negative" in shown
+
+
+def test_a_measurement_shows_its_samples_span_and_signals_in_a_notebook():
+    t = np.linspace(0.0, 2.0, 201)
+    m = ps.Measurement(t, position=0.3 * np.sin(t), applied_force=np.cos(t), axis="rotary")
+    page = m._repr_html_()
+    tags = _Tags()
+    tags.feed(page)
+    assert tags.open == []
+    for cell in ("<td>samples</td><td>201</td>", "<td>sampling step</td><td>0.01</td><td>s</td>",
+                 "<td>position</td><td>0 … 0.3</td><td>rad</td>",
+                 "<td>applied_force</td><td>-0.416147 … 1</td><td>N m</td>"):  # fmt: skip
+        assert cell in page

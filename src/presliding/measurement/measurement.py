@@ -26,6 +26,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from presliding._axes import as_axis, axis_unit
+from presliding._display import model_html
 from presliding._validation import (
     as_choice,
     as_positive_scalar,
@@ -35,6 +36,7 @@ from presliding._validation import (
     check_size,
     fmt,
 )
+from presliding.measurement import _summary
 from presliding.measurement._filters import estimate_derivatives, lowpass
 from presliding.measurement._measurement_readers import MeasurementReaders
 from presliding.measurement._source import Source
@@ -161,6 +163,9 @@ class Measurement(MeasurementReaders):
         ``Measurement(..., axis="rotary").unit("stiffness")`` is ``"N m/rad"``.
         """
         return axis_unit(quantity, self.axis or "linear")
+
+    def _repr_html_(self) -> str:  # a notebook's view: samples, span, each signal's range
+        return model_html(self, _summary.figures(self), parameters=False)
 
     # ------------------------------------------------------------------ properties
     @property
