@@ -148,9 +148,25 @@ class TextTable:
         data = self._fast_values()
         if data is None or data.ndim != 2 or data.shape[1] != n:
             return self._slow_values(indices)
-        if not np.all(np.isfinite(data)):  # a gap, a short row or a bad value: named below
+        # a gap or a bad value in a column used is named below, line by line; a gap in an
+        # unused column costs nothing, unless its row is short (cells would be shifted)
+        if not np.all(np.isfinite(data[:, indices])) or not self._whole(np.isnan(data)):
             return self._slow_values(indices)
         return {j: np.ascontiguousarray(data[:, j]) for j in indices}
+
+    def _whole(self, gaps: NDArray[np.bool_]) -> bool:
+        """True when every row with a gap (NaN) has all its cells: an empty or NaN cell, not
+        a short row that the parser padded at its end (its cells shifted left)."""
+        rows_with_gaps = np.flatnonzero(gaps.any(axis=1))
+        if rows_with_gaps.size == 0:
+            return True
+        rows = [r for r in self.rows if _is_row(r)]
+        if len(rows) != gaps.shape[0]:
+            return False
+        n = self.n_columns
+        if self.delimiter:  # the count of delimiters is the cells' (as `_split` sees them)
+            return all(rows[i].count(self.delimiter) == n - 1 for i in rows_with_gaps)
+        return all(len(self._split(rows[i])) == n for i in rows_with_gaps)
 
     def _fast_values(self) -> FloatArray | None:
         """Every row parsed at once (pandas' C parser, else numpy); None when a row fails."""
