@@ -333,3 +333,17 @@ def test_a_measurement_shows_its_samples_span_and_signals_in_a_notebook():
                  "<td>position</td><td>0 … 0.3</td><td>rad</td>",
                  "<td>applied_force</td><td>-0.416147 … 1</td><td>N m</td>"):  # fmt: skip
         assert cell in page
+
+
+@pytest.mark.parametrize(("name", "build"), sorted(BUILDERS.items()))
+def test_to_pandas_without_pandas_names_the_extra(name, build, monkeypatch):
+    """Without pandas, every `to_pandas` raises the one ImportError naming the extra (it was
+    a bare ModuleNotFoundError for most results)."""
+    import sys
+
+    res = build()
+    monkeypatch.setitem(sys.modules, "pandas", None)  # an import of pandas now fails
+    expected = (r"^`\S*to_pandas\(\)` needs the optional package `pandas`; install it with "
+                r'`pip install "presliding\[pandas\]"`\.$')  # fmt: skip
+    with pytest.raises(ImportError, match=expected):
+        res.to_pandas()

@@ -12,6 +12,7 @@ import sys as _sys
 # `_numba_cache` comes first: importing it finds a folder numba can cache the
 # compiled kernels in, before any kernel module is imported.
 from presliding import _numba_cache, signals  # noqa: F401  (_numba_cache: for that effect)
+from presliding._interop import show_versions
 from presliding._version import __version__
 from presliding.analysis import (
     AmplitudeResponse,
@@ -245,6 +246,7 @@ __all__ = [
     "quasi_static_network",
     "quasi_static_response",
     "reversal_tolerance",
+    "show_versions",
     "signals",
     "simulate",
     "simulate_batch",

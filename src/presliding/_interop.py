@@ -1,7 +1,8 @@
 """Other packages at the boundary: optional dependencies and pint Quantities.
 
 `require` imports an optional module or raises ``ImportError`` whose message says
-what needed it and the extra that installs it (``pip install "presliding[dask]"``).
+what needed it and the extra that installs it (``pip install "presliding[dask]"``): the
+one wording of a missing extra. `show_versions` prints what is installed.
 `missing_extra` turns any ImportError (also a bare ``No module named 'pandas'``
 from deeper code) into that one sentence, for the command line's one-line errors.
 `si_magnitude` converts a pint Quantity to SI after checking its dimension (pint is not
@@ -16,7 +17,9 @@ import re
 from typing import Any
 
 __all__ = [
+    "CORE",
     "EXTRA_OF",
+    "OPTIONAL",
     "QUANTITY_KINDS",
     "SI_UNITS",
     "install_hint",
@@ -24,6 +27,7 @@ __all__ = [
     "missing_extra",
     "quantity_kind",
     "require",
+    "show_versions",
     "si_magnitude",
 ]
 
@@ -39,6 +43,47 @@ EXTRA_OF: dict[str, str] = {
     # a core dependency; its extra is kept so that old install lines keep working
     "control": "control",
 }
+
+
+#: The core dependencies, by the name they are imported under.
+CORE = ("numpy", "scipy", "numba", "matplotlib", "tqdm", "pint", "control", "filelock",
+        "threadpoolctl", "cloudpickle", "loky")  # fmt: skip
+#: The optional packages, each installed by the extra `EXTRA_OF` names.
+OPTIONAL = ("pandas", "xarray", "distributed", "lmfit", "h5py")
+
+
+def _version(module: str) -> str | None:
+    """The version of an installed package (None: not installed), without importing it."""
+    from importlib import metadata
+
+    dist = {"control": "control", "distributed": "distributed"}.get(module, module)
+    try:
+        return metadata.version(dist)
+    except metadata.PackageNotFoundError:
+        return None
+
+
+def show_versions() -> None:
+    """Print presliding's version, Python's, every dependency's (an optional one that is
+    missing with the command that installs it) and where the compiled kernels are cached.
+
+    What a bug report needs, as ``pandas.show_versions()`` gives it.
+    """
+    import platform
+
+    from presliding import _numba_cache
+    from presliding._version import __version__
+
+    lines = [f"presliding {__version__}", f"Python {platform.python_version()} "
+             f"({platform.system()} {platform.machine()})", "", "core:"]  # fmt: skip
+    lines += [f"  {m:<14} {_version(m) or 'not installed'}" for m in CORE]
+    lines += ["optional:"]
+    for m in OPTIONAL:
+        found = _version(m)
+        lines.append(f"  {m:<14} {found or 'not installed: ' + install_hint(EXTRA_OF[m])}")
+    folder = f" {_numba_cache.FOLDER}" if _numba_cache.FOLDER is not None else ""
+    lines += ["", f"compiled kernels cached: {_numba_cache.LOCATION}{folder}"]
+    print("\n".join(lines))
 
 
 def install_hint(extra: str) -> str:

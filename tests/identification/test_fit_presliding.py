@@ -256,3 +256,14 @@ def test_search_options_are_checked(kwargs, exc, message):
     n = len(kwargs.get("thresholds", [0, 0, 0]))
     with pytest.raises(exc, match=re.escape(message)):
         fit_presliding(PATH, force, n, **kwargs)
+
+
+def test_a_fit_without_the_coulomb_element_runs():
+    """``coulomb=False`` raised "`bounds` must name parameters of the fit; got 'coulomb'"."""
+    import presliding as ps
+
+    truth = ps.PIFriction(0.0, [400.0, 60.0], [0.3, 0.4])
+    y = ps.signals.piecewise_linear([0.0, 0.02, -0.015, 0.01], 4e-5)
+    fit = ps.fit_presliding(y, truth.force(y)[0], 2, coulomb=False)
+    assert fit.success and "coulomb" not in fit.parameters
+    assert fit.model.coulomb == 0.0 and fit.model.coulomb_level == pytest.approx(0.7, 1e-6)

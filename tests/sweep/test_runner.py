@@ -190,7 +190,7 @@ def test_malformed_address_is_refused_before_connecting():
 
 def test_missing_dask_names_the_extra(monkeypatch):
     monkeypatch.setitem(sys.modules, "distributed", None)
-    with pytest.raises(ImportError, match=r"pip install presliding\[dask\]"):
+    with pytest.raises(ImportError, match=r"pip install \"presliding\[dask\]\""):
         sweep(surface, GRID, scheduler="tcp://127.0.0.1:1")
 
 
@@ -247,9 +247,9 @@ def test_pandas_and_xarray_are_optional(monkeypatch):
     res = sweep(surface, GRID, n_workers=1)
     monkeypatch.setitem(sys.modules, "pandas", None)
     monkeypatch.setitem(sys.modules, "xarray", None)
-    with pytest.raises(ImportError, match=r"pip install presliding\[pandas\]"):
+    with pytest.raises(ImportError, match=r"pip install \"presliding\[pandas\]\""):
         res.to_pandas()
-    with pytest.raises(ImportError, match=r"pip install presliding\[xarray\]"):
+    with pytest.raises(ImportError, match=r"pip install \"presliding\[xarray\]\""):
         res.to_xarray()
 
 

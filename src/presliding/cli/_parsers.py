@@ -165,7 +165,7 @@ def add_sweep(
         "the free motion m·ÿ + c1·Sign(ẏ) + F_el(y) = u (eqs. 12, 17) on a grid over one or "
         "two parameters (c1/F_m, c1, v0, m), with the exact batch simulation or the "
         "turning-point analysis (eqs. 13-16). Runs on local worker processes, or on a Dask "
-        "cluster with --scheduler (pip install presliding[dask]; the workers need presliding "
+        'cluster with --scheduler (pip install "presliding[dask]"; the workers need presliding '
         "installed). Writes sweep.csv (one row per point, units in the header), sweep.png "
         "and report.md/report.html.",
         epilog="examples:\n  presliding sweep spec.toml -o map/\n"

@@ -9,6 +9,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from presliding._display import fill_attrs, fit_html, short_repr
+from presliding._interop import require
 from presliding.identification._fit_names import bound_text, bounds_lines, interval_text
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -59,7 +60,7 @@ class FitReport:
         """A pandas DataFrame of the parameters: value, unit, standard error, interval,
         fixed/tied; ``df.attrs`` holds the status, message, parameter ``units``, the
         model, its ``parameters``, the fit's kind, NRMSE and confidence level."""
-        import pandas as pd
+        pd = require("pandas", "`to_pandas()`")
 
         rows = []
         for n, v in self.parameters.items():

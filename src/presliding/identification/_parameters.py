@@ -23,6 +23,7 @@ from typing import Any
 
 import numpy as np
 
+from presliding._interop import require
 from presliding._validation import as_real_scalar, fmt
 
 __all__ = [
@@ -85,12 +86,7 @@ def from_lmfit(params: Any) -> tuple[dict, dict, dict, dict]:
 
 def to_lmfit(values: Mapping[str, float], bounds: Mapping, fixed: tuple, tied: Mapping) -> Any:
     """An ``lmfit.Parameters`` holding `values` (fixed ones with vary=False, ties as expr)."""
-    try:
-        import lmfit  # type: ignore[import-untyped]
-    except ImportError:  # pragma: no cover - lmfit is in the test extras
-        raise ImportError(
-            "lmfit is needed for lmfit.Parameters: install it with `pip install presliding[lmfit]`."
-        ) from None
+    lmfit = require("lmfit", "an lmfit.Parameters")
     params = lmfit.Parameters()
     for name, value in values.items():
         lo, hi = bounds.get(name, (-np.inf, np.inf))

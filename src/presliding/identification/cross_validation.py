@@ -17,6 +17,7 @@ not see, not how well the fit reproduces its own data.
 
 from __future__ import annotations
 
+import textwrap
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING, Any
@@ -24,6 +25,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from presliding._display import fill_attrs, result_html, short_repr
+from presliding._interop import require
 from presliding._validation import as_choice, as_nonnegative_scalar
 from presliding.identification._fit_progress import reporting
 from presliding.identification.fit_result import FitResult
@@ -127,13 +129,31 @@ class CrossValidation:
         return texts[0] if len(texts) == 1 else f"each record's own ({', '.join(texts[:3])}, ...)"
 
     def report(self) -> str:
-        """The table as text, with the median NRMSE and the share of exact reversal counts."""
-        rows = self.table()
-        widths = [max(len(r[i]) for r in rows) for i in range(len(rows[0]))]
+        """The table as text (headers wrapped to the columns, about 100 characters wide), the
+        median NRMSE, the share of exact reversal counts and why a left-out fit did not
+        converge."""
+        head, *rows = self.table()
+        own = {r[-1] for r in rows}
+        if len(own) == 1:  # the same parameters fitted to every held-out record: said below
+            head, rows = head[:-1], [r[:-1] for r in rows]
+        widths = [max([len(r[i]) for r in rows] + [len(w) for w in head[i].split()])
+                  for i in range(len(head))]  # fmt: skip
+        wrapped = [textwrap.wrap(h, max(w, 10)) for h, w in zip(head, widths, strict=True)]
+        widths = [max(w, *(len(x) for x in h)) for w, h in zip(widths, wrapped, strict=True)]
         lines = ["leave-one-record-out cross-validation:"]
-        lines += [
-            "  " + "  ".join(c.ljust(w) for c, w in zip(r, widths, strict=True)) for r in rows
-        ]
+        for k in range(max(len(h) for h in wrapped)):
+            cells = [h[k] if k < len(h) else "" for h in wrapped]
+            lines.append(
+                "  " + "  ".join(c.ljust(w) for c, w in zip(cells, widths, strict=True)).rstrip()
+            )
+        lines += ["  " + "  ".join(c.ljust(w) for c, w in zip(r, widths, strict=True)).rstrip()
+                  for r in rows]  # fmt: skip
+        if len(own) == 1:
+            lines.append(f"  fitted to each held-out record: {own.pop()}")
+        for label, fit in zip(self.labels, self.fits, strict=True):
+            if fit.status != "converged":
+                lead = f"  {label}: fit {fit.status}: "
+                lines.append(lead + textwrap.shorten(fit.message, max(40, 100 - len(lead))))
         lines.append(
             f"  median NRMSE {100 * float(np.median(self.nrmse)):.3g} % (start "
             f"{self.predictions[0].initial if self.predictions else 'fit'}); reversal counts "
@@ -164,7 +184,7 @@ class CrossValidation:
 
     def to_pandas(self) -> Any:
         """A DataFrame with a row per held-out record."""
-        import pandas as pd
+        pd = require("pandas", "`to_pandas()`")
 
         rows = [
             {"record": label, "fit_status": f.status, **p.to_dict()}

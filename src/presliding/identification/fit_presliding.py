@@ -192,7 +192,7 @@ def fit_presliding(
     grid = pr.threshold_grid(y, grid_size)
     with reporting(progress, "fit_presliding") as shown:
         problem = partial(
-            separable_problem, sep, {"coulomb": (0.0, np.inf)}, grid=grid,
+            separable_problem, sep, {"coulomb": (0.0, np.inf)} if coulomb else {}, grid=grid,
             refine_thresholds=refine_thresholds, fixed=fixed, tied=tied, progress=shown,
             user_initial=initial, user_bounds=bounds,
         )  # fmt: skip

@@ -19,6 +19,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from presliding._display import fill_attrs, result_html, short_repr, unit_of
+from presliding._interop import require
 from presliding._validation import as_nonnegative_scalar, as_signal
 from presliding.identification._pi_regression import reversal_indices
 from presliding.identification.fit_result import fit_statistics
@@ -204,7 +205,7 @@ class Prediction:
 
     def to_pandas(self) -> Any:
         """A DataFrame of the abscissa, measured and predicted signal."""
-        import pandas as pd
+        pd = require("pandas", "`to_pandas()`")
 
         frame = pd.DataFrame({self.abscissa_label: self.abscissa, "measured": self.measured,
                               "predicted": self.predicted})  # fmt: skip

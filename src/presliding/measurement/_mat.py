@@ -13,6 +13,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from presliding._interop import require
 from presliding._validation import fmt
 from presliding.measurement._readers import check_path, read_bytes
 
@@ -93,13 +94,9 @@ class MatFile:
 
 def _read_hdf5(path: str) -> dict[str, Any]:
     """The top-level variables of a MATLAB 7.3 file (HDF5, through h5py; arrays transposed)."""
-    try:
-        import h5py
-    except ImportError:
-        raise ImportError(
-            f"{path}: is a MATLAB 7.3 (HDF5) file; reading it needs h5py, the `h5py` extra "
-            "(pip install 'presliding[h5py]'), or save it with save(..., '-v7') in MATLAB."
-        ) from None
+    h5py = require(
+        "h5py", f"{path}: a MATLAB 7.3 (HDF5) file (or save it with save(..., '-v7')); reading it"
+    )
     out: dict[str, Any] = {}
     try:
         with h5py.File(path, "r") as fh:

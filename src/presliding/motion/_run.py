@@ -329,7 +329,7 @@ def run_event(
     message = (
         "the motion was solved exactly"
         if status == 0
-        else f"the event limit max_events = {max_events} was reached at t = {t_last:.6g}"
+        else f"the event limit max_events = {max_events} was reached at t = {t_last:.6g} s"
     )
     return {
         "n": n, "time": times[:n], "position": y_o, "velocity": v_o, "acceleration": a_o,

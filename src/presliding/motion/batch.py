@@ -251,7 +251,7 @@ def free_response(
         message = "the motion was solved exactly"
     else:
         message = (
-            f"the event limit max_events = {limit} was reached at t = {t_last:.6g}; "
+            f"the event limit max_events = {limit} was reached at t = {t_last:.6g} s; "
             f"{n} of {n_t} samples computed"
         )
     return FreeResponse(

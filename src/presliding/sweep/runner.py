@@ -13,7 +13,7 @@ starts clean interpreters and never re-runs the calling script, and ``fn`` sent
 by value with cloudpickle, so a function defined in a notebook or a script
 works: `presliding.sweep._local`); a scheduler
 address string (``"tcp://host:8786"``) or a ``distributed.Client`` runs the
-chunks on a Dask cluster (optional dependency: ``pip install presliding[dask]``),
+chunks on a Dask cluster (optional dependency: ``pip install "presliding[dask]"``),
 where the grid's description is sent once and each task carries an index range
 (`presliding.sweep._dask`). Every backend calls ``fn`` on the same chunks, so an
 elementwise ``fn`` gives the same values everywhere.
@@ -78,7 +78,7 @@ def sweep(
         shape); a structured array gives a table, one point per row.
     scheduler : None, str, distributed.Client or concurrent.futures.Executor
         None: a new pool of local worker processes. An address string or a
-        Client: Dask (``pip install presliding[dask]``); a Client made from an
+        Client: Dask (``pip install "presliding[dask]"``); a Client made from an
         address is closed afterwards, a given Client is left open. An Executor
         (e.g. a ProcessPoolExecutor kept for many sweeps, which saves the worker
         start-up) is used as given and left open.
