@@ -22,7 +22,8 @@ e.g. ``inputs="force"``), and ``friction`` [N] is the friction force.
 ``to_iosys(PID(...))``, ``to_iosys(DiscreteController(...))``
     Inputs ``reference`` and ``position``, output ``u``; the same arithmetic as
     `simulate_loop`. A loop ``control.interconnect([to_iosys(pid),
-    to_iosys(model, mass=m, dt=pid.dt)], inputs="reference", outputs=[...])``
+    to_iosys(model, mass=m, dt=pid.dt)], inputs="reference",
+    outputs=["position", "velocity", "u"])``
     equals `simulate_loop` to rounding.
 
 Parameters (``params`` of python-control, e.g. of ``input_output_response``)
