@@ -64,6 +64,7 @@ class LimitCycles:
 
     @property
     def n_cycles(self) -> int:
+        """Number of limit cycles predicted (stable or not)."""
         return int(self.amplitude.shape[0])
 
     def plot(self, ax: Axes | None = None) -> Axes:
