@@ -41,7 +41,9 @@ DOCS_PACKAGES = ("sphinx", "numpydoc", "sphinx_gallery", "pydata_sphinx_theme")
 PRINTED: dict[tuple[str, int], list[tuple]] = {
     ("citing", 0): [(r"^(\S+)$", presliding.__version__)],
     ("install", 0): [(r"^presliding (\S+)$", presliding.__version__)],
-    ("command_line", 1): [(r"^(.*)$", f"{_progress.LOCATION} {_progress.FOLDER}")],
+    ("command_line", 1): [(r"^compiled kernels cached: (.*)$",
+                           f"{_progress.LOCATION}" + (f" {_progress.FOLDER}" if _progress.FOLDER
+                                                      else ""))],
     ("control", 1): [(r"^(\d+) reversals", 5.0, 0.0),
                      (r"at rest from (\S+) s", 1.2248167712325622, 1e-6),
                      (r" s at (\S+)$", 0.05026722669232527, 1e-6)],

@@ -85,7 +85,7 @@ def claim_folder(folder: Path) -> None:
     key = folder.resolve()
     if key in _held:
         return
-    lock = FileLock(str(folder / LOCK), blocking=False)
+    lock = FileLock(str(folder / LOCK), timeout=0)  # one attempt (filelock >= 3.12)
     try:
         lock.acquire()
     except Timeout:

@@ -179,10 +179,13 @@ class TextTable:
             pd = None
         try:
             if pd is not None:
+                # correctly rounded numbers: pandas' default before 3.0 may be 1 ulp off
+                old = int(pd.__version__.split(".")[0]) < 3
+                exact = {"float_precision": "round_trip"} if old else {}
                 frame = pd.read_csv(
                     io.StringIO("\n".join(rows)), sep=self.delimiter or r"\s+", header=None,
                     comment="#", dtype=np.float64, engine="c", quotechar='"',
-                    skip_blank_lines=True, skipinitialspace=True,
+                    skip_blank_lines=True, skipinitialspace=True, **exact,
                 )  # fmt: skip
                 return np.asarray(frame.to_numpy(dtype=np.float64), dtype=np.float64)
             return np.loadtxt(rows, delimiter=self.delimiter, ndmin=2, dtype=np.float64,
