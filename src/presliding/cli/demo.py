@@ -14,8 +14,9 @@ Six parts, each a figure and a report section:
    exact sampled-data loop (`presliding.cli.demo_hunting`).
 
 It takes a few seconds once the compiled kernels are cached (the first run
-compiles them, about 13 s of CPU on a 2-core machine, and says so). Progress goes to stderr: a bar on a terminal, one
-line per part elsewhere, nothing with ``--quiet``.
+compiles them, about 13 s of CPU on a 2-core machine, and says so). Progress goes
+to stderr: a bar on a terminal, one line per part elsewhere, nothing with
+``--quiet``.
 """
 
 from __future__ import annotations

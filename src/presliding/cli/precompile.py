@@ -61,7 +61,8 @@ def motion_kernels() -> None:
     ps.simulate_batch(coulomb=[0.3, 0.2], stiffness=[[2e4, 5e3]] * 2,
                       breakaway=[[0.175, 0.175]] * 2, mass=1.0, viscous=2.0,
                       initial_velocity=0.06, t_end=0.05, t_eval=t_eval)  # fmt: skip
-    ps.free_response(1.0, 0.3, [2e4, 5e3], model.threshold, 0.06, 1e-3, 50, viscous=2.0)
+    ps.free_response(1.0, 0.3, [2e4, 5e3], [0.175 / 2e4, 0.175 / 5e3], 0.06, 1e-3, 50,
+                     viscous=2.0)  # fmt: skip
 
 
 def fit_kernels() -> None:
@@ -72,7 +73,7 @@ def fit_kernels() -> None:
     import presliding as ps
 
     truth = ps.PIFriction(coulomb=0.3, stiffness=[4000.0, 1000.0], breakaway=[0.35, 0.35])
-    t = np.arange(300) * 1e-3
+    t = np.linspace(0.0, 0.299, 300)
     records = []
     for v0 in (0.03, -0.045):
         d = np.sign(v0)
@@ -90,12 +91,15 @@ def fit_kernels() -> None:
 
 def loop_kernels() -> None:
     """A PID loop with viscous friction, a state-space controller, a batch of gain sets."""
+    import numpy as np
+
     import presliding as ps
 
     model = ps.PIFriction(0.3, [2e4, 5e3], [0.175, 0.175], viscous=2.0)
     pid = ps.PID(400.0, 4e4, 0.0, dt=1e-4, limit=5.0)
     ps.simulate_loop(model, 1.0, pid, reference=1e-3, t_end=0.01)
-    controller = ps.DiscreteController([[1.0]], [[1e-4]], [[4e4]], [[400.0]], dt=1e-4)
+    a, b, c, d = (np.array([[x]]) for x in (1.0, 1e-4, 4e4, 400.0))
+    controller = ps.DiscreteController(a, b, c, d, dt=1e-4)
     ps.simulate_loop(model, 1.0, controller, reference=1e-3, t_end=0.01)
     ps.simulate_loop_batch(model, 1.0, pid, 1e-3, kp=[300.0, 400.0], t_end=0.01)
 

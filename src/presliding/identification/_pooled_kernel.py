@@ -170,4 +170,5 @@ def pooled_responses(mass, c1, sigma, *args):
     """`_pooled_responses`, in parallel for several parameter sets (its last argument,
     ``damped``, is set here from `sigma`)."""
     kernel = pooled_responses_parallel if mass.shape[0] > 1 else pooled_responses_serial
-    kernel(mass, c1, sigma, *args, True if np.any(sigma != 0.0) else None)
+    damped = True if np.any(sigma != 0.0) else None
+    kernel(*(mass, c1, sigma, *args, damped))
