@@ -213,10 +213,11 @@ def add_precompile(
     precompile = sub.add_parser(
         "precompile",
         help="compile the numba kernels into the cache (for CI images and containers)",
-        description="Compile the numba kernels that the commands use (by running the demo's "
-        "computations and a small network of each path once, writing nothing but the "
-        "cache) so that a later first run does "
-        "not compile. Run it when building a CI image or a container, with the same "
+        description="Compile the numba kernels that the commands and a first call can use "
+        "(by running the demo's computations and each further route once on a small case: "
+        "viscous motions, the implicit stepper, the pooled and quasi-static fits, closed "
+        "loops and both network paths; writing nothing but the cache) so that a later first "
+        "run does not compile. Run it when building a CI image or a container, with the same "
         "NUMBA_CACHE_DIR (if any) as the runs that follow; it prints where the kernels are "
         "cached.",
         epilog="example:\n  NUMBA_CACHE_DIR=/opt/numba-cache presliding precompile",

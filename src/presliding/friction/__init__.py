@@ -8,7 +8,8 @@ comparison.py         `compare`: several models on one displacement path, as a `
 preload.py            `preloaded_state`: a memory with a given elastic force (a record's preload)
 batch.py              `friction_batch`: B finite-element models on one path as a `PIBatch`
 _baseline_kernels.py  compiled time loops of the Dahl and LuGre models
-_parts.py             a model's elements or its density, typed; its key figures (notebooks)
+_parts.py             a model's elements or its density, typed (`elements`, `density_of`)
+_summary.py           what a `PIFriction` shows in a notebook: levels and stiffness
 _pi_setup.py          validation and set-up of a `PIFriction` on construction
 _sides.py             asymmetric friction: the two sides' levels, the asymmetric play band
 _model_checks.py      checks the layers above make of a model (Coulomb element, finite stiffness)
