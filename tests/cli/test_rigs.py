@@ -122,8 +122,10 @@ def test_fit_with_held_out_files(tmp_path, capsys):
                  "--hold-out", held, "-o", str(out)])  # fmt: skip
     assert code == 0, capsys.readouterr()
     report = (out / "report.md").read_text()
-    assert "## Held-out files" in report and "| held.txt | measured |" in report
-    assert "| held.txt | fitted |" in report and (out / "held_out_1.png").exists()
+    # the held-out file is cut into its stop as the fitted ones were (--segments stops)
+    assert "## Held-out files" in report and "| held.txt #1 | measured |" in report
+    assert "| held.txt #1 | fitted |" in report and (out / "held_out_1.png").exists()
+    assert "1 stops cut from held.txt" in report
     assert ps.reversal_tolerance is not None
 
 
@@ -159,4 +161,8 @@ def test_virgin_ramps_without_time_are_detected_and_fitted(tmp_path, capsys):
     code = main(["fit", *paths, "--kind", "virgin", *cols, "--density", "uniform", "-o",
                  str(tmp_path / "v3")])  # fmt: skip
     assert code == 2
-    one_error_line(capsys, "--density uniform: --kind virgin fits elastoplastic elements")
+    one_error_line(
+        capsys,
+        "--density uniform: --kind virgin does not use it (it is for --kind "
+        "response, quasi-static)",
+    )

@@ -122,9 +122,9 @@ def add_simulate(
         "-o",
         "--output",
         type=Path,
-        required=True,
-        help="output folder (simulation.csv and simulation.png in it), or a .csv path "
-        "(the figure next to it with the suffix .png)",
+        default=Path("presliding-simulate"),
+        help="output folder (simulation.csv and simulation.png in it; default: "
+        "./presliding-simulate), or a .csv path (the figure next to it with the suffix .png)",
     )
     return simulate
 

@@ -31,7 +31,7 @@ def save_fit_figure(
     name = Path(args.data[0] if isinstance(args.data, list) else args.data).name
     if labels is not None and len(labels) > 1:
         name = f"{len(labels)} files ({', '.join(labels[:3])}{', …' if len(labels) > 3 else ''})"
-    head = f"{name}: {result.kind} fit, {result.status}, NRMSE {100 * result.nrmse:.2f} %"
+    head = f"{name}: {result.kind} fit, {result.status}, NRMSE {100 * result.nrmse:.3g} %"
     if args.kind == "presliding":
         fig, axes = new_figure(2, 1, size=(13.2, 4.8))
         ax = plot_loop_fit(result.abscissa, result.measured, result.fitted, ax=axes[0, 0],

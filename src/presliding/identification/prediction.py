@@ -26,7 +26,14 @@ from presliding.identification.fit_result import fit_statistics
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
 
-__all__ = ["Prediction", "count_reversals", "counted", "position_quantum", "reversal_tolerance"]
+__all__ = [
+    "Prediction",
+    "count_reversals",
+    "counted",
+    "position_quantum",
+    "reversal_tolerance",
+    "tolerance_keyword",
+]
 
 FloatArray = NDArray[np.float64]
 
@@ -51,6 +58,27 @@ def reversal_tolerance(position: ArrayLike) -> float:
     quantum = float(np.min(steps))
     noise = float(np.sqrt(np.mean(np.diff(y, 2) ** 2)) / np.sqrt(6)) if y.shape[0] > 2 else 0.0
     return 3.0 * max(quantum, min(noise, 0.05 * float(np.ptp(y))))
+
+
+def tolerance_keyword(reversal_tolerance: Any, options: dict[str, Any], where: str) -> Any:
+    """The reversal tolerance of a prediction, named ``reversal_tolerance`` everywhere
+    (`FitResult.predict`, `predict_record`, `cross_validate`, ``--reversal-tolerance``).
+
+    The old keyword ``tolerance`` (popped from `options`) still works for one release, with
+    a DeprecationWarning; both at once is a TypeError.
+    """
+    import warnings
+
+    if "tolerance" not in options:
+        return reversal_tolerance
+    old = options.pop("tolerance")
+    if reversal_tolerance is not None:
+        raise TypeError(f"{where}: give `reversal_tolerance` only (`tolerance` is its old "
+                        "name); got both.")  # fmt: skip
+    warnings.warn(f"{where}: `tolerance` is now called `reversal_tolerance` (the name "
+                  "`cross_validate` and --reversal-tolerance use); the old name will be "
+                  "removed.", DeprecationWarning, stacklevel=3)  # fmt: skip
+    return old
 
 
 def position_quantum(position: ArrayLike) -> float | None:
@@ -255,7 +283,7 @@ class Prediction:
         xlabel += "" if "[" in xlabel else f" [{unit_of(xlabel.split()[-1]) or 'index'}]"
         return plot_fit(self.abscissa, self.measured, self.predicted, ax=ax,
                         xlabel=xlabel, ylabel=ylabel, fitted_label="predicted",
-                        title=f"prediction (NRMSE {100 * self.nrmse:.2f} %)")  # fmt: skip
+                        title=f"prediction (NRMSE {100 * self.nrmse:.3g} %)")  # fmt: skip
 
 
 def _units(abscissa_label: str, signal_label: str) -> dict[str, str]:
