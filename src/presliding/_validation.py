@@ -258,6 +258,21 @@ def renamed(**names: str) -> Iterator[None]:
         raise type(exc)(text) from exc
 
 
+def renamed_keyword(options: dict[str, Any], old: str, new: str, value: Any, where: str) -> Any:
+    """The value of keyword `new`, or of its old name `old` popped from `options` (for one
+    release, with a DeprecationWarning); both at once is a TypeError."""
+    import warnings
+
+    if old not in options:
+        return value
+    given = options.pop(old)
+    if value is not None:
+        raise TypeError(f"{where}: give `{new}` only (`{old}` is its old name); got both.")
+    warnings.warn(f"{where}: `{old}` is now called `{new}`; the old name will be removed.",
+                  DeprecationWarning, stacklevel=3)  # fmt: skip
+    return given
+
+
 def check_type(name: str, value: Any, expected: type | tuple[type, ...], *, where: str = "") -> Any:
     """`value` is an instance of `expected` (class or tuple); `where` locates it (" at index 2")."""
     if not isinstance(value, expected):

@@ -200,7 +200,11 @@ def add_sweep(
     )
     retries = "with --scheduler: re-run a chunk that raised up to N times (default: 2)"
     sweep.add_argument(
-        "--retries", type=checked("--retries", integer=True), default=2, metavar="N", help=retries
+        "--retries",
+        type=checked("--retries", integer=True),
+        default=None,
+        metavar="N",
+        help=retries,
     )
     return sweep
 

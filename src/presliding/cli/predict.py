@@ -279,7 +279,7 @@ def run(args: argparse.Namespace) -> int:
     from presliding.cli.records import check_sources, input_files
     from presliding.cli.report import Section, write_report
 
-    args.kind = "response"  # the signals a motion prediction needs
+    args.kind = "predict"  # the signals a motion prediction reads (those of --kind response)
     spec = _model(args.model)
     model, mass, offset = spec.model, spec.motion.mass, spec.measurement.force_offset
     if not args.data and not args.join:

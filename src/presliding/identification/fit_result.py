@@ -312,13 +312,14 @@ class FitResult(FitReport, LmfitNames):
             Measured against predicted signal, NRMSE, reversal counts and rest
             positions (`presliding.identification.cross_validation`).
         """
-        from presliding.identification.prediction import tolerance_keyword
+        from presliding._validation import renamed_keyword
 
         if self.predictor is None:
             raise ValueError(
                 f"a {self.kind} fit cannot predict other records; got kind {self.kind!r}."
             )
-        given = tolerance_keyword(options.pop("reversal_tolerance", None), options, "predict")
+        given = renamed_keyword(options, "tolerance", "reversal_tolerance",
+                                options.pop("reversal_tolerance", None), "predict")  # fmt: skip
         if given is not None:
             options["tolerance"] = given  # the predictors' own name
         return self.predictor.predict(self, measurement, **options)

@@ -23,13 +23,18 @@ from typing import Any
 
 import numpy as np
 
-from presliding._validation import as_choice, as_nonnegative_scalar, as_positive_scalar, fmt
+from presliding._validation import (
+    as_choice,
+    as_nonnegative_scalar,
+    as_positive_scalar,
+    fmt,
+    renamed_keyword,
+)
 from presliding.friction.pi_friction import PIFriction
 from presliding.identification.prediction import (
     Prediction,
     count_reversals,
     counted,
-    tolerance_keyword,
 )
 from presliding.identification.prediction import reversal_tolerance as own_tolerance
 from presliding.motion.simulation import simulate
@@ -80,7 +85,8 @@ def predict_record(
     -------
     Prediction
     """
-    tolerance = tolerance_keyword(reversal_tolerance, deprecated, "predict_record")
+    tolerance = renamed_keyword(deprecated, "tolerance", "reversal_tolerance",
+                                reversal_tolerance, "predict_record")  # fmt: skip
     if deprecated:
         raise TypeError(f"predict_record() got an unexpected keyword argument "
                         f"{next(iter(deprecated))!r}.")  # fmt: skip

@@ -32,7 +32,6 @@ __all__ = [
     "counted",
     "position_quantum",
     "reversal_tolerance",
-    "tolerance_keyword",
 ]
 
 FloatArray = NDArray[np.float64]
@@ -58,27 +57,6 @@ def reversal_tolerance(position: ArrayLike) -> float:
     quantum = float(np.min(steps))
     noise = float(np.sqrt(np.mean(np.diff(y, 2) ** 2)) / np.sqrt(6)) if y.shape[0] > 2 else 0.0
     return 3.0 * max(quantum, min(noise, 0.05 * float(np.ptp(y))))
-
-
-def tolerance_keyword(reversal_tolerance: Any, options: dict[str, Any], where: str) -> Any:
-    """The reversal tolerance of a prediction, named ``reversal_tolerance`` everywhere
-    (`FitResult.predict`, `predict_record`, `cross_validate`, ``--reversal-tolerance``).
-
-    The old keyword ``tolerance`` (popped from `options`) still works for one release, with
-    a DeprecationWarning; both at once is a TypeError.
-    """
-    import warnings
-
-    if "tolerance" not in options:
-        return reversal_tolerance
-    old = options.pop("tolerance")
-    if reversal_tolerance is not None:
-        raise TypeError(f"{where}: give `reversal_tolerance` only (`tolerance` is its old "
-                        "name); got both.")  # fmt: skip
-    warnings.warn(f"{where}: `tolerance` is now called `reversal_tolerance` (the name "
-                  "`cross_validate` and --reversal-tolerance use); the old name will be "
-                  "removed.", DeprecationWarning, stacklevel=3)  # fmt: skip
-    return old
 
 
 def position_quantum(position: ArrayLike) -> float | None:

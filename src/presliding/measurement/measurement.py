@@ -118,11 +118,9 @@ class Measurement(MeasurementReaders):
         if self.source is not None and not isinstance(self.source, Source):
             raise TypeError(f"`source` must be a Source or None; got {type(self.source).__name__}.")
         if not given:
-            raise ValueError(
-                "a Measurement must hold at least one signal besides `time`; got none of "
-                + ", ".join(f"`{s}`" for s in SIGNALS)
-                + "."
-            )
+            listed = ", ".join(f"`{s}`" for s in SIGNALS)
+            raise ValueError(f"a Measurement must hold a signal besides `time`; got none of "
+                             f"{listed}.")  # fmt: skip
         self._settle_axis(rotary_quantity)
 
     def _convert_quantities(self) -> bool | None:
@@ -374,18 +372,15 @@ class Measurement(MeasurementReaders):
             point (default: three quanta of a quantised position, else 1 % of
             its span); a piece must also travel beyond it.
         min_samples : int
-            Shorter pieces are left out (an integer >= 2).
-
-        An option of another kind (``lead_in`` for loops, ``tolerance`` for
-        stops) is a ValueError, not ignored; so is a record with nothing to cut.
+            Shorter pieces are left out (an integer >= 2). An option of another
+            kind is a ValueError, not ignored; so is a record with nothing to cut.
 
         Returns
         -------
         Segments
-            ``.records`` (the pieces, each a `Measurement` whose source notes the
-            cut), ``.table()``, ``.report()``, ``.parameters`` (every value used,
-            defaults resolved: passing them back cuts the same pieces) and
-            ``.plot()`` (the windows on the whole record); iterable and indexable.
+            The pieces (each a `Measurement` whose source notes the cut), their
+            ``table()``, ``report()``, ``parameters`` (every value used: passed
+            back, they cut the same pieces) and ``plot()``; indexable.
 
         Examples
         --------

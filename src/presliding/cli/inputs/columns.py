@@ -53,6 +53,7 @@ ALIASES = {
 }
 #: Signals each kind needs (one of a tuple), and those it uses when present.
 NEEDS = {
+    "predict": (("time",), ("velocity", "position")),  # presliding predict: a motion
     "presliding": (("position",), ("friction_force",)),
     "motion": (("time",), ("position",), ("applied_force",)),
     "response": (("time",), ("velocity", "position")),
@@ -60,6 +61,7 @@ NEEDS = {
     "virgin": (("position",), ("friction_force", "applied_force")),
 }
 OPTIONAL = {
+    "predict": ("applied_force",),
     "presliding": ("time",),
     "motion": ("velocity", "acceleration"),
     "response": ("applied_force",),
@@ -76,6 +78,11 @@ _NORMAL = re.compile(r"normal|^f_?n$|^fn|clamp|preload|bolt")
 _FORCEISH = re.compile(r"force|torque|^tau|^u(_|$)|^f(_|$)|load|moment|thrust|friction")
 #: The quantity a unit says (by its dimension), for the roles by unit.
 _BY_UNIT = {"position": "position", "velocity": "velocity", "force": "applied_force"}
+
+
+def who(kind: str) -> str:
+    """The command that reads the signals of `kind`, in messages."""
+    return "presliding predict" if kind == "predict" else f"--kind {kind}"
 
 
 def kind_signals(kind: str) -> tuple[str, ...]:
@@ -181,8 +188,9 @@ def assign_columns(
     for signal, spec in given.items():
         if signal not in signals:
             raise UserError(
-                f"--columns {signal}={spec}: --kind {kind} does not use `{signal}` (it reads "
-                f"{', '.join(signals)}); drop it, or choose the kind that uses it."
+                f"--columns {signal}={spec}: {who(kind)} does not use `{signal}` (it reads "
+                f"{', '.join(signals)}); drop it"
+                + ("." if kind == "predict" else ", or choose the kind that uses it.")
             )
     taken: dict[str, tuple[Any, str]] = {}
     missing: dict[str, str] = {}
@@ -225,13 +233,13 @@ def _by_unit_and_name(kind: str, names: Sequence[str], taken: dict, used: set, w
             if len(fits) > 1:
                 raise UserError(
                     f"{where}: the columns {', '.join(repr(n) for n in fits)} all hold a force "
-                    f"and --kind {kind} takes one as {role}; name it with --columns "
+                    f"and {who(kind)} takes one as {role}; name it with --columns "
                     f"{role}=COLUMN."
                 )
             if fits:
                 how = "unit" if _quantity(fits[0]) == "force" else "name"
                 taken[role] = (fits[0], f"its {how} says force, and no other column does: "
-                               f"--kind {kind} takes it as {_FORCE_WORDS[role]}")  # fmt: skip
+                               f"{who(kind)} takes it as {_FORCE_WORDS[role]}")  # fmt: skip
                 used.add(fits[0])
                 break
     for signal in ("position", "velocity"):
@@ -248,13 +256,13 @@ def _why_not(kind: str, name: str, taken: dict[str, tuple[Any, str]]) -> str:
     force = _force_kind(name)
     signals = kind_signals(kind)
     if force == "normal":
-        return f"a normal load, which --kind {kind} does not use"
+        return f"a normal load, which {who(kind)} does not use"
     if force is not None:
         roles = _force_roles(kind)
         if not roles:
-            return f"a force, which --kind {kind} does not use"
+            return f"a force, which {who(kind)} does not use"
         if force in ("applied_force", "friction_force") and force not in roles:
-            return (f"its name says {force.replace('_', ' ')}, which --kind {kind} does not use "
+            return (f"its name says {force.replace('_', ' ')}, which {who(kind)} does not use "
                     f"(it takes {' or '.join(roles)}); name it with --columns "
                     f"{roles[0]}='{name}' if it is that")  # fmt: skip
         held = [f"{r} is {taken[r][0]!r}" for r in roles if r in taken]
@@ -265,5 +273,5 @@ def _why_not(kind: str, name: str, taken: dict[str, tuple[Any, str]]) -> str:
             if signal in taken:
                 return f"named {signal} too, but {signal} is {taken[signal][0]!r}"
             if signal not in signals:
-                return f"{signal}, which --kind {kind} does not use"
-    return f"its name says no signal --kind {kind} reads (--columns SIGNAL=COLUMN names one)"
+                return f"{signal}, which {who(kind)} does not use"
+    return f"its name says no signal {who(kind)} reads (--columns SIGNAL=COLUMN names one)"

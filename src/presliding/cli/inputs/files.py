@@ -21,7 +21,7 @@ from typing import Any
 import numpy as np
 
 from presliding.cli.common import UserError, check_options, check_readable
-from presliding.cli.inputs.columns import NEEDS, SIGNALS, assign_columns
+from presliding.cli.inputs.columns import NEEDS, SIGNALS, assign_columns, who
 
 __all__ = ["is_mat", "parse_window", "read_measurement", "text_options"]
 
@@ -138,13 +138,13 @@ def read_measurement(args: argparse.Namespace) -> Any:
     reader: Callable[..., Measurement] = Measurement.from_mat if mat else Measurement.from_csv
     meas = reader(args.data, time, sample_rate=rate, units=units or None, scale=scales,
                   axis=getattr(args, "axis", None), **options, **found)  # fmt: skip
-    source = meas.source
-    assert source is not None  # a record read from a file knows its source
-    source = replace(source, roles=roles.notes())
+    read = meas.source
+    assert read is not None  # a record read from a file knows its source
+    read = replace(read, roles=roles.notes())
     if numbered and window is None:
         note = "no time column: samples numbered 0, 1, 2, ..."
-        source = replace(source, sample_rate=None, notes=(note,))
-    meas = replace(meas, source=source)
+        read = replace(read, sample_rate=None, notes=(note,))
+    meas = replace(meas, source=read)
     if window is not None:
         try:
             meas = meas.window(*window)
@@ -158,14 +158,16 @@ def _missing(args: argparse.Namespace, group: tuple[str, ...], names: Any, mat: 
     what = " or ".join(f"`{s}`" for s in group)
     rate = " (or give --sample-rate HZ)" if group == ("time",) else ""
     if names is None:
+        wanted = ["time", *[g[0] for g in NEEDS[args.kind] if g != ("time",)]]
+        example = " ".join(f"{s}={i}" for i, s in enumerate(wanted))
         return (
             f"{args.data}: has no header line, so columns are chosen by 0-based index; name "
-            f"{what} with --columns, e.g. --columns {group[0]}=0{rate}."
+            f"{what} with --columns, e.g. --columns {example}{rate}."
         )
     kinds = "variables" if mat else "columns"
     why = "; ".join(w for s, w in roles.missing.items() if s in group)
     return (
-        f"{args.data}: no {kinds[:-1]} for {what} (needed by --kind {args.kind}"
+        f"{args.data}: no {kinds[:-1]} for {what} (needed by {who(args.kind)}"
         f"{'; ' + why if why else ''}); the {kinds} are {', '.join(repr(n) for n in names)}; "
         f"name it with --columns {group[0]}=COLUMN{rate}."
     )
