@@ -16,6 +16,7 @@ from __future__ import annotations
 import math
 import numbers
 import os
+import warnings as _warnings
 from collections.abc import Iterator
 from contextlib import contextmanager, suppress
 from typing import Any
@@ -259,18 +260,12 @@ def renamed(**names: str) -> Iterator[None]:
 
 
 def renamed_keyword(options: dict[str, Any], old: str, new: str, value: Any, where: str) -> Any:
-    """The value of keyword `new`, or of its old name `old` popped from `options` (for one
-    release, with a DeprecationWarning); both at once is a TypeError."""
-    import warnings
-
-    if old not in options:
-        return value
-    given = options.pop(old)
-    if value is not None:
+    """Keyword `new`'s `value`, or its old name `old` from `options` (a DeprecationWarning)."""
+    if old in options and value is not None:
         raise TypeError(f"{where}: give `{new}` only (`{old}` is its old name); got both.")
-    warnings.warn(f"{where}: `{old}` is now called `{new}`; the old name will be removed.",
-                  DeprecationWarning, stacklevel=3)  # fmt: skip
-    return given
+    if old in options:
+        _warnings.warn(f"{where}: `{old}` is renamed `{new}`.", DeprecationWarning, stacklevel=3)
+    return options.pop(old, value)
 
 
 def check_type(name: str, value: Any, expected: type | tuple[type, ...], *, where: str = "") -> Any:

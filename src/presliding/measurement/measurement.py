@@ -119,8 +119,8 @@ class Measurement(MeasurementReaders):
             raise TypeError(f"`source` must be a Source or None; got {type(self.source).__name__}.")
         if not given:
             listed = ", ".join(f"`{s}`" for s in SIGNALS)
-            raise ValueError(f"a Measurement must hold a signal besides `time`; got none of "
-                             f"{listed}.")  # fmt: skip
+            raise ValueError(f"a Measurement must hold at least one signal besides `time`; got "
+                             f"none of {listed}.")  # fmt: skip
         self._settle_axis(rotary_quantity)
 
     def _convert_quantities(self) -> bool | None:
