@@ -43,7 +43,7 @@ def rerun_line(args: argparse.Namespace, parser: argparse.ArgumentParser, comman
             continue
         flag = max(action.option_strings, key=len)
         if isinstance(action, argparse.BooleanOptionalAction):
-            options.append(flag if value else "--no-" + flag[2:])
+            options.append(action.option_strings[0] if value else action.option_strings[1])
         elif action.nargs == 0:  # store_true
             options.append(flag)
         elif isinstance(action, argparse._AppendAction):  # --join: one group per use

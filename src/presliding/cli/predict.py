@@ -262,8 +262,9 @@ def _write_table(path: Path, labels: list[str], pairs: list[tuple[Any, Any]]) ->
 
     out = io.StringIO()
     writer = csv.writer(out, lineterminator="\n")
-    writer.writerow(["record", "file", "segment", "fitted_start", "nrmse", "measured_reversals",
-                     "predicted_reversals", "rest_error", "reversal_tolerance"])  # fmt: skip
+    writer.writerow(["record", "file_name", "segment", "fitted_start", "nrmse",
+                     "measured_reversals", "predicted_reversals", "rest_error",
+                     "reversal_tolerance"])  # fmt: skip
     for i, (label, pair) in enumerate(zip(labels, pairs, strict=True)):
         name, _, piece = label.partition(" #")
         for p in pair:

@@ -215,6 +215,10 @@ def assign_columns(
             used.add(col)
     if names is not None:
         _by_unit_and_name(kind, names, taken, used, where)
+    for signal, why in missing.items():  # found otherwise: say the model file's is absent
+        if signal in taken:
+            col, how = taken[signal]
+            taken[signal] = (col, f"{how}; {why}")
     unused = {n: _why_not(kind, n, taken) for n in names or () if n not in used}
     return ColumnRoles(taken, unused, {s: w for s, w in missing.items() if s not in taken})
 

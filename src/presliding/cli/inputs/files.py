@@ -158,7 +158,8 @@ def _missing(args: argparse.Namespace, group: tuple[str, ...], names: Any, mat: 
     what = " or ".join(f"`{s}`" for s in group)
     rate = " (or give --sample-rate HZ)" if group == ("time",) else ""
     if names is None:
-        wanted = ["time", *[g[0] for g in NEEDS[args.kind] if g != ("time",)]]
+        wanted = ["time", *["position" if "position" in g else g[0]
+                            for g in NEEDS[args.kind] if g != ("time",)]]  # fmt: skip
         example = " ".join(f"{s}={i}" for i, s in enumerate(wanted))
         return (
             f"{args.data}: has no header line, so columns are chosen by 0-based index; name "
