@@ -45,6 +45,7 @@ def _fit(data: Path, tmp_path: Path, *extra: str, files=("stop_1.csv", "stop_2.c
         ("virgin", ["--segments", "stops"], "--kind virgin reads ramps or loops, not stops"),
         ("response", ["--lead-in", "0.02"], "--lead-in 0.02: an option of --segments, which is "
          "not given"),
+        ("presliding", ["--rest-speed", "1e-3"], "--rest-speed 0.001: an option of --segments"),
         ("response", ["--segments", "loops", "--lead-in", "0.02"], "--lead-in is an option of "
          "cutting stops, not loops"),
         ("response", ["--segments", "stops", "--segment-tolerance", "1e-6"],
@@ -166,10 +167,11 @@ def test_sweep_retries_only_on_a_cluster(tmp_path, capsys):
          "--interpolate"),
         ("the path (fit a virgin loading with fit_virgin_curve(..., loops=False)).",
          "with --kind virgin"),
+        ("`units` names 'velocity', which is not read", "--units names 'velocity'"),
     ],
 )  # fmt: skip
 def test_messages_name_flags_not_python_arguments(python, flags):
     text = cli_words(python)
     assert flags in text
-    for word in ("=True", "=False", "`mass`", "fit_virgin_curve("):
+    for word in ("=True", "=False", "`mass`", "fit_virgin_curve(", "`units`"):
         assert word not in text

@@ -257,7 +257,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     except (UserError, ValueError, TypeError, OSError, NotImplementedError) as exc:
         if args.debug:
             raise
-        text = " ".join(str(exc).split()) or type(exc).__name__
+        from presliding.cli.common import cli_words
+
+        text = cli_words(" ".join(str(exc).split())) or type(exc).__name__
         print(f"presliding {args.command}: error: {text}", file=sys.stderr)
         return 2
     finally:

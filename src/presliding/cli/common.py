@@ -332,6 +332,8 @@ _CLI_WORDS = (
         "(fit a virgin loading with --kind virgin)",
     ),
     ("or give `axis` when reading", "or give --axis"),
+    ("`units` names", "--units names"),
+    ("`scale` names", "--scale names"),
     ("`reversal_tolerance`", "--reversal-tolerance"),
     ("`max_evaluations`", "--max-evaluations"),
     ("`n_elements`", "--elements"),

@@ -66,6 +66,9 @@ def check_fit_options(args: argparse.Namespace) -> None:
         if kind != "presliding" and not args.bootstrap:
             raise UserError("--seed: seeds the bootstrap of a pooled fit; add --bootstrap N, "
                             "or drop it.")  # fmt: skip
+    from presliding.cli.inputs.cuts import segment_options
+
+    segment_options(args)  # the options of a cut need --segments (every kind)
     if kind == "virgin" and args.segments == "stops":
         raise UserError("--segments stops: --kind virgin reads ramps or loops, not stops; use "
                         "--segments ramps or loops.")  # fmt: skip
