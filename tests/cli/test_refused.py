@@ -119,7 +119,7 @@ def test_a_forgotten_decimal_comma_names_the_option(tmp_path, capsys):
     path.write_text("t [s];x [mm];F [N]\n0;0,001;1,5\n0,001;0,002;1,6\n")
     assert main(["fit", str(path), "--kind", "presliding", "-o", str(tmp_path / "o")]) == 2
     one_error_line(capsys, "'0,001' is not a number; it looks like a number with a decimal "
-                   "comma", "(--decimal ,)")  # fmt: skip
+                   "comma ('0.001'): read the file with --decimal ,.")  # fmt: skip
 
 
 def test_simulate_has_a_default_folder_and_refuses_what_it_would_ignore(tmp_path, capsys,
@@ -168,10 +168,13 @@ def test_sweep_retries_only_on_a_cluster(tmp_path, capsys):
         ("the path (fit a virgin loading with fit_virgin_curve(..., loops=False)).",
          "with --kind virgin"),
         ("`units` names 'velocity', which is not read", "--units names 'velocity'"),
+        ("or give it with `units` (--units).", "or give it with --units."),
+        ("a force: give its unit N and the ratio with `units` and `scale` (--units u=N "
+         "--scale u=RATIO)", "with --units u=N --scale u=RATIO"),
     ],
 )  # fmt: skip
 def test_messages_name_flags_not_python_arguments(python, flags):
     text = cli_words(python)
     assert flags in text
-    for word in ("=True", "=False", "`mass`", "fit_virgin_curve(", "`units`"):
+    for word in ("=True", "=False", "`mass`", "fit_virgin_curve(", "`units`", "`scale`"):
         assert word not in text

@@ -340,11 +340,16 @@ _CLI_WORDS = (
 )
 
 
+#: A Python argument followed by its flag in parentheses ("with `units` (--units)", "with
+#: decimal=',' (--decimal ,)"): the command line says the flag alone.
+_BOTH = re.compile(r"(?:`\w+`(?:(?: and |/)`\w+`)?|\b\w+='[^']*') \((--[^)]*)\)")
+
+
 def cli_words(text: str) -> str:
     """A library message with the Python arguments it names put as command-line flags."""
     for python, flag in _CLI_WORDS:
         text = text.replace(python, flag)
-    return text
+    return _BOTH.sub(r"\1", text)
 
 
 def check_options(pairs: Sequence[str] | None, option: str, allowed: Sequence[str]) -> dict:

@@ -106,8 +106,8 @@ class Source:
             f"axis, but {said(linear[0])}, a linear one; a rotary axis takes angles and torques "
             "(rad, N m), a linear one lengths and forces (m, N). Correct the unit in the "
             "header or give it with `units` (--units); a torque that drives a linear axis "
-            f"through a transmission is a force: give units={{{torque!r}: 'N'}} and the ratio "
-            f"as `scale` (--units {torque}=N --scale {torque}=RATIO)"
+            "through a transmission is a force: give its unit N and the ratio with `units` and "
+            f"`scale` (--units {torque}=N --scale {torque}=RATIO)"
         )
 
     def on_axis(self, axis: str) -> Source:
