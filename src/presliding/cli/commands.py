@@ -61,6 +61,9 @@ model files (TOML, or JSON with the same tables; units in brackets):
   samples = 2001                   # at most 10,000,000
   [measurement]                    # optional: measured force = model force + F_0
   force_offset = -3.16             # F_0 [N]; simulate applies u - F_0
+  [data]                           # optional: how presliding fit read the records
+  columns = { time = "Time [s]", position = "Position [mm]", applied_force = "Force [N]" }
+  (and units, scale, sample_rate, decimal, header, axis, segments: predict reads alike)
   A continuous density instead of elements (section 3, eq. 10):
   [friction.density]
   kind = "uniform"                 # height [N/m^2], max_threshold [m]
