@@ -112,10 +112,10 @@ def test_predict_cuts_as_the_model_file_states(tmp_path, capsys):
     save_model(model, ps.PIFriction(truth["coulomb"], truth["stiffness"],
                                     breakaway=truth["breakaway"]),
                MotionSettings(mass=truth["mass"]),
-               data=DataSettings(segments={"kind": "stops"}))  # fmt: skip
+               data=DataSettings(segments={"kind": "stops", "lead_in": 0.02}))  # fmt: skip
     pred = tmp_path / "pred"
     assert main(["predict", str(model), str(data / "servo.csv"), "-o", str(pred)]) == 0
-    assert "the cut --segments stops" in capsys.readouterr().out
+    assert "the cut --segments stops --lead-in 0.02" in capsys.readouterr().out
     rows = np.genfromtxt(pred / "predictions.csv", delimiter=",", names=True)
     assert list(rows["segment"]) == [1, 1, 2, 2, 3, 3]
     assert np.all(rows["nrmse"][rows["fitted_start"] == 1] < 0.01)  # the true model

@@ -120,6 +120,10 @@ def use_model_data(args: argparse.Namespace, data: Any) -> list[str]:
         taken.append(f"--axis {data.axis}")
     if data.sample_rate is not None and args.sample_rate is None:
         taken.append(f"--sample-rate {data.sample_rate:g} for files without a time column")
+    if data.decimal is not None and args.decimal is None:
+        taken.append(f"--decimal {data.decimal} for text files")
+    if data.header is not None and args.header is None:
+        taken.append(f"--{'' if data.header else 'no-'}header for text files")
     if data.columns:
         taken.append("the columns " + ", ".join(f"{k} = {v!r}" for k, v in data.columns.items())
                      + " (where a file has them)")  # fmt: skip
@@ -130,8 +134,10 @@ def use_model_data(args: argparse.Namespace, data: Any) -> list[str]:
             dest = "segment_tolerance" if name == "tolerance" else name
             if getattr(args, dest, None) is None:
                 setattr(args, dest, value)
+        from presliding.cli.inputs.cuts import OPTIONS
+
         taken.append(f"the cut --segments {args.segments}"
-                     + "".join(f" {k}={v}" for k, v in options.items())
+                     + "".join(f" {OPTIONS[k]} {v:g}" for k, v in options.items())
                      + " (--segments none predicts whole files)")  # fmt: skip
     return [f"Read as the model file's [data] table states: {'; '.join(taken)}."] if taken else []
 
