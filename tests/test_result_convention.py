@@ -32,6 +32,7 @@ NOT_RESULTS = {
     "Exponential", "Uniform", "PiecewiseConstant", "Tabulated", "GeneralPIOperator",
     "MemoryState", "PIOperator", "PIState", "PIInverse", "PIBatch", "PIBatchState",
     "Measurement", "SegalmanIwan", "MindlinContact", "MicroslipBar", "SliderNetwork",
+    "Segments",  # the pieces of a Measurement (with table, report and plot), not a result
     "MotionEnergy",  # a part of MotionResult (its `energy`), with its own to_dict
     "NetworkStructure", "NetworkState",
     "NetworkEnergy",  # a part of NetworkResult (its `energy`), with its own to_dict

@@ -94,6 +94,7 @@ from presliding.identification import (
     predict_motion_force,
     reversal_tolerance,
 )
+from presliding.measurement import Segments
 from presliding.motion import (
     FreeResponse,
     MotionBatch,
@@ -204,6 +205,7 @@ __all__ = [
     "QuasiStaticNetworkResult",
     "QuasiStaticResponse",
     "SegalmanIwan",
+    "Segments",
     "SliderNetwork",
     "SweepResult",
     "Tabulated",

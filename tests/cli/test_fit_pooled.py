@@ -134,4 +134,4 @@ def test_velocity_option_is_refused_where_no_velocity_is_compared(tmp_path, caps
     code = main(["fit", *paths, "--kind", kind, "--velocity", "measured", "--quiet",
                  "-o", str(tmp_path / "out")])  # fmt: skip
     err = capsys.readouterr().err
-    assert code == 2 and "--velocity measured is for --kind response" in err, err
+    assert code == 2 and f"--velocity measured: --kind {kind} does not use it" in err, err

@@ -299,9 +299,12 @@ class FitResult(FitReport, LmfitNames):
         measurement : Measurement
             A record of the kind fitted (same signals).
         **options
-            Passed to the fit's predictor, e.g. ``initial="fit"`` (default: the
+            Passed to the fit's predictor: ``initial="fit"`` (default: the
             record's own initial conditions estimated with every shared
-            parameter held) or ``initial="measured"`` (its first samples).
+            parameter held) or ``initial="measured"`` (its first samples), and
+            ``reversal_tolerance`` (the travel [m or rad] by which reversals are
+            counted; default the record's own; its old name ``tolerance`` works
+            with a DeprecationWarning).
 
         Returns
         -------
@@ -309,10 +312,16 @@ class FitResult(FitReport, LmfitNames):
             Measured against predicted signal, NRMSE, reversal counts and rest
             positions (`presliding.identification.cross_validation`).
         """
+        from presliding._validation import renamed_keyword
+
         if self.predictor is None:
             raise ValueError(
                 f"a {self.kind} fit cannot predict other records; got kind {self.kind!r}."
             )
+        given = renamed_keyword(options, "tolerance", "reversal_tolerance",
+                                options.pop("reversal_tolerance", None), "predict")  # fmt: skip
+        if given is not None:
+            options["tolerance"] = given  # the predictors' own name
         return self.predictor.predict(self, measurement, **options)
 
     def to_dict(self) -> dict[str, Any]:

@@ -26,7 +26,13 @@ from presliding.identification.problem._pi_regression import reversal_indices
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
 
-__all__ = ["Prediction", "count_reversals", "counted", "position_quantum", "reversal_tolerance"]
+__all__ = [
+    "Prediction",
+    "count_reversals",
+    "counted",
+    "position_quantum",
+    "reversal_tolerance",
+]
 
 FloatArray = NDArray[np.float64]
 
@@ -255,7 +261,7 @@ class Prediction:
         xlabel += "" if "[" in xlabel else f" [{unit_of(xlabel.split()[-1]) or 'index'}]"
         return plot_fit(self.abscissa, self.measured, self.predicted, ax=ax,
                         xlabel=xlabel, ylabel=ylabel, fitted_label="predicted",
-                        title=f"prediction (NRMSE {100 * self.nrmse:.2f} %)")  # fmt: skip
+                        title=f"prediction (NRMSE {100 * self.nrmse:.3g} %)")  # fmt: skip
 
 
 def _units(abscissa_label: str, signal_label: str) -> dict[str, str]:

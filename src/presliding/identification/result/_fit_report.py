@@ -126,8 +126,8 @@ class FitReport:
         lines += [
             "",
             f"residual RMS: {self.residual_rms:.6g} {self.signal_unit} ({self.signal_label})",
-            f"NRMSE (RMS / range): {100 * self.nrmse:.3f} %; "
-            f"relative residual ‖r‖/‖y − ȳ‖: {100 * self.relative_residual:.3f} %; "
+            f"NRMSE (RMS / range): {100 * self.nrmse:.3g} %; "
+            f"relative residual ‖r‖/‖y − ȳ‖: {100 * self.relative_residual:.3g} %; "
             f"explained variance {100 * (1 - self.relative_residual**2):.3f} %",
             f"model: {self.model!r}",
         ]
@@ -181,6 +181,6 @@ class FitReport:
         return plot_fit(
             self.abscissa, self.measured, self.fitted, ax=ax,
             xlabel=xlabel, ylabel=self._signal_text(),
-            title=f"{self.kind} fit (NRMSE {100 * self.nrmse:.2f} %)",
+            title=f"{self.kind} fit (NRMSE {100 * self.nrmse:.3g} %)",
             records=self.records, labels=labels,
         )  # fmt: skip
