@@ -33,7 +33,7 @@ NOT_RESULTS = {
     "MemoryState", "PIOperator", "PIState", "PIInverse", "PIBatch", "PIBatchState",
     "Measurement", "SegalmanIwan", "MindlinContact", "MicroslipBar", "SliderNetwork",
     "MotionEnergy",  # a part of MotionResult (its `energy`), with its own to_dict
-    "NetworkStructure", "NetworkState",
+    "NetworkStructure", "NetworkState", "JointedStructure", "CompiledStructure",
     "NetworkEnergy",  # a part of NetworkResult (its `energy`), with its own to_dict
 }  # fmt: skip
 
@@ -99,6 +99,9 @@ BUILDERS = {
     "SweepResult": _sweep,
     "NetworkResult": lambda: ps.simulate_network(
         ps.chain_structure(2, 1.0, 10.0, MODEL), 0.5, None, [0.05, 0.0]
+    ),
+    "ModalBackbone": lambda: ps.modal_backbone(
+        ps.JointedStructure(1.0, 3.0, [[1.0]], [UNDAMPED]), 0, [0.01, 0.1, 1.0]
     ),
 }
 

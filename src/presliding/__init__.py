@@ -107,6 +107,7 @@ from presliding.motion import (
     simulate_batch,
 )
 from presliding.network import (
+    CompiledStructure,
     NetworkEnergy,
     NetworkResult,
     NetworkState,
@@ -115,6 +116,7 @@ from presliding.network import (
     SliderNetwork,
     chain_structure,
     compile_network,
+    compile_structure,
     modal_structure,
     multi_contact_structure,
     network_virgin_curve,
@@ -122,6 +124,7 @@ from presliding.network import (
     simulate_network,
     simulate_network_moreau,
 )
+from presliding.structural import JointedStructure, ModalBackbone, modal_backbone
 from presliding.sweep import SweepResult, sweep
 
 #: Module paths from before the package was split into layers, and their homes.
@@ -163,6 +166,7 @@ __all__ = [
     "PID",
     "AmplitudeResponse",
     "Comparison",
+    "CompiledStructure",
     "CoulombFriction",
     "CrossValidation",
     "DahlFriction",
@@ -175,6 +179,7 @@ __all__ = [
     "FreeResponse",
     "FrictionNonlinearity",
     "GeneralPIOperator",
+    "JointedStructure",
     "LimitCycles",
     "LoopBatch",
     "LoopResult",
@@ -186,6 +191,7 @@ __all__ = [
     "MemoryState",
     "MicroslipBar",
     "MindlinContact",
+    "ModalBackbone",
     "MotionBatch",
     "MotionEnergy",
     "MotionResult",
@@ -214,6 +220,7 @@ __all__ = [
     "chain_structure",
     "compare",
     "compile_network",
+    "compile_structure",
     "correlation_matrix",
     "count_reversals",
     "cross_validate",
@@ -233,6 +240,7 @@ __all__ = [
     "iosys_state",
     "masing_check",
     "measure_limit_cycle",
+    "modal_backbone",
     "modal_structure",
     "multi_contact_structure",
     "network_virgin_curve",
