@@ -124,7 +124,16 @@ from presliding.network import (
     simulate_network,
     simulate_network_moreau,
 )
-from presliding.structural import JointedStructure, ModalBackbone, modal_backbone
+from presliding.structural import (
+    FrequencyResponse,
+    JointedStructure,
+    ModalBackbone,
+    PeriodicOrbit,
+    force_response,
+    frequency_response,
+    modal_backbone,
+    periodic_orbit,
+)
 from presliding.sweep import SweepResult, sweep
 
 #: Module paths from before the package was split into layers, and their homes.
@@ -177,6 +186,7 @@ __all__ = [
     "Exponential",
     "FitResult",
     "FreeResponse",
+    "FrequencyResponse",
     "FrictionNonlinearity",
     "GeneralPIOperator",
     "JointedStructure",
@@ -205,6 +215,7 @@ __all__ = [
     "PIInverse",
     "PIOperator",
     "PIState",
+    "PeriodicOrbit",
     "PiecewiseConstant",
     "Prediction",
     "QuasiStaticNetworkResult",
@@ -232,7 +243,9 @@ __all__ = [
     "fit_quasi_static",
     "fit_response",
     "fit_virgin_curve",
+    "force_response",
     "free_response",
+    "frequency_response",
     "friction_batch",
     "friction_inverse",
     "hac_covariance",
@@ -244,6 +257,7 @@ __all__ = [
     "modal_structure",
     "multi_contact_structure",
     "network_virgin_curve",
+    "periodic_orbit",
     "phi",
     "pi_inverse",
     "play",

@@ -10,6 +10,14 @@ Files
 structure.py      `JointedStructure`: M, K, C, the joints' directions W, one PI or Iwan model each
 backbone.py       `modal_backbone`, `ModalBackbone`: ω(a), ζ(a), D(a) of a mode, exactly
 _single_joint.py  the closed-form virgin curve of a structure with one joint (any density)
+periodic.py       `periodic_orbit`, `frequency_response`, `force_response`: exact periodic
+                  responses (shooting, pseudo-arclength continuation, Floquet multipliers)
+periodic_results.py  `PeriodicOrbit`, `FrequencyResponse`
+_pieces.py        the closed form between events of a structure with stop joints (c1 = 0)
+_joint_events.py  its events: on a grid of the closed form, grazing checked, refined by Brent
+_joint_run.py     its event loop: samples, exact state transition and parameter derivative
+_shooting.py      Newton on the period map, continuation (tangent, corrector, corners)
+_orbit.py         an orbit's pieces: samples, exact peak amplitudes, exact Fourier coefficients
 
 May import: `presliding.identification`, `presliding.network`, `presliding.analysis`,
 `presliding.measurement`, `presliding.motion`, `presliding.friction`, `presliding.hysteresis`
@@ -17,6 +25,17 @@ and the root's shared modules.
 """
 
 from presliding.structural.backbone import ModalBackbone, modal_backbone
+from presliding.structural.periodic import force_response, frequency_response, periodic_orbit
+from presliding.structural.periodic_results import FrequencyResponse, PeriodicOrbit
 from presliding.structural.structure import JointedStructure
 
-__all__ = ["JointedStructure", "ModalBackbone", "modal_backbone"]
+__all__ = [
+    "FrequencyResponse",
+    "JointedStructure",
+    "ModalBackbone",
+    "PeriodicOrbit",
+    "force_response",
+    "frequency_response",
+    "modal_backbone",
+    "periodic_orbit",
+]
