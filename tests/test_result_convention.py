@@ -107,6 +107,10 @@ BUILDERS = {
     "FrequencyResponse": lambda: ps.frequency_response(
         _JENKINS_1DOF, [0.4], (1.0, 1.4), step=0.2, max_points=6
     ),
+    "StructureMotion": lambda: ps.simulate_ring_down(_JENKINS_1DOF, 0, 1.0, 5.0),
+    "RingDown": lambda: ps.analyze_ring_down(
+        ps.simulate_ring_down(_JENKINS_1DOF, 0, 1.0, 120.0), method="peaks"
+    ),
     "ModalBackbone": lambda: ps.modal_backbone(
         ps.JointedStructure(1.0, 3.0, [[1.0]], [UNDAMPED]), 0, [0.01, 0.1, 1.0]
     ),

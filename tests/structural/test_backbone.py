@@ -45,6 +45,28 @@ def test_one_mass_one_joint_matches_the_closed_forms(name, spring):
     assert bb.success and (bb.operator is None) == (not joint.is_discrete)
 
 
+def test_what_a_slow_decay_shows_for_a_jenkins_joint():
+    """ζ_d = D/(2π·a·E'(a)) with E = ½k·a² + ½k_t·r² (the stop at its limit), and ω₁ the
+    describing function of the stop: in closed form for one mass (m = 1)."""
+    k, kt, r = 10.0, 2.0, 0.05
+    st = JointedStructure(1.0, k, [[1.0]], [PIFriction(0.0, [kt], threshold=[r])])
+    a = np.geomspace(0.06, 5.0, 12)
+    bb = modal_backbone(st, 0, a)
+    expected = 4 * kt * r * (a - r) / (2 * math.pi * k * a * a)
+    np.testing.assert_allclose(bb.decay_damping_ratio, expected, rtol=1e-13)
+    theta = np.arccos(1 - 2 * r / a)
+    first = k + kt * (theta - np.sin(2 * theta) / 2) / math.pi
+    np.testing.assert_allclose(bb.harmonic_frequency**2, first, rtol=1e-13)
+    # below the threshold every definition gives the stuck oscillator
+    small = modal_backbone(st, 0, [0.01])
+    assert small.harmonic_frequency[0] == pytest.approx(math.sqrt(k + kt), rel=1e-15)
+    assert small.decay_damping_ratio[0] == 0.0
+    # nothing but the joint: beyond its threshold no stiffness holds the mode
+    alone = modal_backbone(JointedStructure(1.0, 0.0, [[1.0]], [PIFriction(0.0, [kt], [r])]), 0,
+                           [0.01, 1.0])  # fmt: skip
+    assert alone.status == "macroslip" and np.isinf(alone.decay_damping_ratio[1])
+
+
 def test_the_element_path_and_the_closed_form_path_agree_on_two_masses():
     """One joint with elements on a 2-DOF structure: the compiled operator and the one-joint
     closed form are two independent exact computations."""
@@ -54,11 +76,16 @@ def test_the_element_path_and_the_closed_form_path_agree_on_two_masses():
     compiled = modal_backbone(st, 0, a)
     from presliding.structural._single_joint import single_joint_curve
 
-    p, d, q = single_joint_curve(st.stiffness, st.contacts[:, 0], st.mass @ compiled.mode_shape,
-                                 joint, a)  # fmt: skip
+    p, d, q, tangent, first = single_joint_curve(
+        st.stiffness, st.contacts[:, 0], st.mass @ compiled.mode_shape, joint, a
+    )
     np.testing.assert_allclose(compiled.modal_force, p, rtol=1e-12)
     np.testing.assert_allclose(compiled.dissipation, d, rtol=1e-11)
     np.testing.assert_allclose(compiled.deflection, q, rtol=1e-11, atol=1e-14)
+    # the slow-flow quantities: closed forms of the elements against the curve's quadrature
+    np.testing.assert_allclose(compiled.harmonic_frequency**2, first, rtol=2e-6)
+    np.testing.assert_allclose(compiled.decay_damping_ratio, d / (2 * np.pi * a * a * tangent),
+                               rtol=1e-11)  # fmt: skip
 
 
 def test_the_nlvib_chain_softens_and_damps_by_masing():
@@ -97,7 +124,9 @@ def test_a_network_structure_with_a_coulomb_contact_is_taken():
     from presliding.structural._single_joint import single_joint_curve
 
     st = JointedStructure.from_network(net)
-    p, d, _ = single_joint_curve(st.stiffness, st.contacts[:, 0], st.mass @ bb.mode_shape, model, a)
+    p, d = single_joint_curve(st.stiffness, st.contacts[:, 0], st.mass @ bb.mode_shape, model, a)[
+        :2
+    ]
     np.testing.assert_allclose(bb.modal_force, p, rtol=1e-12)
     np.testing.assert_allclose(bb.dissipation, d, rtol=1e-11)
 
@@ -107,7 +136,8 @@ def test_result_and_errors():
     bb = modal_backbone(st, 0, [0.01, 0.1, 1.0])
     assert "ModalBackbone(mode=0" in repr(bb) and "omega" in bb.report()
     frame = bb.to_pandas()
-    assert list(frame.columns) == ["modal_force", "frequency", "damping_ratio", "dissipation"]
+    assert list(frame.columns) == ["modal_force", "frequency", "damping_ratio", "dissipation",
+                                   "harmonic_frequency", "decay_damping_ratio"]  # fmt: skip
     assert frame.attrs["units"]["frequency"] == "rad/s"
     with pytest.raises(ValueError, match="`mode` must be"):
         modal_backbone(st, 1, [0.1])

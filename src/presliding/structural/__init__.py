@@ -18,6 +18,11 @@ _joint_events.py  its events: on a grid of the closed form, grazing checked, ref
 _joint_run.py     its event loop: samples, exact state transition and parameter derivative
 _shooting.py      Newton on the period map, continuation (tangent, corrector, corners)
 _orbit.py         an orbit's pieces: samples, exact peak amplitudes, exact Fourier coefficients
+_slow_flow.py     what a slow free decay shows: the loop's first harmonic, ζ from the energy
+motion.py         `simulate_structure`, `simulate_ring_down`, `StructureMotion`: exact motion
+ring_down.py      `analyze_ring_down`, `RingDown`: ω(A), ζ(A) of a free decay (analytic
+                  signal or peaks), stated errors, comparison with a backbone
+_ring_down_estimators.py  band-pass, analytic signal, extremes, windowed fits
 
 May import: `presliding.identification`, `presliding.network`, `presliding.analysis`,
 `presliding.measurement`, `presliding.motion`, `presliding.friction`, `presliding.hysteresis`
@@ -25,8 +30,10 @@ and the root's shared modules.
 """
 
 from presliding.structural.backbone import ModalBackbone, modal_backbone
+from presliding.structural.motion import StructureMotion, simulate_ring_down, simulate_structure
 from presliding.structural.periodic import force_response, frequency_response, periodic_orbit
 from presliding.structural.periodic_results import FrequencyResponse, PeriodicOrbit
+from presliding.structural.ring_down import RingDown, analyze_ring_down
 from presliding.structural.structure import JointedStructure
 
 __all__ = [
@@ -34,8 +41,13 @@ __all__ = [
     "JointedStructure",
     "ModalBackbone",
     "PeriodicOrbit",
+    "RingDown",
+    "StructureMotion",
+    "analyze_ring_down",
     "force_response",
     "frequency_response",
     "modal_backbone",
     "periodic_orbit",
+    "simulate_ring_down",
+    "simulate_structure",
 ]

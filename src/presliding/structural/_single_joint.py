@@ -11,12 +11,15 @@ dissipation is the joint's, D = 4·c1·g + 4·(g·M1(g) − M2(g)), at that g.
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 from numpy.typing import NDArray
 from scipy.optimize import brentq
 
 from presliding.analysis import amplitude_response
 from presliding.friction import PIFriction
+from presliding.structural._slow_flow import harmonic_stiffness_curve
 
 FloatArray = NDArray[np.float64]
 
@@ -83,11 +86,37 @@ class SingleJoint:
         lam = self.virgin(g)
         return g, lam, self.p_g * g + self.p_l * lam, self.q_g * g + self.q_l * lam
 
+    def tangent(self, g: float) -> float:
+        """dP/du on the virgin curve at joint displacement g (g = 0: the stuck slope)."""
+        if g == 0.0:
+            return self.p_s if self.rigid else (self.p_g + self._slope(0.0) * self.p_l) / (
+                self.u_g + self._slope(0.0) * self.u_l)  # fmt: skip
+        t = self._slope(g)
+        return (self.p_g + t * self.p_l) / (self.u_g + t * self.u_l)
+
+    def _slope(self, g: float) -> float:
+        """dF_v/dg of the joint: the tail T(g) of its elements (eq. 10)."""
+        density = self.joint.density
+        assert density is not None
+        return float(density.tail(g)) if g < density.max_threshold else 0.0
+
+    def sampler(self, top: float) -> Any:
+        """P_v(u) for 0 <= u <= top, interpolated on 4000 exact points of the curve."""
+        g_top = self.solve(top)[0]
+        gs = np.r_[0.0, np.geomspace(max(g_top, 1e-300) * 1e-9, max(g_top, 1e-300), 4000)]
+        lam = np.asarray(self.joint.virgin_curve(gs), dtype=np.float64)
+        us = self.u_g * gs + self.u_l * lam
+        ps = self.p_g * gs + self.p_l * lam
+        if self.rigid:  # the stuck segment u <= u_slip
+            us, ps = np.r_[0.0, us[1:]], np.r_[0.0, ps[1:]]
+        return lambda u: np.interp(u, us, ps)
+
 
 def single_joint_curve(
     k: FloatArray, w: FloatArray, b: FloatArray, joint: PIFriction, amplitudes: FloatArray
-) -> tuple[FloatArray, FloatArray, FloatArray]:
-    """(P, D, q) at modal amplitudes a: the force, the loop's dissipation, the deflection."""
+) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray]:
+    """(P, D, q, P', ω₁²) at modal amplitudes a: the force, the loop's dissipation, the
+    deflection, the backbone's tangent and the loop's first-harmonic stiffness."""
     sj = SingleJoint(k, w, b, joint)
     rows = [sj.solve(float(a)) for a in amplitudes]
     g = np.array([r[0] for r in rows])
@@ -97,4 +126,7 @@ def single_joint_curve(
     slid = g > 0
     if slid.any():
         d[slid] = amplitude_response(joint, g[slid]).dissipation
-    return p, d, q
+    tangent = np.array([sj.tangent(float(x)) for x in g])
+    virgin = sj.sampler(float(np.max(amplitudes)))
+    first = harmonic_stiffness_curve(virgin, np.asarray(amplitudes, dtype=np.float64))
+    return p, d, q, tangent, first

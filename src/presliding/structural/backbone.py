@@ -9,6 +9,11 @@ Masing's rules the loop between −a and +a gives
     dissipation    D(a) = 8∫₀ᵃ P du − 4·a·P(a)       (the loop's area)
     damping ratio  ζ(a) = D/(2π·P·a) = D/(4π·E),  E = ½·ω²a²
 
+and what a slowly decaying free vibration of the mode shows instead (`_slow_flow`): the
+loop's first-harmonic frequency ω₁(a) and the decay's ζ_d(a) = D/(2π·a²·P'(a)). The
+structure's own damping C adds its modal part c = φᵀCφ to both ratios: c/(2ω) and
+c/(2ω₁) (a decay rate c/2 of the unit modal mass); D is the joints' dissipation.
+
 For joints with finite elements, P(a) is the exact operator of `compile_structure`
 (a linear spring plus a PI operator: D is that operator's, `amplitude_response`); a
 structure with a single joint of any density (an Iwan joint) has P(a) in closed form
@@ -30,6 +35,7 @@ from presliding.analysis import amplitude_response
 from presliding.hysteresis._results import ResultMixin
 from presliding.network import CompiledStructure, compile_structure
 from presliding.structural._single_joint import single_joint_curve
+from presliding.structural._slow_flow import harmonic_stiffness_elements
 from presliding.structural.structure import JointedStructure, as_structure
 
 if TYPE_CHECKING:
@@ -42,7 +48,8 @@ FloatArray = NDArray[np.float64]
 #: The units of a backbone's columns (modal quantities of a mass-normalised mode).
 UNITS = {
     "amplitude": "m·kg^½", "modal_force": "N/kg^½", "frequency": "rad/s",
-    "damping_ratio": "", "dissipation": "J",
+    "damping_ratio": "", "dissipation": "J", "harmonic_frequency": "rad/s",
+    "decay_damping_ratio": "",
 }  # fmt: skip
 
 _PLOTS = {
@@ -66,9 +73,17 @@ class ModalBackbone(ResultMixin):
     frequency : ndarray, shape (m,)
         ω(a) = √(P/a) [rad/s].
     damping_ratio : ndarray, shape (m,)
-        ζ(a) = D/(2π·P·a) [-].
+        ζ(a) = D/(2π·P·a) + c/(2ω) [-], c = φᵀCφ the mode's viscous damping.
     dissipation : ndarray, shape (m,)
         D(a) [J], the energy the joints dissipate per cycle between −a and +a.
+    harmonic_frequency : ndarray, shape (m,)
+        ω₁(a) [rad/s], the first harmonic (describing function) of the Masing loop: the
+        frequency a slowly decaying free vibration of the mode shows.
+    decay_damping_ratio : ndarray, shape (m,)
+        ζ_d(a) = D/(2π·a²·P'(a)) + c/(2ω₁) [-]: the damping a ring-down shows (energy
+        balance of a slow decay; the stored energy at a turning point grows as a·P'(a)),
+        with the mode's viscous part; inf where
+        P' = 0 (every joint slides and nothing holds the mode: status 'macroslip').
     deflection : ndarray, shape (m, n)
         q at the peak of the cycle [m]; ``joint_amplitude`` = deflection·W.
     joint_amplitude : ndarray, shape (m, n_c)
@@ -81,8 +96,9 @@ class ModalBackbone(ResultMixin):
     operator : CompiledStructure or None
         P(u) as a linear spring plus a PI operator (joints with finite elements).
     status : str
-        'success', or 'no_dissipation' (D = 0 at some amplitudes: no joint slides there;
-        the values are exact all the same).
+        'success'; 'no_dissipation' (D = 0 at some amplitudes: no joint slides there; the
+        values are exact all the same); 'macroslip' (P' = 0 at some amplitudes: the mode
+        has no stiffness left, ζ_d is inf there).
     message : str
     """
 
@@ -91,6 +107,8 @@ class ModalBackbone(ResultMixin):
     frequency: FloatArray
     damping_ratio: FloatArray
     dissipation: FloatArray
+    harmonic_frequency: FloatArray
+    decay_damping_ratio: FloatArray
     deflection: FloatArray
     joint_amplitude: FloatArray
     linear_frequency: float
@@ -105,7 +123,7 @@ class ModalBackbone(ResultMixin):
     @property
     def success(self) -> bool:
         """True: the quantities are exact for the model."""
-        return self.status in ("success", "no_dissipation")
+        return self.status in ("success", "no_dissipation", "macroslip")
 
     def __repr__(self) -> str:
         a = self.amplitude
@@ -134,7 +152,8 @@ class ModalBackbone(ResultMixin):
         import pandas as pd
 
         cols = {k: getattr(self, k) for k in ("modal_force", "frequency", "damping_ratio",
-                                              "dissipation")}  # fmt: skip
+                                              "dissipation", "harmonic_frequency",
+                                              "decay_damping_ratio")}  # fmt: skip
         frame = pd.DataFrame(cols, index=pd.Index(self.amplitude, name="amplitude"))
         return fill_attrs(frame, self, units=UNITS)
 
@@ -215,8 +234,13 @@ def modal_backbone(
         if op.friction is not None:
             d = amplitude_response(op.friction, a).dissipation
         q = op.deflection(a)
+        k, r = (np.empty(0), np.empty(0)) if op.friction is None else (
+            np.asarray(op.friction.stiffness), np.asarray(op.friction.threshold))  # fmt: skip
+        tangent = op.linear_stiffness + (r[None, :] > a[:, None]) @ k
+        first = harmonic_stiffness_elements(op.linear_stiffness, k, r, a)
     elif st.n_contacts == 1:
-        p, d, q = single_joint_curve(st.stiffness, st.contacts[:, 0], b, st.joints[0], a)
+        p, d, q, tangent, first = single_joint_curve(st.stiffness, st.contacts[:, 0], b,
+                                                     st.joints[0], a)  # fmt: skip
     else:
         raise ValueError(
             f"`structure` must have joints with finite elements when it has several "
@@ -224,7 +248,13 @@ def modal_backbone(
             f"`PIFriction(c1, density.discretize(n))`-style elements."
         )
     freq = np.sqrt(p / a)
-    zeta = d / (2.0 * math.pi * p * a)
+    w1 = np.sqrt(first)
+    viscous = float(phi @ np.asarray(st.damping) @ phi)  # c = φᵀCφ of the unit modal mass
+    zeta = d / (2.0 * math.pi * p * a) + viscous / (2.0 * freq)
+    held = tangent > 1e-12 * np.max(np.abs(tangent))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        decay = np.where(held, d / (2.0 * math.pi * a * a * np.where(held, tangent, 1.0)), np.inf)
+    decay = decay + viscous / (2.0 * w1)
     status = "success"
     message = (
         f"mode {int(mode)} at {a.shape[0]} amplitudes: the exact virgin curve of the modal "
@@ -234,8 +264,15 @@ def modal_backbone(
         status = "no_dissipation"
         message += (f" D(a) = 0 at {int(np.sum(d == 0))} amplitude(s) up to "
                     f"{fmt(float(a[d == 0].max()))}: no joint slides there.")  # fmt: skip
+    if not held.all():
+        status = "macroslip"
+        message += (
+            f" P' = 0 from a = {fmt(float(a[~held].min()))}: every joint slides and nothing "
+            f"holds the mode, so a decay there is no slow decay (ζ_d = inf)."
+        )
     return ModalBackbone(
         amplitude=a, modal_force=p, frequency=freq, damping_ratio=zeta, dissipation=d,
+        harmonic_frequency=w1, decay_damping_ratio=decay,
         deflection=q, joint_amplitude=q @ st.contacts, linear_frequency=w0, mode_shape=phi,
         mode=int(mode), operator=op, structure=st, status=status, message=message,
     )  # fmt: skip
