@@ -43,10 +43,11 @@ def gain(dt: float, band: tuple[float, float], w: FloatArray, order: int = 2) ->
 
 
 def peak_frequency(x: FloatArray, dt: float) -> float:
-    """ω [rad/s] of the largest peak of the Hann-windowed spectrum (parabolic refinement)."""
+    """ω [rad/s] of the largest peak of the Hann-windowed spectrum (parabolic refinement),
+    above four cycles per record (a drifting mean, a joint's offset, is not the mode)."""
     y = (x - np.mean(x)) * np.hanning(x.shape[0])
     spec = np.abs(np.fft.rfft(y))
-    k = int(np.argmax(spec[1:])) + 1
+    k = int(np.argmax(spec[4:])) + 4
     if 1 <= k < spec.shape[0] - 1:
         a, b, c = np.log(spec[k - 1 : k + 2] + 1e-300)
         k = k + 0.5 * (a - c) / (a - 2 * b + c) if (a - 2 * b + c) != 0 else k
