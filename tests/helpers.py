@@ -185,9 +185,9 @@ def pooled_problem_at(records, nuisance, shared: dict[str, float], n_elements: i
     """The pooled problem of stop records with equal break-away forces (preload start), its
     typical scales set at `shared` and each record's true own values (`nuisance`, as
     `stop_records` returns them); returns the problem and those values."""
-    from presliding.identification import _pooled_problem as pp
-    from presliding.identification._model_spec import ModelSpec
-    from presliding.identification._pooled_record import as_record
+    from presliding.identification.problem._model_spec import ModelSpec
+    from presliding.identification.records import _pooled_problem as pp
+    from presliding.identification.records._pooled_record import as_record
 
     spec = ModelSpec(n_elements, True, None, 32)
     problem = pp.PooledProblem([as_record(m) for m in records], spec, (1.0, 50.0), "preload",

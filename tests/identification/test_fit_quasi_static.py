@@ -92,7 +92,7 @@ def test_densities_are_recovered_from_torque_loops(name, density, names):
     """A density fit starts where F_c exceeds every force (it used to end "the residual
     is not finite at the start"); loops of a finely discretised density recover it."""
     from presliding import Exponential, Uniform
-    from presliding.identification._model_spec import centroid_bank
+    from presliding.identification.problem._model_spec import centroid_bank
 
     dens = (Uniform if name == "uniform" else Exponential)(**density)
     k, r = centroid_bank(dens, 2000)

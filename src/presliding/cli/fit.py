@@ -400,7 +400,7 @@ def run(args: argparse.Namespace) -> int:
             print(note)
         for p in written:
             print(f"wrote {p}")
-    from presliding.identification._status import exit_code
+    from presliding.identification.judge._status import exit_code
 
     return exit_code(result.status)
 

@@ -84,9 +84,9 @@ def fit_records(args: argparse.Namespace, records: list[Any], bar: Any = False) 
         fit_response,
         fit_virgin_curve,
     )
-    from presliding.identification._pi_regression import reversal_indices
     from presliding.identification.fit_virgin import RAMP_RETREAT
     from presliding.identification.prediction import reversal_tolerance
+    from presliding.identification.problem._pi_regression import reversal_indices
     from presliding.measurement.measurement import common_axis
 
     options = {**_options(args, records), "progress": bar}
@@ -189,6 +189,6 @@ def run_pooled(args: argparse.Namespace) -> int:
             print(note)
         for p in written:
             print(f"wrote {p}")
-    from presliding.identification._status import exit_code
+    from presliding.identification.judge._status import exit_code
 
     return exit_code(result.status)

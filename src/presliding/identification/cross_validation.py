@@ -25,9 +25,9 @@ import numpy as np
 
 from presliding._display import fill_attrs, result_html, short_repr
 from presliding._validation import as_choice, as_nonnegative_scalar
-from presliding.identification._fit_progress import reporting
 from presliding.identification.fit_result import FitResult
 from presliding.identification.prediction import Prediction, tolerance_text
+from presliding.identification.result._fit_progress import reporting
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes

@@ -8,7 +8,7 @@ With the measured driving force u, displacement y, velocity ẏ and acceleration
 Every parameter but the thresholds r_j enters linearly: at fixed thresholds
 this is linear least squares (the classical "inverse dynamic identification
 model" when there are no elements); the thresholds follow by nonlinear least
-squares from a start found on a threshold grid (`presliding.identification._pi_regression`).
+squares from a start found on a threshold grid (`presliding.identification.problem._pi_regression`).
 
 When u = 0 throughout (a free response) the equation is homogeneous: the
 mass and every force are determined only up to a common factor. Fix the mass
@@ -27,13 +27,7 @@ from numpy.typing import ArrayLike, NDArray
 from presliding._progress import Progress
 from presliding._validation import as_nonnegative_scalar, fmt
 from presliding.friction.pi_friction import PIFriction
-from presliding.identification import _pi_regression as pr
 from presliding.identification._fit_engine import FitPlan, FitRun, Found, run_fit
-from presliding.identification._fit_problem import FitOptions
-from presliding.identification._fit_progress import FitProgress, as_reporter, shows_progress
-from presliding.identification._parameters import resolve_parameters
-from presliding.identification._separable_problem import Separable, separable_problem
-from presliding.identification._status import sign_hint
 from presliding.identification.fit_presliding import (
     _with_note,
     check_enough,
@@ -44,6 +38,12 @@ from presliding.identification.fit_presliding import (
     pi_model,
 )
 from presliding.identification.fit_result import FitResult, Tie
+from presliding.identification.judge._status import sign_hint
+from presliding.identification.problem import _pi_regression as pr
+from presliding.identification.problem._fit_problem import FitOptions
+from presliding.identification.problem._parameters import resolve_parameters
+from presliding.identification.problem._separable_problem import Separable, separable_problem
+from presliding.identification.result._fit_progress import FitProgress, as_reporter, shows_progress
 from presliding.measurement.measurement import Measurement
 
 __all__ = ["fit_motion", "predict_motion_force"]

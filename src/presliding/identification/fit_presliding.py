@@ -10,7 +10,7 @@ the play operators start relaxed at the first sample (skip samples recorded
 with an unknown earlier history with `burn_in`). All parameters but the
 thresholds enter linearly: nonnegative least squares for the stiffnesses on a
 geometric threshold grid gives the start, nonlinear least squares over all
-parameters refines it (see `presliding.identification._pi_regression`).
+parameters refines it (see `presliding.identification.problem._pi_regression`).
 
 The virgin-curve fit (Madelung/Masing rules) lives in `fit_virgin`.
 """
@@ -33,23 +33,23 @@ from presliding._validation import (
     check_same_length,
 )
 from presliding.friction.pi_friction import PIFriction
-from presliding.identification import _pi_regression as pr
 from presliding.identification._fit_engine import FitPlan, FitRun, Found, run_fit
-from presliding.identification._fit_options import (
+from presliding.identification.checks._response_checks import cost
+from presliding.identification.fit_result import FitResult, Tie
+from presliding.identification.judge._status import sign_hint
+from presliding.identification.problem import _pi_regression as pr
+from presliding.identification.problem._fit_options import (
     check_budget,
     check_enough,
     check_fit_options,
     check_varies,
     element_count,
 )
-from presliding.identification._fit_problem import FitOptions, FitProblem
-from presliding.identification._fit_progress import reporting
-from presliding.identification._global_search import search_thresholds
-from presliding.identification._parameters import resolve_parameters
-from presliding.identification._response_checks import cost
-from presliding.identification._separable_problem import Separable, separable_problem
-from presliding.identification._status import sign_hint
-from presliding.identification.fit_result import FitResult, Tie
+from presliding.identification.problem._fit_problem import FitOptions, FitProblem
+from presliding.identification.problem._parameters import resolve_parameters
+from presliding.identification.problem._separable_problem import Separable, separable_problem
+from presliding.identification.result._fit_progress import reporting
+from presliding.identification.search._global_search import search_thresholds
 
 __all__ = ["fit_presliding"]
 

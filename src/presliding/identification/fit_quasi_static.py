@@ -30,17 +30,17 @@ from collections.abc import Mapping, Sequence
 
 from presliding._progress import Progress
 from presliding.identification._fit_engine import run_fit
-from presliding.identification._fit_progress import FitProgress, shows_progress
-from presliding.identification._quasi_static_plan import (
+from presliding.identification.fit_result import FitResult, Tie
+from presliding.identification.plans._quasi_static_plan import (
     check_quasi_static,
     quasi_static_plan,
     quasi_static_problem,
 )
-from presliding.identification._quasi_static_start import (  # noqa: F401 (their home before)
+from presliding.identification.records._quasi_static_start import (  # noqa: F401 (their home before)
     lift_density,
     quasi_static_start,
 )
-from presliding.identification.fit_result import FitResult, Tie
+from presliding.identification.result._fit_progress import FitProgress, shows_progress
 from presliding.measurement.measurement import Measurement
 
 __all__ = ["fit_quasi_static"]

@@ -42,11 +42,11 @@ from collections.abc import Mapping, Sequence
 
 from presliding._progress import Progress
 from presliding.identification._fit_engine import run_fit
-from presliding.identification._fit_progress import FitProgress, shows_progress
-from presliding.identification._model_order import choose_order
-from presliding.identification._response_plan import response_plan, response_problem
-from presliding.identification._response_request import check_response, order_options
 from presliding.identification.fit_result import FitResult, Tie
+from presliding.identification.plans._response_plan import response_plan, response_problem
+from presliding.identification.plans._response_request import check_response, order_options
+from presliding.identification.result._fit_progress import FitProgress, shows_progress
+from presliding.identification.search._model_order import choose_order
 from presliding.measurement.measurement import Measurement
 
 __all__ = ["fit_response"]

@@ -33,14 +33,14 @@ from numpy.typing import ArrayLike, NDArray
 
 from presliding._axes import as_axis, on_axis
 from presliding.friction.pi_friction import PIFriction
-from presliding.identification._alternatives import Alternative, hidden_optima
-from presliding.identification._fit_names import LmfitNames
-from presliding.identification._fit_report import FitReport
-from presliding.identification._least_squares import STATUSES as STATUSES
-from presliding.identification._least_squares import Solution, solve_least_squares
-from presliding.identification._least_squares import Tie as Tie
-from presliding.identification._profile import profile_solution
-from presliding.identification._status import judge
+from presliding.identification.intervals._alternatives import Alternative, hidden_optima
+from presliding.identification.intervals._profile import profile_solution
+from presliding.identification.judge._status import judge
+from presliding.identification.result._fit_names import LmfitNames
+from presliding.identification.result._fit_report import FitReport
+from presliding.identification.solve._least_squares import STATUSES as STATUSES
+from presliding.identification.solve._least_squares import Solution, solve_least_squares
+from presliding.identification.solve._least_squares import Tie as Tie
 from presliding.measurement._units import parameter_units
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -111,7 +111,7 @@ class FitResult(FitReport, LmfitNames):
         interval does not hold), ``"poor_fit"`` (the model explains less than
         half of the variance, or every parameter sits on a bound),
         ``"max_evaluations"`` or ``"failed"``. The rules and their order are
-        those of `presliding.identification._status`; the message names the
+        those of `presliding.identification.judge._status`; the message names the
         rule that fired.
     message : str
     n_evaluations : int
@@ -152,20 +152,20 @@ class FitResult(FitReport, LmfitNames):
         the free parameter vector (order of `var_names`) and the evaluations.
     interval_method : dict name -> str
         How each free parameter's interval was formed: ``"profile"`` (profile
-        likelihood, `presliding.identification._profile`), ``"wald"``
+        likelihood, `presliding.identification.intervals._profile`), ``"wald"``
         (value ± t·SE, on a log scale from a bound it would cross; also where
         the profile was not resolved on the scale of its threshold: the
         optimum is not a minimum on that scale, or the profile depends on
         where its inner optimisations stop), ``"partner"`` (widened to the
         values it takes along the profile of a parameter whose column vanishes
         on its bound, such as a preload saturated in the motion's direction,
-        `presliding.identification._profile_bound`; its standard error raised
+        `presliding.identification.intervals._profile_bound`; its standard error raised
         to match) or ``"union"`` (widened to hold another local optimum,
         `alternatives`).
     alternatives : tuple of Alternative
         Other local optima the search reached whose cost rise over the best is
         within the profile's likelihood-ratio threshold while they put a
-        parameter outside its interval (`presliding.identification._alternatives`):
+        parameter outside its interval (`presliding.identification.intervals._alternatives`):
         each with ``parameters``, ``cost``, ``rise`` and ``differs`` (the
         parameters whose intervals were widened to hold it; the fit is then
         ``"not_identifiable"``).

@@ -39,13 +39,8 @@ from numpy.typing import ArrayLike, NDArray
 
 from presliding._progress import Progress
 from presliding._validation import as_nonnegative_scalar, as_signal, check_same_length, fmt
-from presliding.identification import _pi_regression as pr
 from presliding.identification._fit_engine import FitPlan, FitRun, Found, run_fit
-from presliding.identification._fit_problem import FitOptions, FitProblem
-from presliding.identification._fit_progress import FitProgress, as_reporter, shows_progress
-from presliding.identification._parameters import resolve_parameters
-from presliding.identification._response_checks import cost
-from presliding.identification._separable_problem import Separable, separable_problem
+from presliding.identification.checks._response_checks import cost
 from presliding.identification.fit_presliding import (
     check_enough,
     check_fit_options,
@@ -56,6 +51,11 @@ from presliding.identification.fit_presliding import (
 )
 from presliding.identification.fit_result import FitResult, Tie
 from presliding.identification.prediction import reversal_tolerance as auto_tolerance
+from presliding.identification.problem import _pi_regression as pr
+from presliding.identification.problem._fit_problem import FitOptions, FitProblem
+from presliding.identification.problem._parameters import resolve_parameters
+from presliding.identification.problem._separable_problem import Separable, separable_problem
+from presliding.identification.result._fit_progress import FitProgress, as_reporter, shows_progress
 
 __all__ = ["fit_virgin_curve", "virgin_samples"]
 

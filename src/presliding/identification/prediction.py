@@ -20,8 +20,8 @@ from numpy.typing import ArrayLike, NDArray
 
 from presliding._display import fill_attrs, result_html, short_repr, unit_of
 from presliding._validation import as_nonnegative_scalar, as_signal
-from presliding.identification._pi_regression import reversal_indices
 from presliding.identification.fit_result import fit_statistics
+from presliding.identification.problem._pi_regression import reversal_indices
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
