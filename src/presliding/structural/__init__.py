@@ -23,6 +23,9 @@ motion.py         `simulate_structure`, `simulate_ring_down`, `StructureMotion`:
 ring_down.py      `analyze_ring_down`, `RingDown`: ω(A), ζ(A) of a free decay (analytic
                   signal or peaks), stated errors, comparison with a backbone
 _ring_down_estimators.py  band-pass, analytic signal, extremes, windowed fits
+fit_joint.py      `fit_joint`: a joint (Segalman, Mindlin, Jenkins) and the mode's viscous
+                  damping from ω(a), ζ(a) or D(a), on the engine of every fit
+_joint_model.py   the one-mode model it adjusts, and what each kind of data measures
 
 May import: `presliding.identification`, `presliding.network`, `presliding.analysis`,
 `presliding.measurement`, `presliding.motion`, `presliding.friction`, `presliding.hysteresis`
@@ -30,6 +33,7 @@ and the root's shared modules.
 """
 
 from presliding.structural.backbone import ModalBackbone, modal_backbone
+from presliding.structural.fit_joint import fit_joint
 from presliding.structural.motion import StructureMotion, simulate_ring_down, simulate_structure
 from presliding.structural.periodic import force_response, frequency_response, periodic_orbit
 from presliding.structural.periodic_results import FrequencyResponse, PeriodicOrbit
@@ -44,6 +48,7 @@ __all__ = [
     "RingDown",
     "StructureMotion",
     "analyze_ring_down",
+    "fit_joint",
     "force_response",
     "frequency_response",
     "modal_backbone",

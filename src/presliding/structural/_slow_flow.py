@@ -14,6 +14,7 @@ h = 1 for x >= 1; for a loop given by its virgin curve P_v, ω₁² = (2/πa)·�
 from __future__ import annotations
 
 from collections.abc import Callable
+from functools import lru_cache
 
 import numpy as np
 from numpy.typing import NDArray
@@ -22,6 +23,13 @@ FloatArray = NDArray[np.float64]
 
 #: Gauss–Legendre nodes on θ for a loop given by its virgin curve.
 NODES = 400
+
+
+@lru_cache(maxsize=8)
+def _gauss(nodes: int) -> tuple[FloatArray, FloatArray]:
+    """Gauss–Legendre nodes and weights on [0, π] (computed once per size)."""
+    z, w = np.polynomial.legendre.leggauss(nodes)
+    return 0.5 * np.pi * (z + 1.0), 0.5 * np.pi * w
 
 
 def stop_harmonic(x: FloatArray) -> FloatArray:
@@ -39,12 +47,25 @@ def harmonic_stiffness_elements(k_lin: float, k: FloatArray, r: FloatArray,
     return np.asarray(k_lin + stop_harmonic(r[None, :] / a[:, None]) @ k)
 
 
+def harmonic_stiffness_density(tail: Callable[[FloatArray], FloatArray], support: float,
+                               a: FloatArray, nodes: int = 96) -> FloatArray:  # fmt: skip
+    """Σ_j k_j·h(r_j/a) for a density μ given by its tail T(r) = μ((r, R]): by parts,
+    (8/π)·∫₀^u T(a·x)·√(x(1 − x)) dx with u = min(1, R/a) (h' = (8/π)√(x(1 − x))),
+    on x = u(1 − cos t)/2 by Gauss–Legendre in t (every amplitude at once)."""
+    t, w = _gauss(nodes)
+    u = np.minimum(1.0, support / a)[:, None]
+    x = 0.5 * u * (1.0 - np.cos(t))[None, :]
+    jac = 0.5 * u * np.sin(t)[None, :]
+    r = np.minimum(a[:, None] * x, support * (1.0 - 1e-15))
+    values = np.asarray(tail(r.ravel()), dtype=np.float64).reshape(r.shape)
+    integrand = values * np.sqrt(np.maximum(x * (1.0 - x), 0.0)) * jac
+    return np.asarray(8.0 / np.pi * (integrand @ w))
+
+
 def harmonic_stiffness_curve(virgin: Callable[[FloatArray], FloatArray],
                              a: FloatArray) -> FloatArray:  # fmt: skip
     """ω₁² of the Masing loop of the virgin curve P_v at amplitudes a (quadrature)."""
-    x, w = np.polynomial.legendre.leggauss(NODES)
-    theta = 0.5 * np.pi * (x + 1.0)
-    w = 0.5 * np.pi * w
+    theta, w = _gauss(NODES)
     out = np.empty(a.shape[0])
     for i, ai in enumerate(a):
         s = 0.5 * ai * (1.0 - np.cos(theta))

@@ -93,7 +93,9 @@ class RingDown(ResultMixin):
         ζ = σ/ω [-], σ = −d ln A/dt.
     frequency_error, damping_ratio_error : ndarray, shape (m,)
         The stated errors: the fits' standard errors combined with the windows'
-        resolution (see the module notes).
+        resolution and the allowances (see the module notes).
+    frequency_se, damping_ratio_se : ndarray, shape (m,)
+        The fits' standard errors alone (the noise's share).
     method : str
         'hilbert' or 'peaks'.
     signal : str
@@ -114,6 +116,8 @@ class RingDown(ResultMixin):
     damping_ratio: FloatArray
     frequency_error: FloatArray
     damping_ratio_error: FloatArray
+    frequency_se: FloatArray
+    damping_ratio_se: FloatArray
     method: str
     signal: str
     band: FloatArray
@@ -351,5 +355,6 @@ def analyze_ring_down(
     )
     return RingDown(time=res["time"], amplitude=amp, frequency=w, damped_frequency=wd,
                     damping_ratio=zeta, frequency_error=w_err, damping_ratio_error=z_err,
+                    frequency_se=res["damped_se"], damping_ratio_se=res["decay_se"] / w,
                     method=method, signal=kind, band=np.array([lo, hi]),
                     analysed=np.array([pt[0], pt[-1]]), message=message)  # fmt: skip
