@@ -5,7 +5,8 @@ motion CSV and figure), ``analyze`` (stop analysis of a model file, eqs. 7, 9,
 14–16), ``fit`` (identification from a CSV file, section 4), ``sweep`` (a
 quantity of the free motion over a parameter grid, locally or on Dask) and
 ``loop`` (a PID loop with PI friction: exact response, predicted limit cycles) and
-``network`` (a structure with many friction contacts, stick/slip per contact).
+``network`` (a structure with many friction contacts, stick/slip per contact) and
+``ring-down`` (a measured free decay: ω(A), ζ(A) and a fitted joint model).
 
 User errors (a bad file, a missing column, a bad parameter) print one line on
 stderr naming the file or field and the fix, and exit with code 2; ``--debug``
@@ -43,6 +44,7 @@ examples:
   presliding loop spec.toml -o loop/       # PID loop: exact response, predicted limit cycles
   presliding precompile                    # fill numba's cache (CI images, containers)
   presliding network spec.toml -o net/     # many masses and contacts: stick/slip per contact
+  presliding ring-down decay.csv -o rd/    # a free decay: ω(A), ζ(A), a fitted joint model
 
 model files (TOML, or JSON with the same tables; units in brackets):
   [friction]
@@ -135,7 +137,17 @@ def _build_parser() -> argparse.ArgumentParser:
     from presliding.cli.predict import add_parser as add_predict_parser
 
     add_predict_parser(sub, [common, writes]).set_defaults(handler=_cmd_predict)
+
+    from presliding.cli.ring_down import add_parser as add_ring_down_parser
+
+    add_ring_down_parser(sub, [common, writes]).set_defaults(handler=_cmd_ring_down)
     return parser
+
+
+def _cmd_ring_down(args: argparse.Namespace) -> int:
+    from presliding.cli.ring_down import run
+
+    return run(args)
 
 
 def _cmd_predict(args: argparse.Namespace) -> int:

@@ -54,6 +54,7 @@ NEEDS = {
     "response": (("time",), ("velocity", "position")),
     "quasi-static": (("position",), ("applied_force",)),
     "virgin": (("position",), ("friction_force", "applied_force")),
+    "ring-down": (("time",), ("position", "velocity", "acceleration")),  # `presliding ring-down`
 }
 OPTIONAL = {
     "presliding": ("time",),
@@ -61,6 +62,7 @@ OPTIONAL = {
     "response": ("applied_force",),
     "quasi-static": ("time",),
     "virgin": ("time",),
+    "ring-down": (),
 }
 DEFAULT_ELEMENTS = {"presliding": 3, "motion": 0, "response": 4, "quasi-static": 3, "virgin": 3}
 #: The help text of `presliding fit` (description and examples).
