@@ -61,9 +61,8 @@ OPTIONAL = {
     "motion": ("velocity", "acceleration"),
     "response": ("applied_force",),
     "quasi-static": ("time",),
-    "virgin": ("time",),
-    "ring-down": (),
-}
+    "virgin": ("time",), "ring-down": (),
+}  # fmt: skip
 DEFAULT_ELEMENTS = {"presliding": 3, "motion": 0, "response": 4, "quasi-static": 3, "virgin": 3}
 #: The help text of `presliding fit` (description and examples).
 FIT_DESCRIPTION = (
