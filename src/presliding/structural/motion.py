@@ -114,15 +114,20 @@ class StructureMotion(ResultMixin):
 
     def plot(self, ax: Axes | None = None) -> Axes:
         """q(t), one line per coordinate."""
-        from presliding.plotting import new_axes, place_legend
+        return plot_positions(ax, self.time, self.position)
 
-        ax = new_axes(ax)
-        for i in range(self.position.shape[1]):
-            ax.plot(self.time, self.position[:, i], label=f"q{i}")
-        ax.set_xlabel("time t [s]")
-        ax.set_ylabel("position q [m]")
-        place_legend(ax)
-        return ax
+
+def plot_positions(ax: Axes | None, time: FloatArray, position: FloatArray) -> Axes:
+    """q(t), one line per coordinate, with units (a motion's or an orbit's figure)."""
+    from presliding.plotting import new_axes, place_legend
+
+    ax = new_axes(ax)
+    for i in range(position.shape[1]):
+        ax.plot(time, position[:, i], label=f"q{i}")
+    ax.set_xlabel("time t [s]")
+    ax.set_ylabel("position q [m]")
+    place_legend(ax)
+    return ax
 
 
 def _stop_joints(st: JointedStructure) -> bool:

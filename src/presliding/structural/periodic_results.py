@@ -97,15 +97,9 @@ class PeriodicOrbit(ResultMixin):
 
     def plot(self, ax: Axes | None = None) -> Axes:
         """q(t) over one period, one line per coordinate."""
-        from presliding.plotting import new_axes, place_legend
+        from presliding.structural.motion import plot_positions
 
-        ax = new_axes(ax)
-        for i in range(self.position.shape[1]):
-            ax.plot(self.time, self.position[:, i], label=f"q{i}")
-        ax.set_xlabel("time t [s]")
-        ax.set_ylabel("position q [m]")
-        place_legend(ax)
-        return ax
+        return plot_positions(ax, self.time, self.position)
 
 
 @dataclass(frozen=True, eq=False, repr=False)

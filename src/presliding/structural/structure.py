@@ -19,7 +19,14 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from presliding._validation import as_count, as_list, as_real_array, check_type, fmt
+from presliding._validation import (
+    as_count,
+    as_list,
+    as_real_array,
+    as_square_matrix,
+    check_type,
+    fmt,
+)
 from presliding.friction import PIFriction
 from presliding.hysteresis import Density
 from presliding.network import NetworkStructure
@@ -27,27 +34,6 @@ from presliding.network import NetworkStructure
 __all__ = ["JointedStructure"]
 
 FloatArray = NDArray[np.float64]
-
-
-def _square(name: str, value: Any, n: int | None, *, definite: bool) -> FloatArray:
-    """A symmetric, positive (semi)definite n × n matrix (a vector: its diagonal)."""
-    arr = as_real_array(name, value)
-    arr = arr.reshape(1, 1) if arr.ndim == 0 else (np.diag(arr) if arr.ndim == 1 else arr)
-    if arr.ndim != 2 or arr.shape[0] != arr.shape[1] or (n is not None and arr.shape[0] != n):
-        want = "(n, n)" if n is None else f"({n}, {n})"
-        raise ValueError(f"`{name}` must be a square matrix of shape {want}; got {arr.shape}.")
-    scale = float(np.max(np.abs(arr), initial=0.0))
-    if not np.allclose(arr, arr.T, rtol=0.0, atol=1e-12 * scale):
-        raise ValueError(f"`{name}` must be symmetric; got {fmt(arr)}.")
-    arr = 0.5 * (arr + arr.T)
-    low = float(np.min(np.linalg.eigvalsh(arr)))
-    if definite and not (scale > 0.0 and low > 1e-13 * scale):
-        raise ValueError(f"`{name}` must be positive definite; its smallest eigenvalue is {low!r}.")
-    if low < -1e-12 * scale:
-        raise ValueError(f"`{name}` must be positive semidefinite; its smallest eigenvalue is "
-                         f"{low!r}.")  # fmt: skip
-    arr.setflags(write=False)
-    return arr
 
 
 def _joint(i: int, value: Any) -> PIFriction:
@@ -107,11 +93,11 @@ class JointedStructure:
                      damping: ArrayLike | None = None) -> None: ...  # fmt: skip
 
     def __post_init__(self) -> None:
-        m = _square("mass", self.mass, None, definite=True)
+        m = as_square_matrix("mass", self.mass, None, definite=True)
         n = m.shape[0]
-        k = _square("stiffness", self.stiffness, n, definite=False)
-        c = _square("damping", np.zeros((n, n)) if self.damping is None else self.damping, n,
-                    definite=False)  # fmt: skip
+        k = as_square_matrix("stiffness", self.stiffness, n, definite=False)
+        damping = np.zeros((n, n)) if self.damping is None else self.damping
+        c = as_square_matrix("damping", damping, n, definite=False)
         w = as_real_array("contacts", self.contacts)
         w = w.reshape(1, -1) if (w.ndim == 1 and n == 1) else w
         if w.ndim != 2 or w.shape[0] != n or w.shape[1] == 0:
