@@ -25,31 +25,11 @@ import numpy as np
 from presliding._interop import as_si, is_quantity
 
 __all__ = [
-    "as_bounds",
-    "as_choice",
-    "as_count",
-    "as_list",
-    "as_nonnegative_scalar",
-    "as_parameter_matrix",
-    "as_parameter_vector",
-    "as_positive_scalar",
-    "as_real_array",
-    "as_real_scalar",
-    "as_real_vector",
-    "as_si",
-    "as_signal",
-    "as_square_matrix",
-    "as_state_vector",
-    "check_derived",
-    "check_finite_derived",
-    "check_increasing",
-    "check_same_length",
-    "check_size",
-    "check_time_span",
-    "check_type",
-    "fmt",
-    "renamed",
-    "size_limit"
+    "as_bounds", "as_choice", "as_count", "as_list", "as_nonnegative_scalar", "as_parameter_matrix",
+    "as_parameter_vector", "as_positive_scalar", "as_real_array", "as_real_scalar",
+    "as_real_vector", "as_si", "as_signal", "as_state_vector", "check_derived",
+    "check_finite_derived", "check_increasing", "check_same_length",
+    "check_size", "check_time_span", "check_type", "fmt", "renamed", "size_limit"
 ]  # fmt: skip
 
 
@@ -364,32 +344,6 @@ def as_parameter_matrix(name: str, value: Any) -> np.ndarray:
     if bad.any():
         raise ValueError(f"`{name}` must be positive; {_first_bad(arr, bad)}.")
     return np.ascontiguousarray(arr)
-
-
-def as_square_matrix(name: str, value: Any, n: int | None, *, definite: bool) -> np.ndarray:
-    """A read-only symmetric n × n matrix, positive definite or semidefinite (a scalar is a
-    1 × 1 one, a vector its diagonal; n None: any size)."""
-    arr = as_real_array(name, value)
-    if arr.ndim == 0:
-        arr = arr.reshape(1, 1)
-    if arr.ndim == 1:
-        arr = np.diag(arr)
-    if arr.ndim != 2 or arr.shape[0] != arr.shape[1] or (n is not None and arr.shape[0] != n):
-        want = "(n, n)" if n is None else f"({n}, {n})"
-        raise ValueError(f"`{name}` must be a square matrix of shape {want}; got {arr.shape}.")
-    scale = float(np.max(np.abs(arr), initial=0.0))
-    if not np.allclose(arr, arr.T, rtol=0.0, atol=1e-12 * scale):
-        raise ValueError(f"`{name}` must be symmetric; got {fmt(arr)}.")
-    arr = 0.5 * (arr + arr.T)
-    low = float(np.min(np.linalg.eigvalsh(arr))) if arr.size else 0.0
-    if definite and not (low > 1e-13 * scale and scale > 0.0):
-        raise ValueError(f"`{name}` must be positive definite; its smallest eigenvalue is {low!r}.")
-    if not definite and low < -1e-12 * scale:
-        raise ValueError(
-            f"`{name}` must be positive semidefinite; its smallest eigenvalue is {low!r}."
-        )
-    arr.setflags(write=False)
-    return arr
 
 
 def as_real_array(name: str, value: Any, *, finite: bool = True) -> np.ndarray:

@@ -18,14 +18,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from presliding._validation import (
-    as_list,
-    as_real_array,
-    as_square_matrix,
-    check_increasing,
-    check_type,
-    fmt,
-)
+from presliding._validation import as_list, as_real_array, check_increasing, check_type, fmt
 from presliding.friction.pi_friction import PIFriction
 
 __all__ = ["NetworkStructure", "chain_structure", "modal_structure", "multi_contact_structure"]
@@ -33,8 +26,33 @@ __all__ = ["NetworkStructure", "chain_structure", "modal_structure", "multi_cont
 FloatArray = NDArray[np.float64]
 
 
-#: A symmetric, positive (semi)definite n × n matrix (the one home: `_validation`).
-_square = as_square_matrix
+def square_matrix(name: str, value: Any, n: int | None, *, definite: bool) -> FloatArray:
+    """A read-only symmetric n × n matrix, positive definite or semidefinite (a scalar is a
+    1 × 1 one, a vector its diagonal; n None: any size). Also `JointedStructure`'s check."""
+    arr = as_real_array(name, value)
+    if arr.ndim == 0:
+        arr = arr.reshape(1, 1)
+    if arr.ndim == 1:
+        arr = np.diag(arr)
+    if arr.ndim != 2 or arr.shape[0] != arr.shape[1] or (n is not None and arr.shape[0] != n):
+        want = "(n, n)" if n is None else f"({n}, {n})"
+        raise ValueError(f"`{name}` must be a square matrix of shape {want}; got {arr.shape}.")
+    scale = float(np.max(np.abs(arr), initial=0.0))
+    if not np.allclose(arr, arr.T, rtol=0.0, atol=1e-12 * scale):
+        raise ValueError(f"`{name}` must be symmetric; got {fmt(arr)}.")
+    arr = 0.5 * (arr + arr.T)
+    low = float(np.min(np.linalg.eigvalsh(arr))) if arr.size else 0.0
+    if definite and not (low > 1e-13 * scale and scale > 0.0):
+        raise ValueError(f"`{name}` must be positive definite; its smallest eigenvalue is {low!r}.")
+    if not definite and low < -1e-12 * scale:
+        raise ValueError(
+            f"`{name}` must be positive semidefinite; its smallest eigenvalue is {low!r}."
+        )
+    arr.setflags(write=False)
+    return arr
+
+
+_square = square_matrix
 
 
 def _forcing(value: Any, n: int) -> tuple[FloatArray, FloatArray]:

@@ -19,6 +19,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from presliding._validation import as_real_array, fmt
 from presliding.structural.structure import JointedStructure
 
 FloatArray = NDArray[np.float64]
@@ -26,6 +27,21 @@ ComplexArray = NDArray[np.complex128]
 
 #: Largest condition number of a piece's eigenvectors (a nearly defective piece refused).
 MAX_CONDITION = 1e9
+
+
+def harmonic_force(force: Any, n: int) -> NDArray[np.complex128]:
+    """F̂ of a harmonic force (a real vector: F̂·cos Ωt), checked: nonzero, shape (n,)."""
+    arr = np.asarray(force)
+    if arr.dtype.kind == "c":
+        parts = np.stack([arr.real, arr.imag])
+        as_real_array("force", parts)
+        out = arr.astype(np.complex128)
+    else:
+        out = as_real_array("force", force).astype(np.complex128)
+    out = out.reshape(-1) if out.ndim == 0 and n == 1 else out
+    if out.shape != (n,) or not np.any(out != 0):
+        raise ValueError(f"`force` must be a nonzero vector of shape ({n},); got {fmt(arr)}.")
+    return out
 
 
 class Model:

@@ -29,7 +29,7 @@ from presliding.hysteresis._results import ResultMixin
 from presliding.measurement import Measurement
 from presliding.network import NetworkState, simulate_network
 from presliding.structural._joint_run import run
-from presliding.structural._pieces import Model
+from presliding.structural._pieces import Model, harmonic_force
 from presliding.structural.backbone import modal_backbone
 from presliding.structural.structure import JointedStructure, as_structure
 
@@ -189,9 +189,7 @@ def simulate_structure(
         raise ValueError("`force` and `frequency` must be given together (a harmonic force).")
     if _stop_joints(st):
         om = 0.0 if frequency is None else as_positive_scalar("frequency", frequency)
-        from presliding.structural.periodic import _force
-
-        f_hat = np.zeros(n, complex) if force is None else _force(force, n)
+        f_hat = np.zeros(n, complex) if force is None else harmonic_force(force, n)
         md = Model(st, f_hat, om)
         x0 = (st.contacts.T @ q0)[md.owner] if plastic is None else as_state_vector(
             "plastic", plastic, md.n_e)  # fmt: skip

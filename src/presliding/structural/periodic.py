@@ -20,7 +20,7 @@ from numpy.typing import ArrayLike, NDArray
 from presliding._validation import as_count, as_positive_scalar, as_real_array, fmt
 from presliding.structural._joint_run import run
 from presliding.structural._orbit import Orbit
-from presliding.structural._pieces import Model
+from presliding.structural._pieces import Model, harmonic_force
 from presliding.structural._shooting import Point, Shooter, continuation
 from presliding.structural.periodic_results import FrequencyResponse, PeriodicOrbit
 from presliding.structural.structure import JointedStructure, as_structure
@@ -33,23 +33,9 @@ FloatArray = NDArray[np.float64]
 STABLE = 1.0 + 1e-9
 
 
-def _force(force: Any, n: int) -> NDArray[np.complex128]:
-    arr = np.asarray(force)
-    if arr.dtype.kind == "c":
-        parts = np.stack([arr.real, arr.imag])
-        as_real_array("force", parts)
-        out = arr.astype(np.complex128)
-    else:
-        out = as_real_array("force", force).astype(np.complex128)
-    out = out.reshape(-1) if out.ndim == 0 and n == 1 else out
-    if out.shape != (n,) or not np.any(out != 0):
-        raise ValueError(f"`force` must be a nonzero vector of shape ({n},); got {fmt(arr)}.")
-    return out
-
-
 def _model(structure: Any, force: Any, frequency: float) -> tuple[JointedStructure, Model]:
     st = as_structure(structure)
-    return st, Model(st, _force(force, st.n_coordinates), frequency)
+    return st, Model(st, harmonic_force(force, st.n_coordinates), frequency)
 
 
 def _start(shooter: Shooter, st: JointedStructure, p: float, tol: float,

@@ -19,17 +19,11 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from presliding._validation import (
-    as_count,
-    as_list,
-    as_real_array,
-    as_square_matrix,
-    check_type,
-    fmt,
-)
+from presliding._validation import as_count, as_list, as_real_array, check_type, fmt
 from presliding.friction import PIFriction
 from presliding.hysteresis import Density
 from presliding.network import NetworkStructure
+from presliding.network.structure import square_matrix
 
 __all__ = ["JointedStructure"]
 
@@ -93,11 +87,11 @@ class JointedStructure:
                      damping: ArrayLike | None = None) -> None: ...  # fmt: skip
 
     def __post_init__(self) -> None:
-        m = as_square_matrix("mass", self.mass, None, definite=True)
+        m = square_matrix("mass", self.mass, None, definite=True)
         n = m.shape[0]
-        k = as_square_matrix("stiffness", self.stiffness, n, definite=False)
+        k = square_matrix("stiffness", self.stiffness, n, definite=False)
         damping = np.zeros((n, n)) if self.damping is None else self.damping
-        c = as_square_matrix("damping", damping, n, definite=False)
+        c = square_matrix("damping", damping, n, definite=False)
         w = as_real_array("contacts", self.contacts)
         w = w.reshape(1, -1) if (w.ndim == 1 and n == 1) else w
         if w.ndim != 2 or w.shape[0] != n or w.shape[1] == 0:
