@@ -116,6 +116,14 @@ PRINTED: dict[tuple[str, int], list[tuple]] = {
                      (r"^ +0 +(\d+) ", 8.0, 0.0), (r"^ +2 +(\d+) ", 3.0, 0.0),
                      (r"^ +0 +\d+ +(\S+)", 0.425612, 1e-5)],
     ("network", 4): [(r"^(\S+)$", 2.5e-4, 0.5)],
+    # NLvib's chain: the stuck modes; the backbone of mode 0 from ω0 towards K's own
+    ("structural", 0): [(r"^\[(\S+) ", 1.374878, 1e-6), (r" (\S+) \S+\]$", 2.974046, 1e-6),
+                        (r" (\S+)\]$", 7.434027, 1e-6)],
+    ("structural", 1): [(r"^(\S+) \S+$", 1.374878, 1e-6), (r"^\S+ (\S+)$", 1.089694, 1e-6)],
+    # ring-down against the slow-decay ζ_d and against the secant's ζ (median |Δζ|)
+    ("structural", 2): [(r"^(\S+) \S+$", 3.9e-5, 0.2), (r"^\S+ (\S+)$", 3.5e-4, 0.2)],
+    ("structural", 4): [(r"^\[(\S+) ", 0.066487, 1e-5), (r" (\S+) \S+\]$", 0.120075, 1e-5),
+                        (r" (\S+)\]$", 0.161172, 1e-5)],
     ("rigs", 2): [(r"^(\d+) stops cut", 4.0, 0.0),
                   (r"^ +1 +(\S+) s to", 0.128, 1e-9), (r"^ +4 +\S+ s to (\S+)", 1.931, 1e-9),
                   (r"^ +2 .* (\d+) samples", 304.0, 0.0),

@@ -21,6 +21,7 @@ predict.py      ``presliding predict MODEL FILE ...`` and ``fit --hold-out``: he
 sweep.py, sweep_spec.py     ``presliding sweep`` and its specification files
 loop.py         ``presliding loop``: a PID loop, its exact response and limit cycles
 network.py      ``presliding network``: a structure with friction contacts, report, figures
+ring_down.py    ``presliding ring-down FILE``: a free decay's ω(A), ζ(A) and a fitted joint
 report.py       Markdown and HTML reports
 _precompile.py  compiles a later part's kernels in a second process on a cold cache
 precompile.py   `presliding precompile`: the demo's kernels into numba's cache, no files

@@ -6,8 +6,9 @@ motion CSV and figure), ``analyze`` (stop analysis of a model file, eqs. 7, 9,
 quantity of the free motion over a parameter grid, locally or on Dask) and
 ``loop`` (a PID loop with PI friction: exact response, predicted limit cycles),
 ``network`` (a structure with many friction contacts, stick/slip per contact),
-``predict`` (a model file predicting records it never saw) and ``example-data``
-(small records to try ``fit`` and ``predict`` on).
+``predict`` (a model file predicting records it never saw), ``example-data``
+(small records to try ``fit`` and ``predict`` on) and ``ring-down`` (a measured free
+decay: ω(A), ζ(A) and a fitted joint model).
 
 User errors (a bad file, a missing column, a bad parameter) print one line on
 stderr naming the file or field and the fix, and exit with code 2; ``--debug``
@@ -46,6 +47,7 @@ examples:
   presliding precompile                    # fill numba's cache (CI images, containers)
   presliding network spec.toml -o net/     # many masses and contacts: stick/slip per contact
   presliding example-data -o data/         # small records to try fit and predict on
+  presliding ring-down decay.csv -o rd/    # a free decay: ω(A), ζ(A), a fitted joint model
 
 model files (TOML, or JSON with the same tables; units in brackets):
   [friction]
@@ -145,7 +147,16 @@ def _build_parser() -> argparse.ArgumentParser:
     from presliding.cli.example_data import add_parser as add_example_parser
 
     add_example_parser(sub, [common, writes]).set_defaults(handler=_cmd_example_data)
+    from presliding.cli.ring_down import add_parser as add_ring_down_parser
+
+    add_ring_down_parser(sub, [common, writes]).set_defaults(handler=_cmd_ring_down)
     return parser
+
+
+def _cmd_ring_down(args: argparse.Namespace) -> int:
+    from presliding.cli.ring_down import run
+
+    return run(args)
 
 
 def _cmd_example_data(args: argparse.Namespace) -> int:

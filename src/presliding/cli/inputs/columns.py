@@ -59,6 +59,7 @@ NEEDS = {
     "response": (("time",), ("velocity", "position")),
     "quasi-static": (("position",), ("applied_force",)),
     "virgin": (("position",), ("friction_force", "applied_force")),
+    "ring-down": (("time",), ("position", "velocity", "acceleration")),  # `presliding ring-down`
 }
 OPTIONAL = {
     "predict": ("applied_force",),
@@ -67,6 +68,7 @@ OPTIONAL = {
     "response": ("applied_force",),
     "quasi-static": ("time",),
     "virgin": ("time",),
+    "ring-down": (),
 }
 #: What each force signal is, in the words of a reason.
 _FORCE_WORDS = {"applied_force": "the applied force u (eq. 17)",
