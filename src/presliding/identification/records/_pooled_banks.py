@@ -1,4 +1,5 @@
-"""The banks (c1, k_j, r_j) of many parameter sets of a pooled fit, as kernel arrays."""
+"""The banks (c1, k_j, r_j) of many parameter sets of a pooled fit, as kernel arrays;
+an asymmetric model's negative side (c1⁻, r_j⁻: ρ times the positive one, `ModelSpec`)."""
 
 from __future__ import annotations
 
@@ -44,3 +45,16 @@ def banks_one_by_one(spec: ModelSpec, names: Sequence[str], sets: FloatArray,
         k_arr[p, : k.shape[0]], r_arr[p, : r.shape[0]] = k, r
         r_arr[p, k.shape[0] :] = np.max(r) if r.shape[0] else 1.0
     return np.array([b[0] for b in banks]), k_arr, r_arr
+
+
+def negative_sides(spec: ModelSpec, index: dict[str, int], sets: FloatArray, c1: FloatArray,
+                   k: FloatArray, r: FloatArray) -> FloatArray | None:  # fmt: skip
+    """ρ = F_c⁻/F_c⁺ of every parameter set of an asymmetric element model (`ModelSpec.ratio`),
+    from its unrigid bank; None for one side. Without elements: c1⁻ itself."""
+    if spec.negative is None:
+        return None
+    below = sets[:, index[spec.negative]]
+    if spec.n == 0:
+        return np.maximum(below, 0.0)
+    fc = sets[:, index["coulomb_level"]] if spec.equal else c1 + np.sum(k * r, axis=1)
+    return np.maximum(below, TINY) / np.maximum(fc, TINY)
