@@ -21,7 +21,9 @@ A the constraints' rows in the free parameters: the same scaling of the likeliho
 threshold that the profile intervals use (`_profile`), so that the asymmetry is supported
 exactly when the profile-likelihood region of the constraints excludes the symmetric model.
 The verdict is "supported" when p < 1 − level, "not supported" otherwise, "undetermined" when
-a fit failed or the constraints' variance is not finite. ΔAIC and ΔBIC (Gaussian least
+a fit failed, the constraints' variance is not finite, or the data do not determine the
+difference of the levels (its interval, ±t·SE, wider than their mean: records that slide in
+one direction only, a start the data cannot pin down). ΔAIC and ΔBIC (Gaussian least
 squares, asymmetric minus symmetric: negative favours the asymmetry) are reported beside it;
 they count every residual as independent.
 """
@@ -173,6 +175,24 @@ def hac_scale(sol: Any, constraints: Sequence[Mapping[str, float]]) -> float:
     return kappa if np.isfinite(kappa) and kappa > 0 else float("nan")
 
 
+def _loose(fit: Any, row: Mapping[str, float], dof: int, level: float) -> list[str]:
+    """Why the data do not determine the difference of the levels (empty when they do)."""
+    from scipy import stats
+
+    names = list(fit.parameters)
+    if fit.covariance is None or any(x not in fit.parameters for x in row):
+        return []
+    a = np.array([row.get(n, 0.0) for n in names])
+    with np.errstate(all="ignore"):
+        se = float(np.sqrt(max(a @ fit.covariance @ a, 0.0)))
+    mean = 0.5 * sum(fit.parameters[x] * (1.0 if w > 0 else -w) for x, w in row.items())
+    half = float(stats.t.ppf(0.5 + level / 2, dof)) * se
+    if np.isfinite(half) and half <= abs(mean):
+        return []
+    return [f"the data do not determine the difference of the levels (±{half:.3g} about a mean "
+            f"level of {mean:.3g}; do the records slide both ways?)"]  # fmt: skip
+
+
 def asymmetry_test(symmetric: Any, asymmetric: Any, constraints: Sequence[Mapping[str, float]],
                    scale: float, level: float) -> AsymmetryTest:  # fmt: skip
     """The test of two nested fits (`FitResult`), the symmetric one the constrained
@@ -194,6 +214,7 @@ def asymmetry_test(symmetric: Any, asymmetric: Any, constraints: Sequence[Mappin
     alpha = 1.0 - level
     bad = [f"the {w} fit's status is {r.status}" for w, r in (("symmetric", symmetric),
            ("asymmetric", asymmetric)) if r.status in _UNUSABLE]  # fmt: skip
+    bad += _loose(asymmetric, constraints[0], dof, level) if q else []
     if bad or not (np.isfinite(scale) and np.isfinite(pf)) or q == 0:
         verdict = "undetermined"
         why = "; ".join(bad) or (

@@ -14,6 +14,7 @@ _response_plan.py      `fit_response` as a problem and its search, checks, refit
 _response_request.py   `fit_response`'s arguments checked into one request
 _response_result.py    the public result of a pooled response fit (model, derived values, units)
 _response_setup.py     the pooled fit's entry checks, bounds, pruning and record bootstrap
+_virgin_sides.py       `fit_virgin_curve(asymmetric=True)`: both branches from the symmetric fit
 
 May import: the rooms `checks`, `intervals`, `judge`, `problem`, `records`, `search`, `solve` of
 identification; identification's `_fit_engine`, `fit_result`, `masing`, `prediction`; the layers

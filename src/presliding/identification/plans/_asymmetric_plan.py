@@ -11,12 +11,18 @@ has the same records, parameters and options plus those, and its search solves f
   residual is never the larger);
 * the symmetric optimum with the mean levels kept and the ratio ρ = F_c⁻/F_c⁺ (and σ⁻) of the
   per-direction regression start (`_pooled_start`);
-* the per-direction regression start itself;
+* and runs the fit's own search on the asymmetric problem (its regression start, further
+  starts and probes): a symmetric optimum can sit in another valley than the asymmetric one
+  (the symmetric model bends its elements to mimic a difference of the levels);
 
-keeping the best. The fit's other steps are those of every pooled fit (relabelling, the
-shared settle, the noise floor, intervals, the bootstrap), and the result carries the test of
-the asymmetry against the symmetric fit (`judge._asymmetry`). The user's `initial`, `fixed`,
-`tied` and `bounds` entries that name a negative side go to the asymmetric fit only.
+each start's records' own parameters prepared as the fit prepares them (the quasi-static
+fit's preloads fitted record by record), keeping the best; then each record's own parameters
+are searched on the nuisance grid with the shared ones held (`_nuisance_search`) and the fit
+solved again where that found a better block. The fit's other steps are those of every
+pooled fit (relabelling, the shared settle, the noise floor, intervals, the bootstrap), and
+the result carries the test of the asymmetry against the symmetric fit (`judge._asymmetry`).
+The user's `initial`, `fixed`, `tied` and `bounds` entries that name a negative side go to the
+asymmetric fit only.
 """
 
 from __future__ import annotations
@@ -34,7 +40,8 @@ from presliding.identification.problem._parameters import check_flag, resolve_pa
 from presliding.identification.search._search import SAME_OPTIMUM
 from presliding.identification.solve._least_squares import Solution, complete
 
-__all__ = ["NEGATIVE", "Parts", "constraints", "fit_asymmetric", "lifted", "split_negative"]
+__all__ = ["NEGATIVE", "Parts", "constraints", "fit_asymmetric", "fit_nested", "lifted",
+           "split_negative"]  # fmt: skip
 
 #: The parameters of the negative side.
 NEGATIVE = ("coulomb_level_negative", "coulomb_negative", "viscous_negative")
@@ -82,6 +89,10 @@ class Parts:
     result: Callable[..., Any]
     bootstrap: int = 0
     seed: int | None = None
+    #: a start's records' own parameters prepared (None: taken as they are)
+    prepare: Callable[[dict[str, float]], dict[str, float]] | None = None
+    #: the fit's own search on the asymmetric problem (None: its start solved)
+    search: Callable[[FitRun], Found] | None = None
 
 
 def fit_asymmetric(fit: Callable[..., Any], request: dict[str, Any], check: Callable[..., Any],
@@ -101,7 +112,7 @@ def fit_asymmetric(fit: Callable[..., Any], request: dict[str, Any], check: Call
     if options.progress is not None:
         options.progress.stage(f"asymmetric fit from the symmetric optimum ({n} element(s))")
     plan = FitPlan(
-        search=partial(_search, symmetric), checks=parts.checks,
+        search=partial(_search, symmetric, parts), checks=parts.checks,
         result=partial(_result, parts.result, symmetric, constraints(problem.spec,
                                                                      problem.names)),
         bootstrap=parts.bootstrap, seed=parts.seed,
@@ -129,35 +140,67 @@ def lifted(spec: Any, values: Mapping[str, float], names: Any, ratio: float = 1.
     """A symmetric fit's values as the asymmetric problem's: the mean levels kept and the
     negative side ρ = `ratio` times the positive one (1: the symmetric model exactly); with a
     viscous term σ⁺, σ⁻ = `sigma` (default: the symmetric σ on both sides)."""
-    out = {x: float(values[x]) for x in names if x in values}
-    scale = 2.0 / (1.0 + ratio) if ratio != 1.0 else 1.0
-    for x in ("coulomb", *spec.c_names):
-        out[x] = out[x] * scale
-    if spec.n and spec.equal:
-        out["coulomb_level"] = out["coulomb_level"] * scale
-    out[spec.negative] = ratio * (spec.coulomb_level(out) if spec.n else out["coulomb"])
+    out = spec.sided({x: float(values[x]) for x in names if x in values}, ratio)
     if "viscous_negative" in names:
         out["viscous"], out["viscous_negative"] = sigma or (out["viscous"], out["viscous"])
     return {x: out[x] for x in names}
 
 
-def _search(symmetric: Any, run: FitRun) -> Found:
-    """The solves from the nested, the ratio and the regression start (module notes)."""
-    p = run.problem
+def _search(symmetric: Any, parts: Parts, run: FitRun) -> Found:
+    """The nested and the ratio start, the fit's own search, then the records' own parameters
+    searched (module notes)."""
+    from presliding.identification.search._nuisance_search import search_nuisance
+
+    p, prepare = run.problem, parts.prepare or (lambda s: s)
     spec, begin = p.spec, p.start()
     sigma = (begin["viscous"], begin["viscous_negative"]) if "viscous" in begin else None
-    starts = [
-        lifted(spec, symmetric.parameters, p.names),
-        lifted(spec, symmetric.parameters, p.names, spec.ratio(begin), sigma),
-        begin,
-    ]
-    run.stage("search: from the symmetric optimum, with the regression's ratio, and the "
-              "per-direction regression start")  # fmt: skip
-    solved = [run.solve(s) for s in starts]
+    run.stage("search: from the symmetric optimum, and with the regression's ratio")
+    solved = [run.solve(prepare(lifted(spec, symmetric.parameters, p.names))),
+              run.solve(prepare(lifted(spec, symmetric.parameters, p.names, spec.ratio(begin),
+                                       sigma)))]  # fmt: skip
+    own = parts.search(run) if parts.search is not None else Found(run.solve(prepare(begin)))
+    solved.append(own.solution)
     best = min(solved, key=cost)
+    values, found, count = search_nuisance(p.records, best.values, p.fixed, p.bounds)
+    if found < cost(best) * (1.0 - SAME_OPTIMUM):  # a better block for some record
+        again = run.solve(values)
+        solved.append(again)
+        best = again if cost(again) < cost(best) else best
     low = cost(best)
     at = sum(1 for s in solved if cost(s) <= low * (1.0 + SAME_OPTIMUM))
-    return Found(complete(best), len(starts), at, 0)
+    return Found(complete(best), len(solved) + own.n_starts - 1, at,
+                 count + own.search_evaluations)  # fmt: skip
+
+
+def fit_nested(
+    problem_of: Callable[..., Any],
+    thresholds: Any,
+    symmetric: Any,
+    result: Callable[..., Any],
+    rows: list[dict[str, float]],
+    options: Any,
+) -> Any:
+    """The asymmetric fit of a separable problem (`fit_presliding`, `fit_motion`: c1⁻ and σ⁻
+    beside c1 and σ, the elements shared) from its grid start (or the caller's `thresholds`)
+    and from the `symmetric` fit's thresholds, the better kept; the linear stage at those
+    thresholds contains the symmetric optimum, so the asymmetric residual is never the
+    larger. `problem_of(thresholds=...)` builds the problem, `result` is the fit's result
+    step, `rows` the constraints of the symmetric model."""
+    from presliding.identification.problem._pi_regression import element_names
+
+    r_names = element_names(sum(1 for x in symmetric.parameters if x.startswith("threshold_")))[1]
+    nested = [symmetric.parameters[x] for x in r_names] if r_names else None
+
+    def search(run: FitRun) -> Found:
+        tries = [run.solve()]
+        if nested is not None:
+            run.stage("least squares from the symmetric fit's thresholds")
+            tries.append(problem_of(thresholds=nested).solve(run.options))
+        best = min(tries, key=cost)
+        return Found(best, len(tries), sum(1 for t in tries if cost(t) <= cost(best) * 1.001))
+
+    plan = FitPlan(search=search, result=partial(_result, result, symmetric, rows))
+    return run_fit(problem_of(thresholds=thresholds), options, plan)
 
 
 def _result(result: Callable[..., Any], symmetric: Any, rows: list[dict[str, float]],

@@ -127,11 +127,13 @@ def response_problem(req: ResponseRequest) -> tuple[FitProblem, FitOptions]:
 
 
 def asymmetric_parts(req: ResponseRequest) -> Parts:
-    """The parts an asymmetric response fit keeps (`_asymmetric_plan`): the problem, the
-    relabelling of interchangeable elements and the result."""
+    """The parts an asymmetric response fit keeps (`_asymmetric_plan`): the problem, its
+    search, the relabelling of interchangeable elements and the result."""
     problem, options = response_problem(req)
+    assert options.max_evaluations is not None
+    search = partial(_search, req, _flags(req, problem, options.max_evaluations))
     return Parts(problem, options, (partial(_relabel, req),), partial(_result, req),
-                 req.bootstrap, req.seed)  # fmt: skip
+                 req.bootstrap, req.seed, search=search)  # fmt: skip
 
 
 @dataclass(frozen=True)

@@ -171,6 +171,19 @@ class ModelSpec:
             return max(q[self.negative], 0.0) / c1 if c1 > 0 else 1.0
         return max(q[self.negative], TINY) / max(self.coulomb_level(q), TINY)
 
+    def sided(self, q: Mapping[str, float], ratio: float) -> dict[str, float]:
+        """The values of an asymmetric model whose mean levels are those of `q` and whose
+        negative side is `ratio` times its positive one: c1 and every c_j (F_c) scaled by
+        2/(1 + ρ), F_c⁻ = ρ·F_c⁺ (ρ = 1: `q` itself, the symmetric model exactly)."""
+        out = dict(q)
+        scale = 2.0 / (1.0 + ratio)
+        for x in ("coulomb", *self.c_names):
+            out[x] = out[x] * scale
+        if self.n and self.equal:
+            out["coulomb_level"] = out["coulomb_level"] * scale
+        out[str(self.negative)] = ratio * (self.coulomb_level(out) if self.n else out["coulomb"])
+        return out
+
     def coulomb_level(self, q: Mapping[str, float]) -> float:
         """F_c = c1 + F_m (eq. 9); F_c⁺ of an asymmetric model."""
         if self.density is None and self.equal:

@@ -56,5 +56,8 @@ def negative_sides(spec: ModelSpec, index: dict[str, int], sets: FloatArray, c1:
     below = sets[:, index[spec.negative]]
     if spec.n == 0:
         return np.maximum(below, 0.0)
-    fc = sets[:, index["coulomb_level"]] if spec.equal else c1 + np.sum(k * r, axis=1)
+    if spec.equal:
+        fc = sets[:, index["coulomb_level"]]
+    else:  # as `ModelSpec.coulomb_level` rounds it (ρ = 1 exactly for equal sides)
+        fc = np.array([c1[p] + float(k[p] @ r[p]) for p in range(sets.shape[0])])
     return np.maximum(below, TINY) / np.maximum(fc, TINY)

@@ -13,10 +13,12 @@ G(s) = Σ_g w_g·min(s, r_g) of the elastic part, which `ModelSpec.start` turns
 into the model's parameters. Free records (u = 0) determine everything only
 per unit mass; the mass is then held at 1 (or its given value).
 
-An asymmetric model (`ModelSpec.negative`) is started per direction: the first
-stage has a column for each direction of sliding (F_c⁺ while v > 0, F_c⁻ while
-v < 0; σ⁺ and σ⁻ likewise), the second fits the mean levels under u − (F_c⁺ − F_c⁻)/2
-(the model's exact equivalent, `ModelSpec`), and the sides scale them.
+An asymmetric model (`ModelSpec.negative`) is started per direction: its motion
+is exactly that of the symmetric model of the mean levels under
+u − (F_c⁺ − F_c⁻)/2 (`ModelSpec`), so the regression with a force offset is the
+regression per direction (sign(v) and a constant span the two directions'
+columns, F_c± = F̄_c ± offset); the offset is then turned into the two sides
+(their ratio kept within [1/3, 3]) and σ⁻ starts at σ.
 """
 
 from __future__ import annotations
@@ -79,11 +81,27 @@ def pooled_start(
     offset: bool,
     viscous: bool = False,
 ) -> dict[str, float]:
-    """Start values of the shared parameters (``mass``, the model's, ``viscous``, ``offset``).
+    """Start values of the shared parameters (``mass``, the model's, ``viscous``, ``offset``;
+    an asymmetric model's negative side, module notes).
 
     Two stages: m, F_c (and the offset) from the Coulomb law alone, which is
     robust; then, with that mass held, c1 and the grid stiffnesses.
     """
+    if spec.negative is None:
+        return _regression_start(records, spec, mass, offset, viscous)
+    start = _regression_start(records, spec, mass, True, viscous)  # the mean levels, an offset
+    half = start.pop("offset")
+    mean = spec.coulomb_level(start) if spec.n else start["coulomb"]
+    half = min(max(half, -0.5 * mean), 0.5 * mean)  # F_c⁻/F_c⁺ within [1/3, 3]
+    start = spec.sided(start, (mean - half) / (mean + half))
+    if viscous:
+        start["viscous_negative"] = start["viscous"]
+    return start
+
+
+def _regression_start(records: list[Record], spec: ModelSpec, mass: float | None, offset: bool,
+                      viscous: bool) -> dict[str, float]:  # fmt: skip
+    """The two stages of `pooled_start` (the symmetric model's start)."""
     span = max(float(np.ptp(r.position)) for r in records) or 1.0
     steps = np.concatenate([np.abs(np.diff(r.position)) for r in records])
     steps = steps[steps > 0]
@@ -93,15 +111,9 @@ def pooled_start(
     parts = [_moving_rows(r) for r in records]
     acc = float(np.mean([np.mean(np.abs(np.gradient(r.velocity, r.time))) for r in records]))
     # stage 1, first slides only: m·(v − v0) + F_c·∫sign v dt (+ offset·t) = ∫u dt
-    sided = spec.negative is not None
     blocks, rhs = [], []
     for t, _, v, u in (_moving_rows(r, first_run=True) for r in records):
-        if sided:  # each direction its own level (and σ)
-            pos, neg = (v > 0) * 1.0, (v < 0) * 1.0
-            cols = [rt.integral(t, pos), rt.integral(t, -neg)]
-            cols += [rt.integral(t, pos * v), rt.integral(t, neg * v)] if viscous else []
-        else:
-            cols = [rt.integral(t, np.sign(v))] + ([rt.integral(t, v)] if viscous else [])
+        cols = [rt.integral(t, np.sign(v))] + ([rt.integral(t, v)] if viscous else [])
         cols += [t - t[0]] if offset else []
         b = rt.integral(t, u)
         if mass is None:
@@ -118,20 +130,9 @@ def pooled_start(
     if not m > 0:
         m = 1.0
     lead = int(mass is None)
-    if sided:
-        return _sided_start(records, spec, m, acc, viscous, grid, parts,
-                            None if sol is None else sol[lead:])  # fmt: skip
     fc = float(sol[lead]) if sol is not None else m * acc
     sigma = float(sol[lead + 1]) if sol is not None and viscous else 0.0
     off = float(sol[-1]) if sol is not None and offset else 0.0
-    return _elastic_start(spec, m, acc, fc, sigma, off, offset, viscous, grid, parts)
-
-
-def _elastic_start(spec: ModelSpec, m: float, acc: float, fc: float, sigma: float, off: float,
-                   offset: bool, viscous: bool, grid: FloatArray, parts: list,
-                   sigma_n: float | None = None) -> dict[str, float]:  # fmt: skip
-    """The second stage: c1 and the grid's stiffnesses with the mass, F_c, σ (σ⁻ while
-    v < 0 when given) and the offset held; the start of every shared parameter."""
     if not fc > 1e-3 * m * acc:  # one acceleration only: m and F_c not separable
         fc = 0.5 * m * acc or 1.0
     # stage 2, the mass held: c1·∫sign v dt + Σ_g w_g·∫stop_g dt = ∫(u − offset) dt − m·(v − v0)
@@ -139,8 +140,7 @@ def _elastic_start(spec: ModelSpec, m: float, acc: float, fc: float, sigma: floa
     for t, y, v, u in parts:
         cols = [np.sign(v), *pr.stop_basis(y)(grid)[0].T]
         blocks.append(np.column_stack([rt.integral(t, c) for c in cols]))
-        drag = sigma * v if sigma_n is None else np.where(v < 0, sigma_n, sigma) * v
-        rhs.append(rt.integral(t, u - off - drag) - m * (v - v[0]))
+        rhs.append(rt.integral(t, u - off - sigma * v) - m * (v - v[0]))
     sol = _solve(blocks, rhs, np.zeros(grid.shape[0] + 1)) if spec.n or spec.density else None
     c1, weights = (0.5 * fc, np.zeros_like(grid)) if sol is None else (float(sol[0]), sol[1:])
     elastic = float(weights @ grid)
@@ -157,39 +157,4 @@ def _elastic_start(spec: ModelSpec, m: float, acc: float, fc: float, sigma: floa
         start["viscous"] = sigma
     if offset:
         start["offset"] = off
-    return start
-
-
-def _sided_start(
-    records: list[Record],
-    spec: ModelSpec,
-    m: float,
-    acc: float,
-    viscous: bool,
-    grid: FloatArray,
-    parts: list,
-    sol: FloatArray | None,
-) -> dict[str, float]:
-    """An asymmetric model's start (module notes): the mean levels fitted under
-    u − (F_c⁺ − F_c⁻)/2, then each positive level scaled by 2/(1 + ρ), ρ = F_c⁻/F_c⁺.
-    A direction the first slides never take borrows the other's level."""
-    floor = 1e-3 * m * acc
-    levels = [float(x) for x in sol[:2] if x > floor] if sol is not None else []
-    fcp = float(sol[0]) if sol is not None and sol[0] > floor else None
-    fcn = float(sol[1]) if sol is not None and sol[1] > floor else None
-    fcp = fcp if fcp is not None else (levels[0] if levels else m * acc)
-    fcn = fcn if fcn is not None else fcp
-    sp, sn = (float(sol[2]), float(sol[3])) if viscous and sol is not None else (0.0, 0.0)
-    mean, half = 0.5 * (fcp + fcn), 0.5 * (fcp - fcn)
-    start = _elastic_start(spec, m, acc, mean, sp, half, True, viscous, grid, parts, sn)
-    start.pop("offset")  # the half difference, held in the second stage, is the sides'
-    rho = fcn / fcp
-    for x in ("coulomb", *spec.c_names):
-        start[x] *= 2.0 / (1.0 + rho)
-    if spec.n and spec.equal:
-        start["coulomb_level"] = fcp
-    negative = str(spec.negative)
-    start[negative] = rho * (spec.coulomb_level(start) if spec.n else start["coulomb"])
-    if viscous:
-        start["viscous_negative"] = sn
     return start
