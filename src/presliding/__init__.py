@@ -77,10 +77,12 @@ from presliding.hysteresis import (
 )
 from presliding.identification import (
     CrossValidation,
+    FitComparison,
     FitResult,
     MasingCheck,
     Measurement,
     Prediction,
+    compare_fits,
     correlation_matrix,
     count_reversals,
     cross_validate,
@@ -92,6 +94,7 @@ from presliding.identification import (
     hac_covariance,
     masing_check,
     predict_motion_force,
+    register_family,
     reversal_tolerance,
 )
 from presliding.motion import (
@@ -171,6 +174,7 @@ __all__ = [
     "Discrete",
     "DiscreteController",
     "Exponential",
+    "FitComparison",
     "FitResult",
     "FreeResponse",
     "FrictionNonlinearity",
@@ -213,6 +217,7 @@ __all__ = [
     "amplitude_response",
     "chain_structure",
     "compare",
+    "compare_fits",
     "compile_network",
     "correlation_matrix",
     "count_reversals",
@@ -244,6 +249,7 @@ __all__ = [
     "preloaded_state",
     "quasi_static_network",
     "quasi_static_response",
+    "register_family",
     "reversal_tolerance",
     "signals",
     "simulate",

@@ -180,6 +180,11 @@ def _cmd_analyze(args: argparse.Namespace) -> int:
 
 
 def _cmd_fit(args: argparse.Namespace) -> int:
+    if getattr(args, "compare", None) and args.kind != "response":
+        from presliding.cli.common import UserError
+
+        raise UserError(f"--compare {args.compare}: the model families are fitted to motion "
+                        f"records, --kind response; got --kind {args.kind}.")  # fmt: skip
     if args.kind in ("response", "quasi-static", "virgin"):
         from presliding.cli.fit_pooled import run_pooled
 

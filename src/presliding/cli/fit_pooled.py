@@ -6,7 +6,10 @@ shared physics, each record's own start (`fit_response`, `fit_quasi_static`),
 or one virgin curve from all ramps or loops (`fit_virgin_curve`, loops when a
 record reverses, else loading ramps). With two or more records of a response
 or quasi-static fit, the report carries the leave-one-record-out table
-(`cross_validate`) unless ``--no-cross-validation``.
+(`cross_validate`) unless ``--no-cross-validation``. With ``--compare`` the named
+model families are fitted to the same records instead (`compare_fits`): the
+table goes to ``comparison.csv`` and the report, the family of least BIC is the
+fit reported, and the ``--hold-out`` files are predicted by every family.
 
 Outputs and exit codes as for the other kinds (`presliding.cli.fit`).
 """
@@ -50,13 +53,18 @@ def _options(args: argparse.Namespace, records: list[Any]) -> dict[str, Any]:
     if velocity is not None and args.kind != "response":
         raise UserError(f"--velocity {velocity} is for --kind response (the only kind that "
                         f"compares a velocity); drop it for --kind {args.kind}.")  # fmt: skip
-    out: dict[str, Any] = {"n_elements": n, "max_evaluations": args.max_evaluations}
+    out: dict[str, Any] = {"n_elements": n, "max_evaluations": args.max_evaluations,
+                           "asymmetric": args.asymmetric}  # fmt: skip
     if args.kind == "virgin":
         if args.density is not None:
             raise UserError(f"--density {args.density}: --kind virgin fits elastoplastic "
                             "elements only; drop --density, or fit a density with --kind "
                             "response or quasi-static.")  # fmt: skip
-        return {"n_elements": n, "max_evaluations": args.max_evaluations}
+        return out
+    if args.asymmetric and (args.offset or args.density is not None):
+        raise UserError("--asymmetric: the two directions' levels need elements and no "
+                        "offset (a constant force is their difference); drop --offset and "
+                        "--density.")  # fmt: skip
     out.update(density=args.density, offset=args.offset, bootstrap=args.bootstrap)
     if args.kind == "response":
         signal = args.signal or (
@@ -99,9 +107,18 @@ def fit_records(args: argparse.Namespace, records: list[Any], bar: Any = False) 
         loops = not getattr(args, "ramps", False) and any(
             reversal_indices(np.ascontiguousarray(y), max(reversal_tolerance(y),
                              RAMP_RETREAT * float(np.ptp(y)))).size for y in ys)  # fmt: skip
+        if loops and args.asymmetric:
+            raise UserError("--asymmetric with --kind virgin needs loading ramps from rest "
+                            "in both directions (--ramps): the records reverse, and the "
+                            "branches of loops follow the mean of the two sides.")  # fmt: skip
         n = options.pop("n_elements")
         fit = fit_virgin_curve(ys, fs, n, loops=loops, reversal_tolerance=None, **options)
         return fit.on_axis(common_axis(records)), None
+    if getattr(args, "compare", None):
+        args.comparison = _compare(args, records, options)
+        best = args.comparison.fits[args.comparison.families.index(args.comparison.best)] \
+            if args.comparison.best else args.comparison.fits[0]  # fmt: skip
+        return best, None
     fitter: Callable[..., Any] = fit_response if args.kind == "response" else fit_quasi_static
     pooled: Any = records if len(records) > 1 else records[0]
     if len(records) < 2 or args.no_cross_validation:
@@ -109,6 +126,44 @@ def fit_records(args: argparse.Namespace, records: list[Any], bar: Any = False) 
     labels = getattr(args, "record_labels", None) or [Path(p).name for p in args.data]
     cv = cross_validate(records, fitter, labels=labels, **options)
     return cv.result, cv
+
+
+def _compare(args: argparse.Namespace, records: list[Any], options: dict[str, Any]) -> Any:
+    """``--compare``: the families named, fitted to the records (`compare_fits`);
+    --elements goes to each family whose fitter takes ``n_elements``."""
+    import inspect
+
+    from presliding.cli.records import read_file
+    from presliding.identification.fit_comparison import FAMILIES, compare_fits
+
+    names = [x.strip() for x in str(args.compare).split(",") if x.strip()]
+    unknown = [x for x in names if x not in FAMILIES]
+    if not names or unknown:
+        raise UserError(f"--compare {args.compare}: name families of "
+                        f"{', '.join(sorted(FAMILIES))}, separated by commas.")  # fmt: skip
+    if args.asymmetric:
+        raise UserError("--asymmetric with --compare: name pi-asymmetric among the families "
+                        "instead.")  # fmt: skip
+    common = {k: v for k, v in options.items() if k not in ("n_elements", "asymmetric")}
+    n = options["n_elements"]
+    candidates = {x: ({"n_elements": n} if "n_elements" in inspect.signature(
+        FAMILIES[x]).parameters else {}) for x in names}  # fmt: skip
+    held = [read_file(args, p) for p in getattr(args, "hold_out", ()) or ()]
+    labels = [Path(p).name for p in getattr(args, "hold_out", ()) or ()]
+    return compare_fits(records, candidates, hold_out=held or None, labels=labels or None,
+                        **common)  # fmt: skip
+
+
+def _comparison_csv(path: Path, comparison: Any) -> None:
+    """The comparison's table as CSV, written atomically."""
+    import csv
+    import io
+
+    from presliding._io import write_text
+
+    text = io.StringIO()
+    csv.writer(text, lineterminator="\n").writerows(comparison.table())
+    write_text(path, text.getvalue())
 
 
 def run_pooled(args: argparse.Namespace) -> int:
@@ -121,6 +176,8 @@ def run_pooled(args: argparse.Namespace) -> int:
     folder = check_folder(args.output)
     paths = {"model": folder / "model.toml", "figure": folder / "fit.png",
              "md": folder / "report.md", "html": folder / "report.html"}  # fmt: skip
+    if getattr(args, "compare", None):
+        paths["comparison"] = folder / "comparison.csv"
     from presliding.cli.predict import held_out_section
     from presliding.cli.records import data_names, input_files, pooled_header
 
@@ -172,6 +229,16 @@ def run_pooled(args: argparse.Namespace) -> int:
             held, figures = held_out_section(args, result, folder)
             sections.append(held)
             written += figures
+        if getattr(args, "comparison", None) is not None:
+            _comparison_csv(paths["comparison"], args.comparison)
+            written.append(paths["comparison"])
+            sections.append(Section(
+                "Model families", "Each family named by --compare fitted to the same records "
+                "by the same engine: its status, free parameters, residual sum of squares, AIC "
+                "and BIC (Gaussian least squares; ΔAIC and ΔBIC over the least), and the "
+                "held-out files predicted from their measured starts. The fit above is the "
+                "family the data support.", table=args.comparison.table(),
+                code=args.comparison.report()))  # fmt: skip
         if cv is not None:
             sections.append(Section(
                 "Cross-validation",
@@ -191,4 +258,5 @@ def run_pooled(args: argparse.Namespace) -> int:
             print(f"wrote {p}")
     from presliding.identification.judge._status import exit_code
 
-    return exit_code(result.status)
+    comparison = getattr(args, "comparison", None)
+    return exit_code(result.status if comparison is None else comparison.status)

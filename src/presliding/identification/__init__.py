@@ -17,6 +17,7 @@ fit_result.py       `FitResult`, the public result of every fit
 masing.py           `masing_check`, `MasingCheck`: do measured loops follow a virgin curve?
 prediction.py       `Prediction`, `count_reversals`: a fitted model on another record
 cross_validation.py `cross_validate`, `CrossValidation`: leave-one-record-out tables
+fit_comparison.py   `compare_fits`, `FitComparison`: model families side by side, a registry
 model_prediction.py `predict_record`: a given model (a model file's) predicting a record
 uncertainty.py      HAC (Newey–West) covariance, correlations
 _fit_engine.py      `run_fit`: the one pipeline (search, checks, judge, intervals, result)
@@ -46,6 +47,12 @@ May import: `presliding.measurement`, `presliding.motion`, `presliding.analysis`
 from presliding.identification import _moved  # noqa: F401  (registers the aliases)
 from presliding.identification import fit_presliding as _fit_presliding
 from presliding.identification.cross_validation import CrossValidation, cross_validate
+from presliding.identification.fit_comparison import (
+    FAMILIES,
+    FitComparison,
+    compare_fits,
+    register_family,
+)
 from presliding.identification.fit_motion import fit_motion, predict_motion_force
 from presliding.identification.fit_presliding import fit_presliding
 from presliding.identification.fit_quasi_static import fit_quasi_static
@@ -63,11 +70,14 @@ _fit_presliding.fit_virgin_curve = fit_virgin_curve  # type: ignore[attr-defined
 _fit_presliding.virgin_samples = virgin_samples  # type: ignore[attr-defined]
 
 __all__ = [
+    "FAMILIES",
     "CrossValidation",
+    "FitComparison",
     "FitResult",
     "MasingCheck",
     "Measurement",
     "Prediction",
+    "compare_fits",
     "correlation_matrix",
     "count_reversals",
     "cross_validate",
@@ -80,5 +90,6 @@ __all__ = [
     "masing_check",
     "predict_motion_force",
     "predict_record",
+    "register_family",
     "reversal_tolerance",
 ]
