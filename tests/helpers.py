@@ -139,7 +139,7 @@ def stop_records(seed: int, n_records: int, model: PIFriction, mass: float = 2.0
         v0 = d * rng.uniform(0.02, 0.06)
         frac = rng.uniform(0.2, 1.0) if preload else 1.0
         y0 = rng.uniform(-1e-3, 1e-3)
-        state = preloaded_state(model, frac * model.max_elastic_force * d, direction=d,
+        state = preloaded_state(model, elastic_share(model, frac * d), direction=d,
                                 position=y0)  # fmt: skip
         u = np.zeros(samples) if free else np.where(t < rng.uniform(0.03, 0.08), -0.3 * d, 0.0)
         res = simulate(model, mass, applied_force=(t, u), initial_position=y0,
