@@ -70,8 +70,9 @@ def study(seeds: int, n_records: int) -> dict[float, list[tuple]]:
             fit = fit_response(stops(seed, truth, n_records), 2, initial_state="preload",
                                asymmetric=True)  # fmt: skip
             a = fit.asymmetry
+            ratio_fit = fit.derived.get("coulomb_level_ratio", np.nan)
             rows[ratio].append((a.verdict, a.p_value, a.likelihood_ratio_p_value, a.delta_bic,
-                                fit.derived.get("coulomb_level_ratio", np.nan), fit.status))  # fmt: skip
+                                ratio_fit, fit.status))  # fmt: skip
     return rows
 
 

@@ -8,7 +8,8 @@ import numpy as np
 import pytest
 
 import presliding as ps
-from presliding.identification.fit_comparison import FAMILIES, compare_fits, register_family
+from presliding.identification.families import FAMILIES, register_family
+from presliding.identification.fit_comparison import compare_fits
 from tests.helpers import random_preload_stops
 
 ASYMMETRIC = ps.PIFriction(0.3, [4000.0, 1000.0], breakaway=[0.35, 0.35], coulomb_negative=0.24,
@@ -69,7 +70,7 @@ def test_a_registered_family_plugs_in():
     """A fitter of the registry's contract (records, **options) -> FitResult is compared with
     the shipped ones; a name taken is refused unless replaced; a fitter returning something
     else is refused."""
-    fitted, held = _records()
+    fitted, _ = _records()
     calls = []
 
     def quick(records, **options):

@@ -134,7 +134,8 @@ def _compare(args: argparse.Namespace, records: list[Any], options: dict[str, An
     import inspect
 
     from presliding.cli.records import read_file
-    from presliding.identification.fit_comparison import FAMILIES, compare_fits
+    from presliding.identification.families import FAMILIES
+    from presliding.identification.fit_comparison import compare_fits
 
     names = [x.strip() for x in str(args.compare).split(",") if x.strip()]
     unknown = [x for x in names if x not in FAMILIES]

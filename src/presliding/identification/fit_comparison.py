@@ -9,31 +9,13 @@ The family the data support is the one of least BIC (or AIC, or held-out NRMSE: 
 among those whose fit did not fail; `FitComparison.status` is that fit's status.
 (`presliding.compare` is another thing: given models along one displacement path.)
 
-Registry
---------
-`FAMILIES` maps a family's name to its fitter; `register_family` adds one. A fitter is a
-callable ``fitter(records, **options) -> FitResult``:
-
-* ``records`` is a list of at least one `Measurement`, the records every family fits;
-* ``options`` are the keyword options `compare_fits` was given for every family, updated
-  with the family's own (``candidates={"pi": {"n_elements": 3}}``); a fitter raises
-  TypeError for an option it does not take, so that nothing given is ignored;
-* it returns a `FitResult` of the same residual as every other family (the same records,
-  compared signal and weights, e.g. by `fit_response`'s pooled engine), so that its
-  ``chisqr``, ``ndata`` and ``nvarys`` give comparable RSS, AIC and BIC, with its own
-  ``status`` and ``message`` (the one status table of every fit); and its
-  ``predict(measurement, initial=...)`` returns a `Prediction` of a held-out record
-  (``initial="measured"``: from its first samples, nothing fitted to it).
-
-The families shipped: ``"pi"`` (`fit_response`: the PI model of eq. 17, ``n_elements`` 4 by
-default, a count or ``"auto"``), ``"pi-asymmetric"`` (the same with ``asymmetric=True``: the
-two directions' levels; its fit carries the asymmetry test) and ``"coulomb"`` (Coulomb
-friction alone, ``n_elements=0``; with ``viscous=True`` Coulomb and viscous).
+The families are those of the registry `presliding.identification.families` (``FAMILIES``,
+whose notes give a fitter's contract; `register_family` adds one).
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
@@ -41,6 +23,7 @@ import numpy as np
 
 from presliding._display import fill_attrs, result_html, short_repr
 from presliding._validation import as_choice, fmt
+from presliding.identification.families import CARRIES, FAMILIES
 from presliding.identification.fit_result import FitResult
 from presliding.identification.prediction import Prediction
 from presliding.measurement.measurement import Measurement
@@ -48,56 +31,10 @@ from presliding.measurement.measurement import Measurement
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
 
-__all__ = ["FAMILIES", "FitComparison", "compare_fits", "register_family"]
+__all__ = ["FitComparison", "compare_fits"]
 
-Fitter = Callable[..., FitResult]
 CRITERIA = ("bic", "aic", "held_out")
 INITIAL = ("measured", "fit")
-
-
-def _pi(records: list[Measurement], n_elements: int | str = 4, **options: Any) -> FitResult:
-    from presliding.identification.fit_response import fit_response
-
-    return fit_response(records, n_elements, **options)
-
-
-def _pi_asymmetric(records: list[Measurement], n_elements: int | str = 4,
-                   **options: Any) -> FitResult:  # fmt: skip
-    from presliding.identification.fit_response import fit_response
-
-    return fit_response(records, n_elements, asymmetric=True, **options)
-
-
-def _coulomb(records: list[Measurement], **options: Any) -> FitResult:
-    from presliding.identification.fit_response import fit_response
-
-    return fit_response(records, 0, **options)
-
-
-#: The model families by name (module notes: what a fitter takes and returns).
-FAMILIES: dict[str, Fitter] = {"pi": _pi, "pi-asymmetric": _pi_asymmetric, "coulomb": _coulomb}
-
-
-def register_family(name: str, fitter: Fitter, *, replace: bool = False) -> None:
-    """Add a model family to `FAMILIES` (module notes: the fitter's contract).
-
-    Parameters
-    ----------
-    name : str
-        The family's name in `compare_fits` and ``presliding fit --compare``
-        (letters, digits and ``-``).
-    fitter : callable
-        ``fitter(records, **options) -> FitResult``.
-    replace : bool, keyword only
-        Replace a family of that name (otherwise a name taken is refused).
-    """
-    if not isinstance(name, str) or not name or not all(c.isalnum() or c == "-" for c in name):
-        raise ValueError(f"`name` must be letters, digits and '-'; got {fmt(name)}.")
-    if not callable(fitter):
-        raise TypeError(f"`fitter` must be callable; got {type(fitter).__name__}.")
-    if name in FAMILIES and not replace:
-        raise ValueError(f"`name` {name!r} is a family already; pass replace=True to replace it.")
-    FAMILIES[name] = fitter
 
 
 @dataclass(frozen=True, eq=False)
@@ -385,19 +322,36 @@ def compare_fits(
     if len(names) != len(held):
         raise ValueError(f"`labels` must name each of the {len(held)} held-out records; got "
                          f"{len(names)}.")  # fmt: skip
-    fits, predictions = [], []
-    for name, own in chosen.items():
-        fit = FAMILIES[name](recs, **{**options, **own})
-        if not isinstance(fit, FitResult):
-            raise TypeError(f"the fitter of {name!r} must return a FitResult; got "
-                            f"{type(fit).__name__}.")  # fmt: skip
-        fits.append(fit)
+    found = _fit_all(chosen, recs, options)
+    fits, predictions = [found[name] for name in chosen], []
+    for fit in fits:
         usable = fit.status != "failed" and fit.predictor is not None
         predictions.append(tuple(fit.predict(m, initial=initial) for m in held) if usable
                              else ())  # fmt: skip
     best, message = _verdict(tuple(chosen), fits, predictions, criterion)
     return FitComparison(tuple(chosen), tuple(fits), tuple(predictions), names, criterion, best,
                          message)  # fmt: skip
+
+
+def _fit_all(chosen: dict[str, dict[str, Any]], recs: list[Measurement],
+             options: dict[str, Any]) -> dict[str, FitResult]:  # fmt: skip
+    """Every family's fit; one another carries (`CARRIES`, same options) taken from it."""
+    found: dict[str, FitResult] = {}
+    carried = {CARRIES[n]: n for n in chosen if n in CARRIES and CARRIES[n] in chosen
+               and chosen[CARRIES[n]] == chosen[n]}  # fmt: skip
+    order = sorted(chosen, key=lambda n: n in carried)  # the carriers first
+    for name in order:
+        if name in carried:
+            test = getattr(found[carried[name]], "asymmetry", None)
+            if test is not None and isinstance(test.symmetric, FitResult):
+                found[name] = test.symmetric
+                continue
+        fit = FAMILIES[name](recs, **{**options, **chosen[name]})
+        if not isinstance(fit, FitResult):
+            raise TypeError(f"the fitter of {name!r} must return a FitResult; got "
+                            f"{type(fit).__name__}.")  # fmt: skip
+        found[name] = fit
+    return found
 
 
 def _verdict(families: tuple[str, ...], fits: list[FitResult], predictions: list[tuple],

@@ -75,8 +75,9 @@ def pi_model(values: Mapping[str, float], n: int, coulomb: float,
         dropped = ", ".join(str(j + 1) for j in np.flatnonzero(~keep))
         note = f"; element(s) {dropped} came out with zero stiffness and are left out of the model"
     try:
-        sides = {} if negative is None else {"coulomb_negative": max(negative, 0.0)}
-        return PIFriction(max(coulomb, 0.0), k[keep], threshold=r[keep], **sides), note
+        below = None if negative is None else max(negative, 0.0)
+        return PIFriction(max(coulomb, 0.0), k[keep], threshold=r[keep],
+                          coulomb_negative=below), note  # fmt: skip
     except ValueError as exc:
         return None, f"; no valid model: {exc}"
 

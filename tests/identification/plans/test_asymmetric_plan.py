@@ -134,9 +134,12 @@ def test_bad_asymmetric_requests_are_refused_before_any_fit(options, error, matc
 
 
 def test_negative_sides_go_to_the_asymmetric_fit_only():
-    request = {"initial": {"viscous_negative": 0.7, "mass": 2.0},
-               "fixed": {"coulomb_negative": 0.2}, "bounds": None,
-               "tied": {"coulomb_level_negative": "coulomb_level", "coulomb": ("mass", 0.1)}}
+    request = {
+        "initial": {"viscous_negative": 0.7, "mass": 2.0},
+        "fixed": {"coulomb_negative": 0.2},
+        "bounds": None,
+        "tied": {"coulomb_level_negative": "coulomb_level", "coulomb": ("mass", 0.1)},
+    }
     out = split_negative(request)
     assert out["initial"] == {"mass": 2.0} and out["fixed"] is None
     assert out["tied"] == {"coulomb": ("mass", 0.1)}

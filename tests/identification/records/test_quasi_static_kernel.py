@@ -38,8 +38,8 @@ def test_the_kernel_walks_each_side_as_the_library_inverse(state):
               "initial_position": 0.0, "preload_fraction": 0.3}  # fmt: skip
     o_y, _, status, _ = problem.simulate(np.array([values[x] for x in problem.names]))
     memory = None
-    if state == "preload":  # the branch from saturation opposite to the first motion, 0.3 of
-        d = float(problem.direction[0])  # the mid band from its middle (`preload_deformation_sided`)
+    if state == "preload":  # the branch from saturation opposite to the first motion, at 0.3
+        d = float(problem.direction[0])  # of the mid band (`preload_deformation_sided`)
         k = np.array(K)
         r_mid = 0.5 * (1 + RATIO) * np.array(C) / k
         shift = float(k @ (0.5 * (1 - RATIO) * np.array(C) / k))
@@ -54,8 +54,14 @@ def test_no_response_beyond_either_sides_level():
     fc_minus = RATIO * (C1 + sum(C))
     u = np.array([0.0, -0.5 * fc_minus, -1.01 * fc_minus])
     problem = _problem(np.array([0.0, 0.01, *u[1:]]), "relaxed")
-    values = {"coulomb": C1, "coulomb_level": C1 + sum(C), "stiffness_1": K[0],
-              "stiffness_2": K[1], "coulomb_level_negative": fc_minus, "initial_position": 0.0}
+    values = {
+        "coulomb": C1,
+        "coulomb_level": C1 + sum(C),
+        "stiffness_1": K[0],
+        "stiffness_2": K[1],
+        "coulomb_level_negative": fc_minus,
+        "initial_position": 0.0,
+    }
     _, _, status, _ = problem.simulate(np.array([values[x] for x in problem.names]))
     assert status[0, 0] == qk.NO_RESPONSE
 

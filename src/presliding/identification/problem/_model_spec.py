@@ -201,17 +201,17 @@ class ModelSpec:
             dens = self.friction_density(q)
             return PIFriction(max(q["coulomb"], 0.0), density=dens, viscous=sigma)
         c1, k, r = self.bank(q)
-        sides = {}
-        if self.negative is not None:
-            rho = self.ratio(q)
-            c1n = max(q[self.negative], 0.0) if self.n == 0 else rho * c1
-            sides = {"coulomb_negative": c1n, "viscous_negative": max(q.get("viscous_negative",
-                     sigma), 0.0)}  # fmt: skip
-            if self.n:
-                sides["breakaway_negative"] = rho * (k * r)
+        if self.negative is None:
+            if self.n == 0:
+                return PIFriction(c1, viscous=sigma)
+            return PIFriction(c1, k, breakaway=k * r, viscous=sigma)
+        rho = self.ratio(q)
+        c1n = max(q[self.negative], 0.0) if self.n == 0 else rho * c1
+        sigma_n = max(q.get("viscous_negative", sigma), 0.0)
         if self.n == 0:
-            return PIFriction(c1, viscous=sigma, **sides)
-        return PIFriction(c1, k, breakaway=k * r, viscous=sigma, **sides)
+            return PIFriction(c1, viscous=sigma, coulomb_negative=c1n, viscous_negative=sigma_n)
+        return PIFriction(c1, k, breakaway=k * r, viscous=sigma, coulomb_negative=c1n,
+                          breakaway_negative=rho * (k * r), viscous_negative=sigma_n)  # fmt: skip
 
     # ------------------------------------------------------------ start values
     def start(

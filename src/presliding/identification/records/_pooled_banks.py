@@ -61,3 +61,13 @@ def negative_sides(spec: ModelSpec, index: dict[str, int], sets: FloatArray, c1:
     else:  # as `ModelSpec.coulomb_level` rounds it (ρ = 1 exactly for equal sides)
         fc = np.array([c1[p] + float(k[p] @ r[p]) for p in range(sets.shape[0])])
     return np.maximum(below, TINY) / np.maximum(fc, TINY)
+
+
+def sided_arrays(spec: ModelSpec, index: dict[str, int], sets: FloatArray, c1: FloatArray,
+                 r: FloatArray, rho: FloatArray | None) -> tuple[FloatArray, ...]:  # fmt: skip
+    """(c1⁻, r⁻) for the kernel: ρ·c1 and ρ·r (`negative_sides`' ρ of an element model),
+    c1⁻ itself without elements, or c1 and r themselves for one side."""
+    if rho is not None:
+        return rho * c1, np.ascontiguousarray(rho[:, None] * r)
+    alone = negative_sides(spec, index, sets, c1, r, r)  # no elements: c1⁻ (None: one side)
+    return (c1 if alone is None else alone), r

@@ -39,6 +39,7 @@ from presliding.identification.records._pooled_banks import (
     banks_one_by_one,
     element_banks,
     negative_sides,
+    sided_arrays,
 )
 from presliding.identification.records._pooled_record import Record, difference_matrix
 from presliding.identification.solve._least_squares import _Map
@@ -121,8 +122,7 @@ class PooledProblem:
     @staticmethod
     def shared_names(spec: ModelSpec, offset: bool, viscous: bool) -> list[str]:
         """The parameters every record shares."""
-        sigma = (["viscous", "viscous_negative"] if spec.negative else ["viscous"]) if viscous \
-            else []  # fmt: skip
+        sigma = ["viscous", "viscous_negative"][: 2 if spec.negative else 1] if viscous else []
         return ["mass", *spec.names] + sigma + (["offset"] if offset else [])
 
     @staticmethod
@@ -204,9 +204,7 @@ class PooledProblem:
 
     # ------------------------------------------------------------ simulation
     def unpack(self, sets: FloatArray, rigid: bool = False) -> tuple:
-        """Kernel arrays for parameter sets (rows of full parameter vectors): mass, c1, c1⁻,
-        σ, σ⁻, k, r, r⁻, offset, y0, v0 and the preload fractions (one side: the negative
-        side's arrays are the positive side's)."""
+        """Kernel arrays for parameter sets (rows of full parameter vectors), both sides."""
         n_par = sets.shape[0]
         col = self.index
         rho = None
@@ -219,11 +217,7 @@ class PooledProblem:
             k_arr, r_arr = np.ascontiguousarray(k_arr), np.ascontiguousarray(r_arr)
         else:
             c1_all, k_arr, r_arr = banks_one_by_one(self.spec, self.names, sets, rigid)
-        c1n, rn = c1_all, r_arr
-        if rho is not None:  # c1⁻ = ρ·c1, r⁻ = ρ·r
-            c1n, rn = rho * c1_all, np.ascontiguousarray(rho[:, None] * r_arr)
-        elif self.spec.negative is not None:  # Coulomb friction alone: c1⁻ itself
-            c1n = negative_sides(self.spec, self.index, sets, c1_all, k_arr, r_arr)
+        c1n, rn = sided_arrays(self.spec, self.index, sets, c1_all, r_arr, rho)
         mass = np.maximum(sets[:, col["mass"]], TINY)
         offset = sets[:, col["offset"]] if "offset" in col else np.zeros(n_par)
         sigma = np.maximum(sets[:, col["viscous"]], 0.0) if "viscous" in col else np.zeros(n_par)
