@@ -13,8 +13,8 @@ from tests.helpers import stop_records
 MODEL = ps.PIFriction(0.3, [4000.0, 1000.0], breakaway=[0.35, 0.35])
 
 
-def _stop_files(tmp_path, n=3):
-    records, _ = stop_records(7, n, MODEL)
+def _stop_files(tmp_path, n=3, records=None):
+    records = stop_records(7, n, MODEL)[0] if records is None else records
     paths = []
     for i, r in enumerate(records):
         path = tmp_path / f"stop{i + 1}.csv"
@@ -144,14 +144,8 @@ ASYMMETRIC = ps.PIFriction(0.3, [4000.0, 1000.0], breakaway=[0.35, 0.35], coulom
 def _asymmetric_files(tmp_path, n=5):
     from tests.helpers import random_preload_stops
 
-    paths = []
-    for i, r in enumerate(random_preload_stops(5, ASYMMETRIC, n_records=n, samples=500)):
-        path = tmp_path / f"stop{i + 1}.csv"
-        np.savetxt(path, np.column_stack([r.time, r.position * 1e3, r.velocity, r.applied_force]),
-                   delimiter=",", header="time [s],position [mm],velocity [m/s],applied_force [N]",
-                   comments="")  # fmt: skip
-        paths.append(str(path))
-    return paths
+    return _stop_files(tmp_path, records=random_preload_stops(5, ASYMMETRIC, n_records=n,
+                                                              samples=500))  # fmt: skip
 
 
 def test_compare_families_table_and_exit_status(tmp_path, capsys):
@@ -171,6 +165,7 @@ def test_compare_families_table_and_exit_status(tmp_path, capsys):
     assert "## Model families" in report and "the data support pi-asymmetric" in report
     model = load_model(out / "model.toml").model
     assert model.coulomb_levels[1] / model.coulomb_levels[0] == pytest.approx(0.8, abs=0.01)
+    assert "# model family pi-asymmetric: the least BIC" in (out / "model.toml").read_text()
 
 
 @pytest.mark.parametrize(("extra", "needle"), [

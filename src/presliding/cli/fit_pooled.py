@@ -210,6 +210,10 @@ def run_pooled(args: argparse.Namespace) -> int:
             if len(records) > 1:  # every record listed; no one record's start as [motion]
                 motion = None if motion is None else MotionSettings(mass=motion.mass)
                 header = pooled_header(args, records, args.record_labels, result)
+            if getattr(args, "comparison", None) is not None:  # which family this model is
+                header += (f"\nmodel family {args.comparison.best}: the least "
+                           f"{args.comparison.criterion.upper()} of --compare {args.compare} "
+                           "(comparison.csv)")  # fmt: skip
             save_model(paths["model"], result.model, motion, measurement=terms,
                        header=header, overwrite=True, axis=result.axis)  # fmt: skip
             written.insert(0, paths["model"])

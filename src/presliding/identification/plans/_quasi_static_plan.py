@@ -67,8 +67,8 @@ from presliding.identification.problem._fit_options import (
 from presliding.identification.problem._fit_problem import FitOptions, FitProblem
 from presliding.identification.problem._model_spec import DENSITIES, ModelSpec
 from presliding.identification.problem._parameters import (
-    check_flag,
     check_levels,
+    check_sides,
     resolve_parameters,
 )
 from presliding.identification.records._quasi_static_errors import with_run_floor
@@ -131,13 +131,7 @@ def check_quasi_static(request: dict[str, Any]) -> QuasiStaticRequest:
                                                       a["tied"])  # fmt: skip
     check_levels(None, a["min_coulomb_level"], fixed)
     fixed, tied = check_constraints(fixed, tied)
-    asymmetric = check_flag("asymmetric", a.get("asymmetric", False))
-    if asymmetric and a["offset"]:
-        raise ValueError(
-            "`offset` must be False with `asymmetric`=True: a constant force is the difference "
-            "of the two directions' levels, (F_c⁺ − F_c⁻)/2 (the fit carries it in "
-            "coulomb_level_negative); got offset=True."
-        )
+    asymmetric = check_sides(a.get("asymmetric", False), a["offset"])
     spec = ModelSpec(n, a["equal_breakaway"], density, cells, asymmetric)
     check_model_values(spec, fixed, tied, initial)
     bootstrap = as_count("bootstrap", a["bootstrap"], maximum=MAX_BOOTSTRAP)

@@ -29,6 +29,7 @@ from presliding.identification.problem._model_spec import DENSITIES, ModelSpec
 from presliding.identification.problem._parameters import (
     check_flag,
     check_levels,
+    check_sides,
     resolve_parameters,
 )
 from presliding.measurement.measurement import Measurement
@@ -115,13 +116,7 @@ def _model(request: dict[str, Any]) -> tuple[ModelSpec, dict[str, Any]]:
             "`coulomb_level` can be given only with equal_breakaway=True and elements; got "
             + ("a density." if a["density"] else "equal_breakaway=False.")
         )
-    asymmetric = check_flag("asymmetric", a.get("asymmetric", False))
-    if asymmetric and a["offset"]:
-        raise ValueError(
-            "`offset` must be False with `asymmetric`=True: a constant force is the difference "
-            "of the two directions' levels, (F_c⁺ − F_c⁻)/2 (the fit carries it in "
-            "coulomb_level_negative); got offset=True."
-        )
+    asymmetric = check_sides(a.get("asymmetric", False), a["offset"])
     return ModelSpec(n, a["equal_breakaway"], a["density"], cells, asymmetric), a
 
 

@@ -174,14 +174,21 @@ def pooled_responses(mass, *args):
     """`_pooled_responses`, in parallel for several parameter sets; the shapes of the
     parameter arrays checked first (a mismatch would read past an array in compiled code)."""
     c1, c1n, sigma, sigman, k, r, rn, offset = args[:8]
-    n_par = mass.shape[0]
-    if any(a.shape != (n_par,) for a in (c1, c1n, sigma, sigman, offset)) or not (
-        k.ndim == 2 and k.shape[0] == n_par and r.shape == k.shape and rn.shape == k.shape
-    ):  # fmt: skip
-        raise ValueError(
-            "the pooled kernel's parameter arrays must share their sets and elements; got "
-            f"mass {mass.shape}, c1 {c1.shape}, c1n {c1n.shape}, sigma {sigma.shape}, sigman "
-            f"{sigman.shape}, k {k.shape}, r {r.shape}, rn {rn.shape}, offset {offset.shape}."
-        )
-    kernel = pooled_responses_parallel if n_par > 1 else pooled_responses_serial
+    check_sets("pooled", {"mass": mass, "c1": c1, "c1n": c1n, "sigma": sigma, "sigman": sigman,
+                          "offset": offset}, {"k": k, "r": r, "rn": rn})  # fmt: skip
+    kernel = pooled_responses_parallel if mass.shape[0] > 1 else pooled_responses_serial
     kernel(mass, *args)
+
+
+def check_sets(kernel: str, scalars: dict, banks: dict) -> None:
+    """Every per-set array of one length P, every bank (P, N) of one shape, else ValueError
+    (checked before a compiled kernel reads past an array)."""
+    n_par = next(iter(scalars.values())).shape[0]
+    shape = next(iter(banks.values())).shape
+    if any(a.shape != (n_par,) for a in scalars.values()) or not (
+        len(shape) == 2 and shape[0] == n_par and all(b.shape == shape for b in banks.values())
+    ):  # fmt: skip
+        got = ", ".join(f"{n} {a.shape}" for n, a in {**scalars, **banks}.items())
+        raise ValueError(
+            f"the {kernel} kernel's parameter arrays must share their sets and elements; got {got}."
+        )

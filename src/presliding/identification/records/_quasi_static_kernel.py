@@ -30,6 +30,7 @@ import numpy as np
 
 from presliding.friction.preload import preload_deformation_sided
 from presliding.hysteresis._jit import njit
+from presliding.identification.records._pooled_kernel import check_sets
 
 RELAXED, PRELOAD, CONTINUING = 0, 1, 3
 NO_RESPONSE = -2
@@ -136,14 +137,6 @@ def quasi_static_positions(c1, *args):
     """`_quasi_static_positions`, in parallel for several parameter sets; the shapes of the
     parameter arrays checked first (a mismatch would read past an array in compiled code)."""
     c1n, k, r, rn, offset = args[:5]
-    n_par = c1.shape[0]
-    if any(a.shape != (n_par,) for a in (c1n, offset)) or not (
-        k.ndim == 2 and k.shape[0] == n_par and r.shape == k.shape and rn.shape == k.shape
-    ):  # fmt: skip
-        raise ValueError(
-            "the quasi-static kernel's parameter arrays must share their sets and elements; "
-            f"got c1 {c1.shape}, c1n {c1n.shape}, k {k.shape}, r {r.shape}, rn {rn.shape}, "
-            f"offset {offset.shape}."
-        )
-    kernel = quasi_static_positions_parallel if n_par > 1 else quasi_static_positions_serial
+    check_sets("quasi-static", {"c1": c1, "c1n": c1n, "offset": offset}, {"k": k, "r": r, "rn": rn})
+    kernel = quasi_static_positions_parallel if c1.shape[0] > 1 else quasi_static_positions_serial
     kernel(c1, *args)
