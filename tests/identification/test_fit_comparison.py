@@ -37,7 +37,7 @@ def test_the_asymmetric_family_wins_on_asymmetric_records():
     assert cmp.best == "pi-asymmetric" and cmp.status == cmp.fits[1].status
     i = cmp.families.index("pi-asymmetric")
     assert np.argmin(cmp.bic) == i and np.argmin(cmp.aic) == i
-    assert np.argmin(cmp.held_out_nrmse) == i
+    assert np.argmin(cmp.held_out_nrmse) == i and cmp.held_out_best == "pi-asymmetric"
     assert cmp.bic[0] < cmp.bic[2]  # elements beat Coulomb friction alone
     assert cmp.n_parameters.tolist() == [f.nvarys for f in cmp.fits]
     assert cmp.n_parameters[1] == cmp.n_parameters[0] + 1  # F_c⁻
@@ -63,6 +63,7 @@ def test_the_held_out_criterion_and_a_fitted_start():
     cmp = compare_fits(fitted, {"coulomb": {}}, hold_out=held[0], labels=["stop 5"],
                        criterion="held_out", initial="fit")  # fmt: skip
     assert cmp.best == "coulomb" and cmp.held_out == ("stop 5",)
+    assert cmp.held_out_best == "coulomb"
     assert cmp.predictions[0][0].initial == "fit"
 
 
@@ -110,3 +111,14 @@ def test_register_family_checks_its_arguments():
         register_family("no spaces", lambda r: r)
     with pytest.raises(TypeError, match="callable"):
         register_family("ok-name", 3.0)  # type: ignore[arg-type]
+
+
+def test_equal_held_out_errors_favour_the_simpler_family():
+    """Held-out errors within 0.1 % of the least tie; the family with fewer free parameters
+    wins (a PI fit whose elements carry nothing predicts as Coulomb friction does)."""
+    from presliding.identification.fit_comparison import _ranked
+
+    score = np.array([0.0771, 0.07712, 0.0770999])
+    assert _ranked([0, 1, 2], score, [13, 14, 10], True) == [2, 0, 1]
+    assert _ranked([0, 1, 2], score, [13, 14, 10], False) == [2, 0, 1]
+    assert _ranked([0, 1], np.array([0.05, 0.0771]), [13, 10], True) == [0, 1]

@@ -106,6 +106,16 @@ class FitComparison:
         return np.array([f.bic for f in self.fits])
 
     @property
+    def held_out_best(self) -> str | None:
+        """The family whose held-out predictions are best (median NRMSE; errors within 0.1 %
+        of the least are ties, won by fewer free parameters); None without held-out records."""
+        held = self.held_out_nrmse
+        ok = [i for i, f in enumerate(self.fits) if f.status != "failed" and np.isfinite(held[i])]
+        if not ok:
+            return None
+        return self.families[_ranked(ok, held, [f.nvarys for f in self.fits], True)[0]]
+
+    @property
     def held_out_nrmse(self) -> np.ndarray:
         """Each family's median NRMSE over the held-out records (nan without them)."""
         return np.array([_median([p.nrmse for p in ps]) for ps in self.predictions])
@@ -159,7 +169,8 @@ class FitComparison:
             "message": self.message, "criterion": self.criterion, "best": self.best,
             "rss": self.rss, "aic": self.aic, "bic": self.bic,
             "n_parameters": self.n_parameters, "held_out": list(self.held_out),
-            "held_out_nrmse": self.held_out_nrmse, "reversals_exact": self.reversals_exact,
+            "held_out_nrmse": self.held_out_nrmse, "held_out_best": self.held_out_best,
+            "reversals_exact": self.reversals_exact,
             "fits": [f.to_dict() for f in self.fits],
         }  # fmt: skip
 
@@ -354,6 +365,19 @@ def _fit_all(chosen: dict[str, dict[str, Any]], recs: list[Measurement],
     return found
 
 
+#: Held-out errors within this share of the least are ties, won by fewer free parameters.
+HELD_OUT_TIE = 1e-3
+
+
+def _ranked(ok: list[int], score: np.ndarray, sizes: list[int], relative: bool) -> list[int]:
+    """The families `ok` from the best score (a held-out error: ties within `HELD_OUT_TIE`
+    won by the fewer free parameters, as equal predictions favour the simpler model)."""
+    if not relative:
+        return sorted(ok, key=lambda i: score[i])
+    low = min(score[i] for i in ok)
+    return sorted(ok, key=lambda i: (score[i] > low * (1 + HELD_OUT_TIE), sizes[i], score[i]))
+
+
 def _verdict(families: tuple[str, ...], fits: list[FitResult], predictions: list[tuple],
              criterion: str) -> tuple[str | None, str]:  # fmt: skip
     """The family the data support by `criterion`, and the message saying so."""
@@ -365,7 +389,7 @@ def _verdict(families: tuple[str, ...], fits: list[FitResult], predictions: list
     if not ok:
         return None, "no family could be fitted: " + "; ".join(
             f"{n}: {f.message}" for n, f in zip(families, fits, strict=True))  # fmt: skip
-    order = sorted(ok, key=lambda i: score[i])
+    order = _ranked(ok, score, [f.nvarys for f in fits], criterion == "held_out")
     best = order[0]
     label = {"bic": "BIC", "aic": "AIC", "held_out": "held-out median NRMSE"}[criterion]
     text = f"the data support {families[best]}"
@@ -378,7 +402,7 @@ def _verdict(families: tuple[str, ...], fits: list[FitResult], predictions: list
                 "do not compare"  # fmt: skip
     usable = [i for i in ok if np.isfinite(held[i])]
     if usable and criterion != "held_out":
-        ahead = min(usable, key=lambda i: held[i])
+        ahead = _ranked(usable, held, [f.nvarys for f in fits], True)[0]
         text += (f"; held out, {families[ahead]} predicts best (median NRMSE "
                  f"{100 * held[ahead]:.3g} %)")  # fmt: skip
         if ahead != best:
