@@ -99,6 +99,7 @@ def test_asymmetric_ramps_give_both_branches():
         assert fit.parameters[name] == pytest.approx(value, rel=1e-6), name
     assert fit.model.coulomb_levels == pytest.approx(model.coulomb_levels, rel=1e-6)
     assert fit.asymmetry.verdict == "supported" and fit.asymmetry.degrees_of_freedom[0] == 3
+    assert len(fit.records) == 2 and np.all(np.diff(fit.abscissa[: fit.records[0][1]]) >= 0)
     with pytest.raises(ValueError, match="needs loops=False"):
         fit_virgin_curve(ys, fs, 2, asymmetric=True)
     with pytest.raises(ValueError, match="ramps in both directions"):

@@ -338,7 +338,8 @@ def _result(samples: Separable, s: FloatArray, loops: bool, run: FitRun, sol: An
 
 
 def _sided_samples(records: list, tolerance: float | None) -> tuple:
-    """Every ramp's samples (s, F_v) with its side (+1, −1), sorted by s; both sides needed."""
+    """Every ramp's samples (s, F_v) with its side (+1, −1): the + branch, then the − branch,
+    each sorted by s; both sides needed."""
     parts = []
     for i, (y, f) in enumerate(records):
         check_varies("force" if len(records) == 1 else f"force[{i}]", f)
@@ -352,7 +353,7 @@ def _sided_samples(records: list, tolerance: float | None) -> tuple:
             "`asymmetric=True` needs loading ramps in both directions (the two branches of the "
             f"virgin curve); got ramps in {'+' if side[0] > 0 else '−'}y only."
         )
-    order = np.argsort(s, kind="stable")
+    order = np.lexsort((s, -side))
     return s[order], fv[order], side[order]
 
 

@@ -1,6 +1,7 @@
 """``fit_virgin_curve(asymmetric=True)``: both branches of the virgin curve from the symmetric fit.
 
-The samples of ramps in +y and in −y with their side (`fit_virgin`), the symmetric fit of the
+The samples of ramps in +y and in −y with their side (`fit_virgin`: the + branch first, each
+sorted by s; the result's `records` are the two branches), the symmetric fit of the
 same samples done: the problem of both branches (`problem._sided_virgin`) solved from the
 symmetric fit lifted (c1⁻ = c1, r_j⁻ = r_j: the nested start) and from it with the − branch
 scaled to its level (`SidedVirgin.side_ratio`), the better kept; the result carries F_c⁺ and
@@ -66,10 +67,12 @@ def fit_branches(request: dict[str, Any], symmetric: FitResult, s: FloatArray, f
         rows = [{"coulomb_negative": 1.0, "coulomb": -1.0}] + [
             {m: 1.0, p: -1.0} for p, m in zip(sided.r_names, sided.rn_names, strict=True)
         ]
-        rows = [r for r in rows if not set(r) & (set(fixed) | set(tied))]
+        held = set(fixed) | set(tied)  # a negative side held: its constraint is not tested
+        rows = [r for r in rows if not {x for x, w in r.items() if w > 0} & held]
         kappa = hac_scale(sol, rows) if rows else float("nan")
         test = asymmetry_test(symmetric, out, rows, kappa, level)
-        return replace(out, asymmetry=test,
+        ups = int(np.sum(side > 0))  # the two branches drawn apart, as two records
+        return replace(out, asymmetry=test, records=((0, ups), (ups, int(s.shape[0]))),
                        n_evaluations=out.n_evaluations + symmetric.n_evaluations)  # fmt: skip
 
     options = FitOptions(
