@@ -117,7 +117,11 @@ def fit_asymmetric(fit: Callable[..., Any], request: dict[str, Any], check: Call
                                                                      problem.names)),
         bootstrap=parts.bootstrap, seed=parts.seed,
     )  # fmt: skip
-    return run_fit(problem, options, plan)
+    out = run_fit(problem, options, plan)
+    if n != count:  # the symmetric fit chose the elements (n_elements="auto", prune=True)
+        note = f"{n} element(s), as the symmetric fit chose them (n_elements={count!r})"
+        out = replace(out, notes=(*out.notes, note))
+    return out
 
 
 def constraints(spec: Any, names: Any) -> list[dict[str, float]]:
