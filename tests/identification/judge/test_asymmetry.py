@@ -60,3 +60,9 @@ def test_undetermined_when_a_fit_failed_or_the_difference_is_loose():
 def test_an_asymmetric_fit_above_the_symmetric_one_counts_as_no_drop():
     test = asymmetry_test(_fit(1.0, 5), _fit(1.0 + 1e-12, 6), [ROW], 1.0, 0.95)
     assert test.statistic == 0.0 and test.p_value == 1.0 and test.verdict == "not supported"
+
+
+def test_no_free_constraint_is_undetermined():
+    """Every negative side fixed or tied: nothing to test."""
+    test = asymmetry_test(_fit(1.0, 5), _fit(1.0, 5), [], np.nan, 0.95)
+    assert test.verdict == "undetermined" and "fixed or tied" in test.message

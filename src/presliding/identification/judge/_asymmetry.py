@@ -206,7 +206,7 @@ def asymmetry_test(symmetric: Any, asymmetric: Any, constraints: Sequence[Mappin
     drop = max(rss_s - rss_a, 0.0)
     s2 = rss_a / dof
     with np.errstate(all="ignore"):
-        f = drop / q / (scale * s2) if s2 > 0 else (np.inf if drop > 0 else 0.0)
+        f = drop / max(q, 1) / (scale * s2) if s2 > 0 else (np.inf if drop > 0 else 0.0)
         lr = n * float(np.log(rss_s / rss_a)) if rss_a > 0 else np.inf
     pf = float(stats.f.sf(f, q, dof)) if np.isfinite(f) else (0.0 if f > 0 else float("nan"))
     plr = float(stats.chi2.sf(max(lr, 0.0), q)) if np.isfinite(lr) else 0.0
