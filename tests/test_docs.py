@@ -77,6 +77,12 @@ PRINTED: dict[tuple[str, int], list[tuple]] = {
     ("pooled_fits", 4): [(r"within (\S+) % of the force range", 0.0, 0.0, 1e-6),
                          (r"\(tolerance (\S+) %\)", 3.0, 0.0),
                          (r"^  (\d+) branches", 2.0, 0.0)],
+    # asymmetric stops (F_c⁻ = 0.8 F_c⁺): both levels, the asymmetry supported
+    ("pooled_fits", 5): [(r"^F_c\+ = (\S+) N", 1.0, 1e-3), (r"F_c- = (\S+) N", 0.8, 1e-3),
+                         (r"N: (\S+)$", "supported")],
+    ("pooled_fits", 6): [(r"the data support (\S+) \(", "pi-asymmetric"),
+                         (r"^  pi-asymmetric \(supported\) +(\S+) ", "converged"),
+                         (r"predicts best \(median NRMSE (\S+) %", 1.52, 0.1)],
     ("quickstart", 3): [(r"stops at t = (\S+) s", 0.0852924142586, 1e-6),
                         (r"at position (\S+) m", 0.00176242655942, 1e-6),
                         (r"^  reversals: (\d+)$", 1.0, 0.0),
@@ -185,7 +191,8 @@ GUIDED = (
     "cross_validate", "PIBatch", "friction_batch", "simulate_loop", "PID(",
     "describing_function", "predict_limit_cycles", "FrictionNonlinearity", "retries=",
     "dask worker", "NUMBA_CACHE_DIR", "--units", "--window", "--sample-rate", ".mat",
-    "Exit status", ".presliding.lock", "progress=True", "CITATION.cff",
+    "Exit status", ".presliding.lock", "progress=True", "CITATION.cff", "asymmetric=True",
+    "compare_fits", "register_family", "--compare",
 )  # fmt: skip
 
 

@@ -94,6 +94,9 @@ BUILDERS = {
     "Prediction": lambda: _cross_validation().predictions[0],
     "MasingCheck": lambda: ps.masing_check(MODEL, (PATH, MODEL.force(PATH)[0])),
     "CrossValidation": _cross_validation,
+    "FitComparison": lambda: ps.compare_fits(
+        [_measurement(), _measurement()], {"pi": {"n_elements": 2}, "coulomb": {}}
+    ),
     "LoopResult": _loop,
     "LoopBatch": lambda: ps.simulate_loop_batch(
         MODEL, 1.0, ps.PID(300.0, 1000.0, 10.0, dt=1e-3), 1e-3, kp=[200.0, 300.0], t_end=0.2

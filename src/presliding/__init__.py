@@ -77,10 +77,12 @@ from presliding.hysteresis import (
 )
 from presliding.identification import (
     CrossValidation,
+    FitComparison,
     FitResult,
     MasingCheck,
     Measurement,
     Prediction,
+    compare_fits,
     correlation_matrix,
     count_reversals,
     cross_validate,
@@ -92,6 +94,7 @@ from presliding.identification import (
     hac_covariance,
     masing_check,
     predict_motion_force,
+    register_family,
     reversal_tolerance,
 )
 from presliding.measurement import Segments
@@ -191,6 +194,7 @@ __all__ = [
     "Discrete",
     "DiscreteController",
     "Exponential",
+    "FitComparison",
     "FitResult",
     "FreeResponse",
     "FrequencyResponse",
@@ -241,6 +245,7 @@ __all__ = [
     "analyze_ring_down",
     "chain_structure",
     "compare",
+    "compare_fits",
     "compile_network",
     "compile_structure",
     "correlation_matrix",
@@ -278,6 +283,7 @@ __all__ = [
     "preloaded_state",
     "quasi_static_network",
     "quasi_static_response",
+    "register_family",
     "reversal_tolerance",
     "signals",
     "simulate",

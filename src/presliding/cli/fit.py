@@ -100,7 +100,8 @@ def fit(args: argparse.Namespace, meas: Any, bar: Any = False) -> tuple[Any, Any
 
         return fit_presliding(
             meas.position, meas.friction_force, n, offset=args.offset, search=args.search,
-            seed=args.seed, max_evaluations=args.max_evaluations, progress=bar,
+            seed=args.seed, max_evaluations=args.max_evaluations,
+            asymmetric=args.asymmetric, progress=bar,
         ).on_axis(meas.axis), meas  # fmt: skip
     fixed = None if args.mass is None else {"mass": args.mass}
     if args.kind == "motion":
@@ -119,7 +120,8 @@ def fit(args: argparse.Namespace, meas: Any, bar: Any = False) -> tuple[Any, Any
     from presliding.identification.fit_response import fit_response
 
     signal = "velocity" if meas.velocity is not None else "position"
-    return fit_response(meas, n, mass=args.mass, signal=signal, progress=bar), meas
+    return fit_response(meas, n, mass=args.mass, signal=signal, asymmetric=args.asymmetric,
+                        progress=bar), meas  # fmt: skip
 
 
 def _motion_settings(args: argparse.Namespace, meas: Any, result: Any) -> Any:

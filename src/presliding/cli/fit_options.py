@@ -35,6 +35,7 @@ USES: dict[str, tuple[str, ...]] = {
     "ramps": ("virgin",),
     "hold_out": ("response", "quasi-static"),
     "reversal_tolerance": ("response", "quasi-static"),
+    "compare": ("response",),
 }
 
 
@@ -185,8 +186,10 @@ def _add_model_options(fit: argparse.ArgumentParser) -> None:
     fit.add_argument(
         "--asymmetric",
         action="store_true",
-        help="motion: separate Coulomb (and with --viscous viscous) levels for the two "
-        "directions of sliding (excludes --offset)",
+        help="separate levels for the two directions of sliding, every --kind (excludes "
+        "--offset): motion and presliding c1 and c1⁻ (with --viscous σ and σ⁻); response and "
+        "quasi-static F_c⁻ beside F_c⁺; virgin the two branches of ramps in ±y (--ramps). The "
+        "symmetric fit runs too and the report tests the asymmetry against it",
     )
     fit.add_argument(
         "--search",
@@ -277,6 +280,16 @@ def _add_pooled_options(fit: argparse.ArgumentParser) -> None:
         metavar="TRAVEL",
         help="travel [m or rad] by which reversals are counted in the cross-validation and "
         "--hold-out tables (default: each record's own, three encoder counts or noise levels)",
+    )
+    fit.add_argument(
+        "--compare",
+        default=None,
+        metavar="FAMILIES",
+        help="response: fit each model family named (comma-separated, e.g. "
+        "pi,pi-asymmetric,coulomb) to the same records, tabulate status, parameters, RSS, AIC, "
+        "BIC and the --hold-out files' errors (comparison.csv and the report), and keep the "
+        "family of least BIC; --elements goes to the families with elements. The exit status "
+        "is that family's",
     )
     fit.add_argument(
         "--no-cross-validation",

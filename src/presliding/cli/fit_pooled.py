@@ -6,7 +6,10 @@ shared physics, each record's own start (`fit_response`, `fit_quasi_static`),
 or one virgin curve from all ramps or loops (`fit_virgin_curve`, loops when a
 record reverses, else loading ramps). With two or more records of a response
 or quasi-static fit, the report carries the leave-one-record-out table
-(`cross_validate`) unless ``--no-cross-validation``.
+(`cross_validate`) unless ``--no-cross-validation``. With ``--compare`` the named
+model families are fitted to the same records instead (`compare_fits`): the
+table goes to ``comparison.csv`` and the report, the family of least BIC is the
+fit reported, and the ``--hold-out`` files are predicted by every family.
 
 Outputs and exit codes as for the other kinds (`presliding.cli.fit`).
 """
@@ -57,13 +60,18 @@ def _options(args: argparse.Namespace, records: list[Any]) -> dict[str, Any]:
     if velocity is not None and args.kind != "response":
         raise UserError(f"--velocity {velocity} is for --kind response (the only kind that "
                         f"compares a velocity); drop it for --kind {args.kind}.")  # fmt: skip
-    out: dict[str, Any] = {"n_elements": n, "max_evaluations": args.max_evaluations}
+    out: dict[str, Any] = {"n_elements": n, "max_evaluations": args.max_evaluations,
+                           "asymmetric": args.asymmetric}  # fmt: skip
     if args.kind == "virgin":
         if args.density is not None:
             raise UserError(f"--density {args.density}: --kind virgin fits elastoplastic "
                             "elements only; drop --density, or fit a density with --kind "
                             "response or quasi-static.")  # fmt: skip
-        return {"n_elements": n, "max_evaluations": args.max_evaluations}
+        return out
+    if args.asymmetric and (args.offset or args.density is not None):
+        raise UserError("--asymmetric: the two directions' levels need elements and no "
+                        "offset (a constant force is their difference); drop --offset and "
+                        "--density.")  # fmt: skip
     out.update(density=args.density, offset=args.offset, bootstrap=args.bootstrap)
     if args.seed is not None:
         out["seed"] = args.seed
@@ -105,10 +113,19 @@ def fit_records(args: argparse.Namespace, records: list[Any], bar: Any = False) 
         told = {"ramps": True, "loops": False}.get(args.segments or "")
         told = True if getattr(args, "ramps", False) else told
         ys, fs, loops, notes = virgin_inputs(ys, fs, labels, told)
+        if loops and args.asymmetric:
+            raise UserError("--asymmetric with --kind virgin needs loading ramps from rest "
+                            "in both directions (--ramps): the records reverse, and the "
+                            "branches of loops follow the mean of the two sides.")  # fmt: skip
         n = options.pop("n_elements")
         fit = fit_virgin_curve(ys, fs, n, loops=loops, reversal_tolerance=None, **options)
         fit = replace(fit, notes=(*notes, *fit.notes))
         return fit.on_axis(common_axis(records)), None
+    if getattr(args, "compare", None):
+        args.comparison = _compare(args, records, options)
+        best = args.comparison.fits[args.comparison.families.index(args.comparison.best)] \
+            if args.comparison.best else args.comparison.fits[0]  # fmt: skip
+        return best, None
     fitter: Callable[..., Any] = fit_response if args.kind == "response" else fit_quasi_static
     pooled: Any = records if len(records) > 1 else records[0]
     if len(records) < 2 or args.no_cross_validation:
@@ -117,6 +134,46 @@ def fit_records(args: argparse.Namespace, records: list[Any], bar: Any = False) 
     tolerance = getattr(args, "reversal_tolerance", None)
     cv = cross_validate(records, fitter, labels=labels, reversal_tolerance=tolerance, **options)
     return cv.result, cv
+
+
+def _compare(args: argparse.Namespace, records: list[Any], options: dict[str, Any]) -> Any:
+    """``--compare``: the families named, fitted to the records (`compare_fits`);
+    --elements goes to each family whose fitter takes ``n_elements``."""
+    import inspect
+
+    from presliding.cli.predict import _read_cut
+    from presliding.identification.families import FAMILIES
+    from presliding.identification.fit_comparison import compare_fits
+
+    names = [x.strip() for x in str(args.compare).split(",") if x.strip()]
+    unknown = [x for x in names if x not in FAMILIES]
+    if not names or unknown:
+        raise UserError(f"--compare {args.compare}: name families of "
+                        f"{', '.join(sorted(FAMILIES))}, separated by commas.")  # fmt: skip
+    if args.asymmetric:
+        raise UserError("--asymmetric with --compare: name pi-asymmetric among the families "
+                        "instead.")  # fmt: skip
+    common = {k: v for k, v in options.items() if k not in ("n_elements", "asymmetric")}
+    n = options["n_elements"]
+    candidates = {x: ({"n_elements": n} if "n_elements" in inspect.signature(
+        FAMILIES[x]).parameters else {}) for x in names}  # fmt: skip
+    held, labels, _, _ = _read_cut(
+        args, [Path(p) for p in getattr(args, "hold_out", ()) or ()], []
+    )  # the --hold-out files, cut by --segments as the fitted
+    return compare_fits(records, candidates, hold_out=held or None, labels=labels or None,
+                        **common)  # fmt: skip
+
+
+def _comparison_csv(path: Path, comparison: Any) -> None:
+    """The comparison's table as CSV, written atomically."""
+    import csv
+    import io
+
+    from presliding._io import write_text
+
+    text = io.StringIO()
+    csv.writer(text, lineterminator="\n").writerows(comparison.table())
+    write_text(path, text.getvalue())
 
 
 def run_pooled(args: argparse.Namespace) -> int:
@@ -130,6 +187,8 @@ def run_pooled(args: argparse.Namespace) -> int:
              "md": folder / "report.md", "html": folder / "report.html"}  # fmt: skip
     if args.segments not in (None, "none"):
         paths["segments"] = folder / "segments.png"
+    if getattr(args, "compare", None):
+        paths["comparison"] = folder / "comparison.csv"
     check_outputs(paths.values(), input_files(args), overwrite=args.overwrite)
     names = ", ".join(data_names(args))
     with fit_progress(args.quiet) as bar:
@@ -152,6 +211,18 @@ def run_pooled(args: argparse.Namespace) -> int:
         written = _write_model(args, records, result, paths["model"], problem)
         sections, figures = _sections(args, records, result, cv, paths, problem, names)
         written += figures
+        if getattr(args, "comparison", None) is not None:
+            from presliding.cli.report import Section
+
+            _comparison_csv(paths["comparison"], args.comparison)
+            written.append(paths["comparison"])
+            sections.insert(1, Section(
+                "Model families", "Each family named by --compare fitted to the same records "
+                "by the same engine: its status, free parameters, residual sum of squares, AIC "
+                "and BIC (Gaussian least squares; ΔAIC and ΔBIC over the least), and the "
+                "held-out files predicted from their measured starts. The fit above is the "
+                "family the data support.", table=args.comparison.table(),
+                code=args.comparison.report()))  # fmt: skip
         from presliding.cli.report import write_report
 
         written += write_report(folder, f"presliding fit: {names}", sections)
@@ -164,7 +235,8 @@ def run_pooled(args: argparse.Namespace) -> int:
             print(f"wrote {p}")
     from presliding.identification.judge._status import exit_code
 
-    return exit_code(result.status)
+    comparison = getattr(args, "comparison", None)
+    return exit_code(result.status if comparison is None else comparison.status)
 
 
 def _write_model(args: argparse.Namespace, records: list[Any], result: Any, path: Path,
@@ -187,6 +259,10 @@ def _write_model(args: argparse.Namespace, records: list[Any], result: Any, path
     if len(records) > 1:  # every record listed; no one record's start as [motion]
         motion = None if motion is None else MotionSettings(mass=motion.mass)
         header = pooled_header(args, records, args.record_labels, result)
+    if getattr(args, "comparison", None) is not None:  # which family this model is
+        header += (f"\nmodel family {args.comparison.best}: the least "
+                   f"{args.comparison.criterion.upper()} of --compare {args.compare} "
+                   "(comparison.csv)")  # fmt: skip
     save_model(path, result.model, motion, measurement=terms, header=header, overwrite=True,
                axis=result.axis, data=data_settings(args, records))  # fmt: skip
     return [path]

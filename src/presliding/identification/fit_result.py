@@ -162,6 +162,12 @@ class FitResult(FitReport, LmfitNames):
         `presliding.identification.intervals._profile_bound`; its standard error raised
         to match) or ``"union"`` (widened to hold another local optimum,
         `alternatives`).
+    asymmetry : AsymmetryTest or None
+        A fit with ``asymmetric=True``: the test of the asymmetry against the
+        symmetric fit of the same data (``verdict`` "supported", "not
+        supported" or "undetermined", ``statistic``, ``p_value``, ``delta_aic``,
+        ``delta_bic``, the ``symmetric`` fit;
+        `presliding.identification.judge._asymmetry`).
     alternatives : tuple of Alternative
         Other local optima the search reached whose cost rise over the best is
         within the profile's likelihood-ratio threshold while they put a
@@ -209,6 +215,7 @@ class FitResult(FitReport, LmfitNames):
     ties: dict[str, tuple[str, float, float]] = field(default_factory=dict)
     search: Any = None  # the pooled fits' `_search.SearchSummary` (starts, noise floor, order)
     alternatives: tuple[Alternative, ...] = ()
+    asymmetry: Any = None  # an `AsymmetryTest` (fits with asymmetric=True)
 
     @classmethod
     def from_solution(
@@ -356,6 +363,7 @@ class FitResult(FitReport, LmfitNames):
             "bootstrap": None if self.bootstrap is None else {
                 k: list(v) for k, v in self.bootstrap.items()},
             "notes": list(self.notes),
+            "asymmetry": None if self.asymmetry is None else self.asymmetry.to_dict(),
             "model": repr(self.model),
         }  # fmt: skip
 

@@ -25,6 +25,8 @@ gives the fit's own steps:
   split of neighbouring elements the records do not determine made
   ``not_identifiable`` with its plateau in the intervals (`_split_check`: an
   element that never slides leaves only the sum of the stiffnesses);
+* ``asymmetric=True``: the symmetric fit first, the asymmetric one from it
+  (`_asymmetric_plan`; the parts it keeps: `asymmetric_parts`);
 * result: the errors raised to the floor that runs of equal quantised samples
   imply (`_quasi_static_errors`: a record's initial position is fixed by its
   first samples alone), the model, the preloads as forces, the note of an F_c
@@ -49,6 +51,7 @@ from presliding.identification.checks._response_checks import (
     stiffest_first,
 )
 from presliding.identification.checks._split_check import undetermined_split
+from presliding.identification.plans._asymmetric_plan import Parts
 from presliding.identification.plans._response_setup import (
     MAX_BOOTSTRAP,
     check_model_values,
@@ -63,7 +66,11 @@ from presliding.identification.problem._fit_options import (
 )
 from presliding.identification.problem._fit_problem import FitOptions, FitProblem
 from presliding.identification.problem._model_spec import DENSITIES, ModelSpec
-from presliding.identification.problem._parameters import check_levels, resolve_parameters
+from presliding.identification.problem._parameters import (
+    check_levels,
+    check_sides,
+    resolve_parameters,
+)
 from presliding.identification.records._quasi_static_errors import with_run_floor
 from presliding.identification.records._quasi_static_problem import QuasiStaticProblem
 from presliding.identification.records._quasi_static_start import lift_density, quasi_static_start
@@ -80,7 +87,8 @@ from presliding.identification.search._search import (
 from presliding.identification.solve._least_squares import Solution
 from presliding.measurement.measurement import Measurement, common_axis
 
-__all__ = ["STATES", "check_quasi_static", "quasi_static_plan", "quasi_static_problem"]
+__all__ = ["STATES", "asymmetric_parts", "check_quasi_static", "quasi_static_plan",
+           "quasi_static_problem"]  # fmt: skip
 
 STATES = ("preload", "continuing", "relaxed")
 _UNITS = {"height": "N/m^2", "max_threshold": "m", "length": "m", "preload": "N"}
@@ -123,7 +131,8 @@ def check_quasi_static(request: dict[str, Any]) -> QuasiStaticRequest:
                                                       a["tied"])  # fmt: skip
     check_levels(None, a["min_coulomb_level"], fixed)
     fixed, tied = check_constraints(fixed, tied)
-    spec = ModelSpec(n, a["equal_breakaway"], density, cells)
+    asymmetric = check_sides(a.get("asymmetric", False), a["offset"])
+    spec = ModelSpec(n, a["equal_breakaway"], density, cells, asymmetric)
     check_model_values(spec, fixed, tied, initial)
     bootstrap = as_count("bootstrap", a["bootstrap"], maximum=MAX_BOOTSTRAP)
     fmin = 0.0 if a["min_coulomb_level"] is None else as_positive_scalar(
@@ -137,8 +146,10 @@ def check_quasi_static(request: dict[str, Any]) -> QuasiStaticRequest:
 
 
 def _level_floor(req: QuasiStaticRequest, records: QuasiStaticProblem) -> float:
-    """The lower bound of F_c: the largest |u| (without an offset) and `min_coulomb_level`."""
-    return max(req.fmin, records.u_max * (1 + 1e-9)) if not req.offset else req.fmin
+    """The lower bound of F_c: the largest |u| (without an offset) and `min_coulomb_level`;
+    of F_c⁺ an asymmetric model's: the largest u."""
+    largest = records.u_sides[0] if req.spec.negative else records.u_max
+    return max(req.fmin, largest * (1 + 1e-9)) if not req.offset else req.fmin
 
 
 def _start_and_box(req: QuasiStaticRequest, records: QuasiStaticProblem) -> tuple[dict, dict]:
@@ -163,6 +174,10 @@ def _start_and_box(req: QuasiStaticRequest, records: QuasiStaticProblem) -> tupl
     if spec.has_level_parameter and floor > 0:
         box["coulomb_level"] = (floor, np.inf)
         start["coulomb_level"] = max(start["coulomb_level"], floor * 1.01)
+    if spec.negative is not None:  # F_c⁻ above the largest −u (and `min_coulomb_level`)
+        below = max(req.fmin, records.u_sides[1] * (1 + 1e-9))
+        box[spec.negative] = (below, np.inf)
+        start[spec.negative] = max(start[spec.negative], below * 1.01)
     elif floor > 0:  # a density: F_c = c1 + F_m is derived; F_m is linear in the heights
         start = lift_density(spec, start, 1.2 * floor, req.fixed)
     for key, (lo, hi) in as_bounds("bounds", req.bounds, names).items():  # the user's, within
@@ -193,6 +208,25 @@ def quasi_static_plan(req: QuasiStaticRequest) -> FitPlan:
         search=partial(_search, req), checks=(partial(_split, req), partial(_plateau, req)),
         result=partial(_result, req), bootstrap=req.bootstrap, seed=req.seed,
     )  # fmt: skip
+
+
+def asymmetric_parts(req: QuasiStaticRequest) -> Parts:
+    """The parts an asymmetric quasi-static fit keeps (`_asymmetric_plan`): the problem, its
+    search, the elements relabelled stiffest first, and the result."""
+    problem, options = quasi_static_problem(req)
+    own = req.initial_state == "preload" and not any(
+        x in problem.fixed or x in problem.tied for x in problem.names)  # fmt: skip
+    prepare = partial(record_starts, problem.records) if own else None
+    return Parts(problem, options, (partial(_relabel, req),), partial(_result, req),
+                 req.bootstrap, req.seed, prepare, partial(_search, req))  # fmt: skip
+
+
+def _relabel(req: QuasiStaticRequest, run: FitRun, sol: Solution) -> Solution:
+    """Elements of equal break-away force relabelled stiffest first."""
+    spec = req.spec
+    if spec.density is None and spec.equal and not _shaped(req) and sol.status != "failed":
+        return stiffest_first(sol, spec.k_names)
+    return sol
 
 
 def _shaped(req: QuasiStaticRequest) -> bool:
@@ -301,11 +335,19 @@ def _result(req: QuasiStaticRequest, run: FitRun, sol: Solution, boot: Any,
         sol = replace(sol, status="failed", message="no quasi-static response at the optimum")
     derived = {"coulomb_level": spec.coulomb_level(values)} if not spec.has_level_parameter else {}
     fm = spec.coulomb_level(values) - max(values["coulomb"], 0.0)
+    mid, shift = fm, 0.0
+    if spec.negative is not None:  # c1⁻, ρ = F_c⁻/F_c⁺; a preload about the mid band
+        rho = spec.ratio(values)
+        derived.update(coulomb_negative=rho * max(values["coulomb"], 0.0),
+                       coulomb_level_ratio=rho)  # fmt: skip
+        mid, shift = 0.5 * (1.0 + rho) * fm, 0.5 * (1.0 - rho) * fm
     if req.initial_state == "preload":
         for i in range(records.n_rec):
             x = records.nuisance("preload_fraction", i)
-            derived[x.replace("preload_fraction", "preload")] = values[x] * fm
+            derived[x.replace("preload_fraction", "preload")] = values[x] * mid + shift
     units = {x: "1" for x in records.names if x.startswith("preload_fraction")}
+    if spec.negative is not None:
+        units["coulomb_level_ratio"] = "1"
     result = FitResult.from_solution(
         sol, spec.model(values), records.u_all, np.concatenate([r.position for r in req.recs]),
         o_y[0], kind="quasi-static", abscissa_label="applied force", signal_label="position",

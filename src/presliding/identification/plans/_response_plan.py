@@ -57,6 +57,7 @@ from presliding.identification.checks._response_checks import (
     spread_start,
     stiffest_first,
 )
+from presliding.identification.plans._asymmetric_plan import Parts
 from presliding.identification.plans._response_box import start_and_box
 from presliding.identification.plans._response_request import ResponseRequest
 from presliding.identification.plans._response_result import PER_UNIT_MASS, response_result
@@ -85,7 +86,7 @@ from presliding.identification.solve._least_squares import LARGE_PROBLEM, Soluti
 from presliding.identification.solve._structured_lm import on_one_blas_thread
 from presliding.measurement.measurement import common_axis
 
-__all__ = ["response_plan", "response_problem"]
+__all__ = ["asymmetric_parts", "response_plan", "response_problem"]
 
 #: evaluations of a probe's short solve (`_probes`; solved on when it ends near the best)
 PROBE_EVALUATIONS = 40
@@ -123,6 +124,16 @@ def response_problem(req: ResponseRequest) -> tuple[FitProblem, FitOptions]:
         method="lm" if records.n_rec > 1 else "auto",
     )  # fmt: skip
     return problem, options
+
+
+def asymmetric_parts(req: ResponseRequest) -> Parts:
+    """The parts an asymmetric response fit keeps (`_asymmetric_plan`): the problem, its
+    search, the relabelling of interchangeable elements and the result."""
+    problem, options = response_problem(req)
+    assert options.max_evaluations is not None
+    search = partial(_search, req, _flags(req, problem, options.max_evaluations))
+    return Parts(problem, options, (partial(_relabel, req),), partial(_result, req),
+                 req.bootstrap, req.seed, search=search)  # fmt: skip
 
 
 @dataclass(frozen=True)

@@ -111,7 +111,7 @@ def check_model_values(spec: Any, fixed: dict, tied: dict, initial: Mapping | No
             name = f"{label}[{x!r}]"
             if positive(x):
                 as_positive_scalar(name, v)
-            elif x == "coulomb":
+            elif x in ("coulomb", "coulomb_negative"):
                 as_nonnegative_scalar(name, v)
             else:
                 as_real_scalar(name, v)

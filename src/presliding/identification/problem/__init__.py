@@ -14,6 +14,7 @@ _parameter_map.py      the free/fixed/tied split of named parameters
 _parameters.py         initial, bounds, fixed, tied and lmfit.Parameters, checked together
 _pi_regression.py      the PI bases and threshold grids of the separable fits; the fused batch loss
 _separable_problem.py  the separable fits' problem: linear in all but the thresholds
+_sided_virgin.py       the two branches of an asymmetric virgin curve as one problem
 
 May import: the rooms `plans`, `records`, `solve` of identification; the layers below
 identification and the root's shared modules.

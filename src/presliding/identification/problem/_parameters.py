@@ -170,6 +170,19 @@ def check_flag(name: str, value: Any) -> bool:
     return bool(value)
 
 
+def check_sides(asymmetric: Any, offset: Any) -> bool:
+    """`asymmetric` a bool, and not with an `offset`: the difference of the two directions'
+    levels is a constant force (`_model_spec`); returns `asymmetric`."""
+    sided = check_flag("asymmetric", asymmetric)
+    if sided and offset:
+        raise ValueError(
+            "`offset` must be False with `asymmetric`=True: a constant force is the difference "
+            "of the two directions' levels, (F_c⁺ − F_c⁻)/2 (the fit carries it in "
+            "coulomb_level_negative); got offset=True."
+        )
+    return sided
+
+
 def check_levels(coulomb_level: Any, min_coulomb_level: Any, fixed: Mapping[str, Any]) -> None:
     """`min_coulomb_level` must not exceed a Coulomb level given by `coulomb_level` or `fixed`."""
     if min_coulomb_level is None:

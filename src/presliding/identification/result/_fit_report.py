@@ -54,6 +54,7 @@ class FitReport:
     search: Any
     interval_method: dict[str, str]
     alternatives: Any
+    asymmetry: Any
 
     def to_pandas(self) -> Any:
         """A pandas DataFrame of the parameters: value, unit, standard error, interval,
@@ -85,7 +86,8 @@ class FitReport:
         """A readable summary: status, parameters with units, errors and intervals, fit quality.
 
         Also, when present: the record-level bootstrap, strong correlations
-        (|ρ| >= 0.9), the notes and the cross-validation table.
+        (|ρ| >= 0.9), the notes, the test of an asymmetric fit against the
+        symmetric one and the cross-validation table.
         """
         pct = f"{100 * self.confidence_level:g} %"
         width = max([16, *(len(n) + 2 for n in self.parameters)])
@@ -138,6 +140,7 @@ class FitReport:
                 + alt.text(self.parameters, tuple(self.parameters))
             )
         lines += [f"note: {n}" for n in self.notes]
+        lines += self.asymmetry.lines() if self.asymmetry is not None else []
         if self.cross_validation is not None:
             lines += ["", self.cross_validation.report()]
         return "\n".join(lines)
