@@ -322,3 +322,12 @@ def test_fitted_asymmetric_models_round_trip(tmp_path):
             assert getattr(back, name) == getattr(model, name), name
         for name in ("stiffness", "threshold", "threshold_negative"):
             np.testing.assert_array_equal(getattr(back, name), getattr(model, name))
+
+
+@pytest.mark.parametrize("name", ["model.json", "model.txt"])
+def test_a_model_file_is_written_only_under_a_toml_name(tmp_path, name):
+    """Before: save_model wrote TOML to model.json, which load_model then read as JSON and
+    rejected; now the path is refused before anything is written."""
+    with pytest.raises(ValueError, match=r"`path` must name a TOML file .*" + name):
+        save_model(tmp_path / name, PIFriction(0.1, [100.0], [0.5]))
+    assert not (tmp_path / name).exists()

@@ -348,12 +348,19 @@ def save_model(
 
     `measurement` adds the `[measurement]` table, `data` the `[data]` table (how
     the records were read), `header` comment lines at the top, `axis` the units
-    of the comments. An existing file is replaced only with ``overwrite=True``.
+    of the comments. An existing file is replaced only with ``overwrite=True``. The file
+    is TOML: a `path` with another suffix than ``.toml`` (a ``.json`` one, which
+    `load_model` would read as JSON) is refused.
     """
     check_type("model", model, PIFriction)
     if motion is not None:
         check_type("motion", motion, MotionSettings)
     path = _as_path(path)
+    if path.suffix.lower() not in (".toml", ""):
+        raise ValueError(
+            f"`path` must name a TOML file (suffix .toml): save_model writes TOML with "
+            f"comments, which {path.suffix} readers would reject; got {str(path)!r}."
+        )
     if data is not None:
         check_type("data", data, DataSettings)
     pieces = model_pieces(model, motion, measurement, header, axis, data)
