@@ -25,11 +25,11 @@ from pathlib import Path
 import numpy as np
 
 from presliding import PIFriction
-from presliding.identification._pi_regression import reversal_indices
 from presliding.identification.fit_motion import fit_motion, predict_motion_force
 from presliding.identification.fit_presliding import fit_presliding
 from presliding.identification.fit_response import fit_response
 from presliding.identification.fit_result import fit_statistics
+from presliding.identification.problem._pi_regression import reversal_indices
 from presliding.measurement.measurement import Measurement
 from presliding.motion import simulate
 from presliding.signals import piecewise_linear

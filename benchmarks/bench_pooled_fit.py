@@ -46,7 +46,8 @@ from _stops import TRUTH, stop_records
 from _timing import accumulating
 
 from presliding import fit_response
-from presliding.identification import _scale_probe, _search, fit_result
+from presliding.identification import fit_result
+from presliding.identification.search import _scale_probe, _search
 
 TARGET = 5.0
 

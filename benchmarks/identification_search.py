@@ -149,7 +149,7 @@ class _Capture:
     so that covariance estimates can be compared offline on the same fits (DUMP set)."""
 
     def __init__(self) -> None:
-        import presliding.identification._least_squares as lsq
+        import presliding.identification.solve._least_squares as lsq
 
         self.module, self.original, self.calls = lsq, lsq.fit_covariance, []
 
@@ -256,7 +256,7 @@ class _Timed:
 def study_stops(seeds, n_records: int = RECORDS) -> None:
     """Pooled stops; per seed also the fit's wall time and that of its probe along eq. 17's
     scale (`_scale_probe`)."""
-    probe = _Timed("presliding.identification._response_plan", "scale_probe")
+    probe = _Timed("presliding.identification.plans._response_plan", "scale_probe")
     _study(
         "stops", "pooled stops, random preloads", seeds, 5000,
         lambda rng: [random_stop(rng) for _ in range(n_records)], TRUTH,
@@ -343,15 +343,15 @@ def study_mirror() -> None:
 
 def study_speed(seeds: int = 6) -> None:
     """20 records × 1000 samples per seed: the fit's wall time and its nuisance searches'."""
-    import presliding.identification._nuisance_search as ns
+    import presliding.identification.search._nuisance_search as ns
 
     fit_response(stop_records(0, 2)[0], **OPTIONS, max_evaluations=5)  # compile
     spent = [0.0]
-    search_module = sys.modules["presliding.identification._search"]
+    search_module = sys.modules["presliding.identification.search._search"]
     original = ns.search_nuisance
     search_module.search_nuisance = accumulating(original, spent)
     times = []
-    probe = _Timed("presliding.identification._response_plan", "scale_probe")
+    probe = _Timed("presliding.identification.plans._response_plan", "scale_probe")
     for seed in range(seeds):
         records, _, _ = stop_records(seed, 20)
         spent[0] = 0.0

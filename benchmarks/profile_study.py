@@ -31,7 +31,8 @@ from _stops import stop_records
 from threadpoolctl import threadpool_limits
 
 from presliding import fit_response
-from presliding.identification import _profile, _profile_inner, fit_result
+from presliding.identification import fit_result
+from presliding.identification.intervals import _profile, _profile_inner
 
 _CAUGHT: list = []
 _original = fit_result.profile_solution

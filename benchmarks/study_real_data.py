@@ -28,7 +28,7 @@ from pathlib import Path
 import numpy as np
 
 from presliding import Measurement, cross_validate, fit_virgin_curve, masing_check
-from presliding.identification._pi_regression import reversal_indices
+from presliding.identification.problem._pi_regression import reversal_indices
 
 DATA = Path(__file__).resolve().parents[2] / "shared" / "data"
 REFERENCE = {"mass": 95.11, "viscous": 203.5, "coulomb_level": 20.39, "offset": -3.16}

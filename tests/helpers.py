@@ -139,7 +139,7 @@ def stop_records(seed: int, n_records: int, model: PIFriction, mass: float = 2.0
         v0 = d * rng.uniform(0.02, 0.06)
         frac = rng.uniform(0.2, 1.0) if preload else 1.0
         y0 = rng.uniform(-1e-3, 1e-3)
-        state = preloaded_state(model, frac * model.max_elastic_force * d, direction=d,
+        state = preloaded_state(model, elastic_share(model, frac * d), direction=d,
                                 position=y0)  # fmt: skip
         u = np.zeros(samples) if free else np.where(t < rng.uniform(0.03, 0.08), -0.3 * d, 0.0)
         res = simulate(model, mass, applied_force=(t, u), initial_position=y0,
@@ -154,12 +154,24 @@ def stop_records(seed: int, n_records: int, model: PIFriction, mass: float = 2.0
     return out, truth
 
 
+def elastic_share(model: PIFriction, fraction: float) -> float:
+    """`fraction` of the largest elastic force on its side: F_m, or of an asymmetric model
+    F_m⁺ = Σ c_j⁺ (fraction > 0) and F_m⁻ = Σ c_j⁻ (fraction < 0)."""
+    if model.is_symmetric:
+        return fraction * model.max_elastic_force
+    k = np.asarray(model.stiffness)
+    side = model.threshold if fraction > 0 or model.threshold_negative is None else (
+        model.threshold_negative)  # fmt: skip
+    return fraction * float(k @ side)
+
+
 def random_preload_stops(seed: int, model: PIFriction, n_records: int = 4, samples: int = 500,
                          mass: float = 2.0, truth: bool = False):  # fmt: skip
     """Stops of the search study's design: each record's preload anywhere in ±0.8 F_m of
-    either sign, initial velocities of both signs, a decelerating force of random level and
-    length, a 1 µm encoder with 0.2 µm noise, velocity from the quantised position. With
-    `truth`, each record comes as (record, initial velocity, preload fraction)."""
+    either sign (of its side's F_m for an asymmetric model), initial velocities of both signs,
+    a decelerating force of random level and length, a 1 µm encoder with 0.2 µm noise,
+    velocity from the quantised position. With `truth`, each record comes as (record, initial
+    velocity, preload fraction)."""
     from presliding import Measurement, preloaded_state, simulate
 
     rng = np.random.default_rng(seed)
@@ -170,7 +182,7 @@ def random_preload_stops(seed: int, model: PIFriction, n_records: int = 4, sampl
         d = float(np.sign(v0))
         fraction = rng.uniform(-0.8, 0.8)
         y0 = rng.uniform(-1e-3, 1e-3)
-        state = preloaded_state(model, fraction * model.max_elastic_force, direction=d,
+        state = preloaded_state(model, elastic_share(model, fraction), direction=d,
                                 position=y0)  # fmt: skip
         u = np.where(t < rng.uniform(0.03, 0.08), -d * rng.uniform(0.1, 0.6), 0.0)
         res = simulate(model, mass, applied_force=(t, u), initial_position=y0,
@@ -185,9 +197,9 @@ def pooled_problem_at(records, nuisance, shared: dict[str, float], n_elements: i
     """The pooled problem of stop records with equal break-away forces (preload start), its
     typical scales set at `shared` and each record's true own values (`nuisance`, as
     `stop_records` returns them); returns the problem and those values."""
-    from presliding.identification import _pooled_problem as pp
-    from presliding.identification._model_spec import ModelSpec
-    from presliding.identification._pooled_record import as_record
+    from presliding.identification.problem._model_spec import ModelSpec
+    from presliding.identification.records import _pooled_problem as pp
+    from presliding.identification.records._pooled_record import as_record
 
     spec = ModelSpec(n_elements, True, None, 32)
     problem = pp.PooledProblem([as_record(m) for m in records], spec, (1.0, 50.0), "preload",

@@ -79,6 +79,12 @@ PRINTED: dict[tuple[str, int], list[tuple]] = {
     ("pooled_fits", 4): [(r"within (\S+) % of the force range", 0.0, 0.0, 1e-6),
                          (r"\(tolerance (\S+) %\)", 3.0, 0.0),
                          (r"^  (\d+) branches", 2.0, 0.0)],
+    # asymmetric stops (F_c⁻ = 0.8 F_c⁺): both levels, the asymmetry supported
+    ("pooled_fits", 5): [(r"^F_c\+ = (\S+) N", 1.0, 1e-3), (r"F_c- = (\S+) N", 0.8, 1e-3),
+                         (r"N: (\S+)$", "supported")],
+    ("pooled_fits", 6): [(r"the data support (\S+) \(", "pi-asymmetric"),
+                         (r"^  pi-asymmetric \(supported\) +(\S+) ", "converged"),
+                         (r"predicts best \(median NRMSE (\S+) %", 1.52, 0.1)],
     ("quickstart", 3): [(r"stops at t = (\S+) s", 0.0852924142586, 1e-6),
                         (r"at position (\S+) m", 0.00176242655942, 1e-6),
                         (r"^  reversals: (\d+)$", 1.0, 0.0),
@@ -118,9 +124,19 @@ PRINTED: dict[tuple[str, int], list[tuple]] = {
                      (r"^ +0 +(\d+) ", 8.0, 0.0), (r"^ +2 +(\d+) ", 3.0, 0.0),
                      (r"^ +0 +\d+ +(\S+)", 0.425612, 1e-5)],
     ("network", 4): [(r"^(\S+)$", 2.5e-4, 0.5)],
+    # NLvib's chain: the stuck modes; the backbone of mode 0 from ω0 towards K's own
+    ("structural", 0): [(r"^\[(\S+) ", 1.374878, 1e-6), (r" (\S+) \S+\]$", 2.974046, 1e-6),
+                        (r" (\S+)\]$", 7.434027, 1e-6)],
+    ("structural", 1): [(r"^(\S+) \S+$", 1.374878, 1e-6), (r"^\S+ (\S+)$", 1.089694, 1e-6)],
+    # ring-down against the slow-decay ζ_d and against the secant's ζ (median |Δζ|)
+    ("structural", 2): [(r"^(\S+) \S+$", 3.9e-5, 0.2), (r"^\S+ (\S+)$", 3.5e-4, 0.2)],
+    ("structural", 4): [(r"^\[(\S+) ", 0.066487, 1e-5), (r" (\S+) \S+\]$", 0.120075, 1e-5),
+                        (r" (\S+)\]$", 0.161172, 1e-5)],
     ("rigs", 2): [(r"^(\d+) stops cut", 4.0, 0.0),
                   (r"^ +1 +(\S+) s to", 0.128, 1e-9), (r"^ +4 +\S+ s to (\S+)", 1.931, 1e-9),
-                  (r"^ +2 .* (\d+) samples", 304.0, 0.0)],
+                  (r"^ +2 .* (\d+) samples", 304.0, 0.0),
+                  (r"rest speed (\S+) m/s", 0.001102, 1e-3),
+                  (r"at least (\d+) samples", 10.0, 0.0)],
     ("rigs", 3): [(r"NRMSE (\S+) %", 0.131, 0.05), (r"reversals: measured (\d+)", 1.0, 0.0),
                   (r"predicted (\d+) \(tolerance", 1.0, 0.0),
                   (r"\((3) encoder counts", 3.0, 0.0),
@@ -177,7 +193,8 @@ GUIDED = (
     "cross_validate", "PIBatch", "friction_batch", "simulate_loop", "PID(",
     "describing_function", "predict_limit_cycles", "FrictionNonlinearity", "retries=",
     "dask worker", "NUMBA_CACHE_DIR", "--units", "--window", "--sample-rate", ".mat",
-    "Exit status", ".presliding.lock", "progress=True", "CITATION.cff",
+    "Exit status", ".presliding.lock", "progress=True", "CITATION.cff", "asymmetric=True",
+    "compare_fits", "register_family", "--compare",
 )  # fmt: skip
 
 

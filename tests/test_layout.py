@@ -27,6 +27,7 @@ LAYERS = (
     "identification",
     "control",
     "sweep",
+    "structural",
     "cli",
 )
 
@@ -193,6 +194,29 @@ def test_each_layer_opens_with_its_map(layer):
     assert missing == []
     for name in getattr(module, "__all__", []):
         assert getattr(module, name) is getattr(presliding, name, getattr(module, name))
+
+
+def _rooms() -> list[str]:
+    """Every sub-package below a layer (identification's rooms, ...), as a dotted path."""
+    return sorted(
+        ".".join(p.parent.relative_to(PACKAGE).parts)
+        for p in PACKAGE.glob("*/*/__init__.py")
+        if "__pycache__" not in p.parts
+    )
+
+
+@pytest.mark.parametrize("room", _rooms())
+def test_each_room_opens_with_its_map(room):
+    """A layer's sub-package (a room: identification's pipeline steps) lists its files and
+    what it may import, as a layer does."""
+    module = importlib.import_module(f"presliding.{room}")
+    doc = module.__doc__ or ""
+    assert "May import" in doc
+    folder = PACKAGE.joinpath(*room.split("."))
+    files = sorted(p.name for p in folder.glob("*.py") if p.name != "__init__.py")
+    assert [f for f in files if f not in doc] == []
+    parent = importlib.import_module(f"presliding.{room.rsplit('.', 1)[0]}")
+    assert f"{room.rsplit('.', 1)[1]}/" in (parent.__doc__ or "")
 
 
 OLD_PATHS = {

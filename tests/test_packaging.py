@@ -116,6 +116,7 @@ def test_the_sdist_carries_what_its_tests_need(tmp_path):
         members = {m.name.split("/", 1)[1] for m in sdist.getmembers() if "/" in m.name}
     for needed in (
         "src/presliding/py.typed",
+        "src/presliding/cli/example_files/stop_1.csv",  # presliding example-data
         "tests/conftest.py",
         "tests/helpers.py",
         "tests/_reference.py",

@@ -34,6 +34,8 @@ RESULTS = {
     "LimitCycles", "LoopBatch", "LoopResult", "MasingCheck", "MeasuredCycle", "MotionBatch",
     "MotionResult", "MotionEnergy", "NetworkEnergy", "NetworkResult", "Prediction",
     "QuasiStaticNetworkResult", "QuasiStaticResponse", "SweepResult", "TurningPoints",
+    "FitComparison", "FrequencyResponse", "ModalBackbone", "PeriodicOrbit", "RingDown",
+    "StructureMotion", "Segments", "CompiledStructure",
 }  # fmt: skip
 
 #: arguments without a unit (counts, options, flags, objects, dimensionless numbers,
@@ -57,7 +59,10 @@ NOT_QUANTITIES = {
     "samples", "samples_per_swing", "scale", "scheduler", "search", "seed", "signal",
     "sliders", "sol", "source", "springs", "stack", "state", "states", "stops", "structure",
     "substeps", "system", "theta", "tied", "tolerance", "units", "value", "values_of",
-    "verify", "virgin_model", "weight", "weights",
+    "verify", "virgin_model", "weight", "weights", "against", "backbone", "candidates",
+    "coordinate", "criterion", "cycles", "data", "definition", "fitter", "floor", "harmonics",
+    "hold_out", "index", "joint", "joints", "max_points", "replace", "samples_per_period",
+    "scales", "tol",
 }  # fmt: skip
 
 #: (entry point, argument) whose meaning differs from the argument's name elsewhere
@@ -70,6 +75,10 @@ OVERRIDES: dict[tuple[str, str], str | None] = {
     ("count_reversals", "tolerance"): "position",
     ("fit_presliding", "coulomb"): None,  # fit a Coulomb element or not
     ("iosys_state", "mass"): None,  # any value: the mass system's layout
+    ("modal_backbone", "amplitudes"): "modal amplitude",  # of a mass-normalised mode
+    ("simulate_ring_down", "amplitude"): "modal amplitude",
+    ("frequency_response", "scale"): None,  # the force's scale s, a pure number
+    ("simulate_ring_down", "start"): None,  # "impulse" or "deflection"
     ("fit_motion", "viscous"): None,  # fit a viscous term or not
     ("fit_response", "viscous"): None,
     ("Measurement.segments", "tolerance"): "position",
@@ -178,6 +187,10 @@ def _calls(folder: Any) -> dict[str, tuple[Callable[..., Any], dict[str, Any]]]:
     batch = ps.PIBatch([[1e-3, 2e-3]], [[500.0, 10.0]])
     inverse = ps.PIInverse(operator, coulomb=0.1)
     net = ps.SliderNetwork.chain([100.0, 50.0], [0.0, 1.0, 0.5])
+    jenkins = ps.PIFriction(0.0, [20.0], breakaway=[1.0])
+    one = ps.JointedStructure(1.0, 3.0, [[1.0]], [jenkins], damping=0.01)
+    compiled = ps.compile_structure([[3.0]], [[1.0]], [jenkins], [1.0])
+    decay = ps.simulate_ring_down(one, 0, 0.1, 60.0)
     chain = ps.chain_structure(2, 1.0, 1000.0, MODEL)
     state = MODEL.relaxed_state()
     calls: dict[str, tuple[Callable[..., Any], dict[str, Any]]] = {
@@ -345,6 +358,33 @@ def _calls(folder: Any) -> dict[str, tuple[Callable[..., Any], dict[str, Any]]]:
         "simulate_network_moreau": (ps.simulate_network_moreau, dict(
             structure=chain, t_end=0.01, step=1e-3, initial_position=[0.0, 0.0],
             initial_velocity=[0.3, -0.2], t_start=0.0)),
+        # the structural layer: one mass on a spring with a Jenkins joint
+        "JointedStructure": (ps.JointedStructure, dict(mass=1.0, stiffness=3.0, contacts=[[1.0]],
+                                                       joints=[jenkins], damping=0.01)),
+        "JointedStructure.modal": (ps.JointedStructure.modal, dict(
+            frequencies=[2.0], mode_shapes=[[1.0]], joints=jenkins)),
+        "compile_structure": (ps.compile_structure, dict(stiffness=[[3.0]], contacts=[[1.0]],
+                                                         friction=[jenkins], load=[1.0])),
+        "CompiledStructure.deflection": (compiled.deflection, dict(displacement=[0.01, 0.1])),
+        "CompiledStructure.force": (compiled.force, dict(displacement=[0.01, 0.1])),
+        "CompiledStructure.virgin_curve": (compiled.virgin_curve,
+                                           dict(displacement=[0.01, 0.1])),
+        "modal_backbone": (ps.modal_backbone, dict(structure=one, mode=0,
+                                                   amplitudes=[0.01, 0.1])),
+        "simulate_structure": (ps.simulate_structure, dict(
+            structure=one, t_end=1.0, initial_position=[0.0], initial_velocity=[0.1],
+            force=[0.1], frequency=2.0, plastic=[0.0], t_eval=[0.0, 1.0])),
+        "simulate_ring_down": (ps.simulate_ring_down, dict(structure=one, mode=0, amplitude=0.1,
+                                                           duration=2.0)),
+        "analyze_ring_down": (ps.analyze_ring_down, dict(data=decay, method="peaks",
+                                                         frequency=2.0, band=(1.0, 3.0),
+                                                         trim=1.0)),
+        "periodic_orbit": (ps.periodic_orbit, dict(structure=one, force=[0.5], frequency=2.0)),
+        "frequency_response": (ps.frequency_response, dict(structure=one, force=[0.5],
+                                                           frequencies=(1.9, 2.1), step=0.5,
+                                                           max_points=3)),
+        "force_response": (ps.force_response, dict(structure=one, force=[0.5], frequency=2.0,
+                                                   scales=(1.0, 1.2), step=0.5, max_points=3)),
     }  # fmt: skip
     for name, density in [*DENSITIES.items(), ("Density", DENSITIES["Discrete"])]:
         calls[name] = {
@@ -390,7 +430,8 @@ def _calls(folder: Any) -> dict[str, tuple[Callable[..., Any], dict[str, Any]]]:
 #: arguments are still refused in another dimension, before any work)
 SLOW = {"fit_presliding", "fit_virgin_curve", "fit_motion", "fit_response",
         "fit_quasi_static", "cross_validate", "simulate_network_moreau", "Tabulated.build",
-        "simulate_loop_batch", "predict_limit_cycles"}  # fmt: skip
+        "simulate_loop_batch", "predict_limit_cycles", "periodic_orbit", "frequency_response",
+        "force_response", "analyze_ring_down"}  # fmt: skip
 #: a unit of another dimension for each kind
 OTHER = {"position": "s", "time": "m", "frequency": "m", "angular frequency": "m"}
 #: arguments given instead of another (the other one is left out of the example)

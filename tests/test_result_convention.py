@@ -32,13 +32,17 @@ NOT_RESULTS = {
     "Exponential", "Uniform", "PiecewiseConstant", "Tabulated", "GeneralPIOperator",
     "MemoryState", "PIOperator", "PIState", "PIInverse", "PIBatch", "PIBatchState",
     "Measurement", "SegalmanIwan", "MindlinContact", "MicroslipBar", "SliderNetwork",
+    "Segments",  # the pieces of a Measurement (with table, report and plot), not a result
     "MotionEnergy",  # a part of MotionResult (its `energy`), with its own to_dict
-    "NetworkStructure", "NetworkState",
+    "NetworkStructure", "NetworkState", "JointedStructure", "CompiledStructure",
     "NetworkEnergy",  # a part of NetworkResult (its `energy`), with its own to_dict
 }  # fmt: skip
 
 MODEL = ps.PIFriction(0.3, [100.0, 40.0], breakaway=[0.32, 0.34])
 UNDAMPED = ps.PIFriction(coulomb=0.0, stiffness=[100.0], breakaway=[10.0])
+_JENKINS_1DOF = ps.JointedStructure(
+    1.0, 1.0, [[1.0]], [ps.PIFriction(0.0, [3.0], breakaway=[0.5])], damping=0.1
+)
 PATH = ps.signals.piecewise_linear([0.0, 0.01, -0.008, 0.006], 2e-4)
 
 
@@ -90,6 +94,9 @@ BUILDERS = {
     "Prediction": lambda: _cross_validation().predictions[0],
     "MasingCheck": lambda: ps.masing_check(MODEL, (PATH, MODEL.force(PATH)[0])),
     "CrossValidation": _cross_validation,
+    "FitComparison": lambda: ps.compare_fits(
+        [_measurement(), _measurement()], {"pi": {"n_elements": 2}, "coulomb": {}}
+    ),
     "LoopResult": _loop,
     "LoopBatch": lambda: ps.simulate_loop_batch(
         MODEL, 1.0, ps.PID(300.0, 1000.0, 10.0, dt=1e-3), 1e-3, kp=[200.0, 300.0], t_end=0.2
@@ -99,6 +106,17 @@ BUILDERS = {
     "SweepResult": _sweep,
     "NetworkResult": lambda: ps.simulate_network(
         ps.chain_structure(2, 1.0, 10.0, MODEL), 0.5, None, [0.05, 0.0]
+    ),
+    "PeriodicOrbit": lambda: ps.periodic_orbit(_JENKINS_1DOF, [0.4], 1.3, samples=64),
+    "FrequencyResponse": lambda: ps.frequency_response(
+        _JENKINS_1DOF, [0.4], (1.0, 1.4), step=0.2, max_points=6
+    ),
+    "StructureMotion": lambda: ps.simulate_ring_down(_JENKINS_1DOF, 0, 1.0, 5.0),
+    "RingDown": lambda: ps.analyze_ring_down(
+        ps.simulate_ring_down(_JENKINS_1DOF, 0, 1.0, 120.0), method="peaks"
+    ),
+    "ModalBackbone": lambda: ps.modal_backbone(
+        ps.JointedStructure(1.0, 3.0, [[1.0]], [UNDAMPED]), 0, [0.01, 0.1, 1.0]
     ),
 }
 

@@ -137,6 +137,7 @@ SI_UNITS: dict[str, tuple[str, ...]] = {
     "force per length": ("N/m",),
     "frequency": ("Hz",),
     "angular frequency": ("rad/s",),
+    "modal amplitude": ("m*kg**0.5",),  # a mass-normalised mode's coordinate
 }
 
 #: The kind of each physical argument of the public API, by the argument's name (the name
@@ -149,7 +150,7 @@ QUANTITY_KINDS: dict[str, str] = {
          "threshold_negative", "thresholds", "max_threshold", "length", "slip_displacement",
          "amplitude", "amplitudes", "reference", "last_input", "play", "base", "turning",
          "contact_displacement", "deformation", "reversal_positions", "reversal_tolerance",
-         "bristle", "breaks", "grid", "atol"),
+         "bristle", "breaks", "grid", "atol", "plastic"),
         "position",
     ),
     **dict.fromkeys(
@@ -170,13 +171,13 @@ QUANTITY_KINDS: dict[str, str] = {
     **dict.fromkeys(
         ("time", "t", "t_end", "t_start", "t_eval", "dt", "step", "time_step", "settle_time",
          "filter_time", "tracking_time", "start", "end", "after", "reversal_times",
-         "last_time", "lead_in"),
+         "last_time", "lead_in", "duration", "trim"),
         "time",
     ),
     **dict.fromkeys(("height", "heights", "values"), "density of stiffness"),
     "shear_strength": "force per length",
     **dict.fromkeys(("cutoff", "sample_rate"), "frequency"),
-    "frequencies": "angular frequency",
+    **dict.fromkeys(("frequencies", "frequency", "band"), "angular frequency"),
 }  # fmt: skip
 
 

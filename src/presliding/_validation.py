@@ -18,6 +18,7 @@ from __future__ import annotations
 import math
 import numbers
 import os
+import warnings as _warnings
 from collections.abc import Iterator
 from contextlib import contextmanager, suppress
 from typing import Any
@@ -281,6 +282,15 @@ def renamed(**names: str) -> Iterator[None]:
         if text == str(exc):
             raise
         raise type(exc)(text) from exc
+
+
+def renamed_keyword(options: dict[str, Any], old: str, new: str, value: Any, where: str) -> Any:
+    """Keyword `new`'s `value`, or its old name `old` from `options` (a DeprecationWarning)."""
+    if old in options and value is not None:
+        raise TypeError(f"{where}: give `{new}` only (`{old}` is its old name); got both.")
+    if old in options:
+        _warnings.warn(f"{where}: `{old}` is renamed `{new}`.", DeprecationWarning, stacklevel=3)
+    return options.pop(old, value)
 
 
 def check_type(name: str, value: Any, expected: type | tuple[type, ...], *, where: str = "") -> Any:

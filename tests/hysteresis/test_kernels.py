@@ -17,7 +17,7 @@ from hypothesis import strategies as st
 
 from presliding import PIFriction
 from presliding.hysteresis import _fused, _kernels
-from presliding.identification._pi_regression import batch_stop_loss
+from presliding.identification.problem._pi_regression import batch_stop_loss
 from presliding.motion import _implicit
 from presliding.motion._run import implicit_grid
 

@@ -92,7 +92,7 @@ def test_densities_are_recovered_from_torque_loops(name, density, names):
     """A density fit starts where F_c exceeds every force (it used to end "the residual
     is not finite at the start"); loops of a finely discretised density recover it."""
     from presliding import Exponential, Uniform
-    from presliding.identification._model_spec import centroid_bank
+    from presliding.identification.problem._model_spec import centroid_bank
 
     dens = (Uniform if name == "uniform" else Exponential)(**density)
     k, r = centroid_bank(dens, 2000)
@@ -140,3 +140,34 @@ def test_loops_that_never_make_two_elements_slide_leave_their_split_undetermined
         assert fit.interval_method[name] in ("profile", "union")
     # the merged point bounds the labelled intervals: k_2 >= k_3 on both
     assert fit.confidence_interval["stiffness_2"][0] == pytest.approx(total / 2, rel=1e-6)
+
+
+def test_asymmetric_loops_give_both_levels():
+    """F_c⁻ = 0.8·F_c⁺ (every level the same share): both levels from noise-free loops, the
+    asymmetry supported; the symmetric fit of the same loops is in the test."""
+    ratio = 0.8
+    model = PIFriction(0.05, [2e4, 4e3], breakaway=[0.2, 0.2], coulomb_negative=ratio * 0.05,
+                       breakaway_negative=[ratio * 0.2] * 2)  # fmt: skip
+    rng = np.random.default_rng(0)
+    t = np.linspace(0.0, 4.0, 300)
+    records = []
+    for d in (1.0, -1.0, 1.0):
+        f0 = rng.uniform(-0.05, 0.05)
+        u = f0 + d * rng.uniform(0.25, 0.3) * np.sin(np.pi * t) * (1 - 0.1 * t / 4)
+        state = preloaded_state(model, f0, direction=-d)
+        records.append(Measurement(t, position=quasi_static_response(model, u, state).position,
+                                   applied_force=u))  # fmt: skip
+    fit = fit_quasi_static(records, 2, asymmetric=True)
+    assert fit.status == "converged", fit.message
+    assert fit.parameters["coulomb_level"] == pytest.approx(0.45, rel=1e-8)
+    assert fit.parameters["coulomb_level_negative"] == pytest.approx(ratio * 0.45, rel=1e-8)
+    assert fit.derived["coulomb_negative"] == pytest.approx(ratio * 0.05, rel=1e-8)
+    assert fit.asymmetry.verdict == "supported"
+    assert fit.asymmetry.rss[1] < 1e-6 * fit.asymmetry.rss[0]
+    assert fit.model.coulomb_levels == pytest.approx((0.45, ratio * 0.45), rel=1e-4)
+
+
+def test_asymmetric_refuses_an_offset():
+    records, _ = _loops(1, 2)
+    with pytest.raises(ValueError, match="`offset` must be False with `asymmetric`=True"):
+        fit_quasi_static(records, 3, asymmetric=True, offset=True)

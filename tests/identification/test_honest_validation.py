@@ -48,7 +48,7 @@ def test_the_reversal_tolerance_is_the_users():
 def test_a_prediction_names_what_it_took_from_the_record():
     records, _ = stop_records(12, 2, MODEL, quantum=1e-6)
     fit = ps.fit_response(records[0], 2)
-    pred = fit.predict(records[1], initial="measured", tolerance=3e-6)
+    pred = fit.predict(records[1], initial="measured", reversal_tolerance=3e-6)
     assert pred.initial == "measured" and pred.reversal_tolerance == 3e-6
     assert pred.quantum == pytest.approx(1e-6)
     assert set(pred.from_record.values()) <= {"its first samples"}

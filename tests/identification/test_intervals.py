@@ -10,7 +10,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 import presliding as ps
-from presliding.identification._least_squares import bounded_interval
+from presliding.identification.solve._least_squares import bounded_interval
 from presliding.signals import piecewise_linear
 
 VALUES = st.floats(1e-6, 1e6)

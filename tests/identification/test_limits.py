@@ -60,7 +60,7 @@ def test_fit_presliding_names_burn_in_and_element_count(loops):
 
 
 def test_bootstrap_resamples_are_limited_and_their_time_left_is_shown():
-    from presliding.identification import _response_setup as setup
+    from presliding.identification.plans import _response_setup as setup
 
     assert setup.MAX_BOOTSTRAP == 10_000
     assert [setup._duration(s) for s in (12.4, 600.0, 3 * 3600.0)] == ["12 s", "10 min", "3.0 h"]

@@ -6,11 +6,11 @@ import numpy as np
 import pytest
 
 from presliding import PIFriction, Uniform, cross_validate, fit_response
-from presliding.identification import _pooled_problem as pp
-from presliding.identification._least_squares import _parameter_map
-from presliding.identification._model_spec import ModelSpec, centroid_bank
-from presliding.identification._pooled_record import as_record
-from presliding.identification._structured_lm import structured_normal
+from presliding.identification.problem._model_spec import ModelSpec, centroid_bank
+from presliding.identification.records import _pooled_problem as pp
+from presliding.identification.records._pooled_record import as_record
+from presliding.identification.solve._least_squares import _parameter_map
+from presliding.identification.solve._structured_lm import structured_normal
 from tests.helpers import stop_records
 
 MODEL = PIFriction(0.3, [4000.0, 2000.0, 1000.0, 500.0], breakaway=[0.175] * 4)
@@ -212,7 +212,7 @@ def test_an_undetermined_split_of_the_stiffnesses_is_not_converged():
 def test_a_determined_split_stays_converged(clean, monkeypatch):
     """Noise-free stops whose swings cross every threshold: the flat-direction probe runs
     and finds no other optimum (no false alarm), the fit stays converged at the truth."""
-    from presliding.identification import _response_plan
+    from presliding.identification.plans import _response_plan
 
     records, _ = clean
     calls = []

@@ -8,10 +8,10 @@ import numpy as np
 import pytest
 
 import presliding as ps
-from presliding.identification._pi_regression import reversal_indices
 from presliding.identification.fit_motion import fit_motion, predict_motion_force
 from presliding.identification.fit_presliding import fit_presliding
 from presliding.identification.fit_result import fit_statistics
+from presliding.identification.problem._pi_regression import reversal_indices
 from presliding.measurement.measurement import Measurement
 
 DATA = Path(__file__).resolve().parents[3] / "shared" / "data"

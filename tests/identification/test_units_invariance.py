@@ -11,9 +11,9 @@ import numpy as np
 import pytest
 
 from presliding import Measurement, PIFriction
-from presliding.identification._model_spec import ModelSpec
-from presliding.identification._pooled_record import as_record
-from presliding.identification._pooled_start import pooled_start
+from presliding.identification.problem._model_spec import ModelSpec
+from presliding.identification.records._pooled_record import as_record
+from presliding.identification.records._pooled_start import pooled_start
 from tests.helpers import stop_records
 
 MODEL = PIFriction(0.3, [4000.0, 2000.0, 1000.0, 500.0], breakaway=[0.175] * 4)
@@ -40,11 +40,14 @@ def factor(name: str, units: tuple[float, float, float]) -> float:
 def test_the_regression_start_is_the_same_in_other_consistent_units(units):
     """Before: the bounded regression's right-hand side (force × time) kept its units, so
     its solver stopped elsewhere: c1 came out 85 % lower in mm, s and g, the stiffnesses
-    5e-4 apart in mm and ms. The regression's right-hand side is now scaled too (what
-    remains is the solver's tolerance on a nearly collinear grid of stops)."""
+    5e-4 apart in mm and ms. The regression's right-hand side is now scaled too. What
+    remains is the solve of the equal-break-away stiffnesses, a kinked least-squares problem
+    whose finite-difference steps are relative to log k_j (whose value shifts with the
+    units): up to 5e-4 in k_j with scipy 1.17, the mass and forces to rounding."""
     records, _ = stop_records(0, 4, MODEL, samples=500, quantum=1e-6, noise=2e-7)
     spec = ModelSpec(4, True, None, 32)
     si = pooled_start([as_record(m) for m in records], spec, None, False)
     other = pooled_start([as_record(rescaled(m, units)) for m in records], spec, None, False)
     for name, value in si.items():
-        assert other[name] / factor(name, units) == pytest.approx(value, rel=1e-4), name
+        rel = 1e-3 if name.startswith("stiffness") else 1e-9
+        assert other[name] / factor(name, units) == pytest.approx(value, rel=rel), name

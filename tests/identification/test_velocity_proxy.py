@@ -6,11 +6,11 @@ import numpy as np
 import pytest
 
 from presliding import PIFriction
-from presliding.identification import _pooled_problem as pp
-from presliding.identification._model_spec import ModelSpec
-from presliding.identification._pooled_record import as_record
-from presliding.identification._response_setup import signal_weights
-from presliding.identification._search import exact_velocity_stands_in
+from presliding.identification.plans._response_setup import signal_weights
+from presliding.identification.problem._model_spec import ModelSpec
+from presliding.identification.records import _pooled_problem as pp
+from presliding.identification.records._pooled_record import as_record
+from presliding.identification.search._search import exact_velocity_stands_in
 from tests.helpers import stop_records
 
 #: a drive's axis (2 kg, presliding at 7–22 Hz) and a light stiff stage (0.05 kg, 50–140 Hz)

@@ -122,9 +122,9 @@ def add_simulate(
         "-o",
         "--output",
         type=Path,
-        required=True,
-        help="output folder (simulation.csv and simulation.png in it), or a .csv path "
-        "(the figure next to it with the suffix .png)",
+        default=Path("presliding-simulate"),
+        help="output folder (simulation.csv and simulation.png in it; default: "
+        "./presliding-simulate), or a .csv path (the figure next to it with the suffix .png)",
     )
     return simulate
 
@@ -200,7 +200,11 @@ def add_sweep(
     )
     retries = "with --scheduler: re-run a chunk that raised up to N times (default: 2)"
     sweep.add_argument(
-        "--retries", type=checked("--retries", integer=True), default=2, metavar="N", help=retries
+        "--retries",
+        type=checked("--retries", integer=True),
+        default=None,
+        metavar="N",
+        help=retries,
     )
     return sweep
 

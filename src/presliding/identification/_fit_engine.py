@@ -41,9 +41,9 @@ from typing import Any
 
 import numpy as np
 
-from presliding.identification._alternatives import OPTIMUM, canonical
-from presliding.identification._fit_problem import FitOptions, FitProblem
-from presliding.identification._least_squares import Solution
+from presliding.identification.intervals._alternatives import OPTIMUM, canonical
+from presliding.identification.problem._fit_problem import FitOptions, FitProblem
+from presliding.identification.solve._least_squares import Solution
 
 __all__ = ["FitPlan", "FitRun", "Found", "cost", "run_fit"]
 
@@ -143,8 +143,8 @@ def other_optima(run: FitRun, sol: Solution) -> tuple[tuple[dict[str, float], fl
 
 def settle(run: FitRun, sol: Solution) -> Solution:
     """A record-pooled optimum's bounds, F_c and the records' own undetermined starts."""
-    from presliding.identification._response_checks import bound_check, consistent_level
-    from presliding.identification._response_setup import nuisance_only
+    from presliding.identification.checks._response_checks import bound_check, consistent_level
+    from presliding.identification.plans._response_setup import nuisance_only
 
     p = run.problem
     if p.records is None:
@@ -157,7 +157,7 @@ def settle(run: FitRun, sol: Solution) -> Solution:
 def judge(run: FitRun, sol: Solution, found: Found) -> tuple[Solution, Any]:
     """The noise-floor rule of a record-pooled fit and its search summary (`_search`);
     a direct problem has no noise floor: its summary is what the search found."""
-    from presliding.identification._search import SearchSummary, floor_test
+    from presliding.identification.search._search import SearchSummary, floor_test
 
     records = run.problem.records
     if records is None:
@@ -171,7 +171,7 @@ def judge(run: FitRun, sol: Solution, found: Found) -> tuple[Solution, Any]:
 
 def intervals(run: FitRun, sol: Solution, n_resamples: int, seed: int | None) -> tuple:
     """The record bootstrap (three or more records), its intervals joined with the profile."""
-    from presliding.identification._response_setup import record_bootstrap
+    from presliding.identification.plans._response_setup import record_bootstrap
 
     p = run.problem
     if not n_resamples or p.records is None or p.records.n_rec < 3 or not np.isfinite(cost(sol)):

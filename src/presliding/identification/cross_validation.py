@@ -27,9 +27,9 @@ import numpy as np
 from presliding._display import fill_attrs, result_html, short_repr
 from presliding._interop import require
 from presliding._validation import as_choice, as_nonnegative_scalar
-from presliding.identification._fit_progress import reporting
 from presliding.identification.fit_result import FitResult
 from presliding.identification.prediction import Prediction, tolerance_text
+from presliding.identification.result._fit_progress import reporting
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
@@ -111,7 +111,7 @@ class CrossValidation:
 
     def table(self) -> list[list[str]]:
         """Rows: record, fit status, NRMSE and reversals (measured and fitted start), rest."""
-        unit = self.result.units.get("initial_position", "m") if self.result else "m"
+        unit = _position_unit(self.result)
         rows = [["record", "fit status", "NRMSE % (measured start)", "NRMSE % (fitted start)",
                  "reversals meas. / pred. (measured start)",
                  "reversals meas. / pred. (fitted start)", f"rest error [{unit}] (measured / "
@@ -125,7 +125,9 @@ class CrossValidation:
     @property
     def reversal_tolerances(self) -> str:
         """The tolerances the reversals were counted at, as text (encoder counts if quantised)."""
-        texts = sorted({tolerance_text(p.reversal_tolerance, p.quantum) for p in self.predictions})
+        unit = _position_unit(self.result)
+        texts = sorted({tolerance_text(p.reversal_tolerance, p.quantum, unit)
+                        for p in self.predictions})  # fmt: skip
         return texts[0] if len(texts) == 1 else f"each record's own ({', '.join(texts[:3])}, ...)"
 
     def report(self) -> str:
@@ -192,7 +194,8 @@ class CrossValidation:
         ]
         frame = pd.DataFrame(rows).drop(columns=["parameters"]).set_index("record")
         frame.attrs.update(median_nrmse=float(np.median(self.nrmse)))
-        return fill_attrs(frame, self, units={"measured_rest": "m", "predicted_rest": "m"},
+        unit = _position_unit(self.result)
+        return fill_attrs(frame, self, units={"measured_rest": unit, "predicted_rest": unit},
                           model=self.result.model)  # fmt: skip
 
     def __repr__(self) -> str:
@@ -216,6 +219,13 @@ class CrossValidation:
         ax.set_ylabel("NRMSE of the prediction [%]")
         ax.set_title("leave-one-record-out cross-validation")
         return ax
+
+
+def _position_unit(result: FitResult | None) -> str:
+    """The unit of positions on the axis of the records (m, or rad on a rotary axis)."""
+    from presliding._axes import axis_unit
+
+    return axis_unit("position", getattr(result, "axis", None) or "linear")
 
 
 def _num(x: float | None) -> str:
@@ -320,7 +330,7 @@ def cross_validate(
                 alternatives.append(_failed(held, part))
                 continue
             other = "measured" if initial == "fit" else "fit"
-            tol = {} if reversal_tolerance is None else {"tolerance": tol_value}
+            tol = {} if reversal_tolerance is None else {"reversal_tolerance": tol_value}
             predictions.append(part.predict(held, initial=initial, **tol))
             alternatives.append(part.predict(held, initial=other, **tol))
     cv = CrossValidation(tuple(predictions), tuple(fits), full, names, tuple(alternatives))

@@ -33,14 +33,14 @@ from numpy.typing import ArrayLike, NDArray
 
 from presliding._axes import as_axis, on_axis
 from presliding.friction.pi_friction import PIFriction
-from presliding.identification._alternatives import Alternative, hidden_optima
-from presliding.identification._fit_names import LmfitNames
-from presliding.identification._fit_report import FitReport
-from presliding.identification._least_squares import STATUSES as STATUSES
-from presliding.identification._least_squares import Solution, solve_least_squares
-from presliding.identification._least_squares import Tie as Tie
-from presliding.identification._profile import profile_solution
-from presliding.identification._status import judge
+from presliding.identification.intervals._alternatives import Alternative, hidden_optima
+from presliding.identification.intervals._profile import profile_solution
+from presliding.identification.judge._status import judge
+from presliding.identification.result._fit_names import LmfitNames
+from presliding.identification.result._fit_report import FitReport
+from presliding.identification.solve._least_squares import STATUSES as STATUSES
+from presliding.identification.solve._least_squares import Solution, solve_least_squares
+from presliding.identification.solve._least_squares import Tie as Tie
 from presliding.measurement._units import parameter_units
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -111,7 +111,7 @@ class FitResult(FitReport, LmfitNames):
         interval does not hold), ``"poor_fit"`` (the model explains less than
         half of the variance, or every parameter sits on a bound),
         ``"max_evaluations"`` or ``"failed"``. The rules and their order are
-        those of `presliding.identification._status`; the message names the
+        those of `presliding.identification.judge._status`; the message names the
         rule that fired.
     message : str
     n_evaluations : int
@@ -152,20 +152,26 @@ class FitResult(FitReport, LmfitNames):
         the free parameter vector (order of `var_names`) and the evaluations.
     interval_method : dict name -> str
         How each free parameter's interval was formed: ``"profile"`` (profile
-        likelihood, `presliding.identification._profile`), ``"wald"``
+        likelihood, `presliding.identification.intervals._profile`), ``"wald"``
         (value ± t·SE, on a log scale from a bound it would cross; also where
         the profile was not resolved on the scale of its threshold: the
         optimum is not a minimum on that scale, or the profile depends on
         where its inner optimisations stop), ``"partner"`` (widened to the
         values it takes along the profile of a parameter whose column vanishes
         on its bound, such as a preload saturated in the motion's direction,
-        `presliding.identification._profile_bound`; its standard error raised
+        `presliding.identification.intervals._profile_bound`; its standard error raised
         to match) or ``"union"`` (widened to hold another local optimum,
         `alternatives`).
+    asymmetry : AsymmetryTest or None
+        A fit with ``asymmetric=True``: the test of the asymmetry against the
+        symmetric fit of the same data (``verdict`` "supported", "not
+        supported" or "undetermined", ``statistic``, ``p_value``, ``delta_aic``,
+        ``delta_bic``, the ``symmetric`` fit;
+        `presliding.identification.judge._asymmetry`).
     alternatives : tuple of Alternative
         Other local optima the search reached whose cost rise over the best is
         within the profile's likelihood-ratio threshold while they put a
-        parameter outside its interval (`presliding.identification._alternatives`):
+        parameter outside its interval (`presliding.identification.intervals._alternatives`):
         each with ``parameters``, ``cost``, ``rise`` and ``differs`` (the
         parameters whose intervals were widened to hold it; the fit is then
         ``"not_identifiable"``).
@@ -209,6 +215,7 @@ class FitResult(FitReport, LmfitNames):
     ties: dict[str, tuple[str, float, float]] = field(default_factory=dict)
     search: Any = None  # the pooled fits' `_search.SearchSummary` (starts, noise floor, order)
     alternatives: tuple[Alternative, ...] = ()
+    asymmetry: Any = None  # an `AsymmetryTest` (fits with asymmetric=True)
 
     @classmethod
     def from_solution(
@@ -299,9 +306,12 @@ class FitResult(FitReport, LmfitNames):
         measurement : Measurement
             A record of the kind fitted (same signals).
         **options
-            Passed to the fit's predictor, e.g. ``initial="fit"`` (default: the
+            Passed to the fit's predictor: ``initial="fit"`` (default: the
             record's own initial conditions estimated with every shared
-            parameter held) or ``initial="measured"`` (its first samples).
+            parameter held) or ``initial="measured"`` (its first samples), and
+            ``reversal_tolerance`` (the travel [m or rad] by which reversals are
+            counted; default the record's own; its old name ``tolerance`` works
+            with a DeprecationWarning).
 
         Returns
         -------
@@ -309,10 +319,16 @@ class FitResult(FitReport, LmfitNames):
             Measured against predicted signal, NRMSE, reversal counts and rest
             positions (`presliding.identification.cross_validation`).
         """
+        from presliding._validation import renamed_keyword
+
         if self.predictor is None:
             raise ValueError(
                 f"a {self.kind} fit cannot predict other records; got kind {self.kind!r}."
             )
+        given = renamed_keyword(options, "tolerance", "reversal_tolerance",
+                                options.pop("reversal_tolerance", None), "predict")  # fmt: skip
+        if given is not None:
+            options["tolerance"] = given  # the predictors' own name
         return self.predictor.predict(self, measurement, **options)
 
     def to_dict(self) -> dict[str, Any]:
@@ -347,6 +363,7 @@ class FitResult(FitReport, LmfitNames):
             "bootstrap": None if self.bootstrap is None else {
                 k: list(v) for k, v in self.bootstrap.items()},
             "notes": list(self.notes),
+            "asymmetry": None if self.asymmetry is None else self.asymmetry.to_dict(),
             "model": repr(self.model),
         }  # fmt: skip
 

@@ -41,9 +41,9 @@ from presliding._validation import (
     fmt,
 )
 from presliding.friction.pi_friction import PIFriction
-from presliding.identification import _pi_regression as pr
 from presliding.identification.fit_result import FitResult
 from presliding.identification.prediction import reversal_tolerance as auto_tolerance
+from presliding.identification.problem import _pi_regression as pr
 from presliding.measurement.measurement import Measurement
 
 if TYPE_CHECKING:  # pragma: no cover

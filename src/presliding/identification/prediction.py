@@ -21,13 +21,19 @@ from numpy.typing import ArrayLike, NDArray
 from presliding._display import fill_attrs, result_html, short_repr, unit_of
 from presliding._interop import require
 from presliding._validation import as_nonnegative_scalar, as_signal
-from presliding.identification._pi_regression import reversal_indices
 from presliding.identification.fit_result import fit_statistics
+from presliding.identification.problem._pi_regression import reversal_indices
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
 
-__all__ = ["Prediction", "count_reversals", "counted", "position_quantum", "reversal_tolerance"]
+__all__ = [
+    "Prediction",
+    "count_reversals",
+    "counted",
+    "position_quantum",
+    "reversal_tolerance",
+]
 
 FloatArray = NDArray[np.float64]
 
@@ -256,7 +262,7 @@ class Prediction:
         xlabel += "" if "[" in xlabel else f" [{unit_of(xlabel.split()[-1]) or 'index'}]"
         return plot_fit(self.abscissa, self.measured, self.predicted, ax=ax,
                         xlabel=xlabel, ylabel=ylabel, fitted_label="predicted",
-                        title=f"prediction (NRMSE {100 * self.nrmse:.2f} %)")  # fmt: skip
+                        title=f"prediction (NRMSE {100 * self.nrmse:.3g} %)")  # fmt: skip
 
 
 def _units(abscissa_label: str, signal_label: str) -> dict[str, str]:

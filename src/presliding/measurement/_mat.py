@@ -67,6 +67,11 @@ class MatFile:
     def vector(self, name: str, signal: str) -> FloatArray:
         """A numeric vector variable (any of N, 1×N, N×1)."""
         arr = self._numeric(name, f"`{signal}`")
+        if arr.size == 0:
+            raise ValueError(
+                f"{self.path}: variable {name!r} of `{signal}` is empty (it holds no values); "
+                "choose the variable that holds the samples."
+            )
         if arr.ndim != 1:
             raise ValueError(
                 f"{self.path}: variable {name!r} of `{signal}` must be a vector; got shape "
@@ -84,6 +89,11 @@ class MatFile:
     def scalar(self, name: str, signal: str) -> float:
         """A numeric scalar variable (a scale factor)."""
         arr = self._numeric(name, f"the scale of `{signal}`")
+        if arr.size == 0:
+            raise ValueError(
+                f"{self.path}: variable {name!r} (the scale of `{signal}`) is empty; it must "
+                "hold one number."
+            )
         if arr.ndim != 0:
             raise ValueError(
                 f"{self.path}: variable {name!r} (the scale of `{signal}`) must be a scalar; got "
@@ -107,6 +117,8 @@ def _read_hdf5(path: str) -> dict[str, Any]:
                 kind = kind.decode() if isinstance(kind, bytes) else str(kind)
                 if not isinstance(item, h5py.Dataset) or kind in ("cell", "struct"):
                     out[name] = np.empty(0, dtype=object)  # named as a cell or struct
+                elif item.attrs.get("MATLAB_empty", 0):  # its data are its dimensions
+                    out[name] = np.empty(0, dtype=bool if kind == "logical" else float)
                 elif kind == "char":
                     out[name] = np.asarray("".join(map(chr, np.ravel(item[()]))))
                 elif kind == "logical":

@@ -8,9 +8,10 @@ Delimited text (`read_text`):
   (``header=None``); a file without one has its columns chosen by 0-based index;
 - a delimiter at the end of every line (rig software that ends each value
   with a tab) is not a column: the cells before it are the row;
-- a UTF-8 byte-order mark is skipped; UTF-16 text with its byte-order mark
-  (Excel's "Unicode text") is read; a file that is not UTF-8 is read as
-  Windows-1252 (``µ`` from older rig software);
+- a UTF-8 byte-order mark is skipped; UTF-16 and UTF-32 text (Excel's "Unicode
+  text") is read, with its byte-order mark or without one (told by where its
+  zero bytes fall); a file that is not UTF-8 is read as Windows-1252 (``µ``
+  from older rig software);
 - ``decimal=","`` reads decimal commas (European exports, ``1,5;2,25``), with
   a tab, semicolon or whitespace between the cells;
 - rows are parsed by pandas' C parser when pandas is installed (else numpy);
@@ -225,7 +226,7 @@ class TextTable:
                 except ValueError:
                     raise ValueError(
                         f"{self.path}: line {line}, column {self.label(j)!r}: {cell[:40]!r} is "
-                        "not a number."
+                        f"not a number{_comma_hint(cell, self.decimal)}."
                     ) from None
                 if not np.isfinite(value):
                     raise ValueError(
@@ -234,6 +235,17 @@ class TextTable:
                     )
                 columns[j].append(value)
         return {j: np.asarray(v, dtype=np.float64) for j, v in columns.items()}
+
+
+_DECIMAL_COMMA = re.compile(r"^[+-]?(\d+,\d*|,\d+)([eE][+-]?\d+)?$")
+
+
+def _comma_hint(cell: str, decimal: str) -> str:
+    """``; it looks like a number with a decimal comma: ...`` for ``0,001`` read with '.'."""
+    if decimal == "." and _DECIMAL_COMMA.match(cell.strip()):
+        return (f"; it looks like a number with a decimal comma ({cell.replace(',', '.')!r}): "
+                "read the file with decimal=',' (--decimal ,)")  # fmt: skip
+    return ""
 
 
 def _is_row(line: str) -> bool:
@@ -248,13 +260,18 @@ def _decode(path: str, raw: bytes) -> str:
             f"{path}: is a MATLAB file, not delimited text; read it with Measurement.from_mat "
             "(the command line reads .mat files by their suffix)."
         )
-    if head.startswith((b"\xff\xfe", b"\xfe\xff")):  # UTF-16 with its byte-order mark
+    codec = _wide_codec(head)
+    if codec is not None:  # UTF-16 or UTF-32, with a byte-order mark or without one
         try:
-            return raw.decode("utf-16")
+            text = raw.decode(codec)
         except UnicodeDecodeError:
             raise ValueError(
-                f"{path}: is not valid UTF-16 text although it starts as such."
+                f"{path}: is not valid {codec.upper()} text although it starts as such."
             ) from None
+        if "\x00" in text:
+            raise ValueError(f"{path}: holds NUL characters after decoding it as "
+                             f"{codec.upper()}; save it as UTF-8 text.")  # fmt: skip
+        return text.removeprefix("\ufeff")
     if b"\x00" in head:
         raise ValueError(
             f"{path}: is not a text file (it holds binary data); a data file must be delimited "
@@ -264,6 +281,32 @@ def _decode(path: str, raw: bytes) -> str:
         return raw.decode("utf-8-sig")
     except UnicodeDecodeError:
         return raw.decode("cp1252", errors="replace")
+
+
+#: Byte-order marks of the wide encodings (UTF-32 first: its little-endian mark starts
+#: with UTF-16's).
+_BOMS = ((b"\xff\xfe\x00\x00", "utf-32"), (b"\x00\x00\xfe\xff", "utf-32"),
+         (b"\xff\xfe", "utf-16"), (b"\xfe\xff", "utf-16"))  # fmt: skip
+
+
+def _wide_codec(head: bytes) -> str | None:
+    """The codec of UTF-16 or UTF-32 text (Excel's "Unicode text", exports of rig software),
+    from its byte-order mark, else from where its zero bytes fall (text in Latin letters and
+    digits has a zero high byte in every code unit); None for anything else."""
+    for bom, codec in _BOMS:
+        if head.startswith(bom):
+            return codec
+    for width, codec in ((4, "utf-32"), (2, "utf-16")):
+        n = (len(head) // width) * width
+        if n < 4 * width or b"\x00" not in head:
+            continue
+        units = np.frombuffer(head[:n], dtype=np.uint8).reshape(-1, width)
+        zero = units == 0
+        for order, low in (("le", 0), ("be", width - 1)):
+            high = [j for j in range(width) if j != low]
+            if zero[:, high].mean() >= 0.99 and (~zero[:, low]).mean() >= 0.9:
+                return f"{codec}-{order}"
+    return None
 
 
 def read_text(

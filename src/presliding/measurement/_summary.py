@@ -1,8 +1,9 @@
 """What a `Measurement` shows in a notebook: its samples, time span and each signal's range.
 
-`figures` gives the rows of `Measurement._repr_html_` (`presliding._display.model_html`):
-the number of samples, the time span and sampling step, the axis, each signal present
-with its range and SI unit on that axis, and the file it was read from.
+`NotebookView` gives `Measurement` its ``_repr_html_`` (`presliding._display.model_html`)
+with the rows of `figures`: the number of samples, the time span and sampling step, the
+axis, each signal present with its range and SI unit on that axis, and the file it was
+read from.
 """
 
 from __future__ import annotations
@@ -11,7 +12,16 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["figures"]
+from presliding._display import model_html
+
+__all__ = ["NotebookView", "figures"]
+
+
+class NotebookView:
+    """The ``_repr_html_`` of `Measurement` (a mixin: the class stays within its size)."""
+
+    def _repr_html_(self) -> str:
+        return model_html(self, figures(self), parameters=False)
 
 
 def figures(m: Any) -> list[tuple[str, str, str]]:
