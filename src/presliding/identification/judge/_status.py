@@ -15,8 +15,20 @@ status               rule that gives it (the first that fires wins)             
                      variance (1 − ‖r‖²/‖y − ȳ‖² < 0.5); ``all_bounds``: every
                      free parameter sits on a bound.
 ``max_evaluations``  ``budget``: the evaluation limit stopped the optimiser.    1
-``local_minimum``    ``search``: a better optimum exists, or the residual stays 1
-                     far above the noise floor (set by the search).
+``local_minimum``    ``search``: a better optimum of this model exists or is    1
+                     likely: the residual stays far above the noise floor while
+                     the starts ended apart, or while some records fit at
+                     their floor and the residuals name no mechanism the model
+                     lacks (set by the search).
+``model_inadequate`` ``adequacy``: the residuals are not what the noise model   1
+                     says (`_adequacy`: a record's level above its floor, a
+                     residual that is not white, or one that correlates with
+                     the input or the motion), and no better optimum of this
+                     model is likely: the model does not describe the data.
+                     The message names the test, the record and the lag, and
+                     the likely cause when a diagnostic points to it (an
+                     asymmetry, a velocity dependence, a delay, too few
+                     elements). Its intervals are not calibrated.
 ``not_identifiable`` ``singular``: a direction of parameter space the data do   1
                      not determine; ``correlation``: |ρ| ≥ 0.999 between two
                      free parameters, both with an interval wider than 10 % of
@@ -51,12 +63,16 @@ from typing import Any
 
 import numpy as np
 
+from presliding.identification.judge._poor_fit import MIN_EXPLAINED, poor_fit_text
+
 __all__ = [
     "EXIT_CODES",
     "MAX_CORRELATION",
     "MAX_DECADES",
     "MIN_EXPLAINED",
+    "OPTIMUM",
     "STATUSES",
+    "adequacy_verdict",
     "exit_code",
     "explained_variance",
     "judge",
@@ -67,6 +83,7 @@ __all__ = [
 STATUSES = (
     "converged",
     "local_minimum",
+    "model_inadequate",
     "not_identifiable",
     "poor_fit",
     "at_bound",
@@ -75,8 +92,6 @@ STATUSES = (
 )
 #: Exit code of ``presliding fit`` for each status (every ``--kind`` alike).
 EXIT_CODES = {s: (0 if s == "converged" else 1) for s in STATUSES}
-#: Least share of the variance a fit must explain not to be a poor fit.
-MIN_EXPLAINED = 0.5
 #: |ρ| at or above which two parameters are not separately determined.
 MAX_CORRELATION = 0.999
 #: A correlated pair is undetermined only where an interval exceeds this share of its value.
@@ -85,12 +100,36 @@ LOOSE = 0.1
 MAX_DECADES = 2.0
 #: Parameters whose bound is a natural value (a record's start, an offset, no viscous friction).
 NATURAL = ("initial_velocity", "initial_position", "preload_fraction", "offset", "viscous")
-_SOLVER_KEPT = ("failed", "max_evaluations", "local_minimum")
+_SOLVER_KEPT = ("failed", "max_evaluations", "local_minimum", "model_inadequate")
+_KEPT_RULES = {"max_evaluations": "budget", "local_minimum": "search",
+               "model_inadequate": "adequacy"}  # fmt: skip
+#: statuses of an optimum (the rules after the search's may still change them)
+OPTIMUM = ("converged", "not_identifiable", "at_bound")
 
 
 def exit_code(status: str) -> int:
     """The command line's exit code for a fit's `status` (0 only for "converged")."""
     return EXIT_CODES.get(status, 1)
+
+
+def adequacy_verdict(status: str, message: str, adequacy: Any,
+                     starts_agree: bool = True) -> tuple[str, str]:  # fmt: skip
+    """Rule ``adequacy`` (module table): an optimum whose residuals fail the tests of
+    `_adequacy` is ``model_inadequate``; with starts that ended apart while a record sits
+    above its floor and no mechanism named, a better optimum is likely instead
+    (``local_minimum``)."""
+    if status not in OPTIMUM or adequacy is None or adequacy.passed:
+        return status, message
+    old = "" if status == "converged" else message
+    off_floor = any(f.test == "level" for f in adequacy.findings)
+    if off_floor and not starts_agree and adequacy.cause is None:
+        text = (
+            "local minimum: the starts ended apart and the residual stays above the noise "
+            f"floor, so a better optimum of this model is likely; {adequacy.text()}"
+        )
+        return "local_minimum", _rule("search", text, old)
+    text = f"model inadequate: {adequacy.text()}"
+    return "model_inadequate", _rule("adequacy", text, old)
 
 
 def explained_variance(measured: np.ndarray, fitted: np.ndarray) -> float:
@@ -270,11 +309,11 @@ def judge(
         held = _held(values or {}, free, at_bounds, bounds or {})
         if held:
             hint = "; ".join(x for x in (hint, held) if x)
-        return "poor_fit", _poor_fit_text(
+        return "poor_fit", poor_fit_text(
             share, all_bound, measured, signal_label, hint, model_hint, message
         )
     if status in _SOLVER_KEPT:
-        rule = {"max_evaluations": "budget", "local_minimum": "search"}[status]
+        rule = _KEPT_RULES[status]
         return status, message if message.startswith("rule ") else _rule(rule, "", message)
     if values is None:
         return status, message
@@ -298,88 +337,3 @@ def judge(
         )
         return "at_bound", _rule("bound", text, message)
     return status, message
-
-
-def _poor_fit_text(
-    share: float,
-    all_bound: bool,
-    measured: np.ndarray,
-    signal_label: str,
-    hint: str,
-    model_hint: str | Callable[[], str],
-    message: str,
-) -> str:
-    reasons = []
-    if share < MIN_EXPLAINED:
-        pct = "none" if not np.isfinite(share) or share <= 0 else f"{100 * share:.3g} %"
-        reasons.append(
-            f"the model explains {pct} of the variance of the {signal_label} (at least "
-            f"{100 * MIN_EXPLAINED:g} % is expected)"
-        )
-    if all_bound:
-        reasons.append("every fitted parameter sits on a bound")
-    name = "explained" if share < MIN_EXPLAINED else "all_bounds"
-    causes = [hint] if hint else []
-    if not _plausible_span(measured, signal_label):
-        causes.append(
-            f"units (the {signal_label} spans {_span(measured)}, implausible in SI: a unit in "
-            "a column header is converted to SI, else give `units`/`scale` (--units/--scale))"
-        )
-    window = _window_hint(measured)
-    if window:
-        causes.append(
-            f"the window ({window}: cut load ramps, idle or saturated stretches away with "
-            "Measurement.window or --window START:STOP)"
-        )
-    if not causes:
-        more = model_hint() if callable(model_hint) else model_hint
-        causes.append(
-            "model inadequacy: units, window and sign look right, so the model cannot "
-            "explain these data (a mechanism it lacks, e.g. Coulomb friction alone on a "
-            "viscous damper: try more elements, a viscous term or another model)"
-            + (f"; {more}" if more else "")
-        )
-    text = f"poor fit: {'; '.join(reasons)}. Likely causes: {'; '.join(causes)}. Solver: {message}"
-    return f"rule {name}: {text}"
-
-
-#: Spans of a signal that are plausible in SI for a rig, by the words of its label.
-_PLAUSIBLE = (
-    (("force", "torque"), 1e-5, 1e6),
-    (("position", "displacement"), 1e-9, 10.0),
-    (("velocity",), 1e-8, 100.0),
-)
-
-
-def _plausible_span(measured: np.ndarray, label: str) -> bool:
-    """False when the signal's span is implausible in SI (mm read as m, µN as N, ...)."""
-    span = float(np.ptp(measured)) if measured.size else 0.0
-    for words, lo, hi in _PLAUSIBLE:
-        if any(w in label for w in words):
-            return lo <= span <= hi
-    return True
-
-
-def _window_hint(measured: np.ndarray) -> str:
-    """What looks wrong with the window: idle or saturated stretches, or a ramp ("" if none)."""
-    n = measured.shape[0]
-    if n < 8:
-        return ""
-    still = float(np.mean(np.diff(measured) == 0.0))
-    if still > 0.3:
-        return f"the signal stands still over {100 * still:.0f} % of the samples"
-    t = np.arange(n, dtype=float)
-    spread = float(np.sum((measured - measured.mean()) ** 2))
-    if spread > 0:
-        slope = np.polyfit(t, measured, 1)
-        trend = 1.0 - float(np.sum((measured - np.polyval(slope, t)) ** 2)) / spread
-        if trend > 0.9:
-            return f"a ramp or drift explains {100 * trend:.0f} % of the signal's variance"
-    return ""
-
-
-def _span(values: Any) -> str:
-    arr = np.asarray(values, dtype=float)
-    if arr.size == 0:
-        return "nothing"
-    return f"{float(arr.min()):.3g} to {float(arr.max()):.3g}"

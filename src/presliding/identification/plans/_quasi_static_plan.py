@@ -67,6 +67,7 @@ from presliding.identification.problem._parameters import check_levels, resolve_
 from presliding.identification.records._quasi_static_errors import with_run_floor
 from presliding.identification.records._quasi_static_problem import QuasiStaticProblem
 from presliding.identification.records._quasi_static_start import lift_density, quasi_static_start
+from presliding.identification.records._residual_blocks import pooled_adequacy
 from presliding.identification.search._flat_probe import flat_probe
 from presliding.identification.search._nuisance_search import search_nuisance
 from presliding.identification.search._probes import other_valley, solve_probes, split_starts
@@ -192,6 +193,7 @@ def quasi_static_plan(req: QuasiStaticRequest) -> FitPlan:
     return FitPlan(
         search=partial(_search, req), checks=(partial(_split, req), partial(_plateau, req)),
         result=partial(_result, req), bootstrap=req.bootstrap, seed=req.seed,
+        adequacy=lambda run, sol: pooled_adequacy(run.problem, sol),
     )  # fmt: skip
 
 
