@@ -152,7 +152,7 @@ def threshold_starts(sep: Separable, grid: FloatArray, x_bounds: Mapping[str, tu
         snapped = [int(np.argmin(np.abs(np.log(grid) - np.log(r)))) for r in merged]
         if len(set(snapped)) == n:
             starts.append(snapped)
-    starts.append([int(round(x)) for x in np.linspace(0, m - 1, n + 2)[1:-1]])
+    starts.append([int(x) for x in np.rint(np.linspace(0, m - 1, n + 2)[1:-1])])
     rng = np.random.default_rng(seed)
     starts += [list(rng.choice(m, n, replace=False)) for _ in range(RANDOM_STARTS)]
     found: dict[tuple[int, ...], float] = {}
