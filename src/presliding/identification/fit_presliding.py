@@ -211,7 +211,7 @@ def fit_presliding(
         shaped = bool({*pr.element_names(n)[0], *pr.element_names(n)[1]}
                       & ({*fixed, *tied, *(initial or {})}))  # fmt: skip
         starts = None if thresholds is not None or shaped or not refine_thresholds else partial(
-            threshold_starts, sep, amplitude_grid(y[burn_in:], float(grid[0]) / 4),
+            threshold_starts, sep, amplitude_grid(y, max(float(grid[0]), 1e-3 * top)),
             {"coulomb": (0.0, np.inf)}, fixed, seed=0 if seed is None else seed,
         )  # fmt: skip
         plan = FitPlan(search=partial(_search, problem, found, n, starts),

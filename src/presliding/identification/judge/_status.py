@@ -239,8 +239,8 @@ def _held(
 ) -> str:
     """A poor fit's cause: model parameters held on (or within 1e-5 of) a finite bound."""
     held = []
-    for x in free:
-        if x.startswith(NATURAL) or x not in values:
+    for x in free:  # a threshold's bounds are the data's resolution and reach: natural ones
+        if x.startswith(NATURAL) or x.startswith("threshold") or x not in values:
             continue
         v = values[x]
         for end in bounds.get(x, (-np.inf, np.inf)):
