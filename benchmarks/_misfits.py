@@ -14,7 +14,7 @@ the data-generating model or the recording:
 
 * ``none``: correctly specified;
 * ``n0``, ``n1``: the truth above, fitted with 0 or 1 element (too few elements);
-* ``asymmetric``: c1⁻ = 1.6·c1 and break-away forces 1.6× as large for −y;
+* ``asymmetric``: c1⁻ = 1.3·c1 and break-away forces 1.3× as large for −y;
 * ``viscous``: a viscous term σ·ẏ with σ = 6 N·s/m;
 * ``density``: a continuous uniform density (F_m = 0.6 N, max threshold 2e-4 m) in
   place of the elements (fitted with three);
@@ -48,8 +48,8 @@ def model(misfit: str = "none") -> PIFriction:
     n = len(STIFFNESS)
     c = [(LEVEL - COULOMB) / n] * n
     if misfit == "asymmetric":
-        return PIFriction(COULOMB, list(STIFFNESS), breakaway=c, coulomb_negative=1.6 * COULOMB,
-                          breakaway_negative=[1.6 * x for x in c])  # fmt: skip
+        return PIFriction(COULOMB, list(STIFFNESS), breakaway=c, coulomb_negative=1.3 * COULOMB,
+                          breakaway_negative=[1.3 * x for x in c])  # fmt: skip
     if misfit == "viscous":
         return PIFriction(COULOMB, list(STIFFNESS), breakaway=c, viscous=6.0)
     if misfit == "density":

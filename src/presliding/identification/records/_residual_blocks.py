@@ -12,11 +12,12 @@ sign (for a quasi-static fit: the force, the model's position increments and
 their sign).
 
 `candidates` gives the residual's directions of the mechanisms the model may
-lack (`_adequacy.score_causes`): a force offset (an asymmetry by direction:
-c1⁺ ≠ c1⁻ acts as an offset while sliding), a viscous force σ·ẏ, the applied
-force one sample later, and one more element (a small stiffness at each of a
-few thresholds); each is one simulation of every record on a sibling problem
-with that mechanism added at zero, at the optimum.
+lack (`_adequacy.score_causes`): an asymmetry by direction (c1 and the
+thresholds a factor 1 + ε larger for sliding in −y, linearised along the fitted
+motion as the extra force it exerts there), a force offset, a viscous force
+σ·ẏ, the applied force one sample later, and one more element (a small
+stiffness at each of a few thresholds); each is one simulation of every record
+on a sibling problem with that mechanism added at zero, at the optimum.
 """
 
 from __future__ import annotations
@@ -163,14 +164,32 @@ def candidates(problem: PooledProblem, values: Mapping[str, float],
         return r1 - r0
 
     quasi = not problem.w_v
+    step = STEP * scale
+    sided = _sided_force(problem, vals)
+    if sided is not None:  # c1 and the thresholds 1 + ε times larger for sliding in −y
+        extra = [replace(r, applied_force=r.applied_force + step * h)
+                 for r, h in zip(problem.records, sided, strict=True)]  # fmt: skip
+        j = (_sibling(problem, records=extra).residuals(
+            np.array([[vals[x] for x in problem.names]], dtype=float))[0]
+            - residual[: problem.n_res]) / step  # fmt: skip
+        out.append(
+            Candidate(
+                "asymmetry",
+                j,
+                lambda e: (
+                    f"an asymmetry by direction: the residual asks for friction {100 * abs(e):.2g} % "
+                    f"{'stronger' if e > 0 else 'weaker'} in −y than in +y (c1 and the break-away "
+                    "forces); fit it with `asymmetric=True` (command line `--asymmetric`)"
+                ),
+            )
+        )
     if "offset" not in problem.shared:
-        step = STEP * scale
         sib = _sibling(problem, offset=True)
         j = direction(sib, {"offset": step}, {"offset": 0.0}) / step
-        out.append(Candidate("asymmetry", j, lambda e: (
-            f"an asymmetry by direction (or a force offset): the residual asks for {e:.3g} "
-            "more force against one direction of motion than the other; fit it with "
-            "`asymmetric=True` (command line `--asymmetric`) or `offset=True`")))  # fmt: skip
+        out.append(Candidate("offset", j, lambda e: (
+            f"a force offset of {-e:.3g} (an asymmetry by direction acts alike while sliding): "
+            "fit it with `offset=True`, or `asymmetric=True` (command line "
+            "`--asymmetric`)")))  # fmt: skip
     if not quasi and "viscous" not in problem.shared:
         speed = max(float(np.max(np.abs(r.velocity))) for r in problem.records) or 1.0
         step = STEP * scale / speed
@@ -195,6 +214,33 @@ def candidates(problem: PooledProblem, values: Mapping[str, float],
         f"recorded {'late' if e < 0 else 'early'})")))  # fmt: skip
     out += _element_candidates(problem, vals)
     return [c for c in out if c.direction.shape == (problem.n_res,)]
+
+
+def _sided_force(problem: PooledProblem, vals: Mapping[str, float]) -> list[FloatArray] | None:
+    """Per record, the force by which friction grows for sliding in −y when c1 and every
+    threshold there grow by a factor 1 + ε, over ε, along the fitted motion: c1 while sliding
+    in −y, and k_j·r_j for each element last dragged that way (`_pi_regression`'s sides).
+    Friction larger in −y pushes the mass towards +y: an extra applied force of this size."""
+    from presliding.identification.problem._pi_regression import stop_basis
+
+    c1, k, r = problem.spec.bank(vals)
+    p = np.array([[vals[x] for x in problem.names]], dtype=float)
+    o_y, _, status, _ = problem.simulate(p)
+    if np.any(status != 0):
+        return None
+    out = []
+    for i in range(problem.n_rec):
+        y = np.ascontiguousarray(o_y[0, problem.t_off[i] : problem.t_off[i + 1]])
+        step = np.diff(y, prepend=y[0])
+        last = np.where(step != 0, np.arange(y.shape[0]), 0)
+        np.maximum.accumulate(last, out=last)
+        direction = np.sign(step[last])
+        h = c1 * (direction < 0)
+        if k.shape[0]:
+            _, sides = stop_basis(y)(np.minimum(r, 1e300))
+            h = h + (sides < 0) @ (k * np.minimum(r, 1e300))
+        out.append(h)
+    return out
 
 
 def _element_candidates(problem: PooledProblem, vals: dict[str, float]) -> list[Candidate]:
