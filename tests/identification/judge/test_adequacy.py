@@ -81,7 +81,7 @@ def test_the_rounding_of_a_record_at_rest_is_not_taken_for_structure():
     g, _, limit = ad.whiteness(block)
     assert g <= limit
     block = Block(0, "position", true - meas, q * q / 12, None, q, None)  # no allowance
-    g2, _, limit2 = ad.whiteness(block)
+    _, _, limit2 = ad.whiteness(block)
     assert limit2 < limit
 
 

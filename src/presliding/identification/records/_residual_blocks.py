@@ -177,7 +177,8 @@ def candidates(problem: PooledProblem, values: Mapping[str, float],
                 "asymmetry",
                 j,
                 lambda e: (
-                    f"an asymmetry by direction: the residual asks for friction {100 * abs(e):.2g} % "
+                    "an asymmetry by direction: the residual asks for friction "
+                    f"{100 * abs(e):.2g} % "
                     f"{'stronger' if e > 0 else 'weaker'} in −y than in +y (c1 and the break-away "
                     "forces); fit it with `asymmetric=True` (command line `--asymmetric`)"
                 ),
