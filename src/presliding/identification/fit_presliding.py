@@ -52,11 +52,7 @@ from presliding.identification.problem._separable_problem import Separable, sepa
 from presliding.identification.result._fit_progress import reporting
 from presliding.identification.search._global_search import search_thresholds
 from presliding.identification.search._search import SAME_OPTIMUM
-from presliding.identification.search._threshold_search import (
-    amplitude_grid,
-    largest_threshold,
-    threshold_starts,
-)
+from presliding.identification.search._threshold_search import amplitude_grid, threshold_starts
 
 __all__ = ["fit_presliding"]
 
@@ -197,7 +193,7 @@ def fit_presliding(
         )
     sep = _path_model(y, f, n, thresholds, burn_in, coulomb, offset)
     grid = pr.threshold_grid(y, grid_size)
-    top = largest_threshold(y)
+    top = pr.largest_threshold(y)
     with reporting(progress, "fit_presliding") as shown:
         problem = partial(
             separable_problem, sep, {"coulomb": (0.0, np.inf)}, grid=grid,

@@ -164,6 +164,17 @@ def virgin_basis(s: FloatArray) -> Basis:
     return basis
 
 
+def largest_threshold(y: FloatArray) -> float:
+    """The largest threshold at which an element relaxed at y[0] still slides along y: the
+    largest of the first excursion and half of every swing between turning points."""
+    y = np.ascontiguousarray(y, dtype=float)
+    turns = reversal_indices(y, 0.0)
+    first = float(np.max(np.abs(y[: (turns[0] + 1 if turns.size else y.shape[0])] - y[0])))
+    ends = np.concatenate([turns, [y.shape[0] - 1]]) if turns.size else np.empty(0, dtype=int)
+    swings = 0.5 * np.abs(np.diff(y[ends])) if ends.size > 1 else np.empty(0)
+    return max(first, float(np.max(swings, initial=0.0)))
+
+
 def threshold_grid(y: FloatArray, size: int = DEFAULT_GRID) -> FloatArray:
     """Geometric grid from about two input quanta to half the input range of a path."""
     steps = np.abs(np.diff(y))

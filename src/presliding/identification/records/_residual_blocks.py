@@ -138,8 +138,9 @@ def _sibling(problem: PooledProblem, spec: ModelSpec | None = None, *, offset: b
              viscous: bool | None = None, records: Any = None) -> PooledProblem:  # fmt: skip
     """The same problem with another model, offset, viscous term or records."""
     cls = type(problem)
+    suffix = problem.nuisance("initial_position", 0) != "initial_position"
     kw: dict[str, Any] = {"offset": ("offset" in problem.shared) if offset is None else offset,
-                          "suffix": True}  # fmt: skip
+                          "suffix": suffix}  # fmt: skip
     recs = problem.records if records is None else records
     if cls is PooledProblem:
         return PooledProblem(recs, spec or problem.spec, (problem.w_v, problem.w_y),

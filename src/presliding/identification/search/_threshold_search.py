@@ -35,7 +35,7 @@ from presliding.identification.problem._separable_problem import Separable
 
 FloatArray = NDArray[np.float64]
 
-__all__ = ["amplitude_grid", "largest_threshold", "threshold_starts"]
+__all__ = ["amplitude_grid", "threshold_starts"]
 
 #: geometric grid points (besides the swings' amplitudes)
 GRID = 160
@@ -47,22 +47,11 @@ SWEEPS = 20
 LEVELS = 3
 
 
-def largest_threshold(y: FloatArray) -> float:
-    """The largest threshold at which an element relaxed at y[0] still slides along y: the
-    largest of the first excursion and half of every swing between turning points."""
-    y = np.ascontiguousarray(y, dtype=float)
-    turns = pr.reversal_indices(y, 0.0)
-    first = float(np.max(np.abs(y[: (turns[0] + 1 if turns.size else y.shape[0])] - y[0])))
-    ends = np.concatenate([turns, [y.shape[0] - 1]]) if turns.size else np.empty(0, dtype=int)
-    swings = 0.5 * np.abs(np.diff(y[ends])) if ends.size > 1 else np.empty(0)
-    return max(first, float(np.max(swings, initial=0.0)))
-
-
 def amplitude_grid(y: FloatArray, lowest: float, size: int = GRID) -> FloatArray:
     """Thresholds from `lowest` to `largest_threshold`: geometric points and the half-swings
     (and first excursions) of the path, where the projected cost has its kinks."""
     y = np.ascontiguousarray(y, dtype=float)
-    top = largest_threshold(y)
+    top = pr.largest_threshold(y)
     if not top > lowest > 0:
         return np.geomspace(max(lowest, 1e-300), max(top, 2 * lowest), size)
     turns = pr.reversal_indices(y, 0.0)
