@@ -84,8 +84,9 @@ def test_an_initial_velocity_whose_preload_is_saturated_gets_an_interval_from_it
 ):
     """Three stops; the first one's preload (0.69 in the motion's direction) fits on its bound
     1 (or a hair inside it), where its column vanishes. Read there, the initial velocity's
-    Wald error is 1.9e-5 m/s and the truth 19 of them away; the preload's profile inward from the bound holds the
-    truth, and the velocity's interval follows it (z about 4 on the raised error)."""
+    Wald error is 1.9e-5 m/s and the truth 19 of them away; the preload's profile inward from
+    the bound holds the truth, and the velocity's interval follows it (z about 4 on the
+    raised error)."""
     from presliding.identification import fit_result
 
     model = PIFriction(0.3, [4000.0, 2000.0, 1000.0, 500.0], breakaway=[0.175] * 4)
