@@ -174,7 +174,9 @@ class FitResult(FitReport, LmfitNames):
     intervals_calibrated : bool (property)
         False when the intervals cannot be read as calibrated confidence
         intervals: the residual tests failed (the model does not describe the
-        data) or the fit is not at an optimum of its model. The numbers stay.
+        data), the fit is not at an optimum of its model, or a linearised
+        interval is too wide to hold and its profile was not resolved (rule
+        ``profile``). The numbers stay.
     alternatives : tuple of Alternative
         Other local optima the search reached whose cost rise over the best is
         within the profile's likelihood-ratio threshold while they put a
@@ -244,7 +246,7 @@ class FitResult(FitReport, LmfitNames):
             labels.get("signal_label", "signal"), hint, values=sol.values,
             standard_error=sol.standard_error, intervals=sol.confidence_interval,
             covariance=sol.covariance, bounds=sol.bounds,
-            model_hint=labels.pop("model_hint", ""),
+            model_hint=labels.pop("model_hint", ""), interval_method=sol.interval_method,
         )  # fmt: skip
         chisqr = float(sol.residual @ sol.residual) if sol.residual.size else float("nan")
         units = parameter_units([*sol.values, *labels.get("derived", {})], rotary)
@@ -285,7 +287,12 @@ class FitResult(FitReport, LmfitNames):
     def intervals_calibrated(self) -> bool:
         """Whether the intervals may be read as calibrated: the fit is at an optimum of its
         model and its residuals pass the tests of `adequacy` (where they ran)."""
+        from presliding.identification.judge._status import loose_wald
+
         at_optimum = self.status in ("converged", "not_identifiable", "at_bound")
+        if loose_wald(self.parameters, self.confidence_interval, self.interval_method,
+                      self.var_names):  # fmt: skip
+            return False  # a linearised interval too wide to hold, its profile not resolved
         return at_optimum and (self.adequacy is None or bool(self.adequacy.passed))
 
     @property

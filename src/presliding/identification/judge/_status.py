@@ -36,7 +36,11 @@ status               rule that gives it (the first that fires wins)             
                      standard error that is not finite; ``interval``: an
                      interval end the data do not bound, or one spanning more
                      than two orders of magnitude; ``profile``: a flat profile
-                     (set by a check); ``optima``: another local optimum the
+                     (set by a check), or a linearised interval wider than
+                     a quarter of the value on each side that the profile
+                     did not replace (its inner optimisations disagree: the
+                     cost has other valleys within reach); ``optima``: another
+                     local optimum the
                      search reached is within the profile's likelihood-ratio
                      threshold of the best and outside an interval (the
                      interval widened to hold both, `_alternatives`).
@@ -76,6 +80,7 @@ __all__ = [
     "exit_code",
     "explained_variance",
     "judge",
+    "loose_wald",
     "sign_hint",
 ]
 
@@ -98,6 +103,9 @@ MAX_CORRELATION = 0.999
 LOOSE = 0.1
 #: Interval spanning more decades than this (hi/value or value/lo): not determined.
 MAX_DECADES = 2.0
+#: A linearised interval wider than this share of the value (each side) is one the profile
+#: replaces (`_profile.WIDE`); still linearised, its profile was not resolved.
+WIDE_WALD = 0.25
 #: Parameters whose bound is a natural value (a record's start, an offset, no viscous friction).
 NATURAL = ("initial_velocity", "initial_position", "preload_fraction", "offset", "viscous")
 _SOLVER_KEPT = ("failed", "max_evaluations", "local_minimum", "model_inadequate")
@@ -169,8 +177,13 @@ def undetermined(
     free: Sequence[str],
     at_bounds: Sequence[str],
     bounds: Mapping[str, tuple[float, float]],
+    methods: Mapping[str, str] | None = None,
 ) -> tuple[str, str]:
-    """The first not-identifiable rule that fires, as (rule, text); ("", "") for none."""
+    """The first not-identifiable rule that fires, as (rule, text); ("", "") for none.
+    `methods` are the intervals' methods (`interval_method`): a model parameter's linearised
+    interval wider than `WIDE_WALD` of its value, which the profile did not replace, is not
+    one the data support (rule ``profile``)."""
+    methods = methods or {}
     names = list(values)
     inner = [x for x in free if x not in at_bounds and x in values]
     bad = [x for x in inner if not np.isfinite(standard_error.get(x, 0.0))]
@@ -214,7 +227,28 @@ def undetermined(
             f"the data do not determine {_names(wide)}: the interval is not bounded or spans "
             f"more than {MAX_DECADES:g} orders of magnitude"
         )
+    loose = [
+        f"{x} (±{100 * (intervals[x][1] - intervals[x][0]) / 2 / abs(values[x]):.0f} %)"
+        for x in loose_wald(values, intervals, methods, inner)
+    ]
+    if loose:
+        return "profile", (
+            f"the linearised intervals of {_names(loose)} are too wide to hold (their "
+            "profiles were not resolved: the cost has other valleys within reach)"
+        )
     return "", ""
+
+
+def loose_wald(values: Mapping[str, float], intervals: Mapping[str, tuple[float, float]],
+               methods: Mapping[str, str], free: Sequence[str]) -> list[str]:  # fmt: skip
+    """The model parameters among `free` whose interval is linearised (``"wald"``) and wider
+    than `WIDE_WALD` of the value on each side: one the profile would replace, and did not."""
+    return [
+        x for x in free
+        if methods.get(x) == "wald" and not x.startswith(NATURAL) and x in intervals
+        and values.get(x, 0.0) != 0
+        and (intervals[x][1] - intervals[x][0]) / 2 > WIDE_WALD * abs(values[x])
+    ]  # fmt: skip
 
 
 def _loose(
@@ -290,6 +324,7 @@ def judge(
     covariance: Any = None,
     bounds: Mapping[str, tuple[float, float]] | None = None,
     model_hint: str | Callable[[], str] = "",
+    interval_method: Mapping[str, str] | None = None,
 ) -> tuple[str, str]:
     """The status and message of a fit under the rules of the module table.
 
@@ -321,7 +356,14 @@ def judge(
     if status == "not_identifiable" and not message.startswith("rule "):
         return status, _rule("singular" if "singular" in message else "profile", "", message)
     rule, text = undetermined(
-        values, standard_error or {}, intervals or {}, covariance, free, at_bounds, bounds
+        values,
+        standard_error or {},
+        intervals or {},
+        covariance,
+        free,
+        at_bounds,
+        bounds,
+        interval_method,
     )
     if rule:
         return "not_identifiable", _rule(rule, text, message)
