@@ -179,9 +179,10 @@ def judge(
         return replace(sol, status=status, message=message, adequacy=tested), found
     failed = tested is not None and not tested.passed
     cause = failed and tested.cause is not None
+    every = failed and len(tested.failing_records) == records.n_rec  # no record fits
     named = cause or (failed and 2 * len(tested.failing_records) >= records.n_rec)
-    sol, ratios, floor, over = floor_test(records, sol, agree or cause, named)
-    status, message = adequacy_verdict(sol.status, sol.message, tested, agree)
+    sol, ratios, floor, over = floor_test(records, sol, agree or cause or every, named)
+    status, message = adequacy_verdict(sol.status, sol.message, tested, agree or every)
     sol = replace(sol, status=status, message=message, adequacy=tested)
     summary = SearchSummary(found.n_starts, found.n_starts_at_best, floor, over, ratios,
                             found.search_evaluations)  # fmt: skip

@@ -73,7 +73,7 @@ ROUNDING = 2.0
 #: score statistic (χ²₁ under the model) above which a candidate mechanism is significant
 SCORE = 25.0
 #: least share of the cost above the noise floor a named cause must explain
-SHARE = 0.2
+SHARE = 0.1
 #: fewest samples a block needs for the whiteness and independence tests
 MIN_SAMPLES = 2 * LAGS + 2
 

@@ -18,8 +18,8 @@ status               rule that gives it (the first that fires wins)             
 ``local_minimum``    ``search``: a better optimum of this model exists or is    1
                      likely: the residual stays far above the noise floor while
                      the starts ended apart, or while some records fit at
-                     their floor and the residuals name no mechanism the model
-                     lacks (set by the search).
+                     their floor, and the residuals name no mechanism the model
+                     lacks nor fail on every record (set by the search).
 ``model_inadequate`` ``adequacy``: the residuals are not what the noise model   1
                      says (`_adequacy`: a record's level above its floor, a
                      residual that is not white, or one that correlates with
