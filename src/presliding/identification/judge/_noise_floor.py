@@ -123,6 +123,14 @@ def white_variance(x: FloatArray, q: float | None = None, divisor: float = 6.0) 
     return max(s2 / divisor, q * q / 12.0, (RELATIVE_FLOOR * rms) ** 2)
 
 
+def shows_noise(x: FloatArray, variance: float) -> bool:
+    """Whether `variance` (of `x`'s noise) is measurable: above 10 times the round-off floor
+    (`RELATIVE_FLOOR` of the RMS). Noise-free data (a simulation, exact velocities) give no
+    noise model: a fit's residual there is its solver's tolerance, which no test can judge."""
+    rms2 = float(np.mean(np.asarray(x, dtype=float) ** 2)) if np.size(x) else 0.0
+    return variance > (10.0 * RELATIVE_FLOOR) ** 2 * rms2
+
+
 def shared_quanta(signals: list[FloatArray]) -> list[float]:
     """The quantum of each signal, a signal without one taking the largest of the others'
     (records of one instrument: a record that hardly moves shows no steps of its own)."""

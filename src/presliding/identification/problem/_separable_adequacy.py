@@ -31,7 +31,12 @@ from presliding.identification.judge._adequacy import (
     assess,
     score_causes,
 )
-from presliding.identification.judge._noise_floor import RELATIVE_FLOOR, quantum, white_variance
+from presliding.identification.judge._noise_floor import (
+    RELATIVE_FLOOR,
+    quantum,
+    shows_noise,
+    white_variance,
+)
 from presliding.identification.problem._separable_problem import Separable
 
 FloatArray = NDArray[np.float64]
@@ -63,6 +68,8 @@ def separable_adequacy(sep: Separable, sol: Any, regressors: Mapping[str, FloatA
     noise = white_variance(target, q)
     if own_noise:  # at least the round-off of the target (noise-free data fit to rounding)
         noise = max(white_variance(r), (RELATIVE_FLOOR**2) * float(np.mean(target**2)))
+    elif not (q > 0 or shows_noise(target, noise)):
+        return None  # noise-free data: no noise model to judge the residual against
     if not noise > 0 or r.shape[0] < 4:
         return None
     free = [j for j, x in enumerate(sol.values) if x not in sol.fixed]

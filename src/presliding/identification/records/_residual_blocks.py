@@ -36,7 +36,7 @@ from presliding.identification.judge._adequacy import (
     assess,
     score_causes,
 )
-from presliding.identification.judge._noise_floor import shared_quanta, white_variance
+from presliding.identification.judge._noise_floor import shared_quanta, shows_noise, white_variance
 from presliding.identification.problem._model_spec import ModelSpec
 from presliding.identification.records._pooled_problem import PooledProblem
 from presliding.identification.records._pooled_record import difference_matrix
@@ -123,6 +123,14 @@ def residual_blocks(problem: PooledProblem, values: Mapping[str, float],
             out.append(Block(i, "position", y_res, var_y, None, q_y[i], still_y, None,
                              regressors, True, jy, jy, covariance))  # fmt: skip
     return out
+
+
+def _measured(block: Block, problem: PooledProblem) -> bool:
+    """Whether the block's noise model rests on measurable noise (`shows_noise`)."""
+    rec = problem.records[block.record]
+    signal = rec.position if block.quotient is not None or block.signal == "position" else (
+        rec.velocity)  # fmt: skip
+    return block.quantum > 0 or shows_noise(signal, block.noise)
 
 
 def floor_cost(problem: PooledProblem, blocks: list[Block]) -> float:
@@ -302,6 +310,9 @@ def pooled_adequacy(problem: Any, sol: Any) -> Adequacy | None:
     cov = None if sol.covariance is None else np.asarray(sol.covariance)[np.ix_(keep, keep)]
     blocks = residual_blocks(rec, sol.values, jac, cov)
     if not blocks:
+        return None
+    blocks = [b for b in blocks if _measured(b, rec)]
+    if not blocks:  # noise-free data: no noise model to judge the residual against
         return None
     result = assess(blocks, rec.n_rec)
     if result.passed:
