@@ -225,6 +225,7 @@ class FitResult(FitReport, LmfitNames):
     search: Any = None  # the pooled fits' `_search.SearchSummary` (starts, noise floor, order)
     alternatives: tuple[Alternative, ...] = ()
     adequacy: Any = None
+    unresolved: tuple[str, ...] = ()  # parameters whose profile stopped unresolved
 
     @classmethod
     def from_solution(
@@ -246,7 +247,8 @@ class FitResult(FitReport, LmfitNames):
             labels.get("signal_label", "signal"), hint, values=sol.values,
             standard_error=sol.standard_error, intervals=sol.confidence_interval,
             covariance=sol.covariance, bounds=sol.bounds,
-            model_hint=labels.pop("model_hint", ""), interval_method=sol.interval_method,
+            model_hint=labels.pop("model_hint", ""),
+            interval_method={x: sol.interval_method.get(x, "") for x in sol.unresolved},
         )  # fmt: skip
         chisqr = float(sol.residual @ sol.residual) if sol.residual.size else float("nan")
         units = parameter_units([*sol.values, *labels.get("derived", {})], rotary)
@@ -266,7 +268,8 @@ class FitResult(FitReport, LmfitNames):
             units=units, covariance=sol.covariance, bounds=sol.bounds, chisqr=chisqr,
             ndata=int(sol.residual.size), var_names=sol.free,
             interval_method=dict(sol.interval_method), ties=dict(sol.ties),
-            alternatives=alternatives, adequacy=sol.adequacy, **labels,
+            alternatives=alternatives, adequacy=sol.adequacy, unresolved=sol.unresolved,
+            **labels,
         )  # fmt: skip
 
     def on_axis(self, axis: str) -> FitResult:
@@ -291,7 +294,7 @@ class FitResult(FitReport, LmfitNames):
 
         at_optimum = self.status in ("converged", "not_identifiable", "at_bound")
         if loose_wald(self.parameters, self.confidence_interval, self.interval_method,
-                      self.var_names):  # fmt: skip
+                      self.unresolved):  # fmt: skip
             return False  # a linearised interval too wide to hold, its profile not resolved
         return at_optimum and (self.adequacy is None or bool(self.adequacy.passed))
 

@@ -27,6 +27,11 @@ position's noise). Per block:
   (σ·‖Dᵀx_k‖), less the most the rounding of still samples can add
   ((q/2)·‖Dᵀx_k‖₁ over them); at most the Bonferroni quantile of `ALPHA`.
 
+A residual whose noise has a colour the data do not tell (an equation error of derivatives
+estimated through a filter: `fit_motion`) is a `Block` marked ``colored``: only the
+independence test runs, with the variance its own autocovariance gives (Bartlett weights
+to lag 2·`LAGS`), the level and whiteness having no noise model to be measured against.
+
 The fitted parameters' own error Δθ (covariance C, the fit's) moves the
 residual by J·Δθ, a slow signal that follows the motion: the whiteness limit
 adds its variogram ½·E((J_{t+k} − J_t)·Δθ)², and the independence test its
@@ -110,6 +115,9 @@ class Block:
     sensitivity: FloatArray | None = None
     path_sensitivity: FloatArray | None = None
     covariance: FloatArray | None = None
+    #: noise of unknown colour (an equation error of estimated derivatives): only the
+    #: independence test runs, its variance from the residual's own autocovariance
+    colored: bool = False
 
     def noise_scale(self) -> float:
         """mean ‖H_t‖² of the noise's operator (1 for white noise)."""
@@ -278,7 +286,7 @@ def independence(block: Block, z_limit: float) -> Finding | None:
             continue
         shifted = lagged(x, LAGS)
         a = shifted if block.quotient is None else np.asarray(block.quotient.T @ shifted)
-        sd = sigma * np.linalg.norm(a, axis=0)
+        sd = _colored_sd(r, shifted) if block.colored else sigma * np.linalg.norm(a, axis=0)
         if block.sensitivity is not None and cov is not None:  # and J·Δθ's share: Σ_t J_t·x_t
             g = block.sensitivity.T @ shifted
             sd = sd + np.sqrt(np.maximum(np.einsum("ik,ij,jk->k", g, cov, g), 0.0))
@@ -294,6 +302,22 @@ def independence(block: Block, z_limit: float) -> Finding | None:
     return None
 
 
+def _colored_sd(r: FloatArray, shifted: FloatArray) -> FloatArray:
+    """Standard deviations of Σ_t r_t·x_{t−k} (columns of `shifted`) for a noise of the
+    residual's own autocovariance γ_r (Bartlett weights to lag 2·`LAGS`): Σ_j w_j γ_r(j)
+    Σ_t x_t x_{t+j} (a residual correlated over a filter's memory makes these sums vary
+    more than white noise would)."""
+    n = r.shape[0]
+    rc = r - float(np.mean(r))
+    out = np.zeros(shifted.shape[1])
+    for j in range(2 * LAGS + 1):
+        w = 1.0 - j / (2 * LAGS + 1)
+        gamma = float(rc[j:] @ rc[: n - j]) / n
+        cross = np.einsum("ij,ij->j", shifted[j:], shifted[: n - j])
+        out += (1.0 if j == 0 else 2.0 * w) * gamma * cross
+    return np.sqrt(np.maximum(out, 0.0))
+
+
 def assess(blocks: Sequence[Block], n_records: int) -> Adequacy:
     """The three tests on every block (module notes)."""
     findings: list[Finding] = []
@@ -303,9 +327,9 @@ def assess(blocks: Sequence[Block], n_records: int) -> Adequacy:
     for b in blocks:
         lv = level(b)
         levels[b.record] = max(levels[b.record], lv)
-        if lv > LEVEL:
+        if lv > LEVEL and not b.colored:
             findings.append(Finding("level", b.record, b.signal, lv, LEVEL))
-        g, lag, limit = whiteness(b)
+        g, lag, limit = whiteness(b) if not b.colored else (0.0, 0, np.inf)
         if g > limit:
             findings.append(Finding("whiteness", b.record, b.signal, g, limit, lag))
         found = independence(b, z_limit)

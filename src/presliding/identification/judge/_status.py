@@ -37,9 +37,10 @@ status               rule that gives it (the first that fires wins)             
                      interval end the data do not bound, or one spanning more
                      than two orders of magnitude; ``profile``: a flat profile
                      (set by a check), or a linearised interval wider than
-                     a quarter of the value on each side that the profile
-                     did not replace (its inner optimisations disagree: the
-                     cost has other valleys within reach); ``optima``: another
+                     a quarter of the value on each side whose profile
+                     stopped unresolved (its inner optimisations disagree:
+                     the cost has other valleys within reach); ``optima``:
+                     another
                      local optimum the
                      search reached is within the profile's likelihood-ratio
                      threshold of the best and outside an interval (the
@@ -180,9 +181,10 @@ def undetermined(
     methods: Mapping[str, str] | None = None,
 ) -> tuple[str, str]:
     """The first not-identifiable rule that fires, as (rule, text); ("", "") for none.
-    `methods` are the intervals' methods (`interval_method`): a model parameter's linearised
-    interval wider than `WIDE_WALD` of its value, which the profile did not replace, is not
-    one the data support (rule ``profile``)."""
+    `methods` are the intervals' methods (`interval_method`) of the parameters whose profile
+    stopped unresolved (`Solution.unresolved`): a model parameter's linearised interval wider
+    than `WIDE_WALD` of its value among them is not one the data support (rule
+    ``profile``)."""
     methods = methods or {}
     names = list(values)
     inner = [x for x in free if x not in at_bounds and x in values]

@@ -165,14 +165,11 @@ def virgin_basis(s: FloatArray) -> Basis:
 
 
 def largest_threshold(y: FloatArray) -> float:
-    """The largest threshold at which an element relaxed at y[0] still slides along y: the
-    largest of the first excursion and half of every swing between turning points."""
-    y = np.ascontiguousarray(y, dtype=float)
-    turns = reversal_indices(y, 0.0)
-    first = float(np.max(np.abs(y[: (turns[0] + 1 if turns.size else y.shape[0])] - y[0])))
-    ends = np.concatenate([turns, [y.shape[0] - 1]]) if turns.size else np.empty(0, dtype=int)
-    swings = 0.5 * np.abs(np.diff(y[ends])) if ends.size > 1 else np.empty(0)
-    return max(first, float(np.max(swings, initial=0.0)))
+    """The largest threshold of an element relaxed at y[0] that slides along y at all: the
+    largest excursion max |y − y[0]| (a larger one never leaves its start: a linear spring,
+    the same column for any larger threshold)."""
+    y = np.asarray(y, dtype=float)
+    return float(np.max(np.abs(y - y[0]))) if y.size else 0.0
 
 
 def threshold_grid(y: FloatArray, size: int = DEFAULT_GRID) -> FloatArray:

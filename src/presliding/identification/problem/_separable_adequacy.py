@@ -4,8 +4,9 @@ The direct fits (`fit_presliding`, `fit_motion`, `fit_virgin_curve`) fit one
 target (a force) on the samples used; their residual is one `_adequacy.Block`
 whose noise is the target's own white noise (`_noise_floor.white_variance`) or,
 for an equation error whose noise combines several measured signals (the
-acceleration's with the force's in `fit_motion`), the residual's own
-high-frequency noise. The exact Jacobian of the separable problem and the
+acceleration's with the force's in `fit_motion`, derivatives estimated through
+a filter), a noise of the residual's own colour: only the independence test
+judges it. The exact Jacobian of the separable problem and the
 fit's covariance give the share the fitted parameters' own error may leave.
 
 The candidate mechanisms are columns the model lacks, added at zero (the
@@ -56,7 +57,8 @@ def separable_adequacy(sep: Separable, sol: Any, regressors: Mapping[str, FloatA
     """The residual tests of a separable fit's optimum (module notes).
 
     `regressors` (on every sample) are what the independence test correlates the residual
-    with; `own_noise` takes the noise from the residual instead of the target; `extra`
+    with; `own_noise` takes the noise from the residual instead of the target, of a colour
+    the data do not tell (`_adequacy.Block.colored`: the independence test alone); `extra`
     are candidate columns (on every sample) of mechanisms the fit may lack, by name
     (``"asymmetry"``, ``"velocity"``); `span` the range of the elements' thresholds.
     """
@@ -77,7 +79,7 @@ def separable_adequacy(sep: Separable, sol: Any, regressors: Mapping[str, FloatA
     cov = None if sol.covariance is None else np.asarray(sol.covariance)[np.ix_(free, free)]
     regs = {k: np.asarray(v, dtype=float)[used] for k, v in regressors.items()}
     block = Block(0, signal, r, noise, None, 0.0 if own_noise else q, None, None, regs, True,
-                  jac, jac, cov)  # fmt: skip
+                  jac, jac, cov, colored=own_noise)  # fmt: skip
     result = assess([block], 1)
     if result.passed:
         return result

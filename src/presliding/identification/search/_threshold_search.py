@@ -50,11 +50,14 @@ LEVELS = 3
 def amplitude_grid(y: FloatArray, lowest: float, size: int = GRID) -> FloatArray:
     """Thresholds from `lowest` to `largest_threshold`: geometric points and the half-swings
     (and first excursions) of the path, where the projected cost has its kinks."""
+    from presliding.identification.judge._noise_floor import quantum, white_variance
+
     y = np.ascontiguousarray(y, dtype=float)
     top = pr.largest_threshold(y)
     if not top > lowest > 0:
         return np.geomspace(max(lowest, 1e-300), max(top, 2 * lowest), size)
-    turns = pr.reversal_indices(y, 0.0)
+    tol = 3.0 * max(quantum(y), float(np.sqrt(white_variance(y))))  # noise makes no swing
+    turns = pr.reversal_indices(y, tol)
     points = [y[0], *y[turns], y[-1]]
     halves = 0.5 * np.abs(np.diff(points))
     halves = halves[(halves > lowest) & (halves <= top)]
