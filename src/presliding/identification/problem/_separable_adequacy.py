@@ -69,6 +69,8 @@ def separable_adequacy(sep: Separable, sol: Any, regressors: Mapping[str, FloatA
     q = quantum(target)
     noise = white_variance(target, q)
     if own_noise:  # at least the round-off of the target (noise-free data fit to rounding)
+        if not shows_noise(target, float(np.mean(r * r))):
+            return None  # a residual at the target's round-off: nothing to judge
         noise = max(white_variance(r), (RELATIVE_FLOOR**2) * float(np.mean(target**2)))
     elif not (q > 0 or shows_noise(target, noise)):
         return None  # noise-free data: no noise model to judge the residual against

@@ -156,7 +156,8 @@ def threshold_starts(sep: Separable, grid: FloatArray, x_bounds: Mapping[str, tu
     for j, x in enumerate(sep.x_names):
         if x in fixed:
             target -= fixed[x] * sep.design[used, j]
-    nonneg = np.array([x_bounds.get(sep.x_names[j], (-np.inf, np.inf))[0] >= 0 for j in free])
+    nonneg = np.array([x_bounds.get(sep.x_names[j], (-np.inf, np.inf))[0] >= 0 for j in free],
+                      dtype=bool)  # fmt: skip
     proj = _Projected(sep.design[used][:, free], sep.basis(grid)[0][used], target, nonneg)
     m = grid.shape[0]
     starts: list[list[int]] = []
