@@ -28,10 +28,7 @@ def quasi_static_start(recs: list, spec: ModelSpec, offset: bool) -> dict[str, f
     span = max(float(np.ptp(r.position)) for r in recs)
     steps = np.concatenate([np.abs(np.diff(r.position)) for r in recs])
     quantum = float(np.min(steps[steps > 0]))
-    # up to the largest threshold that still slides: a record's first loading from rest
-    # reaches further than half its span (a relaxed start's virgin curve)
-    top = max(0.5 * span, *(pr.largest_threshold(r.position) for r in recs))
-    grid = pr.geometric_grid(max(2.0 * quantum, 1e-3 * span), top, span, 32)
+    grid = pr.geometric_grid(max(2.0 * quantum, 1e-3 * span), 0.5 * span, span, 32)
     rows, rhs = [], []
     for r in recs:
         y, u = r.position, r.applied_force
