@@ -50,11 +50,7 @@ def test_without_elements_the_published_reference_is_reproduced(emps):
     ident, cross = emps
     sym = ps.fit_motion(ident, viscous=True, offset=True)
     asym = ps.fit_motion(ident, viscous=True, asymmetric=True)
-    assert sym.success, sym.message
-    # the sided fit's profile of stiffness_2 stops unresolved (its inner optimisations end in
-    # different valleys) and its linearised interval spans ±39 %: not identifiable (rule
-    # profile), its parameters and predictions as good
-    assert asym.status in ("converged", "not_identifiable"), asym.message
+    assert sym.success and asym.success
     assert _error(sym, ident) == pytest.approx(4.08, abs=0.05)
     assert _error(sym, cross) == pytest.approx(5.98, abs=0.05)
     assert _error(asym, ident) == pytest.approx(3.11, abs=0.06)
@@ -68,11 +64,7 @@ def test_presliding_elements_beat_every_published_figure(emps):
     ident, cross = emps
     sym = ps.fit_motion(ident, 4, viscous=True, offset=True)
     asym = ps.fit_motion(ident, 4, viscous=True, asymmetric=True)
-    assert sym.success, sym.message
-    # the sided fit's profile of stiffness_2 stops unresolved (its inner optimisations end in
-    # different valleys) and its linearised interval spans ±39 %: not identifiable (rule
-    # profile), its parameters and predictions as good
-    assert asym.status in ("converged", "not_identifiable"), asym.message
+    assert sym.success and asym.success
     assert _error(sym, ident) < 4.08 - 0.1
     assert _error(sym, cross) < 5.98 - 0.1
     assert _error(asym, ident) < 3.11 - 0.1

@@ -186,7 +186,7 @@ def test_an_undetermined_split_of_the_stiffnesses_is_not_converged():
     pair's split held along its sum, rule profile). From a start 1e-4 away (the regression
     start solved exactly, in any units) the search ends at 2985/251/236 with k3 and k4 a pair
     nearly coalesced, whose linearised intervals (±86 % and ±51 %) the profile could not
-    replace: rule profile again, never converged."""
+    replace (it stopped unresolved): rule profile again, never converged."""
     records, _ = stop_records(12, 6, MODEL, quantum=1e-6, noise=2e-7)
     fit = fit_response(records, signal="both", initial_state="preload")
     assert fit.status == "not_identifiable", fit.message

@@ -9,8 +9,10 @@ where sign(ẏ) is the direction of the last nonzero displacement increment and
 the play operators start relaxed at the first sample (skip samples recorded
 with an unknown earlier history with `burn_in`). All parameters but the
 thresholds enter linearly: nonnegative least squares for the stiffnesses on a
-geometric threshold grid gives the start, nonlinear least squares over all
-parameters refines it (see `presliding.identification.problem._pi_regression`).
+geometric threshold grid gives a start, variable projection over the
+thresholds on a grid of the path's turning-point amplitudes gives more
+(`_threshold_search`), and nonlinear least squares over all parameters refines
+each; the best is kept (see `presliding.identification.problem._pi_regression`).
 
 The virgin-curve fit (Madelung/Masing rules) lives in `fit_virgin`.
 """
@@ -34,7 +36,7 @@ from presliding._validation import (
 )
 from presliding.friction.pi_friction import PIFriction
 from presliding.identification._fit_engine import FitPlan, FitRun, Found, run_fit
-from presliding.identification.checks._response_checks import cost
+from presliding.identification.checks._response_checks import cost, relabelled
 from presliding.identification.fit_result import FitResult, Tie
 from presliding.identification.judge._status import sign_hint
 from presliding.identification.problem import _pi_regression as pr
@@ -172,8 +174,9 @@ def fit_presliding(
     Returns
     -------
     FitResult
-        Parameters ``coulomb``, ``stiffness_j``, ``threshold_j`` (and ``offset``);
-        the model is ``PIFriction(coulomb, stiffness, threshold=...)``.
+        Parameters ``coulomb``, ``stiffness_j``, ``threshold_j`` (and ``offset``),
+        the elements numbered by increasing threshold where the thresholds were
+        searched; the model is ``PIFriction(coulomb, stiffness, threshold=...)``.
     """
     y, f = as_signal("displacement", displacement), as_signal("force", force)
     check_same_length(displacement=y, force=f)
@@ -246,7 +249,8 @@ def _search(problem: Callable[..., FitProblem], found: Callable[[], tuple] | Non
             starts: Callable[..., list] | None, run: FitRun) -> Found:  # fmt: skip
     """The grid start solved; the best threshold sets of the variable-projection search
     (`_threshold_search`) too; with the global search, its thresholds as well. The best
-    is kept, and how many starts reached it (cost within `SAME_OPTIMUM`) is said."""
+    is kept, its elements labelled by increasing threshold (they are interchangeable), and
+    how many starts reached it (cost within `SAME_OPTIMUM`) is said."""
     fit, how = run.problem.solve(run.options), ""
     fits = [fit]
     if starts is not None:
@@ -268,6 +272,13 @@ def _search(problem: Callable[..., FitProblem], found: Callable[[], tuple] | Non
         fits.append(other)
     best = min(fits, key=cost)
     at_best = sum(1 for f in fits if cost(f) <= cost(best) * (1.0 + SAME_OPTIMUM))
+    if starts is not None and best.status != "failed":  # interchangeable: smallest r first
+        k_names, r_names = pr.element_names(n)
+        order = np.argsort([best.values[x] for x in r_names], kind="stable")
+        rename = {}
+        for i, j in enumerate(order):
+            rename[k_names[int(j)]], rename[r_names[int(j)]] = k_names[i], r_names[i]
+        best = relabelled(best, rename)
     return Found(best, len(fits), at_best, note=how)
 
 

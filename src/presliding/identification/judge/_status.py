@@ -37,7 +37,7 @@ status               rule that gives it (the first that fires wins)             
                      interval end the data do not bound, or one spanning more
                      than two orders of magnitude; ``profile``: a flat profile
                      (set by a check), or a linearised interval wider than
-                     a quarter of the value on each side whose profile
+                     half the value on each side whose profile
                      stopped unresolved (its inner optimisations disagree:
                      the cost has other valleys within reach); ``optima``:
                      another
@@ -104,9 +104,11 @@ MAX_CORRELATION = 0.999
 LOOSE = 0.1
 #: Interval spanning more decades than this (hi/value or value/lo): not determined.
 MAX_DECADES = 2.0
-#: A linearised interval wider than this share of the value (each side) is one the profile
-#: replaces (`_profile.WIDE`); still linearised, its profile was not resolved.
-WIDE_WALD = 0.25
+#: A linearised interval wider than this share of the value (each side) of a parameter whose
+#: profile stopped unresolved is not one the data support: within a factor 2 of 0, a
+#: positive parameter's quadratic approximation does not hold, and the profile that would
+#: replace it found other valleys
+WIDE_WALD = 0.5
 #: Parameters whose bound is a natural value (a record's start, an offset, no viscous friction).
 NATURAL = ("initial_velocity", "initial_position", "preload_fraction", "offset", "viscous")
 _SOLVER_KEPT = ("failed", "max_evaluations", "local_minimum", "model_inadequate")
