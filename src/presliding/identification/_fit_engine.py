@@ -178,10 +178,10 @@ def judge(
         # residual tests that fail are the model's, wherever the other starts ended
         status, message = adequacy_verdict(sol.status, sol.message, tested)
         return replace(sol, status=status, message=message, adequacy=tested), found
-    failed = tested is not None and not tested.passed
-    cause = failed and tested.cause is not None
-    every = failed and len(tested.failing_records) == records.n_rec  # no record fits
-    named = cause or (failed and 2 * len(tested.failing_records) >= records.n_rec)
+    failing = 0 if tested is None or tested.passed else len(tested.failing_records)
+    cause = failing > 0 and tested is not None and tested.cause is not None
+    every = failing == records.n_rec  # no record fits
+    named = cause or 2 * failing >= records.n_rec > 0 < failing
     sol, ratios, floor, over = floor_test(records, sol, agree or cause or every, named)
     status, message = adequacy_verdict(sol.status, sol.message, tested, agree or every)
     sol = replace(sol, status=status, message=message, adequacy=tested)

@@ -233,9 +233,9 @@ def whiteness(block: Block) -> tuple[float, int, float]:
     drift = np.zeros(LAGS)
     jac, cov = block.path_sensitivity, _finite(block.covariance)
     if jac is not None and cov is not None and jac.shape[0] == n:
-        for i, k in enumerate(lags):  # E ½·((J_{t+k} − J_t)·Δθ)² over t
-            d = jac[k:] - jac[:-k]
-            drift[i] = 0.5 * float(np.sum((d.T @ d) * cov)) / (n - k)
+        for i, lag in enumerate(lags.tolist()):  # E ½·((J_{t+k} − J_t)·Δθ)² over t
+            d = jac[lag:] - jac[:-lag]
+            drift[i] = 0.5 * float(np.sum((d.T @ d) * cov)) / (n - lag)
     growth = (half[1:] - half[0] - drift[1:]) / block.noise
     k = int(np.argmax(growth))
     still = 0.0 if block.still is None else float(np.mean(block.still))

@@ -231,13 +231,13 @@ def undetermined(
             f"the data do not determine {_names(wide)}: the interval is not bounded or spans "
             f"more than {MAX_DECADES:g} orders of magnitude"
         )
-    loose = [
+    unheld = [
         f"{x} (±{100 * (intervals[x][1] - intervals[x][0]) / 2 / abs(values[x]):.0f} %)"
         for x in loose_wald(values, intervals, methods, inner)
     ]
-    if loose:
+    if unheld:
         return "profile", (
-            f"the linearised intervals of {_names(loose)} are too wide to hold (their "
+            f"the linearised intervals of {_names(unheld)} are too wide to hold (their "
             "profiles were not resolved: the cost has other valleys within reach)"
         )
     return "", ""

@@ -19,7 +19,7 @@ thresholds.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from typing import Any
 
 import numpy as np
@@ -85,14 +85,14 @@ def separable_adequacy(sep: Separable, sol: Any, regressors: Mapping[str, FloatA
     result = assess([block], 1)
     if result.passed:
         return result
-    found = _candidates(sep, values, extra or {}, span)
+    found = _candidates(sep, sol.values, extra or {}, span)
     return result.with_cause(score_causes(r, jac, found, noise * r.shape[0]))
 
 
-def _candidates(sep: Separable, values: FloatArray, extra: Mapping[str, FloatArray],
+def _candidates(sep: Separable, values: Mapping[str, float], extra: Mapping[str, FloatArray],
                 span: float | None) -> list[Candidate]:  # fmt: skip
     used = sep.used
-    fitted = sep.fitted(dict(zip(range(values.shape[0]), values, strict=True)))
+    fitted = sep.fitted(values)
     out: list[Candidate] = []
     if "asymmetry" in extra:
         out.append(Candidate("asymmetry", np.asarray(extra["asymmetry"])[used], lambda e: (
@@ -118,7 +118,12 @@ def _candidates(sep: Separable, values: FloatArray, extra: Mapping[str, FloatArr
         tries = np.geomspace(ELEMENT_RANGE[0] * span, ELEMENT_RANGE[1] * span, ELEMENT_TRIES)
         g = sep.basis(tries)[0][used]
         for j, rn in enumerate(tries):
-            out.append(Candidate("elements", g[:, j], lambda e, rn=rn: (
-                f"too few elements: one more element of threshold {rn:.3g} (stiffness "
-                f"{e:.3g}) would take up the structure; fit more elements")))  # fmt: skip
+            out.append(Candidate("elements", g[:, j], _more_elements(float(rn))))
     return out
+
+
+def _more_elements(threshold: float) -> Callable[[float], str]:
+    """The text naming too few elements, one more at `threshold` [its stiffness]."""
+    return lambda e: (f"too few elements: one more element of threshold {threshold:.3g} "
+                      f"(stiffness {e:.3g}) would take up the structure; fit more "
+                      "elements")  # fmt: skip

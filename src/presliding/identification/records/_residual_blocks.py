@@ -22,7 +22,7 @@ on a sibling problem with that mechanism added at zero, at the optimum.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import replace
 from typing import Any
 
@@ -145,17 +145,18 @@ def floor_cost(problem: PooledProblem, blocks: list[Block]) -> float:
 def _sibling(problem: PooledProblem, spec: ModelSpec | None = None, *, offset: bool | None = None,
              viscous: bool | None = None, records: Any = None) -> PooledProblem:  # fmt: skip
     """The same problem with another model, offset, viscous term or records."""
-    cls = type(problem)
+    from presliding.identification.records._quasi_static_problem import QuasiStaticProblem
+
     suffix = problem.nuisance("initial_position", 0) != "initial_position"
-    kw: dict[str, Any] = {"offset": ("offset" in problem.shared) if offset is None else offset,
-                          "suffix": suffix}  # fmt: skip
+    off = ("offset" in problem.shared) if offset is None else offset
     recs = problem.records if records is None else records
-    if cls is PooledProblem:
-        return PooledProblem(recs, spec or problem.spec, (problem.w_v, problem.w_y),
-                             problem.initial_state, viscous=("viscous" in problem.shared)
-                             if viscous is None else viscous, velocity=problem.velocity,
-                             **kw)  # fmt: skip
-    return cls(recs, spec or problem.spec, problem.initial_state, **kw)
+    if isinstance(problem, QuasiStaticProblem):
+        return QuasiStaticProblem(recs, spec or problem.spec, problem.initial_state, offset=off,
+                                  suffix=suffix)  # fmt: skip
+    return PooledProblem(recs, spec or problem.spec, (problem.w_v, problem.w_y),
+                         problem.initial_state, offset=off, suffix=suffix,
+                         viscous=("viscous" in problem.shared) if viscous is None else viscous,
+                         velocity=problem.velocity)  # fmt: skip
 
 
 def candidates(problem: PooledProblem, values: Mapping[str, float],
@@ -245,11 +246,11 @@ def _sided_force(problem: PooledProblem, vals: Mapping[str, float]) -> list[Floa
         last = np.where(step != 0, np.arange(y.shape[0]), 0)
         np.maximum.accumulate(last, out=last)
         direction = np.sign(step[last])
-        h = c1 * (direction < 0)
+        h = c1 * (direction < 0).astype(float)
         if k.shape[0]:
             _, sides = stop_basis(y)(np.minimum(r, 1e300))
-            h = h + (sides < 0) @ (k * np.minimum(r, 1e300))
-        out.append(h)
+            h = h + (sides < 0).astype(float) @ (k * np.minimum(r, 1e300))
+        out.append(np.asarray(h, dtype=float))
     return out
 
 
@@ -271,10 +272,10 @@ def _element_candidates(problem: PooledProblem, vals: dict[str, float]) -> list[
     k_small = STEP * max(float(np.sum(k)), spec.coulomb_level(vals) / swing)
     tries = np.geomspace(ELEMENT_RANGE[0] * swing, ELEMENT_RANGE[1] * swing, ELEMENT_TRIES)
     own = {x: vals[x] for x in problem.names if problem.record_of.get(x) is not None}
-    shared = {x: vals[x] for x in ("mass", "offset", "viscous") if x in vals}
+    shared: dict[str, float] = {x: vals[x] for x in ("mass", "offset", "viscous") if x in vals}
     rows = []
     for rn in [None, *tries]:
-        q = {
+        q: dict[str, float] = {
             **shared,
             **own,
             **base,
@@ -285,16 +286,7 @@ def _element_candidates(problem: PooledProblem, vals: dict[str, float]) -> list[
     res = sib.residuals(np.array(rows, dtype=float))
     out = []
     for rn, r1 in zip(tries, res[1:], strict=True):
-        out.append(
-            Candidate(
-                "elements",
-                (r1 - res[0]) / k_small,
-                lambda e, rn=rn: (
-                    f"too few elements: one more element of threshold {rn:.3g} (stiffness {e:.3g}) "
-                    "would take up the structure; fit more elements (or `n_elements='auto'`)"
-                ),
-            )
-        )
+        out.append(Candidate("elements", (r1 - res[0]) / k_small, _more_elements(float(rn))))
     return out
 
 
@@ -320,3 +312,10 @@ def pooled_adequacy(problem: Any, sol: Any) -> Adequacy | None:
     r = np.asarray(sol.residual, dtype=float)[: rec.n_res]
     found = candidates(rec, sol.values, r)
     return result.with_cause(score_causes(r, jac, found, floor_cost(rec, blocks)))
+
+
+def _more_elements(threshold: float) -> Callable[[float], str]:
+    """The text naming too few elements, one more at `threshold` [its stiffness]."""
+    return lambda e: (f"too few elements: one more element of threshold {threshold:.3g} "
+                      f"(stiffness {e:.3g}) would take up the structure; fit more elements "
+                      "(or `n_elements='auto'`)")  # fmt: skip
