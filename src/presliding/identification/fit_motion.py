@@ -47,6 +47,7 @@ from presliding.identification.judge._status import sign_hint
 from presliding.identification.problem import _pi_regression as pr
 from presliding.identification.problem._fit_problem import FitOptions
 from presliding.identification.problem._parameters import check_flag, resolve_parameters
+from presliding.identification.problem._separable_adequacy import separable_adequacy
 from presliding.identification.problem._separable_problem import Separable, separable_problem
 from presliding.identification.result._fit_progress import FitProgress, as_reporter, shows_progress
 from presliding.measurement.measurement import Measurement
@@ -173,21 +174,23 @@ def fit_motion(
     )  # fmt: skip
     options = FitOptions(level, max_evaluations, tolerance, progress=as_reporter(progress))
     result = partial(_result, sep, measurement, viscous or asymmetric)
+    adequacy = partial(_adequacy, sep, measurement)
     if check_flag("asymmetric", asymmetric):
-        return _fit_sided(request, problem, thresholds, result, options, viscous)
-    plan = FitPlan(search=lambda run: Found(run.problem.solve(run.options)), result=result)
+        return _fit_sided(request, problem, thresholds, result, options, viscous, adequacy)
+    plan = FitPlan(search=lambda run: Found(run.problem.solve(run.options)), result=result,
+                   adequacy=adequacy)  # fmt: skip
     return run_fit(problem(thresholds=thresholds), options, plan)
 
 
 def _fit_sided(request: dict[str, Any], problem: Any, thresholds: Any, result: Any,
-               options: FitOptions, viscous: bool) -> FitResult:  # fmt: skip
+               options: FitOptions, viscous: bool, adequacy: Any) -> FitResult:  # fmt: skip
     """``asymmetric=True``: the symmetric fit, then the asymmetric one (module notes)."""
     from presliding.identification.plans._asymmetric_plan import fit_nested, split_negative
 
     symmetric = fit_motion(**{**split_negative(request), "asymmetric": False})
     rows = [{"coulomb_negative": 1.0, "coulomb": -1.0}]
     rows += [{"viscous_negative": 1.0, "viscous": -1.0}] if viscous else []
-    return fit_nested(problem, thresholds, symmetric, result, rows, options)
+    return fit_nested(problem, thresholds, symmetric, result, rows, options, adequacy)
 
 
 def _check_request(measurement: Any, n_elements: Any, thresholds: Any, asymmetric: Any,
@@ -258,6 +261,28 @@ def _result(sep: Separable, m: Measurement, sided: bool, run: FitRun, sol: Any, 
         hint=sign_hint(u, np.sign(velocity), "applied force"),
         rotary=rotary,
     )  # fmt: skip
+
+
+def _adequacy(sep: Separable, m: Measurement, run: FitRun, sol: Any) -> Any:
+    """The residual tests (`_separable_adequacy`): the equation error's own noise (it
+    combines the force's with the acceleration's)."""
+    position, velocity, _, u = m.require("position", "velocity", "acceleration", "applied_force")
+    extra = {}
+    if "coulomb_negative" not in sep.x_names:
+        extra["asymmetry"] = (velocity < 0).astype(float)
+    if "viscous" not in sep.x_names:
+        extra["velocity"] = velocity
+    regressors = {"the applied force": u, "the velocity": velocity,
+                  "the direction of motion": np.sign(velocity)}  # fmt: skip
+    return separable_adequacy(
+        sep,
+        sol,
+        regressors,
+        own_noise=True,
+        extra=extra,
+        signal="applied force",
+        span=float(np.ptp(position)) if sep.n_elements else None,
+    )
 
 
 def _side(values: Mapping[str, float], name: str) -> float | None:

@@ -9,8 +9,10 @@ where sign(ẏ) is the direction of the last nonzero displacement increment and
 the play operators start relaxed at the first sample (skip samples recorded
 with an unknown earlier history with `burn_in`). All parameters but the
 thresholds enter linearly: nonnegative least squares for the stiffnesses on a
-geometric threshold grid gives the start, nonlinear least squares over all
-parameters refines it (see `presliding.identification.problem._pi_regression`).
+geometric threshold grid gives a start, variable projection over the
+thresholds on a grid of the path's turning-point amplitudes gives more
+(`_threshold_search`), and nonlinear least squares over all parameters refines
+each; the best is kept (see `presliding.identification.problem._pi_regression`).
 
 Asymmetric friction (``asymmetric=True``): c1⁺·[ẏ > 0] − c1⁻·[ẏ < 0] in place of
 c1·sign(ẏ), the elements shared, as in `fit_motion` (a constant offset is the
@@ -40,7 +42,7 @@ from presliding._validation import (
 )
 from presliding.friction.pi_friction import PIFriction
 from presliding.identification._fit_engine import FitPlan, FitRun, Found, run_fit
-from presliding.identification.checks._response_checks import cost
+from presliding.identification.checks._response_checks import cost, relabelled
 from presliding.identification.fit_result import FitResult, Tie
 from presliding.identification.judge._status import sign_hint
 from presliding.identification.problem import _pi_regression as pr
@@ -53,9 +55,12 @@ from presliding.identification.problem._fit_options import (
 )
 from presliding.identification.problem._fit_problem import FitOptions, FitProblem
 from presliding.identification.problem._parameters import check_flag, resolve_parameters
+from presliding.identification.problem._separable_adequacy import separable_adequacy
 from presliding.identification.problem._separable_problem import Separable, separable_problem
 from presliding.identification.result._fit_progress import reporting
 from presliding.identification.search._global_search import search_thresholds
+from presliding.identification.search._search import SAME_OPTIMUM
+from presliding.identification.search._threshold_search import amplitude_grid, threshold_starts
 
 __all__ = ["fit_presliding"]
 
@@ -189,8 +194,9 @@ def fit_presliding(
     Returns
     -------
     FitResult
-        Parameters ``coulomb``, ``stiffness_j``, ``threshold_j`` (and ``offset``);
-        the model is ``PIFriction(coulomb, stiffness, threshold=...)``.
+        Parameters ``coulomb``, ``stiffness_j``, ``threshold_j`` (and ``offset``),
+        the elements numbered by increasing threshold where the thresholds were
+        searched; the model is ``PIFriction(coulomb, stiffness, threshold=...)``.
     """
     request = dict(locals())
     y, f = as_signal("displacement", displacement), as_signal("force", force)
@@ -217,34 +223,44 @@ def fit_presliding(
         )
     sep = _path_model(y, f, n, thresholds, burn_in, coulomb, offset, asymmetric)
     grid = pr.threshold_grid(y, grid_size)
+    top = pr.largest_threshold(y)
     with reporting(progress, "fit_presliding") as shown:
         problem = partial(
             separable_problem, sep, {**({"coulomb": (0.0, np.inf)} if coulomb else {}), **(
                 {"coulomb_negative": (0.0, np.inf)} if asymmetric else {})}, grid=grid,
             refine_thresholds=refine_thresholds, fixed=fixed, tied=tied, progress=shown,
-            user_initial=initial, user_bounds=bounds,
+            user_initial=initial, user_bounds=bounds, largest_threshold=top,
         )  # fmt: skip
         if asymmetric:
             options = FitOptions(level, max_evaluations, tolerance, progress=shown)
-            return _fit_sided(request, problem, thresholds, partial(_result, sep, y, f), options)
+            return _fit_sided(request, problem, thresholds, partial(_result, sep, y, f), options,
+                              partial(_adequacy, sep, y))
         found = None if search == "grid" or n == 0 else partial(
             search_thresholds, y, f, _direction(y), n, grid, coulomb=coulomb, offset=offset,
             skip=burn_in, seed=seed, max_generations=max_generations, progress=shown,
         )  # fmt: skip
-        plan = FitPlan(search=partial(_search, problem, found, n),
-                       result=partial(_result, sep, y, f))  # fmt: skip
+        shaped = bool({*pr.element_names(n)[0], *pr.element_names(n)[1]}
+                      & ({*fixed, *tied, *(initial or {})}))  # fmt: skip
+        starts = None if thresholds is not None or shaped or not refine_thresholds else partial(
+            threshold_starts, sep, amplitude_grid(y, max(float(grid[0]), 1e-3 * top)),
+            {"coulomb": (0.0, np.inf)}, fixed, seed=0 if seed is None else seed,
+        )  # fmt: skip
+        plan = FitPlan(search=partial(_search, problem, found, n, starts),
+                       result=partial(_result, sep, y, f),
+                       adequacy=partial(_adequacy, sep, y))  # fmt: skip
         options = FitOptions(level, max_evaluations, tolerance, progress=shown)
         return run_fit(problem(thresholds=thresholds), options, plan)
 
 
 def _fit_sided(request: dict[str, Any], problem: Callable[..., FitProblem], thresholds: Any,
-               result: Callable[..., FitResult], options: FitOptions) -> FitResult:  # fmt: skip
+               result: Callable[..., FitResult], options: FitOptions,
+               adequacy: Callable[..., Any]) -> FitResult:  # fmt: skip
     """``asymmetric=True``: the symmetric fit, then the asymmetric one (module notes)."""
     from presliding.identification.plans._asymmetric_plan import fit_nested, split_negative
 
     symmetric = fit_presliding(**{**split_negative(request), "asymmetric": False})
     rows = [{"coulomb_negative": 1.0, "coulomb": -1.0}]
-    return fit_nested(problem, thresholds, symmetric, result, rows, options)
+    return fit_nested(problem, thresholds, symmetric, result, rows, options, adequacy)
 
 
 def _path_model(y: FloatArray, f: FloatArray, n: int, thresholds: Any, burn_in: int,
@@ -283,20 +299,40 @@ def _path_model(y: FloatArray, f: FloatArray, n: int, thresholds: Any, burn_in: 
 
 
 def _search(problem: Callable[..., FitProblem], found: Callable[[], tuple] | None, n: int,
-            run: FitRun) -> Found:  # fmt: skip
-    """The grid start solved; with the global search, its thresholds too (the better kept)."""
+            starts: Callable[..., list] | None, run: FitRun) -> Found:  # fmt: skip
+    """The grid start solved; the best threshold sets of the variable-projection search
+    (`_threshold_search`) too; with the global search, its thresholds as well. The best
+    is kept, its elements labelled by increasing threshold (they are interchangeable), and
+    how many starts reached it (cost within `SAME_OPTIMUM`) is said."""
     fit, how = run.problem.solve(run.options), ""
+    fits = [fit]
+    if starts is not None:
+        run.stage(f"variable projection over the thresholds of {n} elements")
+        r_names = pr.element_names(n)[1]
+        merged = np.array([run.problem.initial[x] for x in r_names])
+        for r0, _ in starts(merged=merged):
+            fits.append(problem(thresholds=r0).solve(run.options))
     if found is not None:
         run.stage(f"global search over {n} elements (differential evolution)")
         start, how = found()
         run.stage("least squares from the global search's thresholds")
         other = problem(thresholds=start).solve(run.options)
-        if cost(other) < cost(fit):
-            how += ": kept, it fits better than the grid start"
-            fit = other
+        best = min(fits, key=cost)
+        if cost(other) < cost(best):
+            how += ": kept, it fits better than the other starts"
         else:
-            how += ": the grid start fits at least as well and is kept"
-    return Found(fit, note=how)
+            how += ": another start fits at least as well and is kept"
+        fits.append(other)
+    best = min(fits, key=cost)
+    at_best = sum(1 for f in fits if cost(f) <= cost(best) * (1.0 + SAME_OPTIMUM))
+    if starts is not None and best.status != "failed":  # interchangeable: smallest r first
+        k_names, r_names = pr.element_names(n)
+        order = np.argsort([best.values[x] for x in r_names], kind="stable")
+        rename = {}
+        for i, j in enumerate(order):
+            rename[k_names[int(j)]], rename[r_names[int(j)]] = k_names[i], r_names[i]
+        best = relabelled(best, rename)
+    return Found(best, len(fits), at_best, note=how)
 
 
 def _result(sep: Separable, y: FloatArray, f: FloatArray, run: FitRun, sol: Any, boot: Any,
@@ -312,6 +348,14 @@ def _result(sep: Separable, y: FloatArray, f: FloatArray, run: FitRun, sol: Any,
         derived=derived_quantities(model), hint=sign_hint(f, _direction(y), "friction force"),
         model_hint=lambda: _masing_note(model, y[used], f[used]),
     )  # fmt: skip
+
+
+def _adequacy(sep: Separable, y: FloatArray, run: FitRun, sol: Any) -> Any:
+    """The residual tests of the fit (`_separable_adequacy`): the force's own noise."""
+    extra = {} if "offset" in sep.x_names else {"asymmetry": np.ones_like(y)}
+    regressors = {"the displacement": y, "the motion": np.diff(y, prepend=y[0]),
+                  "the direction of motion": _direction(y)}  # fmt: skip
+    return separable_adequacy(sep, sol, regressors, extra=extra, span=float(np.ptp(y)))
 
 
 def _direction(y: FloatArray) -> FloatArray:

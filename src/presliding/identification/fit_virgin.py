@@ -63,6 +63,7 @@ from presliding.identification.prediction import reversal_tolerance as auto_tole
 from presliding.identification.problem import _pi_regression as pr
 from presliding.identification.problem._fit_problem import FitOptions, FitProblem
 from presliding.identification.problem._parameters import check_flag, resolve_parameters
+from presliding.identification.problem._separable_adequacy import separable_adequacy
 from presliding.identification.problem._separable_problem import Separable, separable_problem
 from presliding.identification.result._fit_progress import FitProgress, as_reporter, shows_progress
 
@@ -285,7 +286,10 @@ def fit_virgin_curve(
     samples = model_of(fv)
     use_envelope = envelope and thresholds is None and n > 0
     plan = FitPlan(search=partial(_search, problem, model_of, samples, use_envelope),
-                   result=partial(_result, samples, s, loops))  # fmt: skip
+                   result=partial(_result, samples, s, loops),
+                   adequacy=lambda run, sol: separable_adequacy(
+                       samples, sol, {"s": s}, signal="virgin-curve force",
+                       span=float(s[-1]) if n else None))  # fmt: skip
     options = FitOptions(level, max_evaluations, tolerance, progress=shown)
     return run_fit(problem(samples, thresholds), options, plan)
 

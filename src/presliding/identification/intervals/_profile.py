@@ -181,6 +181,7 @@ def profile_solution(sol: Any, which: str | Sequence[str] = "auto", budget: int 
         range(len(prof.free)),
         key=lambda i: (_per_record(prof.free[i]), not _at_bound(prof, x, i, ci[prof.free[i]])),
     )
+    unresolved: tuple[str, ...] = ()  # their profiles stopped where P was not resolved
     for j in order:
         name = prof.free[j]
         if j in done:
@@ -213,12 +214,14 @@ def profile_solution(sol: Any, which: str | Sequence[str] = "auto", budget: int 
             methods[name] = "profile"
         spent += walk.solves
         if ends is None:  # the inner optimisations do not resolve P here: stop profiling
+            unresolved = tuple(prof.free[i] for i in order[order.index(j) :] if i not in done)
             break
     ci.update(_tied_intervals(sol, ci))
     if done:
         return replace(sol, confidence_interval=ci, interval_method=methods,
-                       standard_error=se, covariance=_rescaled(sol, se))  # fmt: skip
-    return replace(sol, confidence_interval=ci, interval_method=methods)
+                       standard_error=se, covariance=_rescaled(sol, se),
+                       unresolved=unresolved)  # fmt: skip
+    return replace(sol, confidence_interval=ci, interval_method=methods, unresolved=unresolved)
 
 
 def _rescaled(sol: Any, se: dict) -> Any:

@@ -37,6 +37,7 @@ import numpy as np
 from presliding.identification._fit_engine import FitPlan, FitRun, Found, cost, run_fit
 from presliding.identification.judge._asymmetry import asymmetry_test, hac_scale
 from presliding.identification.problem._parameters import check_flag, resolve_parameters
+from presliding.identification.records._residual_blocks import pooled_adequacy
 from presliding.identification.search._search import SAME_OPTIMUM
 from presliding.identification.solve._least_squares import Solution, complete
 
@@ -116,6 +117,7 @@ def fit_asymmetric(fit: Callable[..., Any], request: dict[str, Any], check: Call
         result=partial(_result, parts.result, symmetric, constraints(problem.spec,
                                                                      problem.names)),
         bootstrap=parts.bootstrap, seed=parts.seed,
+        adequacy=lambda run, sol: pooled_adequacy(run.problem, sol),
     )  # fmt: skip
     out = run_fit(problem, options, plan)
     if n != count:  # the symmetric fit chose the elements (n_elements="auto", prune=True)
@@ -183,13 +185,14 @@ def fit_nested(
     result: Callable[..., Any],
     rows: list[dict[str, float]],
     options: Any,
+    adequacy: Callable[..., Any] | None = None,
 ) -> Any:
     """The asymmetric fit of a separable problem (`fit_presliding`, `fit_motion`: c1⁻ and σ⁻
     beside c1 and σ, the elements shared) from its grid start (or the caller's `thresholds`)
     and from the `symmetric` fit's thresholds, the better kept; the linear stage at those
     thresholds contains the symmetric optimum, so the asymmetric residual is never the
     larger. `problem_of(thresholds=...)` builds the problem, `result` is the fit's result
-    step, `rows` the constraints of the symmetric model."""
+    step, `rows` the constraints of the symmetric model, `adequacy` the fit's residual tests."""
     from presliding.identification.problem._pi_regression import element_names
 
     r_names = element_names(sum(1 for x in symmetric.parameters if x.startswith("threshold_")))[1]
@@ -203,7 +206,8 @@ def fit_nested(
         best = min(tries, key=cost)
         return Found(best, len(tries), sum(1 for t in tries if cost(t) <= cost(best) * 1.001))
 
-    plan = FitPlan(search=search, result=partial(_result, result, symmetric, rows))
+    plan = FitPlan(search=search, result=partial(_result, result, symmetric, rows),
+                   adequacy=adequacy)  # fmt: skip
     return run_fit(problem_of(thresholds=thresholds), options, plan)
 
 

@@ -7,7 +7,8 @@ applied force, and the user's `initial` and `bounds`. `quasi_static_plan`
 gives the fit's own steps:
 
 * search: the residual is far from convex in the records' preloads, in c1
-  against the stiffest element and in the element split. The cheapest route
+  against the stiffest element, in the element split and in a density's length
+  scale (its further starts move it by `DENSITY_SCALES` with F_m kept). The cheapest route
   first: the regression start solved once (the records' own starts fitted one
   by one first, `record_starts`); when it converged with every record within
   the floor rule (`_search.at_floor`) no further start runs. Otherwise the
@@ -21,6 +22,9 @@ gives the fit's own steps:
   split is the least determined direction of the loops; another optimum that
   the profile's threshold does not exclude is reported, `_alternatives`), and
   so is its flattest direction, stepped far both ways (`_flat_probe`);
+* refit: a preload fit far above the noise floor is fitted again from relaxed
+  records and replaced where that fits clearly better (`_relaxed`: a relaxed
+  memory is not on the branch of the preloads);
 * checks: coalesced elements split, elements relabelled stiffest first, then a
   split of neighbouring elements the records do not determine made
   ``not_identifiable`` with its plateau in the intervals (`_split_check`: an
@@ -74,6 +78,7 @@ from presliding.identification.problem._parameters import (
 from presliding.identification.records._quasi_static_errors import with_run_floor
 from presliding.identification.records._quasi_static_problem import QuasiStaticProblem
 from presliding.identification.records._quasi_static_start import lift_density, quasi_static_start
+from presliding.identification.records._residual_blocks import pooled_adequacy
 from presliding.identification.search._flat_probe import flat_probe
 from presliding.identification.search._nuisance_search import search_nuisance
 from presliding.identification.search._probes import other_valley, solve_probes, split_starts
@@ -206,7 +211,8 @@ def quasi_static_plan(req: QuasiStaticRequest) -> FitPlan:
     """The quasi-static fit's own steps (module notes)."""
     return FitPlan(
         search=partial(_search, req), checks=(partial(_split, req), partial(_plateau, req)),
-        result=partial(_result, req), bootstrap=req.bootstrap, seed=req.seed,
+        refit=partial(_relaxed, req), result=partial(_result, req), bootstrap=req.bootstrap,
+        seed=req.seed, adequacy=lambda run, sol: pooled_adequacy(run.problem, sol),
     )  # fmt: skip
 
 
@@ -229,6 +235,43 @@ def _relabel(req: QuasiStaticRequest, run: FitRun, sol: Solution) -> Solution:
     return sol
 
 
+#: a relaxed start is kept where its cost is below this share of the best preload's
+RELAXED_BETTER = 0.5
+
+
+def _relaxed(req: QuasiStaticRequest, run: FitRun, sol: Solution) -> Any:
+    """A preload fit far above the noise floor, fitted again from relaxed records; kept when
+    it fits clearly better (`RELAXED_BETTER`), with a note.
+
+    The preloads are memories on the branch from saturation (the record reverses at its
+    preload): a record that starts relaxed (a new contact, its first loading on the virgin
+    curve) is none of them, and its fit ended 38 times above the noise floor with a preload
+    of −0.6 and an initial position 0.37 mm off where the truth is relaxed at 0 (torque loops
+    of a uniform density)."""
+    from presliding.identification._fit_engine import run_fit
+
+    if req.initial_state != "preload" or at_floor(run.problem.records, sol):
+        return None
+    if not np.isfinite(cost(sol)):
+        return None
+
+    def own(given: dict) -> dict:
+        return {x: v for x, v in given.items() if not x.startswith("preload_fraction")}
+
+    other = replace(req, initial_state="relaxed", initial=own(req.initial),
+                    bounds=own(req.bounds), fixed=own(req.fixed), tied=own(req.tied))  # fmt: skip
+    run.stage("refit: the records started relaxed")
+    problem, options = quasi_static_problem(other)
+    result = run_fit(problem, options, quasi_static_plan(other))
+    if not result.chisqr < RELAXED_BETTER * cost(sol):
+        return None
+    note = (f"the records start relaxed: that memory fits them {cost(sol) / result.chisqr:.3g} "
+            "times better (in cost) than any preload on the branch from saturation, so the "
+            "fit is that of initial_state='relaxed'")  # fmt: skip
+    return replace(result, notes=(*result.notes, note),
+                   n_evaluations=result.n_evaluations + run.evaluations)  # fmt: skip
+
+
 def _shaped(req: QuasiStaticRequest) -> bool:
     """Whether an element's stiffness is fixed or tied (the element split is given)."""
     return bool(set(req.spec.k_names) & (set(req.fixed) | set(req.tied)))
@@ -246,11 +289,37 @@ def _starts(req: QuasiStaticRequest, run: FitRun) -> list[dict[str, float]]:
             starts += [
                 {**spread, "coulomb": share * spread["coulomb_level"]} for share in (0.1, 0.4)
             ]
+    if spec.density is not None and not _density_shaped(req):
+        starts += _density_starts(spec, start)
     if not p.tied:
         extra, count = global_start(p.records, start, p.fixed, p.bounds, keep=1)
         run.evaluations += count
         starts += [{x: e[x] for x in p.names} for e in extra]
     return starts
+
+
+#: factors of a density's length scale in its further starts (its F_m kept)
+DENSITY_SCALES = (0.5, 2.0)
+
+
+def _density_shaped(req: QuasiStaticRequest) -> bool:
+    """Whether the density's length or heights are fixed or tied (its shape is given)."""
+    return bool({x for x in req.spec.names if x != "coulomb"} & (set(req.fixed) | set(req.tied)))
+
+
+def _density_starts(spec: ModelSpec, start: dict[str, float]) -> list[dict[str, float]]:
+    """Starts along a density's length scale with its F_m kept (heights × 1/f²): the loops
+    determine the virgin curve's reach poorly where the data do not reach the density's
+    end, and the regression's start sat in the wrong valley of it."""
+    length = "length" if spec.density == "exponential" else "max_threshold"
+    heights = [x for x in spec.names if x.startswith("height")]
+    out = []
+    for f in DENSITY_SCALES:
+        cand = dict(start)
+        cand[length] = start[length] * f
+        cand.update({x: start[x] / f**2 for x in heights})
+        out.append(cand)
+    return out
 
 
 def _search(req: QuasiStaticRequest, run: FitRun) -> Found:

@@ -66,6 +66,7 @@ from presliding.identification.problem._fit_options import check_enough
 from presliding.identification.problem._fit_problem import FitOptions, FitProblem
 from presliding.identification.problem._parameters import kept_parameters
 from presliding.identification.records import _pooled_problem as pp
+from presliding.identification.records._residual_blocks import pooled_adequacy
 from presliding.identification.search._flat_probe import flat_probe
 from presliding.identification.search._probes import (
     corner_starts,
@@ -168,6 +169,7 @@ def response_plan(req: ResponseRequest, problem: FitProblem, options: FitOptions
                 partial(_rigid_limit, flags), partial(_coalesced, req, flags)),
         refit=partial(_prune, req, refit_with), result=partial(_result, req),
         bootstrap=req.bootstrap, seed=req.seed,
+        adequacy=lambda run, sol: pooled_adequacy(run.problem, sol),
     )  # fmt: skip
 
 

@@ -66,10 +66,11 @@ def check_records(
             f"`records` must be a Measurement or a sequence of them; got {type(records).__name__}."
         )
     signal = as_choice("signal", signal, signals)
-    for m in found:
+    single = isinstance(records, Measurement)
+    for i, m in enumerate(found):
         m.require(*NEED[signal], purpose=f"fit_response(signal={signal!r})")
         which = "velocity" if m.velocity is not None else "position"
-        check_varies(which, getattr(m, which))
+        check_record(m, which, "records" if single else f"records[{i}]")
     velocity = as_choice("velocity", velocity, VELOCITY)
     if velocity == "difference":
         for i, m in enumerate(found):
@@ -89,10 +90,35 @@ def check_quasi_static_records(records: Any) -> list[Record]:
     for i, m in enumerate(found):
         if not isinstance(m, Measurement):
             raise TypeError(f"`records[{i}]` must be a Measurement; got {type(m).__name__}.")
-        position, force = m.require("position", "applied_force", purpose="fit_quasi_static")
-        check_varies("position", position)
-        check_varies("applied_force", force)
+        _, force = m.require("position", "applied_force", purpose="fit_quasi_static")
+        label = "records" if isinstance(records, Measurement) else f"records[{i}]"
+        check_record(m, "position", label)
+        check_varies("applied_force" if label == "records" else f"{label}.applied_force", force)
     return [as_record(m) for m in found]
+
+
+#: fewest samples of a record: its own start (up to 3 parameters), the velocity's difference
+#: quotient and the noise floor's second differences
+MIN_RECORD_SAMPLES = 8
+
+
+def check_record(m: Measurement, which: str, label: str) -> None:
+    """A record long enough for the fit and moving: refused naming it (`label`) otherwise.
+
+    A 3-sample record ended ``max_evaluations`` (its noise floor and its own start cannot
+    be had from it), and a record that never moves was refused without saying which."""
+    n = m.time.shape[0]
+    if n < MIN_RECORD_SAMPLES:
+        raise ValueError(
+            f"`{label}` must have at least {MIN_RECORD_SAMPLES} samples (its own start, the "
+            f"velocity's difference quotient and the noise floor need them); got {n}."
+        )
+    signal = getattr(m, which)
+    if not np.ptp(signal) > 0:
+        raise ValueError(
+            f"`{label}` must move: its {which} is constant ({fmt(float(signal[0]))}), a record "
+            "that never moves holds nothing to fit (leave it out)."
+        )
 
 
 def check_model_values(spec: Any, fixed: dict, tied: dict, initial: Mapping | None) -> None:

@@ -12,6 +12,7 @@ r_j⁻ = r_j).
 from __future__ import annotations
 
 from dataclasses import replace
+from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
@@ -19,6 +20,7 @@ from numpy.typing import NDArray
 
 from presliding.identification._fit_engine import FitPlan, FitRun, Found, cost, run_fit
 from presliding.identification.fit_result import FitResult
+from presliding.identification.problem._separable_adequacy import separable_adequacy
 from presliding.identification.judge._asymmetry import asymmetry_test, hac_scale
 from presliding.identification.problem._fit_options import (
     check_enough,
@@ -78,4 +80,32 @@ def fit_branches(request: dict[str, Any], symmetric: FitResult, s: FloatArray, f
     options = FitOptions(
         level, max_evaluations, tolerance, progress=as_reporter(request["progress"])
     )
-    return run_fit(problem, options, FitPlan(search=search, result=result))
+    plan = FitPlan(search=search, result=result, adequacy=lambda run, sol: separable_adequacy(
+        _Branches(sided), sol, {"s": s}, signal="virgin-curve force",
+        span=float(s.max()) if sided.n else None))  # fmt: skip
+    return run_fit(problem, options, plan)
+
+
+class _Branches:
+    """The two branches as the residual tests read a separable problem: every sample used,
+    the force the target, the elements' columns min(s, r)."""
+
+    def __init__(self, sided: SidedVirgin):
+        self.sided, self.target = sided, sided.force
+        self.used = np.arange(sided.s.shape[0])
+
+    def _q(self, values: Any) -> FloatArray:
+        return np.array([values[x] for x in self.sided.names] if isinstance(values, Mapping)
+                        else values, dtype=float)  # fmt: skip
+
+    def fitted(self, values: Any) -> FloatArray:
+        return self.sided.fitted(self._q(values))
+
+    def residual(self, values: Any) -> FloatArray:
+        return self.sided.residual(self._q(values))
+
+    def jacobian(self, values: Any) -> FloatArray:
+        return self.sided.jacobian(self._q(values))
+
+    def basis(self, thresholds: FloatArray) -> tuple[FloatArray]:
+        return (np.minimum(self.sided.s[:, None], np.asarray(thresholds)[None, :]),)

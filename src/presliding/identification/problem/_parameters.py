@@ -74,7 +74,17 @@ def from_lmfit(params: Any) -> tuple[dict, dict, dict, dict]:
             tied[name] = _linear_tie(name, p.expr)
             continue
         value = as_real_scalar(f"initial[{name!r}].value", p.value, finite=False)
+        if np.isnan(value) or (not p.vary and not np.isfinite(value)):
+            raise ValueError(  # NaN gave a "converged" fit with NaN parameters
+                f"`initial[{name!r}].value` must be a finite number (or ±inf for no start of a "
+                f"varied parameter); got {fmt(value)}."
+            )
         lo, hi = float(p.min), float(p.max)
+        if np.isnan(lo) or np.isnan(hi):
+            raise ValueError(
+                f"`initial[{name!r}]` must have bounds that are numbers or ±inf; got min "
+                f"{fmt(lo)}, max {fmt(hi)}."
+            )
         if np.isfinite(lo) or np.isfinite(hi):
             bounds[name] = (lo, hi)
         if not p.vary:

@@ -19,6 +19,7 @@ _quasi_static_errors.py   the error floor of runs of equal quantised samples
 _quasi_static_kernel.py   compiled quasi-static positions of many records and parameter sets
 _quasi_static_problem.py  the pooled quasi-static residual
 _quasi_static_start.py    quasi-static start values (eq. 8 as a regression)
+_residual_blocks.py       a pooled residual as the adequacy tests read it; candidate mechanisms
 _response_tools.py        a record's first direction, integrals, equal-break-away stiffnesses
 
 May import: the rooms `intervals`, `judge`, `problem`, `solve` of identification;

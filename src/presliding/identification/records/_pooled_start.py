@@ -71,7 +71,11 @@ def _solve(blocks: list, rhs: list, lower: FloatArray) -> FloatArray | None:
     # its columns' (the solution of unscaled forces·seconds came out otherwise)
     size = float(np.linalg.norm(b)) or 1.0
     with threadpool_limits(limits=1, user_api="blas"):  # a tall, thin problem
-        return lsq_linear(mat / scale, b / size, bounds=(lower / size, np.inf)).x * size / scale
+        # BVLS, an active-set method, ends at the exact bounded optimum: the start is the
+        # same in any consistent units to rounding (the trust-region method stopped on its
+        # tolerance, which on a nearly collinear grid moved k_1 by 5e-4 between unit systems)
+        fit = lsq_linear(mat / scale, b / size, bounds=(lower / size, np.inf), method="bvls")
+        return fit.x * size / scale
 
 
 def pooled_start(

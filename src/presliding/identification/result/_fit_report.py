@@ -56,6 +56,11 @@ class FitReport:
     interval_method: dict[str, str]
     alternatives: Any
     asymmetry: Any
+    adequacy: Any
+
+    @property
+    def intervals_calibrated(self) -> bool:  # pragma: no cover - `FitResult` decides
+        return True
 
     def to_pandas(self) -> Any:
         """A pandas DataFrame of the parameters: value, unit, standard error, interval,
@@ -93,6 +98,7 @@ class FitReport:
         pct = f"{100 * self.confidence_level:g} %"
         width = max([16, *(len(n) + 2 for n in self.parameters)])
         boot = self.bootstrap or {}
+        pct_note = "" if self.intervals_calibrated else " (not calibrated: see below)"
         lines = [
             f"{self.kind} fit: {self.status} — {self.message}",
             f"{self.measured.shape[0]} samples"
@@ -100,7 +106,8 @@ class FitReport:
             + f", {self.n_evaluations} evaluations",
             "",
             f"{'parameter':<{width}}{'value':>14} {'unit':<10}{'std. error':>11}   "
-            f"{pct + ' interval':<30}" + ("   bootstrap std. error and interval" if boot else ""),
+            f"{pct + ' interval' + pct_note:<30}"
+            + ("   bootstrap std. error and interval" if boot else ""),
         ]
         for n, v in self.parameters.items():
             se = self.standard_error[n]
@@ -135,6 +142,7 @@ class FitReport:
             f"model: {self.model!r}",
         ]
         lines += self.search.lines() if self.search is not None else []
+        lines += self._adequacy_lines()
         for alt in self.alternatives:
             lines.append(
                 f"another optimum (cost {alt.cost:.6g}, {alt.rise:+.3g} over the best): "
@@ -145,6 +153,21 @@ class FitReport:
         if self.cross_validation is not None:
             lines += ["", self.cross_validation.report()]
         return "\n".join(lines)
+
+    def _adequacy_lines(self) -> list[str]:
+        """The residual tests' verdict and whether the intervals may be read as calibrated."""
+        out = []
+        if self.adequacy is not None:
+            levels = ", ".join(f"{x:.3g}" for x in self.adequacy.levels[:8])
+            more = " ..." if len(self.adequacy.levels) > 8 else ""
+            out.append(f"residual tests: {'passed' if self.adequacy.passed else 'failed'}; "
+                       f"residual RMS over the noise per record: {levels}{more}")  # fmt: skip
+            if not self.adequacy.passed:
+                out.append(f"  {self.adequacy.text()}")
+        if not self.intervals_calibrated:
+            out.append("intervals: not calibrated (the fit is not at an optimum of a model that "
+                       "describes the data); the numbers are the local ones")  # fmt: skip
+        return out
 
     def _correlation_lines(self) -> list[str]:
         corr = self.correlation

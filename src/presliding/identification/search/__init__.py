@@ -14,6 +14,7 @@ _nuisance_search.py  each record's own parameters searched on a grid, the shared
 _probes.py           probes of the valleys next to the best optimum (engage, corner, split)
 _scale_probe.py      the probe along eq. 17's scale (mass and forces together, blocks re-searched)
 _search.py           the search step: starts, alternation, the noise-floor rule, its summary
+_threshold_search.py variable projection over the thresholds of a separable fit (its starts)
 
 May import: the rooms `intervals`, `judge`, `problem`, `records`, `solve` of identification; the
 layers below identification and the root's shared modules.
