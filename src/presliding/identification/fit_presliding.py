@@ -233,8 +233,14 @@ def fit_presliding(
         )  # fmt: skip
         if asymmetric:
             options = FitOptions(level, max_evaluations, tolerance, progress=shown)
-            return _fit_sided(request, problem, thresholds, partial(_result, sep, y, f), options,
-                              partial(_adequacy, sep, y))
+            return _fit_sided(
+                request,
+                problem,
+                thresholds,
+                partial(_result, sep, y, f),
+                options,
+                partial(_adequacy, sep, y),
+            )
         found = None if search == "grid" or n == 0 else partial(
             search_thresholds, y, f, _direction(y), n, grid, coulomb=coulomb, offset=offset,
             skip=burn_in, seed=seed, max_generations=max_generations, progress=shown,

@@ -194,8 +194,10 @@ def fit_response(
         Bounds on any parameter, intersected with its natural ones.
     prune : bool, keyword only
         Drop elements that never slide in the data (their k_j → 0, or 2·r_j
-        beyond the largest swing) and refit, with the `fixed`, `tied` and
-        `bounds` given (those of dropped elements left out); the derived values
+        beyond the largest swing) and refit once, from the fit's optimum without
+        them, with the `fixed`, `tied` and `bounds` given (those of dropped
+        elements left out); the notes name the elements dropped, and any of the
+        refit's own that never slide in turn (kept). The derived values
         ``effective_elements`` and ``reachable_coulomb_level`` are always given.
     bootstrap : int, keyword only
         Record-level bootstrap resamples (used with three or more records; 0: none).

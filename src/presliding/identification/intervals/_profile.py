@@ -60,6 +60,7 @@ from typing import Any
 
 import numpy as np
 
+from presliding.identification.intervals._profile_bound import ACCURACY as BOUND_ACCURACY
 from presliding.identification.intervals._profile_bound import partner_intervals, widen
 from presliding.identification.intervals._profile_inner import cost, minimise
 from presliding.identification.intervals._profile_walk import (
@@ -168,7 +169,7 @@ def profile_solution(sol: Any, which: str | Sequence[str] = "auto", budget: int 
             continue
         if which not in ("auto", "all") and prof.free[p] not in which:
             continue
-        walk = Walker(prof, x, c0, normal, p, crit, -drop)
+        walk = Walker(prof, x, c0, normal, p, crit, -drop, accuracy=BOUND_ACCURACY)
         ci[prof.free[p]], ranges = partner_intervals(walk)
         methods[prof.free[p]] = "profile"
         done.add(p)

@@ -6,7 +6,9 @@ element with k_j → 0 or 2·r_j beyond the largest swing of the fitted motion
 never slides in the data, so its break-away force is a level the data never
 reach. Elements with k_j → 0 are dropped; those beyond the swing act as linear
 springs over the data, indistinguishable from one another, and are merged
-into one (the stiffnesses added). The reachable Coulomb level is
+into one (the stiffnesses added). ``prune=True`` refits once without them,
+from the optimum (`Pruning.start`); the refit says which of its own elements
+never slide in turn (kept). The reachable Coulomb level is
 c1 + Σ_j k_j·min(r_j, s) with s half the largest swing (c1 + φ(s) for a
 density): the largest friction force the model produces over the travel seen.
 
@@ -162,6 +164,12 @@ def initial_bounds(problem: pp.PooledProblem, initial_state: str) -> dict[str, t
 
 
 # ---------------------------------------------------------------------- pruning
+#: the end of a fit's note on its elements that never slide (`Pruning.note`) ...
+DROPS = " (prune=True drops them)"
+#: ... and of the refit's of ``prune=True``, which refits once (`_response_plan._prune`)
+LEFT = " in turn, in the model refitted without the others: kept (prune=True refits once)"
+
+
 @dataclass
 class Pruning:
     """Elements that never slide in the fitted motion (module notes)."""
@@ -187,19 +195,24 @@ class Pruning:
         )
 
     def start(self, values: dict[str, float], problem: pp.PooledProblem) -> dict[str, float]:
-        """Start values of the refit without the dead elements (renumbered)."""
+        """Start values of the refit without the dead elements (renumbered).
+
+        The springs merged into one add their stiffnesses and (break-away forces free)
+        their break-away forces to it: the spring the data see stays, and so does the force
+        of the elements while they all slide (a record that starts sliding, saturated or
+        preloaded, carries every element's break-away force until its first reversal). With
+        equal break-away forces F_c is kept for that reason: the elements left share it.
+        """
         spec = problem.spec
         alive = [j for j in range(spec.n) if j not in self.dead]
         out = {x: v for x, v in values.items() if x not in (*spec.k_names, *spec.c_names)}
         _, k, r = spec.bank(values)
         merged = [j for j in self.dead if "merged" in self.reasons[j]]
         for new, j in enumerate(alive):
-            extra = float(np.sum(k[merged])) if j == self.spring else 0.0
-            out[f"stiffness_{new + 1}"] = float(k[j]) + extra
+            extra = merged if j == self.spring else []
+            out[f"stiffness_{new + 1}"] = float(k[j] + np.sum(k[extra]))
             if not spec.equal:
-                out[f"breakaway_{new + 1}"] = float(k[j] * r[j])
-        if spec.equal:
-            out["coulomb_level"] = values["coulomb"] + float(np.sum(k[alive] * r[alive]))
+                out[f"breakaway_{new + 1}"] = float(k[j] * r[j] + np.sum(k[extra] * r[extra]))
         return out
 
 

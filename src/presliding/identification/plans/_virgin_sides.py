@@ -11,16 +11,15 @@ r_j⁻ = r_j).
 
 from __future__ import annotations
 
-from dataclasses import replace
 from collections.abc import Mapping
-from typing import Any
+from dataclasses import replace
+from typing import Any, cast
 
 import numpy as np
 from numpy.typing import NDArray
 
 from presliding.identification._fit_engine import FitPlan, FitRun, Found, cost, run_fit
 from presliding.identification.fit_result import FitResult
-from presliding.identification.problem._separable_adequacy import separable_adequacy
 from presliding.identification.judge._asymmetry import asymmetry_test, hac_scale
 from presliding.identification.problem._fit_options import (
     check_enough,
@@ -29,6 +28,7 @@ from presliding.identification.problem._fit_options import (
 )
 from presliding.identification.problem._fit_problem import FitOptions
 from presliding.identification.problem._parameters import resolve_parameters
+from presliding.identification.problem._separable_adequacy import separable_adequacy
 from presliding.identification.problem._sided_virgin import SidedVirgin
 from presliding.identification.result._fit_progress import as_reporter
 
@@ -81,7 +81,7 @@ def fit_branches(request: dict[str, Any], symmetric: FitResult, s: FloatArray, f
         level, max_evaluations, tolerance, progress=as_reporter(request["progress"])
     )
     plan = FitPlan(search=search, result=result, adequacy=lambda run, sol: separable_adequacy(
-        _Branches(sided), sol, {"s": s}, signal="virgin-curve force",
+        cast(Any, _Branches(sided)), sol, {"s": s}, signal="virgin-curve force",
         span=float(s.max()) if sided.n else None))  # fmt: skip
     return run_fit(problem, options, plan)
 
