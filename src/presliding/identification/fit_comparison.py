@@ -57,8 +57,8 @@ class FitComparison:
         That family (None when every fit failed).
     status : str
         The best family's fit status: "converged", "local_minimum",
-        "not_identifiable", "at_bound", "poor_fit", "max_evaluations", or
-        "failed" (also when every fit failed).
+        "model_inadequate", "not_identifiable", "at_bound", "poor_fit",
+        "max_evaluations", or "failed" (also when every fit failed).
     message : str
         Which family the data support and by how much, and whether the
         held-out records agree.
@@ -99,10 +99,12 @@ class FitComparison:
 
     @property
     def aic(self) -> np.ndarray:
+        """Each family's Akaike information criterion (its fit's ``aic``)."""
         return np.array([f.aic for f in self.fits])
 
     @property
     def bic(self) -> np.ndarray:
+        """Each family's Bayesian information criterion (its fit's ``bic``)."""
         return np.array([f.bic for f in self.fits])
 
     @property
