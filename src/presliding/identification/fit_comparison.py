@@ -22,6 +22,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from presliding._display import fill_attrs, result_html, short_repr
+from presliding._interop import require
 from presliding._validation import as_choice, fmt
 from presliding.identification.families import CARRIES, FAMILIES
 from presliding.identification.fit_result import FitResult
@@ -178,7 +179,7 @@ class FitComparison:
 
     def to_pandas(self) -> Any:
         """A DataFrame with a row per family."""
-        import pandas as pd
+        pd = require("pandas", "`FitComparison.to_pandas()`")
 
         frame = pd.DataFrame({
             "family": list(self.families), "status": [f.status for f in self.fits],

@@ -30,6 +30,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from presliding._display import fill_attrs
+from presliding._interop import require
 from presliding._validation import as_choice, as_parameter_vector, as_si, fmt
 from presliding.analysis import amplitude_response
 from presliding.hysteresis._results import ResultMixin
@@ -149,7 +150,7 @@ class ModalBackbone(ResultMixin):
     def to_pandas(self) -> Any:
         """amplitude (index), modal_force, frequency, damping_ratio, dissipation; units in
         ``attrs``."""
-        import pandas as pd
+        pd = require("pandas", "`ModalBackbone.to_pandas()`")
 
         cols = {k: getattr(self, k) for k in ("modal_force", "frequency", "damping_ratio",
                                               "dissipation", "harmonic_frequency",

@@ -17,6 +17,7 @@ from typing import TYPE_CHECKING, Any, ClassVar
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from presliding._interop import require
 from presliding._validation import (
     as_choice,
     as_count,
@@ -98,10 +99,9 @@ class StructureMotion(ResultMixin):
 
     def to_pandas(self) -> Any:
         """One row per sample: q_i, v_i, a_i, g_c, λ_c."""
-        import pandas as pd
-
         from presliding._display import fill_attrs
 
+        pd = require("pandas", "`StructureMotion.to_pandas()`")
         cols: dict[str, Any] = {}
         for name, arr in (("position", self.position), ("velocity", self.velocity),
                           ("acceleration", self.acceleration),

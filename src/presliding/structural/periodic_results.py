@@ -9,6 +9,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from presliding._display import fill_attrs
+from presliding._interop import require
 from presliding._validation import as_choice
 from presliding.hysteresis._results import ResultMixin
 
@@ -180,7 +181,7 @@ class FrequencyResponse(ResultMixin):
 
     def to_pandas(self) -> Any:
         """One row per orbit: frequency, scale, amplitude_i, first_harmonic_i, stable, ..."""
-        import pandas as pd
+        pd = require("pandas", "`FrequencyResponse.to_pandas()`")
 
         cols: dict[str, Any] = {"frequency": self.frequency, "scale": self.scale}
         for i in range(self.amplitude.shape[1]):
