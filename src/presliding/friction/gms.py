@@ -181,7 +181,8 @@ class GMSFriction:
             "static_level", self.static_level)  # fmt: skip
         if fs < fc:
             raise ValueError(
-                f"`static_level` must be >= the Coulomb level c1 + Σ c_i = {fmt(fc)}; got {fmt(fs)}."
+                f"`static_level` must be >= the Coulomb level c1 + Σ c_i = {fmt(fc)}; got "
+                f"{fmt(fs)}."
             )
         vs = self.stribeck_velocity
         if vs is not None:
@@ -194,8 +195,11 @@ class GMSFriction:
         for name, value in (("coulomb", c1), ("stiffness", k), ("breakaway", c),
                             ("static_level", fs), ("stribeck_velocity", vs)):  # fmt: skip
             object.__setattr__(self, name, value)
-        object.__setattr__(self, "stribeck_exponent",
-                           as_positive_scalar("stribeck_exponent", self.stribeck_exponent))
+        object.__setattr__(
+            self,
+            "stribeck_exponent",
+            as_positive_scalar("stribeck_exponent", self.stribeck_exponent),
+        )
         object.__setattr__(self, "lag_time", as_nonnegative_scalar("lag_time", self.lag_time))
         object.__setattr__(self, "viscous", as_nonnegative_scalar("viscous", self.viscous))
 
@@ -237,8 +241,7 @@ class GMSFriction:
             raise TypeError(f"`model` must be a PIFriction; got {type(model).__name__}.")
         if not model.is_discrete or not model.is_symmetric:
             raise ValueError(
-                "`model` must have finite elements and equal sides for a GMS model; got "
-                f"{model!r}."
+                f"`model` must have finite elements and equal sides for a GMS model; got {model!r}."
             )
         k = np.empty(0) if model.stiffness is None else model.stiffness
         c = np.empty(0) if model.breakaway is None else model.breakaway

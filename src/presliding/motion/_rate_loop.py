@@ -16,9 +16,9 @@ import math
 
 import numpy as np
 
+from presliding.hysteresis._jit import njit
 from presliding.motion._implicit_loop import BLOCK, fill_applied
 from presliding.motion._rate_step import _JIT, commit, rest_force, solve_step, stored_energy
-from presliding.hysteresis._jit import njit
 
 
 @njit(**_JIT)

@@ -269,9 +269,22 @@ def simulate(
     return _result(out, m, e0, final_state, method, model)
 
 
-def _simulate_rate(model: Any, mass: Any, applied_force: Any, initial_position: Any,
-                   initial_velocity: Any, initial_state: Any, t_end: Any, t_eval: Any, method: Any,
-                   hold: Any, step: Any, t_start: Any, rtol: Any, atol: Any) -> MotionResult:
+def _simulate_rate(
+    model: Any,
+    mass: Any,
+    applied_force: Any,
+    initial_position: Any,
+    initial_velocity: Any,
+    initial_state: Any,
+    t_end: Any,
+    t_eval: Any,
+    method: Any,
+    hold: Any,
+    step: Any,
+    t_start: Any,
+    rtol: Any,
+    atol: Any,
+) -> MotionResult:
     """`simulate` for GMS, LuGre and Dahl friction: the implicit method (`_rate_run`)."""
     m = as_positive_scalar("mass", mass, kind="mass")
     y0 = as_real_scalar("initial_position", initial_position, kind="position")
@@ -297,13 +310,20 @@ def _simulate_rate(model: Any, mass: Any, applied_force: Any, initial_position: 
                            *target)  # fmt: skip
     u0 = float(forcing(np.array([t0]))[0])
     z0, e0, last = _rate_run.initial_rate_state(model, initial_state, y0, v0, u0)
-    out, energy0, final_state = _rate_run.run_rate(model, m, z0, e0, y0, v0, float(np.sign(v0)),
-                                                   forcing, times, t0, t_end, n_steps)
+    out, energy0, final_state = _rate_run.run_rate(
+        model, m, z0, e0, y0, v0, float(np.sign(v0)), forcing, times, t0, t_end, n_steps
+    )
     if out["status"] != 0 or not (np.isfinite(out["y"]) and np.isfinite(out["v"])):
         _run.motion_overflow(t_end)
     if out["dir"] == 0.0 and isinstance(final_state, GMSState):  # never moved: the memory's
-        final_state = GMSState(final_state.last_input, final_state.last_time,
-                               final_state.forces, final_state.slipping, 0.0, last)
+        final_state = GMSState(
+            final_state.last_input,
+            final_state.last_time,
+            final_state.forces,
+            final_state.slipping,
+            0.0,
+            last,
+        )
     return _result(out, m, energy0, final_state, "implicit", model)
 
 
