@@ -44,6 +44,7 @@ from presliding.control import (
 from presliding.friction import (
     Comparison,
     CoulombFriction,
+    CreepingFriction,
     DahlFriction,
     DahlState,
     GMSFriction,
@@ -166,6 +167,7 @@ __all__ = [
     "AmplitudeResponse",
     "Comparison",
     "CoulombFriction",
+    "CreepingFriction",
     "CrossValidation",
     "DahlFriction",
     "DahlState",

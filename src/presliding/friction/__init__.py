@@ -4,6 +4,7 @@ Files
 -----
 pi_friction.py        `PIFriction`: c1·sign(ẏ) + Σ k_j (y − x_j) (eq. 8), or a density μ (eq. 10)
 baselines.py          `CoulombFriction`, `DahlFriction`, `LuGreFriction` and their states
+creep.py              `CreepingFriction`: PI friction in series with a Kelvin–Voigt element
 gms.py                `GMSFriction`, `GMSState`: generalized Maxwell-slip (Stribeck curve, lag)
 comparison.py         `compare`: several models on one displacement path, as a `Comparison`
 preload.py            `preloaded_state`: a memory with a given elastic force (a record's preload)
@@ -27,6 +28,7 @@ from presliding.friction.baselines import (
 )
 from presliding.friction.batch import friction_batch
 from presliding.friction.comparison import Comparison, compare
+from presliding.friction.creep import CreepingFriction
 from presliding.friction.gms import GMSFriction, GMSState
 from presliding.friction.pi_friction import PIFriction
 from presliding.friction.preload import preloaded_state
@@ -34,6 +36,7 @@ from presliding.friction.preload import preloaded_state
 __all__ = [
     "Comparison",
     "CoulombFriction",
+    "CreepingFriction",
     "DahlFriction",
     "DahlState",
     "GMSFriction",

@@ -40,7 +40,8 @@ def stribeck_factor(w, ratio, velocity, exponent):  # pragma: no cover - compile
     """ŝ(w) = 1 + (ρ − 1)·exp(−(w/v_s)^δ) for a speed w >= 0 (1 when ρ = 1)."""
     if ratio == 1.0:
         return 1.0
-    return 1.0 + (ratio - 1.0) * math.exp(-((w / velocity) ** exponent))
+    x = w / velocity
+    return 1.0 + (ratio - 1.0) * math.exp(-(x * x if exponent == 2.0 else x**exponent))
 
 
 @njit(**_JIT)

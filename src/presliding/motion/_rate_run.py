@@ -31,10 +31,8 @@ RATE_MODELS = (GMSFriction, LuGreFriction, DahlFriction)
 STATE_TYPES = {GMSFriction: GMSState, LuGreFriction: LuGreState, DahlFriction: DahlState}
 
 
-def family_arrays(model: Any, viscous: float = 0.0) -> tuple[int, FloatArray, FloatArray,
-                                                             FloatArray]:  # fmt: skip
-    """(family code, parameter vector, k, c) of a model for the compiled step (`_rate_step`);
-    `viscous` adds σ·ẏ to a Dahl model (which has no viscous term of its own)."""
+def family_arrays(model: Any) -> tuple[int, FloatArray, FloatArray, FloatArray]:
+    """(family code, parameter vector, k, c) of a model for the compiled step (`_rate_step`)."""
     par = np.zeros(_rate_step.N_PARAMETERS)
     empty = np.empty(0)
     if isinstance(model, GMSFriction):
@@ -47,7 +45,7 @@ def family_arrays(model: Any, viscous: float = 0.0) -> tuple[int, FloatArray, Fl
         par[:] = (model.coulomb, model.static, model.stiffness, model.damping, model.viscous,
                   model.stribeck_velocity)  # fmt: skip
         return _rate_step.LUGRE, par, empty, empty
-    par[:4] = (model.coulomb, model.stiffness, model.exponent, viscous)
+    par[:4] = (model.coulomb, model.stiffness, model.exponent, model.viscous)
     return _rate_step.DAHL, par, empty, empty
 
 

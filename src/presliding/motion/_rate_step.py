@@ -93,9 +93,15 @@ def trial_force(family, par, k, c, z, e, s, d, h):  # pragma: no cover - compile
             total += element_step(z[j], e[j], k[j], c[j], s, d, h, shat, lam)[0]
         return par[0] * shat + s * total + par[5] * d / h
     if family == LUGRE:
+        if d == 0.0:
+            return s * par[2] * z[0]
         v = s * d / h
-        zn = lugre_step(z[0], v, h, par[2], par[0], par[1], par[5])
-        return s * lugre_output(zn, v, par[2], par[3], par[4], par[0], par[1], par[5])
+        x = v / par[5]
+        g = par[0] + (par[1] - par[0]) * math.exp(-(x * x))  # as `lugre_step`, once
+        rate = par[2] * d / (h * g)
+        zss = v / rate
+        zn = zss + (z[0] - zss) * math.exp(-rate * h)
+        return s * (par[2] * zn + par[3] * (v - rate * zn) + par[4] * v)
     return s * dahl_step(z[0], s * d, par[0], par[1], par[2]) + par[3] * d / h
 
 
@@ -148,8 +154,16 @@ def solve_step(family, par, k, c, z, e, m, v, u, h):  # pragma: no cover - compi
     s = 1.0 if g > 0.0 else -1.0
     mh2 = m / (h * h)
     base = s * rest + abs(g)
-    lo, flo = 0.0, _residual(family, par, k, c, z, e, s, 0.0, h, mh2, base)
+    lo, flo = 0.0, stick_band(family, par) - abs(g)  # R(0+): the static level, no motion yet
     hi = abs(g) / mh2
+    if s * v > 0.0:  # moving on: the last step's travel is the first guess
+        guess = s * v * h
+        fguess = _residual(family, par, k, c, z, e, s, guess, h, mh2, base)
+        if fguess < 0.0:
+            lo, flo = guess, fguess
+            hi = guess - fguess / mh2
+        else:
+            hi = guess
     fhi = _residual(family, par, k, c, z, e, s, hi, h, mh2, base)
     count = 0
     while fhi < 0.0:
@@ -166,8 +180,10 @@ def solve_step(family, par, k, c, z, e, m, v, u, h):  # pragma: no cover - compi
 
 @njit(**_JIT)
 def _brent(family, par, k, c, z, e, s, h, mh2, base, a, fa, b, fb):  # pragma: no cover
-    """The root of `_residual` in [a, b] (fa < 0 <= fb), to rounding (Brent 1973, ch. 4)."""
-    if fb == 0.0:
+    """The root of `_residual` in [a, b] (fa < 0 <= fb), to rounding (Brent 1973, ch. 4):
+    the bracket within 2 ulps, or the residual within the rounding of its terms."""
+    ftol = 8.0 * EPS * (abs(base) + mh2 * abs(b))  # a residual at the rounding of its terms
+    if abs(fb) <= ftol:
         return b
     cc, fc = a, fa
     step = last = b - a
@@ -180,7 +196,7 @@ def _brent(family, par, k, c, z, e, s, h, mh2, base, a, fa, b, fb):  # pragma: n
             fa, fb, fc = fb, fc, fb
         tol = 2.0 * EPS * abs(b) + 1e-300
         half = 0.5 * (cc - b)
-        if abs(half) <= tol or fb == 0.0:
+        if abs(half) <= tol or abs(fb) <= ftol:
             return b
         if abs(last) >= tol and abs(fa) > abs(fb):
             ratio = fb / fa

@@ -1,0 +1,240 @@
+"""`fit_response(family=...)`: the pooled fit of GMS, LuGre or Dahl friction, as a `FitPlan`.
+
+`check_rate` checks the arguments as for the PI model (`check_response`), refuses
+those the family has no use for, and takes the family's parameters
+(`_family_spec`); `rate_problem` builds the record-pooled problem (`RateProblem`:
+the implicit step, ``substeps`` steps per sample interval) with its start and
+bounds; `rate_plan` gives the fit's own steps:
+
+* search: the start comes from the PI model's regression start (eq. 17 over every
+  record, `_pooled_start`): GMS takes its elements, c1 and F_C with a small
+  Stribeck drop at a third of the records' typical speed and a lag of a sample
+  interval; LuGre and Dahl take F_C, and a bristle stiffness σ0 = F_C/y½ from the
+  travel y½ in which the PI start's virgin curve reaches F_C/2; the mass, σ and the
+  offset as they are. The adaptive multistart of `_search` then runs (each record's
+  own parameters on the nuisance grid where it does not fit), with further starts
+  — the Stribeck drop and speed, and σ0, varied — only while the fit stays above the
+  noise floor;
+* checks: the engine's shared ones (bounds, records' own undetermined starts);
+* result: the family's model (`GMSFriction`, `LuGreFriction`, `DahlFriction`), its
+  static level as a derived value, and the predictor of held-out records.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from dataclasses import replace
+from functools import partial
+from typing import Any
+
+import numpy as np
+
+from presliding._validation import as_bounds, as_choice, as_count, as_nonnegative_scalar, fmt
+from presliding.identification._fit_engine import FitPlan, FitRun, Found
+from presliding.identification.plans._response_request import ResponseRequest, check_response
+from presliding.identification.plans._response_result import PER_UNIT_MASS, _per_kg
+from presliding.identification.plans._response_setup import (
+    check_model_values,
+    initial_bounds,
+    signal_weights,
+)
+from presliding.identification.problem._family_spec import FAMILIES, NONNEGATIVE, FamilySpec
+from presliding.identification.problem._fit_options import check_enough
+from presliding.identification.problem._fit_problem import FitOptions, FitProblem
+from presliding.identification.problem._model_spec import ModelSpec
+from presliding.identification.records._pooled_start import pooled_start
+from presliding.identification.records._rate_problem import RateProblem
+from presliding.identification.search._search import adaptive_search
+from presliding.identification.solve._least_squares import Solution, complete
+from presliding.measurement.measurement import common_axis
+
+__all__ = ["check_rate", "rate_plan", "rate_problem"]
+
+#: steps of the implicit method per sample interval (`RateProblem`), unless given
+SUBSTEPS = 4
+#: options of `fit_response` the rate families refuse unless at their defaults
+_PI_ONLY = {"density": None, "prune": False, "min_coulomb_level": None, "n_elements": 4,
+            "equal_breakaway": True, "coulomb_level": None}  # fmt: skip
+_ELEMENTS = ("n_elements", "equal_breakaway", "coulomb_level")  # GMS has elements
+_FACTORS = ((0.3, 0.1), (0.1, 1.0), (0.5, 0.3))  # further starts: (drop/F_C, v_s/typical speed)
+
+
+def check_rate(request: dict[str, Any]) -> tuple[ResponseRequest, int]:
+    """Every argument of `fit_response(family=...)` checked; (the request, substeps)."""
+    family = as_choice("family", request["family"], ("pi", *FAMILIES))
+    substeps = SUBSTEPS if request["substeps"] is None else as_count(
+        "substeps", request["substeps"], minimum=1, maximum=1000)  # fmt: skip
+    for name, default in _PI_ONLY.items():
+        if family == "gms" and name in _ELEMENTS:
+            continue
+        value = request[name]
+        if value is not default and value != default:
+            raise ValueError(
+                f"`{name}` is an option of the PI model's fit (family 'pi'"
+                f"{', gms' if name in _ELEMENTS else ''}); got {fmt(value)} with family "
+                f"{family!r}."
+            )
+    checked = check_response(request)
+    spec = FamilySpec(family, checked.spec)
+    check_model_values(spec, checked.fixed, checked.tied, checked.initial)
+    for label, values in (("fixed", checked.fixed), ("initial", checked.initial)):
+        for x in NONNEGATIVE:
+            if x in values and x in spec.names:
+                as_nonnegative_scalar(f"{label}[{x!r}]", values[x])
+    return replace(checked, spec=spec), substeps
+
+
+def _typical_speed(recs: list[Any]) -> float:
+    """The median speed of the records' samples that move (m/s)."""
+    v = np.abs(np.concatenate([r.velocity for r in recs]))
+    moving = v[v > 0.05 * max(float(np.max(v)), 1e-300)]
+    return float(np.median(moving)) if moving.size else 1.0
+
+
+def _family_start(req: ResponseRequest, pi: dict[str, float], pi_spec: ModelSpec
+                  ) -> dict[str, float]:  # fmt: skip
+    """The family's shared start values from the PI regression start (module notes)."""
+    spec: FamilySpec = req.spec
+    out = {x: pi[x] for x in ("mass", "viscous", "offset") if x in pi}
+    fc = pi_spec.coulomb_level(pi)
+    speed = _typical_speed(req.recs)
+    if spec.family == "gms":
+        out.update({x: pi[x] for x in pi_spec.names})
+        dt = float(np.median(np.concatenate([np.diff(r.time) for r in req.recs])))
+        return {**out, "stribeck_drop": 0.2 * fc, "stribeck_velocity": 0.3 * speed,
+                "lag_time": dt}  # fmt: skip
+    c1, k, r = pi_spec.bank(pi)
+    travel = np.sort(np.concatenate([[0.0], r, [np.inf]]))  # the virgin curve's knots
+    curve = np.array([c1 + float(np.minimum(x, r) @ k) for x in travel[:-1]])
+    half = float(np.interp(0.5 * fc, curve, travel[:-1])) if curve[-1] > 0.5 * fc else r[-1]
+    stiffness = fc / max(half, 1e-300)
+    out.update(coulomb=fc, stiffness=stiffness)
+    if spec.family == "lugre":
+        m = out["mass"]
+        out.update(stribeck_drop=0.2 * fc, damping=0.1 * np.sqrt(stiffness * m),
+                   stribeck_velocity=0.3 * speed)  # fmt: skip
+    return out
+
+
+def rate_problem(req: ResponseRequest, substeps: int) -> tuple[FitProblem, FitOptions]:
+    """The pooled problem of a checked request, and the options of its solves."""
+    spec: FamilySpec = req.spec
+    recs = req.recs
+    records = RateProblem(
+        recs, spec, signal_weights(req.signal, recs, req.weights), req.initial_state,
+        offset=req.offset, suffix=not req.single, viscous=req.viscous, velocity=req.velocity,
+        substeps=substeps,
+    )  # fmt: skip
+    names, fixed = records.names, dict(req.fixed)
+    for i, rec in enumerate(recs):
+        if not req.fit_initial:
+            fixed.setdefault(records.nuisance("initial_velocity", i), float(rec.velocity[0]))
+        if not req.fit_initial or req.signal == "velocity":
+            fixed.setdefault(records.nuisance("initial_position", i), float(rec.position[0]))
+    check_enough(records.n_res, len(names) - len(fixed))
+    pi_spec = spec.pi if spec.family == "gms" else ModelSpec(4, True, None, spec.cells)
+    pi = pooled_start(recs, pi_spec, fixed.get("mass", None if req.forced else 1.0), req.offset,
+                      req.viscous)  # fmt: skip
+    start = _family_start(req, pi, pi_spec)
+    for i, rec in enumerate(recs):
+        start[records.nuisance("initial_position", i)] = float(rec.position[0])
+        start[records.nuisance("initial_velocity", i)] = float(rec.velocity[0])
+        if req.initial_state == "preload":
+            start[records.nuisance("preload_fraction", i)] = (
+                float(records.direction[i]) if rec.velocity[0] else 0.0)  # fmt: skip
+    for key, val in req.initial.items():
+        if key not in names:
+            raise ValueError(f"`initial` must name parameters of the fit; got {key!r}.")
+        start[key] = float(val)
+    start.update({x: v for x, v in fixed.items() if x in names})
+    box = {**spec.bounds(), "mass": (0.0, np.inf), "offset": (-np.inf, np.inf),
+           "viscous": (0.0, np.inf), **initial_bounds(records, req.initial_state)}  # fmt: skip
+    for key, (lo, hi) in as_bounds("bounds", req.bounds, names).items():
+        old = box.get(key, (-np.inf, np.inf))
+        box[key] = (max(old[0], float(lo)), min(old[1], float(hi)))
+    start = {x: float(np.clip(start[x], *box.get(x, (-np.inf, np.inf)))) for x in names}
+    records.set_typical(start)
+    budget = 50 * len(names) if req.max_evaluations is None else req.max_evaluations
+    options = FitOptions(req.level, budget, req.tolerance, max(req.tolerance**2, 1e-15),
+                         req.progress)  # fmt: skip
+    problem = FitProblem(
+        tuple(names), start, {x: box.get(x, (-np.inf, np.inf)) for x in names}, fixed,
+        req.tied, records=records, spec=spec, method="lm" if records.n_rec > 1 else "auto",
+    )  # fmt: skip
+    return problem, options
+
+
+def rate_plan(req: ResponseRequest) -> FitPlan:
+    """The rate family fit's own steps (module notes)."""
+    return FitPlan(search=partial(_search, req), result=partial(_result, req),
+                   bootstrap=req.bootstrap, seed=req.seed)  # fmt: skip
+
+
+def _more_starts(req: ResponseRequest, run: FitRun) -> Iterator[tuple[dict[str, float], int]]:
+    """The further shared starts: the Stribeck drop and speed, and σ0, varied."""
+    p = run.problem
+    spec: FamilySpec = req.spec
+    free = [x for x in spec.names if x not in p.fixed and x not in p.tied]
+    start = dict(p.initial)
+    fc = spec.coulomb_level(start)
+    speed = _typical_speed(req.recs)
+    for i, (drop, vs) in enumerate(_FACTORS):
+        out = dict(start)
+        if "stribeck_drop" in free:
+            out["stribeck_drop"] = drop * fc
+        if "stribeck_velocity" in free:
+            out["stribeck_velocity"] = vs * speed
+        if spec.family != "gms" and "stiffness" in free:
+            out["stiffness"] = start["stiffness"] * (3.0, 0.3, 10.0)[i]
+        if out != start:
+            yield {x: float(np.clip(out[x], *p.bounds[x])) for x in p.names}, 0
+
+
+def _search(req: ResponseRequest, run: FitRun) -> Found:
+    """The adaptive multistart of `_search` from the family's start (module notes)."""
+    p = run.problem
+    rec = p.records
+    run.stage(f"least squares ({req.spec.family}): {rec.n_rec} record(s), "
+              f"{len(p.names) - len(p.fixed)} free parameters")  # fmt: skip
+    short = min(run.options.max_evaluations or 40, 12 + 2 * len(rec.shared))
+    sol, n_starts, at_best, count = adaptive_search(
+        rec, run.solve, p.initial, partial(_more_starts, req, run), p.fixed, p.bounds, short,
+    )  # fmt: skip
+    run.evaluations += count
+    return Found(complete(sol), n_starts, at_best, count)
+
+
+def _result(req: ResponseRequest, run: FitRun, sol: Solution, boot: Any,
+            summary: Any) -> Any:  # fmt: skip
+    """The public result: the family's model, derived values, notes, predictor."""
+    from presliding.identification.fit_result import FitResult
+    from presliding.identification.plans._predictors import ResponsePredictor
+
+    problem = run.problem.records
+    spec: FamilySpec = req.spec
+    values = sol.values
+    o_y, o_v, status, _ = problem.simulate(np.array([values[x] for x in problem.names]))
+    if not (np.all(status == 0) and np.all(np.isfinite(o_v))) and sol.status == "converged":
+        sol = replace(sol, status="failed", message="the simulation failed at the optimum")
+    if req.per_unit_mass:
+        sol = replace(sol, message=f"{sol.message}; {PER_UNIT_MASS}")
+    derived = spec.derived(values)
+    position = req.signal == "position"
+    measured = np.concatenate([(r.position if position else r.velocity) for r in problem.records])
+    units = {x: "1" for x in problem.names if x.startswith("preload_fraction")}
+    if req.per_unit_mass:
+        units.update(_per_kg([*problem.names, *derived]))
+        units.update({x: u for x, u in (("stribeck_drop", "N/kg"), ("static_level", "N/kg"),
+                      ("static", "N/kg"), ("damping", "N s/(m kg)")) if x in values or x in derived})  # fmt: skip
+    result = FitResult.from_solution(
+        sol, spec.model(values), problem.t_all, measured, o_y[0] if position else o_v[0],
+        kind=f"output-error response ({spec.family})", abscissa_label="time [s]",
+        signal_label="position" if position else "velocity",
+        signal_unit="m" if position else "m/s", units=units, derived=derived,
+    )  # fmt: skip
+    spans = tuple(zip(problem.t_off[:-1].tolist(), problem.t_off[1:].tolist(), strict=True))
+    notes = (PER_UNIT_MASS,) if req.per_unit_mass else ()
+    return replace(
+        result, records=spans if problem.n_rec > 1 else (), bootstrap=boot, notes=notes,
+        predictor=ResponsePredictor(problem, values), search=summary,
+    ).on_axis(common_axis(req.records))  # fmt: skip
