@@ -56,6 +56,8 @@ SUBSTEPS = 4
 _PI_ONLY = {"density": None, "prune": False, "min_coulomb_level": None, "n_elements": 4,
             "equal_breakaway": True, "coulomb_level": None}  # fmt: skip
 _ELEMENTS = ("n_elements", "equal_breakaway", "coulomb_level")  # GMS has elements
+_PER_KG = {"stribeck_drop": "N/kg", "static_level": "N/kg", "static": "N/kg",
+           "damping": "N s/(m kg)"}  # fmt: skip
 _FACTORS = ((0.3, 0.1), (0.1, 1.0), (0.5, 0.3))  # further starts: (drop/F_C, v_s/typical speed)
 
 
@@ -224,8 +226,7 @@ def _result(req: ResponseRequest, run: FitRun, sol: Solution, boot: Any,
     units = {x: "1" for x in problem.names if x.startswith("preload_fraction")}
     if req.per_unit_mass:
         units.update(_per_kg([*problem.names, *derived]))
-        units.update({x: u for x, u in (("stribeck_drop", "N/kg"), ("static_level", "N/kg"),
-                      ("static", "N/kg"), ("damping", "N s/(m kg)")) if x in values or x in derived})  # fmt: skip
+        units.update({x: u for x, u in _PER_KG.items() if x in values or x in derived})
     result = FitResult.from_solution(
         sol, spec.model(values), problem.t_all, measured, o_y[0] if position else o_v[0],
         kind=f"output-error response ({spec.family})", abscissa_label="time [s]",
