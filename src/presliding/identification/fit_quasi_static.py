@@ -56,6 +56,7 @@ def fit_quasi_static(
     density_cells: int = 32,
     min_coulomb_level: float | None = None,
     offset: bool = False,
+    creep: bool = False,
     initial_state: str = "preload",
     initial: Mapping[str, float] | None = None,
     fixed: Mapping[str, float] | None = None,
@@ -80,6 +81,14 @@ def fit_quasi_static(
         A lower bound on F_c [N], besides the largest |u| (module notes).
     offset : bool, keyword only
         Fit a force offset (parameter ``offset``; the model sees u − offset).
+    creep : bool, keyword only
+        Put a Kelvin–Voigt element in series with the contact
+        (`presliding.friction.CreepingFriction`): the position gains y_c,
+        τ·ẏ_c + y_c = J·(u − offset), starting at rest with each record's first
+        force (parameters ``creep_compliance`` J >= 0 [m/N] and ``creep_time`` τ >= 0
+        [s], shared; the records' `time` is used). A joint that keeps moving under a
+        constant torque below break-away creeps to a limit this way; with J = 0 the
+        model is the PI model. The returned model is then a `CreepingFriction`.
     initial_state : {"preload", "continuing", "relaxed"}, keyword only
         The memory each record starts with: a fitted preload
         (``preload_fraction``; the record reverses at it), a branch its first
@@ -91,8 +100,8 @@ def fit_quasi_static(
     -------
     FitResult
         Position against the applied force, records one after the other; the
-        model is `PIFriction` (no mass: quasi-static), `predict` gives the
-        response of another record.
+        model is `PIFriction` (no mass: quasi-static; with ``creep=True`` a
+        `CreepingFriction`), `predict` gives the response of another record.
     """
     checked = check_quasi_static(dict(locals()))
     problem, options = quasi_static_problem(checked)
