@@ -247,7 +247,8 @@ class GMSFriction:
         c = np.empty(0) if model.breakaway is None else model.breakaway
         return cls(model.coulomb, k, c, viscous=model.viscous, **rate)
 
-    def _kernel_args(self) -> tuple:
+    def _kernel_args(self) -> tuple[float, FloatArray, FloatArray, float, float, float, float,
+                                    float]:  # fmt: skip
         vs = 1.0 if self.stribeck_velocity is None else float(self.stribeck_velocity)
         return (self.coulomb, self.stiffness, self.breakaway, self.static_ratio, vs,
                 self.stribeck_exponent, self.lag_time, self.viscous)  # fmt: skip
@@ -278,7 +279,7 @@ class GMSFriction:
             return np.full(v.shape, self.coulomb_level)
         with np.errstate(over="ignore"):  # |v| ≫ v_s: exp(−inf) = 0, the exact limit
             decay = np.exp(-((v / self.stribeck_velocity) ** self.stribeck_exponent))
-        return self.coulomb_level + (self.static_level - self.coulomb_level) * decay
+        return self.coulomb_level + (self.static_ratio - 1.0) * self.coulomb_level * decay
 
     def steady_force(self, velocity: ArrayLike) -> FloatArray:
         """s(v)·sign(v) + σ·v: the force at steady sliding with velocity v (0 at v = 0) [N]."""

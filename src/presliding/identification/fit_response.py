@@ -230,6 +230,6 @@ def _fit_rate(request: dict) -> FitResult:
             "`substeps` sets the implicit steps of a rate family (family 'gms', 'lugre' or "
             f"'dahl'); got {request['substeps']!r} with family 'pi' (exact events)."
         )
-    checked, substeps = check_rate(request)
-    problem, options = rate_problem(checked, substeps)
-    return run_fit(problem, options, rate_plan(checked))
+    checked, spec, substeps = check_rate(request)
+    problem, options = rate_problem(checked, spec, substeps)
+    return run_fit(problem, options, rate_plan(checked, spec, pi_fit=fit_response))

@@ -76,16 +76,17 @@ def initial_rate_state(model: Any, initial_state: Any, y0: float, v0: float,
             "`initial_state` must be 'relaxed', 'saturated' or a "
             f"{STATE_TYPES[type(model)].__name__}; got {fmt(initial_state)}."
         )
-    expected = STATE_TYPES[type(model)]
+    expected: Any = STATE_TYPES[type(model)]
     if not isinstance(initial_state, expected):
         raise TypeError(
             f"`initial_state` must be 'relaxed', 'saturated' or a {expected.__name__}; got "
             f"{type(initial_state).__name__}."
         )
-    if initial_state.last_input != y0:
+    state: Any = initial_state
+    if state.last_input != y0:
         raise ValueError(
             "`initial_state.last_input` must equal `initial_position`; got "
-            f"{fmt(initial_state.last_input)} and {fmt(y0)}."
+            f"{fmt(state.last_input)} and {fmt(y0)}."
         )
     vdir = float(np.sign(v0))
     if isinstance(initial_state, GMSState):
@@ -100,12 +101,12 @@ def initial_rate_state(model: Any, initial_state: Any, y0: float, v0: float,
                 f"{fmt(initial_state.bristle)}."
             )
         return np.array([initial_state.bristle]), np.zeros(1), vdir
-    if abs(initial_state.force) > model.coulomb:
+    if abs(state.force) > model.coulomb:
         raise ValueError(
             f"`initial_state.force` must satisfy |force| <= coulomb {fmt(model.coulomb)}; got "
-            f"{fmt(initial_state.force)}."
+            f"{fmt(state.force)}."
         )
-    return np.array([initial_state.force]), np.zeros(1), vdir
+    return np.array([state.force]), np.zeros(1), vdir
 
 
 def initial_force(model: Any, z: FloatArray, v0: float, u0: float) -> float:
@@ -119,7 +120,7 @@ def initial_force(model: Any, z: FloatArray, v0: float, u0: float) -> float:
         band = model.coulomb * model.static_ratio
         return rest + float(np.clip(u0 - rest, -band, band))
     if family == _rate_step.LUGRE:
-        return float(lugre_output(z[0], v0, *par[2:5], par[0], par[1], par[5]))
+        return float(lugre_output(z[0], v0, par[2], par[3], par[4], par[0], par[1], par[5]))
     return float(z[0])
 
 

@@ -41,6 +41,7 @@ import numpy as np
 
 from presliding._validation import as_bounds, as_choice, as_count, as_positive_scalar, fmt
 from presliding.friction.creep import CreepingFriction
+from presliding.friction.pi_friction import PIFriction
 from presliding.identification._fit_engine import FitPlan, FitRun, Found
 from presliding.identification.checks._response_checks import (
     coalesced_split,
@@ -324,9 +325,10 @@ def _result(req: QuasiStaticRequest, run: FitRun, sol: Solution, boot: Any,
             x = records.nuisance("preload_fraction", i)
             derived[x.replace("preload_fraction", "preload")] = values[x] * fm
     units = {x: "1" for x in records.names if x.startswith("preload_fraction")}
-    model = spec.model(values)
+    contact = spec.model(values)
+    model: PIFriction | CreepingFriction = contact
     if req.creep:
-        model = CreepingFriction(model, max(values["creep_compliance"], 0.0),
+        model = CreepingFriction(contact, max(values["creep_compliance"], 0.0),
                                  max(values["creep_time"], 0.0))  # fmt: skip
     result = FitResult.from_solution(
         sol, model, records.u_all, np.concatenate([r.position for r in req.recs]),

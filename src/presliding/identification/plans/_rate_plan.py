@@ -23,7 +23,7 @@ bounds; `rate_plan` gives the fit's own steps:
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import replace
 from functools import partial
 from typing import Any
@@ -62,12 +62,14 @@ _PI_ONLY = {"density": None, "prune": False, "min_coulomb_level": None, "n_eleme
 _ELEMENTS = ("n_elements", "equal_breakaway", "coulomb_level")  # GMS has elements
 _PER_KG = {"stribeck_drop": "N/kg", "static_level": "N/kg", "static": "N/kg",
            "damping": "N s/(m kg)"}  # fmt: skip
-#: further starts: (drop/F_C, v_s/typical speed, lag/sample interval, σ0/its start)
-_FACTORS = ((0.3, 0.1, 8.0, 3.0), (0.1, 1.0, 0.5, 0.3))
+#: further starts: (drop/F_C, v_s/typical speed, lag/sample interval, σ0/its start,
+#: σ·(typical speed)/F_C at least)
+_FACTORS = ((0.3, 0.1, 8.0, 3.0, 0.3), (0.1, 1.0, 0.5, 0.3, 0.1))
 
 
-def check_rate(request: dict[str, Any]) -> tuple[ResponseRequest, int]:
-    """Every argument of `fit_response(family=...)` checked; (the request, substeps)."""
+def check_rate(request: dict[str, Any]) -> tuple[ResponseRequest, FamilySpec, int]:
+    """Every argument of `fit_response(family=...)` checked; (the request as for the PI model,
+    the family's parameters, substeps)."""
     family = as_choice("family", request["family"], ("pi", *FAMILIES))
     substeps = SUBSTEPS if request["substeps"] is None else as_count(
         "substeps", request["substeps"], minimum=1, maximum=1000)  # fmt: skip
@@ -88,7 +90,7 @@ def check_rate(request: dict[str, Any]) -> tuple[ResponseRequest, int]:
         for x in NONNEGATIVE:
             if x in values and x in spec.names:
                 as_nonnegative_scalar(f"{label}[{x!r}]", values[x])
-    return replace(checked, spec=spec), substeps
+    return checked, spec, substeps
 
 
 def _typical_speed(recs: list[Any]) -> float:
@@ -101,12 +103,11 @@ def _sample_interval(recs: list[Any]) -> float:
     return float(np.median(np.concatenate([np.diff(r.time) for r in recs])))
 
 
-def _family_start(req: ResponseRequest, pi: dict[str, float], pi_spec: ModelSpec,
-                  mass: float | None) -> dict[str, float]:  # fmt: skip
+def _family_start(req: ResponseRequest, spec: FamilySpec, pi: dict[str, float],
+                  pi_spec: ModelSpec, mass: float | None) -> dict[str, float]:  # fmt: skip
     """The family's shared start values from the PI regression start and, for GMS and LuGre,
     the Stribeck regression (module notes)."""
-    spec: FamilySpec = req.spec
-    out = {x: pi[x] for x in ("mass", "viscous", "offset") if x in pi}
+    out: dict[str, float] = {x: pi[x] for x in ("mass", "viscous", "offset") if x in pi}
     fc = pi_spec.coulomb_level(pi)
     speed = _typical_speed(req.recs)
     curve = {"stribeck_drop": 0.2 * fc, "stribeck_velocity": 0.3 * speed}
@@ -134,9 +135,9 @@ def _family_start(req: ResponseRequest, pi: dict[str, float], pi_spec: ModelSpec
     return out
 
 
-def rate_problem(req: ResponseRequest, substeps: int) -> tuple[FitProblem, FitOptions]:
+def rate_problem(req: ResponseRequest, spec: FamilySpec,
+                 substeps: int) -> tuple[FitProblem, FitOptions]:  # fmt: skip
     """The pooled problem of a checked request, and the options of its solves."""
-    spec: FamilySpec = req.spec
     recs = req.recs
     records = RateProblem(
         recs, spec, signal_weights(req.signal, recs, req.weights), req.initial_state,
@@ -153,7 +154,7 @@ def rate_problem(req: ResponseRequest, substeps: int) -> tuple[FitProblem, FitOp
     pi_spec = spec.pi if spec.family == "gms" else ModelSpec(4, True, None, spec.cells)
     mass = fixed.get("mass", None if req.forced else 1.0)
     pi = pooled_start(recs, pi_spec, mass, req.offset, req.viscous)
-    start = _family_start(req, pi, pi_spec, mass)
+    start = _family_start(req, spec, pi, pi_spec, mass)
     for i, rec in enumerate(recs):
         start[records.nuisance("initial_position", i)] = float(rec.position[0])
         start[records.nuisance("initial_velocity", i)] = float(rec.velocity[0])
@@ -182,23 +183,27 @@ def rate_problem(req: ResponseRequest, substeps: int) -> tuple[FitProblem, FitOp
     return problem, options
 
 
-def rate_plan(req: ResponseRequest) -> FitPlan:
-    """The rate family fit's own steps (module notes)."""
-    return FitPlan(search=partial(_search, req), result=partial(_result, req),
-                   bootstrap=req.bootstrap, seed=req.seed)  # fmt: skip
+def rate_plan(req: ResponseRequest, spec: FamilySpec, pi_fit: Callable[..., Any]) -> FitPlan:
+    """The rate family fit's own steps (module notes); `pi_fit` is `fit_response` (the PI
+    model's fit that starts a GMS fit's elements)."""
+    return FitPlan(search=partial(_search, req, spec, pi_fit),
+                   result=partial(_result, req, spec), bootstrap=req.bootstrap,
+                   seed=req.seed)  # fmt: skip
 
 
-def _more_starts(req: ResponseRequest, run: FitRun, start: dict[str, float]
+def _more_starts(req: ResponseRequest, spec: FamilySpec, run: FitRun, start: dict[str, float]
                  ) -> Iterator[tuple[dict[str, float], int]]:  # fmt: skip
     """The further shared starts: the Stribeck drop and speed, the lag and σ0 varied."""
     p = run.problem
-    spec: FamilySpec = req.spec
-    free = [x for x in spec.names if x not in p.fixed and x not in p.tied]
+    free = [x for x in (*spec.names, "viscous") if x in p.names and x not in p.fixed
+            and x not in p.tied]  # fmt: skip
     fc = spec.coulomb_level(start)
     speed = _typical_speed(req.recs)
     dt = _sample_interval(req.recs)
-    for drop, vs, lag, stiffness in _FACTORS:
+    for drop, vs, lag, stiffness, viscous in _FACTORS:
         out = dict(start)
+        if "viscous" in free:
+            out["viscous"] = max(start["viscous"], viscous * fc / speed)
         if "stribeck_drop" in free:
             out["stribeck_drop"] = drop * fc
         if "stribeck_velocity" in free:
@@ -211,21 +216,20 @@ def _more_starts(req: ResponseRequest, run: FitRun, start: dict[str, float]
             yield {x: float(np.clip(out[x], *p.bounds[x])) for x in p.names}, 0
 
 
-def _pi_elements(req: ResponseRequest, run: FitRun) -> dict[str, float]:
+def _pi_elements(req: ResponseRequest, spec: FamilySpec, run: FitRun,
+                 pi_fit: Callable[..., Any]) -> dict[str, float]:  # fmt: skip
     """GMS: the start's c1 and elements from the PI model's fit of the same records (its
     search finds the element structure: corners, splits, relabelling), scaled to the start's
     F_C; the Stribeck regression's mass, F_C, drop and speed kept (the PI fit bends its mass
     and F_C to stand in for the Stribeck curve)."""
-    from presliding.identification.fit_response import fit_response
-
-    p, spec = run.problem, req.spec
+    p = run.problem
     start = dict(p.initial)
     shaped = (set(spec.pi.names) - {"coulomb_level"}) & (set(p.fixed) | set(p.tied))
     if spec.family != "gms" or spec.n == 0 or shaped or not req.multistart:
         return start
     run.stage("search: the PI model's fit for the elements' start")
     own = {x: v for x, v in req.fixed.items() if x in ("mass", "offset", "viscous")}
-    fit = fit_response(
+    fit = pi_fit(
         req.records, n_elements=spec.n, equal_breakaway=spec.equal, signal=req.signal,
         velocity=req.velocity, weights=req.weights, initial_state=req.initial_state,
         fit_initial=req.fit_initial, viscous=req.viscous, offset=req.offset, fixed=own,
@@ -241,30 +245,30 @@ def _pi_elements(req: ResponseRequest, run: FitRun) -> dict[str, float]:
     return {**start, **{x: v for x, v in scaled.items() if x not in p.fixed}}
 
 
-def _search(req: ResponseRequest, run: FitRun) -> Found:
+def _search(req: ResponseRequest, spec: FamilySpec, pi_fit: Callable[..., Any],
+            run: FitRun) -> Found:  # fmt: skip
     """The adaptive multistart of `_search` from the family's start (module notes)."""
     p = run.problem
     rec = p.records
-    start = _pi_elements(req, run)
-    run.stage(f"least squares ({req.spec.family}): {rec.n_rec} record(s), "
+    start = _pi_elements(req, spec, run, pi_fit)
+    run.stage(f"least squares ({spec.family}): {rec.n_rec} record(s), "
               f"{len(p.names) - len(p.fixed)} free parameters")  # fmt: skip
     short = min(run.options.max_evaluations or 40, 12 + 2 * len(rec.shared))
     sol, n_starts, at_best, count = adaptive_search(
-        rec, run.solve, start, partial(_more_starts, req, run, start), p.fixed, p.bounds,
+        rec, run.solve, start, partial(_more_starts, req, spec, run, start), p.fixed, p.bounds,
         short,
     )  # fmt: skip
     run.evaluations += count
     return Found(complete(sol), n_starts, at_best, count)
 
 
-def _result(req: ResponseRequest, run: FitRun, sol: Solution, boot: Any,
+def _result(req: ResponseRequest, spec: FamilySpec, run: FitRun, sol: Solution, boot: Any,
             summary: Any) -> Any:  # fmt: skip
     """The public result: the family's model, derived values, notes, predictor."""
     from presliding.identification.fit_result import FitResult
     from presliding.identification.plans._predictors import ResponsePredictor
 
     problem = run.problem.records
-    spec: FamilySpec = req.spec
     values = sol.values
     o_y, o_v, status, _ = problem.simulate(np.array([values[x] for x in problem.names]))
     if not (np.all(status == 0) and np.all(np.isfinite(o_v))) and sol.status == "converged":

@@ -11,6 +11,8 @@ steps per sample interval.
 
 from __future__ import annotations
 
+from typing import Any, cast
+
 import numpy as np
 from numpy.typing import NDArray
 
@@ -30,8 +32,9 @@ class RateProblem(PooledProblem):
                  signal_weights: tuple[float, float], initial_state: str, *, offset: bool,
                  suffix: bool, viscous: bool = False, velocity: str = "auto",
                  substeps: int = 4):  # fmt: skip
-        self.substeps = substeps
-        super().__init__(records, spec, signal_weights, initial_state, offset=offset,
+        self.substeps, self.family = substeps, spec
+        # the family's spec stands in for a `ModelSpec`: names, bounds, model, bank
+        super().__init__(records, cast(Any, spec), signal_weights, initial_state, offset=offset,
                          suffix=suffix, viscous=viscous, velocity=velocity)  # fmt: skip
         self.u_all = np.ascontiguousarray(np.concatenate([r.applied_force for r in records]))
         self.rate_mode = np.full(self.n_rec, rk.RELAXED if initial_state == "relaxed"
@@ -39,7 +42,7 @@ class RateProblem(PooledProblem):
 
     def subset(self, records: list[Record], suffix: bool = True) -> RateProblem:
         """The same problem (family, weights, memory, offset, σ, steps) on other records."""
-        return RateProblem(records, self.spec, (self.w_v, self.w_y), self.initial_state,
+        return RateProblem(records, self.family, (self.w_v, self.w_y), self.initial_state,
                            offset="offset" in self.shared, suffix=suffix,
                            viscous="viscous" in self.shared, velocity=self.velocity,
                            substeps=self.substeps)  # fmt: skip
@@ -53,12 +56,12 @@ class RateProblem(PooledProblem):
     def kernel_arrays(self, sets: FloatArray) -> tuple:
         """(par, k, c, mass, offset) of the parameter sets (rows of full vectors)."""
         n_par = sets.shape[0]
-        n_z = self.spec.n if self.spec.family == "gms" else 1
+        n_z = self.family.n if self.family.family == "gms" else 1
         par = np.zeros((n_par, 6))
         k, c = np.ones((n_par, n_z)), np.ones((n_par, n_z))
         for p in range(n_par):
             q = dict(zip(self.names, sets[p].tolist(), strict=True))
-            par[p], kp, cp = self.spec.pack(q)
+            par[p], kp, cp = self.family.pack(q)
             if kp.shape[0]:
                 k[p], c[p] = kp, cp
         col = self.index
@@ -81,7 +84,7 @@ class RateProblem(PooledProblem):
         o_y, o_v = np.empty((n_par, n_s)), np.empty((n_par, n_s))
         status = np.zeros((n_par, self.n_rec), dtype=np.int64)
         rk.rate_responses(
-            self.spec.code, par, k, c, mass, offset, y0, v0, np.ascontiguousarray(frac),
+            self.family.code, par, k, c, mass, offset, y0, v0, np.ascontiguousarray(frac),
             self.rate_mode, self.direction, self.t_all, self.t_off, self.u_all, self.substeps,
             o_y, o_v, status,
         )  # fmt: skip
