@@ -6,16 +6,12 @@ those the family has no use for, and takes the family's parameters
 the implicit step, ``substeps`` steps per sample interval) with its start and
 bounds; `rate_plan` gives the fit's own steps:
 
-* search: the start comes from the PI model's regression start (eq. 17 over every
-  record, `_pooled_start`) and the Stribeck regression (`_rate_start`: eq. 17 with a
-  Stribeck column over the first slides, the best v_s of a grid): GMS takes the PI
-  start's elements scaled to that F_C, the drop and v_s, and a lag of two sample
-  intervals; LuGre takes F_C, the drop and v_s, and a bristle stiffness σ0 = F_C/y½
-  from the travel y½ in which the PI start's virgin curve reaches F_C/2, Dahl that F_C
-  and σ0. The adaptive multistart of `_search` then runs (each record's
-  own parameters on the nuisance grid where it does not fit), with further starts
-  — the Stribeck drop and speed, and σ0, varied — only while the fit stays above the
-  noise floor;
+* search: the PI model's fit of the same records, a batched grid of the rate
+  parameters around it, and the adaptive multistart from the best candidates
+  (`_rate_search`); the problem's own start (the PI regression start of
+  `_pooled_start`, a drop of a fifth of F_C at a third of the records' typical speed, a
+  lag of two sample intervals) stands in for the PI fit where the caller holds the
+  elements' shape or turns the multistart off;
 * checks: the engine's shared ones (bounds, records' own undetermined starts);
 * result: the family's model (`GMSFriction`, `LuGreFriction`, `DahlFriction`), its
   static level as a derived value, and the predictor of held-out records.
@@ -23,7 +19,7 @@ bounds; `rate_plan` gives the fit's own steps:
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator
+from collections.abc import Callable
 from dataclasses import replace
 from functools import partial
 from typing import Any
@@ -45,8 +41,12 @@ from presliding.identification.problem._fit_problem import FitOptions, FitProble
 from presliding.identification.problem._model_spec import ModelSpec
 from presliding.identification.records._pooled_start import pooled_start
 from presliding.identification.records._rate_problem import RateProblem
-from presliding.identification.records._rate_start import stribeck_start
-from presliding.identification.search._search import adaptive_search
+from presliding.identification.search._rate_search import (
+    base_values,
+    rate_search,
+    sample_interval,
+    typical_speed,
+)
 from presliding.identification.solve._least_squares import Solution, complete
 from presliding.measurement.measurement import common_axis
 
@@ -62,9 +62,6 @@ _PI_ONLY = {"density": None, "prune": False, "min_coulomb_level": None, "n_eleme
 _ELEMENTS = ("n_elements", "equal_breakaway", "coulomb_level")  # GMS has elements
 _PER_KG = {"stribeck_drop": "N/kg", "static_level": "N/kg", "static": "N/kg",
            "damping": "N s/(m kg)"}  # fmt: skip
-#: further starts: (drop/F_C, v_s/typical speed, lag/sample interval, σ0/its start,
-#: σ·(typical speed)/F_C at least)
-_FACTORS = ((0.3, 0.1, 8.0, 3.0, 0.3), (0.1, 1.0, 0.5, 0.3, 0.1))
 
 
 def check_rate(request: dict[str, Any]) -> tuple[ResponseRequest, FamilySpec, int]:
@@ -93,48 +90,6 @@ def check_rate(request: dict[str, Any]) -> tuple[ResponseRequest, FamilySpec, in
     return checked, spec, substeps
 
 
-def _typical_speed(recs: list[Any]) -> float:
-    """The median of the records' largest speeds (m/s): the scale the Stribeck curve falls on."""
-    top = [float(np.max(np.abs(r.velocity))) for r in recs]
-    return float(np.median(top)) if max(top) > 0 else 1.0
-
-
-def _sample_interval(recs: list[Any]) -> float:
-    return float(np.median(np.concatenate([np.diff(r.time) for r in recs])))
-
-
-def _family_start(req: ResponseRequest, spec: FamilySpec, pi: dict[str, float],
-                  pi_spec: ModelSpec, mass: float | None) -> dict[str, float]:  # fmt: skip
-    """The family's shared start values from the PI regression start and, for GMS and LuGre,
-    the Stribeck regression (module notes)."""
-    out: dict[str, float] = {x: pi[x] for x in ("mass", "viscous", "offset") if x in pi}
-    fc = pi_spec.coulomb_level(pi)
-    speed = _typical_speed(req.recs)
-    curve = {"stribeck_drop": 0.2 * fc, "stribeck_velocity": 0.3 * speed}
-    stribeck = None if spec.family == "dahl" else stribeck_start(req.recs, mass, req.offset,
-                                                                   req.viscous)  # fmt: skip
-    if stribeck is not None:
-        factor = stribeck["coulomb_level"] / fc
-        fc = stribeck.pop("coulomb_level")
-        curve = {x: stribeck.pop(x) for x in ("stribeck_drop", "stribeck_velocity")}
-        out.update(stribeck)
-        pi = {**pi, "coulomb": pi["coulomb"] * factor, "coulomb_level": fc,
-              **{x: pi[x] * factor for x in pi_spec.c_names}}  # fmt: skip
-    if spec.family == "gms":
-        out.update({x: pi[x] for x in pi_spec.names})
-        return {**out, **curve, "lag_time": 2.0 * _sample_interval(req.recs)}
-    c1, k, r = pi_spec.bank(pi)
-    travel = np.sort(np.concatenate([[0.0], r, [np.inf]]))  # the virgin curve's knots
-    virgin = np.array([c1 + float(np.minimum(x, r) @ k) for x in travel[:-1]])
-    half = float(np.interp(0.5 * fc, virgin, travel[:-1])) if virgin[-1] > 0.5 * fc else r[-1]
-    stiffness = fc / max(half, 1e-300)
-    out.update(coulomb=fc, stiffness=stiffness)
-    if spec.family == "lugre":
-        m = out["mass"]
-        out.update(curve, damping=0.1 * np.sqrt(stiffness * m))
-    return out
-
-
 def rate_problem(req: ResponseRequest, spec: FamilySpec,
                  substeps: int) -> tuple[FitProblem, FitOptions]:  # fmt: skip
     """The pooled problem of a checked request, and the options of its solves."""
@@ -151,10 +106,14 @@ def rate_problem(req: ResponseRequest, spec: FamilySpec,
         if not req.fit_initial or req.signal == "velocity":
             fixed.setdefault(records.nuisance("initial_position", i), float(rec.position[0]))
     check_enough(records.n_res, len(names) - len(fixed))
-    pi_spec = spec.pi if spec.family == "gms" else ModelSpec(4, True, None, spec.cells)
-    mass = fixed.get("mass", None if req.forced else 1.0)
-    pi = pooled_start(recs, pi_spec, mass, req.offset, req.viscous)
-    start = _family_start(req, spec, pi, pi_spec, mass)
+    pi_spec = spec.pi if spec.family == "gms" else ModelSpec(2, True, None, spec.cells)
+    pi = pooled_start(recs, pi_spec, fixed.get("mass", None if req.forced else 1.0), req.offset,
+                      req.viscous)  # fmt: skip
+    fc = pi_spec.coulomb_level(pi)
+    start = {**dict.fromkeys(names, 0.0), "stribeck_drop": 0.2 * fc,
+             "stribeck_velocity": 0.3 * typical_speed(recs),
+             "lag_time": 2.0 * sample_interval(recs)}  # fmt: skip
+    start = base_values(spec, start, pi, pi_spec, set(names))
     for i, rec in enumerate(recs):
         start[records.nuisance("initial_position", i)] = float(rec.position[0])
         start[records.nuisance("initial_velocity", i)] = float(rec.velocity[0])
@@ -191,73 +150,13 @@ def rate_plan(req: ResponseRequest, spec: FamilySpec, pi_fit: Callable[..., Any]
                    seed=req.seed)  # fmt: skip
 
 
-def _more_starts(req: ResponseRequest, spec: FamilySpec, run: FitRun, start: dict[str, float]
-                 ) -> Iterator[tuple[dict[str, float], int]]:  # fmt: skip
-    """The further shared starts: the Stribeck drop and speed, the lag and σ0 varied."""
-    p = run.problem
-    free = [x for x in (*spec.names, "viscous") if x in p.names and x not in p.fixed
-            and x not in p.tied]  # fmt: skip
-    fc = spec.coulomb_level(start)
-    speed = _typical_speed(req.recs)
-    dt = _sample_interval(req.recs)
-    for drop, vs, lag, stiffness, viscous in _FACTORS:
-        out = dict(start)
-        if "viscous" in free:
-            out["viscous"] = max(start["viscous"], viscous * fc / speed)
-        if "stribeck_drop" in free:
-            out["stribeck_drop"] = drop * fc
-        if "stribeck_velocity" in free:
-            out["stribeck_velocity"] = vs * speed
-        if "lag_time" in free:
-            out["lag_time"] = lag * dt
-        if spec.family != "gms" and "stiffness" in free:
-            out["stiffness"] = start["stiffness"] * stiffness
-        if out != start:
-            yield {x: float(np.clip(out[x], *p.bounds[x])) for x in p.names}, 0
-
-
-def _pi_elements(req: ResponseRequest, spec: FamilySpec, run: FitRun,
-                 pi_fit: Callable[..., Any]) -> dict[str, float]:  # fmt: skip
-    """GMS: the start's c1 and elements from the PI model's fit of the same records (its
-    search finds the element structure: corners, splits, relabelling), scaled to the start's
-    F_C; the Stribeck regression's mass, F_C, drop and speed kept (the PI fit bends its mass
-    and F_C to stand in for the Stribeck curve)."""
-    p = run.problem
-    start = dict(p.initial)
-    shaped = (set(spec.pi.names) - {"coulomb_level"}) & (set(p.fixed) | set(p.tied))
-    if spec.family != "gms" or spec.n == 0 or shaped or not req.multistart:
-        return start
-    run.stage("search: the PI model's fit for the elements' start")
-    own = {x: v for x, v in req.fixed.items() if x in ("mass", "offset", "viscous")}
-    fit = pi_fit(
-        req.records, n_elements=spec.n, equal_breakaway=spec.equal, signal=req.signal,
-        velocity=req.velocity, weights=req.weights, initial_state=req.initial_state,
-        fit_initial=req.fit_initial, viscous=req.viscous, offset=req.offset, fixed=own,
-        level=req.level, tolerance=req.tolerance,
-    )  # fmt: skip
-    run.evaluations += fit.n_evaluations
-    if fit.status == "failed":
-        return start
-    values = fit.parameters
-    factor = spec.pi.coulomb_level(start) / spec.pi.coulomb_level(values)
-    scaled = {x: values[x] * (1.0 if x.startswith("stiffness_") else factor)
-              for x in spec.pi.names if x not in ("coulomb_level",)}  # fmt: skip
-    return {**start, **{x: v for x, v in scaled.items() if x not in p.fixed}}
-
-
 def _search(req: ResponseRequest, spec: FamilySpec, pi_fit: Callable[..., Any],
             run: FitRun) -> Found:  # fmt: skip
-    """The adaptive multistart of `_search` from the family's start (module notes)."""
+    """The PI fit, the grid of the rate parameters, the adaptive multistart (`_rate_search`)."""
     p = run.problem
-    rec = p.records
-    start = _pi_elements(req, spec, run, pi_fit)
-    run.stage(f"least squares ({spec.family}): {rec.n_rec} record(s), "
+    run.stage(f"least squares ({spec.family}): {p.records.n_rec} record(s), "
               f"{len(p.names) - len(p.fixed)} free parameters")  # fmt: skip
-    short = min(run.options.max_evaluations or 40, 12 + 2 * len(rec.shared))
-    sol, n_starts, at_best, count = adaptive_search(
-        rec, run.solve, start, partial(_more_starts, req, spec, run, start), p.fixed, p.bounds,
-        short,
-    )  # fmt: skip
+    sol, n_starts, at_best, count = rate_search(req, spec, pi_fit, run)
     run.evaluations += count
     return Found(complete(sol), n_starts, at_best, count)
 

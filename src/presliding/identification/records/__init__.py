@@ -22,7 +22,6 @@ _quasi_static_problem.py  the pooled quasi-static residual
 _quasi_static_start.py    quasi-static start values (eq. 8 as a regression)
 _rate_kernel.py           compiled batched motions with GMS, LuGre or Dahl friction (implicit)
 _rate_problem.py          the pooled residual of a rate-dependent family
-_rate_start.py            the Stribeck curve's start values (eq. 17 with a Stribeck column)
 _response_tools.py        a record's first direction, integrals, equal-break-away stiffnesses
 
 May import: the rooms `intervals`, `judge`, `problem`, `solve` of identification;
