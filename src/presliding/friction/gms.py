@@ -174,7 +174,8 @@ class GMSFriction:
                 f"got {c.shape[0]}."
             )
         check_has_friction(np.array([c1]), k.shape[0])
-        fc = c1 + float(np.sum(c))
+        with np.errstate(over="ignore"):  # refused below
+            fc = c1 + float(np.sum(c))
         if not np.isfinite(fc):
             raise ValueError(f"`breakaway` must give a finite Coulomb level; got {fmt(fc)}.")
         fs = fc if self.static_level is None else as_positive_scalar(

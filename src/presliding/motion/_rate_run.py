@@ -24,10 +24,13 @@ from presliding.motion import _rate_loop, _rate_step
 from presliding.motion._forcing import Forcing
 from presliding.motion._run import REVERSAL_CAPACITY, _buffers, applied_force_at
 
-__all__ = ["RATE_MODELS", "family_arrays", "initial_rate_state", "run_rate"]
+__all__ = ["MAX_REFINED", "RATE_MODELS", "family_arrays", "initial_rate_state", "run_rate"]
 
 FloatArray = NDArray[np.float64]
 RATE_MODELS = (GMSFriction, LuGreFriction, DahlFriction)
+#: implicit steps at most of an accuracy target's step doubling (`simulate(rtol=...)`): each
+#: step solves a scalar root, several times the PI model's piecewise-linear step
+MAX_REFINED = 2_000_000
 STATE_TYPES = {GMSFriction: GMSState, LuGreFriction: LuGreState, DahlFriction: DahlState}
 
 
@@ -47,6 +50,13 @@ def family_arrays(model: Any) -> tuple[int, FloatArray, FloatArray, FloatArray]:
         return _rate_step.LUGRE, par, empty, empty
     par[:4] = (model.coulomb, model.stiffness, model.exponent, model.viscous)
     return _rate_step.DAHL, par, empty, empty
+
+
+def force_scale(model: Any) -> float:
+    """The largest friction force at rest of a model [N] (GMS: F_S; LuGre: F_s; Dahl: F_c)."""
+    if isinstance(model, GMSFriction):
+        return float(model.static_level)  # type: ignore[arg-type]
+    return float(model.static if isinstance(model, LuGreFriction) else model.coulomb)
 
 
 def _saturation_direction(v0: float, u0: float, rest: float) -> float:

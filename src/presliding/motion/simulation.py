@@ -66,6 +66,7 @@ from presliding._validation import (
     as_positive_scalar,
     as_real_scalar,
     as_si,
+    check_finite_derived,
 )
 from presliding.friction import _sides
 from presliding.friction._model_checks import check_finite_stiffness
@@ -307,7 +308,13 @@ def _simulate_rate(
                   initial_velocity=v0, initial_state=initial_state, t_end=t_end, t_eval=times,
                   method="implicit", hold=hold, t_start=t0)  # fmt: skip
         return _run.refine(lambda h: simulate(model, m, step=h, **kw), t0, t_end, n_steps,
-                           *target)  # fmt: skip
+                           *target, max_steps=_rate_run.MAX_REFINED)  # fmt: skip
+    h = np.float64((t_end - t0) / n_steps)
+    with np.errstate(over="ignore", divide="ignore"):  # refused here, by name
+        scales = (1.0 / h, m / (h * h), _rate_run.force_scale(model) / np.float64(m))
+    check_finite_derived("step 1/h", scales[0], ("t_end", "step"))
+    check_finite_derived("implicit inertia m/h²", scales[1], ("mass", "step"))
+    check_finite_derived("acceleration F/m", scales[2], "mass")
     u0 = float(forcing(np.array([t0]))[0])
     z0, e0, last = _rate_run.initial_rate_state(model, initial_state, y0, v0, u0)
     out, energy0, final_state = _rate_run.run_rate(
