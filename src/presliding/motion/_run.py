@@ -215,9 +215,10 @@ def refine(run: Any, t0: float, t_end: float, n_steps: int, rtol: float, atol: f
            max_steps: int = MAX_STEPS) -> Any:  # fmt: skip
     """Halve the implicit step until the step-doubling error estimate meets the target.
 
-    ``run(h)`` simulates with the step h, at most `max_steps` steps. With the first-order scheme the error of
-    the finer of two runs is about their difference; the finer run is returned,
-    with the estimate (positions at the samples) and how the step was chosen.
+    ``run(h)`` simulates with the step h, at most `max_steps` steps. With the
+    first-order scheme the error of the finer of two runs is about their difference;
+    the finer run is returned, with the estimate (positions at the samples) and how
+    the step was chosen.
     """
     from dataclasses import replace
 
