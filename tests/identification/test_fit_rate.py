@@ -101,3 +101,14 @@ def test_options_the_family_has_no_use_for_are_refused(options, message):
     records, _ = rate_stops(GMS, 0, n_records=1, samples=50)
     with pytest.raises(ValueError, match=message):
         fit_response(records, **options)
+
+
+def test_the_rate_families_as_fitters_of_a_registry():
+    from presliding.identification.rate_families import RATE_FAMILIES
+
+    records, _ = rate_stops(DahlFriction(1.0, 5e3), 0, n_records=2, samples=150, substeps=2)
+    fit = RATE_FAMILIES["dahl"](records, initial_state="saturated", substeps=2)
+    assert isinstance(fit.model, DahlFriction) and fit.predict(records[0]).nrmse < 1e-6
+    with pytest.raises(TypeError, match="unexpected keyword"):
+        RATE_FAMILIES["lugre"](records, elements=3)
+    assert set(RATE_FAMILIES) == {"gms", "lugre", "dahl"}

@@ -14,6 +14,7 @@ fit_response.py     `fit_response`: simulated against measured motion, one or ma
 fit_quasi_static.py `fit_quasi_static`: position from a slow force (torque-driven presliding)
 fit_virgin.py       `fit_virgin_curve`: virgin curves from ramps or loops, pooled, quantised
 fit_result.py       `FitResult`, the public result of every fit
+rate_families.py    `fit_gms`, `fit_lugre`, `fit_dahl`: the rate families as fitters of a registry
 masing.py           `masing_check`, `MasingCheck`: do measured loops follow a virgin curve?
 prediction.py       `Prediction`, `count_reversals`: a fitted model on another record
 cross_validation.py `cross_validate`, `CrossValidation`: leave-one-record-out tables
