@@ -215,10 +215,9 @@ def refine(run: Any, t0: float, t_end: float, n_steps: int, rtol: float, atol: f
            max_steps: int = MAX_STEPS) -> Any:  # fmt: skip
     """Halve the implicit step until the step-doubling error estimate meets the target.
 
-    ``run(h)`` simulates with the step h, at most `max_steps` steps. With the
-    first-order scheme the error of the finer of two runs is about their difference;
-    the finer run is returned, with the estimate (positions at the samples) and how
-    the step was chosen.
+    ``run(h)`` simulates with the step h (at most `max_steps` steps). The error of the finer
+    of two runs is about their difference (first order); the finer run is returned, with
+    the estimate (positions at the samples) and how the step was chosen.
     """
     from dataclasses import replace
 
@@ -226,8 +225,7 @@ def refine(run: Any, t0: float, t_end: float, n_steps: int, rtol: float, atol: f
     err = np.inf  # no estimate until a doubling ran; then the last one's
     while True:
         if 2 * n_steps > max_steps:
-            fine = coarse
-            met = False
+            fine, met = coarse, False
             break
         n_steps *= 2
         fine = run((t_end - t0) / n_steps)
