@@ -221,8 +221,7 @@ def refine(run: Any, t0: float, t_end: float, n_steps: int, rtol: float, atol: f
     """
     from dataclasses import replace
 
-    coarse = run((t_end - t0) / n_steps)
-    err = np.inf  # no estimate until a doubling ran; then the last one's
+    coarse, err = run((t_end - t0) / n_steps), np.inf  # no estimate before the first doubling
     while True:
         if 2 * n_steps > max_steps:
             fine, met = coarse, False
