@@ -45,7 +45,7 @@ PRINTED: dict[tuple[str, int], list[tuple]] = {
     ("rate_models", 0): [(r"stops at (\S+) s", 0.1668, 1e-3), (r"PI: (\S+) s", 0.1740, 1e-3)],
     ("rate_models", 1): [(r"creeps (\S+) while", 1.276e-05, 1e-3),
                          (r"J·u = (\S+)\)", 1.5e-05, 1e-9)],
-    ("rate_models", 2): [(r"lower BIC: (\S+) ", "gms"), (r"\| (\S+) \|", "at_bound"),
+    ("rate_models", 2): [(r"lower BIC: (\S+) ", "gms"), (r"\| (\S+) \|", "not_identifiable"),
                          (r"\| \S+ \| (\S+)$", "local_minimum")],
     ("control", 1): [(r"^(\d+) reversals", 5.0, 0.0),
                      (r"at rest from (\S+) s", 1.2248167712325622, 1e-6),
