@@ -28,6 +28,7 @@ import numpy as np
 
 from presliding._validation import as_bounds, as_choice, as_count, as_nonnegative_scalar, fmt
 from presliding.identification._fit_engine import FitPlan, FitRun, Found
+from presliding.identification.plans._response_plan import held_starts
 from presliding.identification.plans._response_request import ResponseRequest, check_response
 from presliding.identification.plans._response_result import PER_UNIT_MASS, _per_kg
 from presliding.identification.plans._response_setup import (
@@ -99,12 +100,7 @@ def rate_problem(req: ResponseRequest, spec: FamilySpec,
         offset=req.offset, suffix=not req.single, viscous=req.viscous, velocity=req.velocity,
         substeps=substeps,
     )  # fmt: skip
-    names, fixed = records.names, dict(req.fixed)
-    for i, rec in enumerate(recs):
-        if not req.fit_initial:
-            fixed.setdefault(records.nuisance("initial_velocity", i), float(rec.velocity[0]))
-        if not req.fit_initial or req.signal == "velocity":
-            fixed.setdefault(records.nuisance("initial_position", i), float(rec.position[0]))
+    names, fixed = records.names, held_starts(req, records)
     check_enough(records.n_res, len(names) - len(fixed))
     pi_spec = spec.pi if spec.family == "gms" else ModelSpec(2, True, None, spec.cells)
     pi = pooled_start(recs, pi_spec, fixed.get("mass", None if req.forced else 1.0), req.offset,
