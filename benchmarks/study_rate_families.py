@@ -16,6 +16,10 @@ Two designs, each over `seeds` seeds (issue 35: the right family wins in >= 90 %
   relaxed start, 0.1 µrad encoder, 30 nrad noise) and one held out. Fitted: "pi" and
   "pi-creep" (`fit_quasi_static(creep=False/True)`, ``initial_state="relaxed"``).
 
+Printed besides: the share of seeds whose 95 % intervals of the true family hold the
+truth, per shared parameter (c1, the Stribeck drop and speed, the lag; the creep's
+compliance and time).
+
 The winner is the family of the lowest BIC (Gaussian least squares, `FitResult.bic`);
 the held-out winner the lowest NRMSE of the held-out record predicted with its own
 start fitted (`FitResult.predict`). Printed: the share of seeds each family wins, the
@@ -46,10 +50,22 @@ STOP_FAMILIES = {
     "dahl": {"family": "dahl"},
 }
 LOOP_FAMILIES = {"pi": {"creep": False}, "pi-creep": {"creep": True}}
+#: the true family's shared parameters whose 95 % intervals are checked (coverage)
+TRUTHS = {
+    "stops": {
+        "mass": 2.0,
+        "coulomb_level": 1.0,
+        "coulomb": 0.3,
+        "stribeck_drop": 0.4,
+        "stribeck_velocity": 0.015,
+        "lag_time": 0.004,
+    },
+    "loops": {"coulomb": 0.1, "creep_compliance": 3e-5, "creep_time": 0.15},
+}
 
 
 def _run(kind: str, seeds: int) -> None:
-    wins, held_wins = Counter(), Counter()
+    wins, held_wins, covered = Counter(), Counter(), Counter()
     statuses: dict[str, Counter] = defaultdict(Counter)
     cpu: dict[str, list[float]] = defaultdict(list)
     truth = "gms" if kind == "stops" else "pi-creep"
@@ -69,6 +85,10 @@ def _run(kind: str, seeds: int) -> None:
             result = fit(train, **options)
             cpu[name].append(time.process_time() - t0)
             statuses[name][result.status] += 1
+            if name == truth:
+                for x, value in TRUTHS[kind].items():
+                    lo, hi = result.confidence_interval[x]
+                    covered[x] += lo <= value <= hi
             bic[name] = result.bic
             error[name] = result.predict(held).nrmse
         wins[min(bic, key=bic.get)] += 1
@@ -80,6 +100,8 @@ def _run(kind: str, seeds: int) -> None:
     print(f"  BIC winner: {dict(wins)} -> {truth!r} in {100 * wins[truth] / seeds:.0f} %")
     print(f"  held-out NRMSE winner: {dict(held_wins)} -> {truth!r} in "
           f"{100 * held_wins[truth] / seeds:.0f} %")  # fmt: skip
+    print("  95 % intervals of the true family holding the truth: " + ", ".join(
+        f"{x} {100 * covered[x] / seeds:.0f} %" for x in TRUTHS[kind]))  # fmt: skip
     for name in families:
         print(f"  {name:9s} statuses {dict(statuses[name])}; median CPU "
               f"{statistics.median(cpu[name]):.2f} s per fit")  # fmt: skip
