@@ -11,7 +11,8 @@ bounds; `rate_plan` gives the fit's own steps:
   (`_rate_search`); the problem's own start (the PI regression start of
   `_pooled_start`, a drop of a fifth of F_C at a third of the records' typical speed, a
   lag of two sample intervals) stands in for the PI fit where the caller holds the
-  elements' shape or turns the multistart off;
+  elements' shape or turns the multistart off; v_s is bounded below by a thousandth of the
+  records' typical speed (`SLOWEST`);
 * checks: the engine's shared ones (bounds, records' own undetermined starts);
 * result: the family's model (`GMSFriction`, `LuGreFriction`, `DahlFriction`), its
   static level as a derived value, and the predictor of held-out records.
@@ -55,6 +56,10 @@ __all__ = ["check_rate", "rate_plan", "rate_problem"]
 
 #: steps of the implicit method per sample interval (`RateProblem`), unless given
 SUBSTEPS = 4
+#: the natural lower bound of v_s, over the records' typical speed: a Stribeck curve that
+#: falls within a thousandth of the speeds measured is a step at rest, which its drop and
+#: v_s cannot tell apart (v_s → 0 left both without a gradient, and the Jacobian garbage)
+SLOWEST = 1e-3
 #: the further preloads a held-out record's own start is solved from (`ResponsePredictor`)
 PRELOADS = (-0.6, 0.0, 0.6)
 #: options of `fit_response` the rate families refuse unless at their defaults
@@ -122,7 +127,8 @@ def rate_problem(req: ResponseRequest, spec: FamilySpec,
         start[key] = float(val)
     start.update({x: v for x, v in fixed.items() if x in names})
     box = {**spec.bounds(), "mass": (0.0, np.inf), "offset": (-np.inf, np.inf),
-           "viscous": (0.0, np.inf), **initial_bounds(records, req.initial_state)}  # fmt: skip
+           "viscous": (0.0, np.inf), **initial_bounds(records, req.initial_state),
+           "stribeck_velocity": (SLOWEST * typical_speed(recs), np.inf)}  # fmt: skip
     for key, (lo, hi) in as_bounds("bounds", req.bounds, names).items():
         old = box.get(key, (-np.inf, np.inf))
         box[key] = (max(old[0], float(lo)), min(old[1], float(hi)))

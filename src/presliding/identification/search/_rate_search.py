@@ -12,7 +12,7 @@ stays there. So the search
    stands in;
 2. makes the family's base from it: its mass, σ, offset and every record's own start;
    GMS its c1 and elements, LuGre and Dahl F_C and a bristle stiffness σ0 = F_C/y½ from
-   the travel y½ in which the PI virgin curve reaches F_C/2;
+   the travel y½ in which the elastic part of the PI virgin curve reaches F_m/2;
 3. scores a grid of the rate parameters around that base — v_s over the records' speed,
    the drop as a share of F_C with F_C lowered by none, half or all of it, the lag
    (GMS), σ0 (LuGre, Dahl) — every candidate in one batched compiled call;
@@ -58,15 +58,18 @@ def sample_interval(recs: list[Any]) -> float:
 
 
 def bristle_stiffness(pi_spec: ModelSpec, values: dict[str, float]) -> float:
-    """σ0 = F_C/y½: y½ the travel in which the PI model's virgin curve reaches F_C/2."""
+    """σ0 = F_C/y½: y½ the travel in which the elastic part of the PI model's virgin curve
+    reaches half its F_m (the Coulomb element, rigid, left out: a c1 above F_C/2 would put
+    y½ at 0); Σ k_j where the elements carry nothing."""
     fc = pi_spec.coulomb_level(values)
-    c1, k, r = pi_spec.bank(values)
-    if not k.size:
-        return 1.0
+    _, k, r = pi_spec.bank(values)
+    fm = float(k @ np.minimum(r, 1e300)) if k.size else 0.0
+    if not (k.size and fm > 0 and np.isfinite(fm)):
+        return max(float(np.sum(k)), 1.0)
     travel = np.sort(np.concatenate([[0.0], r]))
-    virgin = np.array([c1 + float(np.minimum(x, r) @ k) for x in travel])
-    half = float(np.interp(0.5 * fc, virgin, travel)) if virgin[-1] > 0.5 * fc else float(r[-1])
-    return fc / max(half, 1e-300)
+    virgin = np.array([float(np.minimum(x, r) @ k) for x in travel])
+    half = float(np.interp(0.5 * fm, virgin, travel))
+    return fc / half if half > 0 else float(np.sum(k))
 
 
 def base_values(spec: FamilySpec, start: dict[str, float], pi: dict[str, float],
