@@ -1,32 +1,35 @@
-"""Cold and warm ``presliding demo`` in one run: the first-run cost of compiling the kernels.
+"""First calls on an empty numba cache against warm ones: ``presliding demo``, ``simulate``,
+``fit_response``.
 
-Each round runs the README's first command, ``presliding demo``, in fresh
-subprocesses: once with ``NUMBA_CACHE_DIR`` pointing to a new empty folder
-(cold: every kernel is compiled), then twice more with the same folder (warm:
-every kernel loads from the cache; the median of the two is the round's warm
-time). Cold and warm of a round run back to back, under the same machine load.
-For each it prints the wall time and the CPU time (user + system) of the demo's
-whole process tree (the demo and the second process that compiles its later
-parts, which the demo waits for), and the ratios cold / warm, against the target
-of issue 24: a cold demo in at most 3x its warm time. CPU time is the steadier
-measure on a shared machine (other work stretches the wall time of both runs,
-but not evenly). On Linux it also prints the CPU seconds that other processes
-used during each run (from /proc/stat) and the cores left to the demo: with one
-of two cores busy elsewhere the demo and its second process share the other,
-and the cold wall time is their CPU time whatever the split between them.
+Each round runs every entry point in fresh subprocesses: once with
+``NUMBA_CACHE_DIR`` pointing to a new empty folder (cold: every kernel the call
+needs is compiled), then twice more with the same folder (warm: every kernel
+loads from the cache; the median of the two is the round's warm figure). Cold
+and warm of a round run back to back, under the same machine load. The entry
+points: ``demo`` is the README's first command, ``presliding demo``;
+``simulate`` is the quickstart's first `simulate` (a mass with four elements
+stopping from saturation); ``fit_response`` is the pooled fit of the user
+guide (three stops, two elements, output error on the position), on records
+simulated beforehand in this process (so the cold child compiles only what the
+fit itself needs, as for measured data). For each it prints the CPU time (user
++ system, from ``resource.getrusage`` of the finished child: the whole process
+and any process it waited for) and, for the two functions, the CPU time of the
+call alone (``time.process_time`` around it in the child), with the ratio cold
+/ warm and the target of issue 36: a first call in at most 3x the warm call's
+CPU time plus 10 s. Wall times are printed beside them; on Linux also the CPU
+seconds that other processes used during each cold run (from /proc/stat), to
+tell a loaded machine apart.
 
 The cold run of the first round also records every kernel numba compiles, in
 every process of the tree (numba's ``"numba:compile"`` events, which it sends
 only on cache misses, timed in CPU seconds; a kernel's own time leaves out the
 kernels compiled while it was, which are listed on their own): the script prints
-the ten most costly with their argument types. The listener is installed through
-a ``sitecustomize`` module on ``PYTHONPATH`` and adds a few calls per compiled
+the most costly with their argument types. The listener is installed through a
+``sitecustomize`` module on ``PYTHONPATH`` and adds a few calls per compiled
 kernel. ``--no-profile`` leaves it out.
 
-With ``--one-core`` the demo runs pinned to one core (its second compiling
-process is then not started), which shows what that process contributes.
-
-    python benchmarks/bench_cold_start.py [--rounds 1] [--one-core] [--no-profile] [--top 10]
+    python benchmarks/bench_cold_start.py [--entry demo simulate fit_response] [--rounds 1]
+        [--no-profile] [--top 10]
 """
 
 from __future__ import annotations
@@ -44,10 +47,13 @@ import tempfile
 import time
 from pathlib import Path
 
-TARGET = 3.0
+#: a first call may cost this many times the warm call's CPU time, plus `TARGET_PLUS` s
+TARGET_TIMES = 3.0
+TARGET_PLUS = 10.0
+ENTRIES = ("demo", "simulate", "fit_response")
 
-#: sitecustomize of the profiled cold run: every process of the demo's tree writes
-#: the kernels it compiled (CPU seconds) to COLD_START_PROFILE/<pid>.json at exit
+#: sitecustomize of the profiled cold run: every process of the tree writes the kernels
+#: it compiled (CPU seconds) to COLD_START_PROFILE/<pid>.json at exit
 SITECUSTOMIZE = r"""
 import atexit, json, os, sys, time
 _out = os.environ.get("COLD_START_PROFILE")
@@ -74,7 +80,7 @@ if _out:
     _born = time.time()
 
     def _dump():
-        name = " ".join(sys.argv[1:])[-30:] or "demo"
+        name = " ".join(sys.argv[1:])[-30:] or "python"
         with open(os.path.join(_out, f"{os.getpid()}.json"), "w") as fh:
             json.dump({"rows": _rows, "cpu": time.process_time(), "argv": name,
                        "wall": time.time() - _born}, fh)
@@ -83,6 +89,59 @@ if _out:
 """
 
 
+# ---------------------------------------------------------------- the entry points (children)
+def stage_model():  # the quickstart's stage
+    import presliding as ps
+
+    return ps.PIFriction(coulomb=0.3, stiffness=[2e4, 5e3, 1.5e3, 500.0], breakaway=[0.175] * 4)
+
+
+def write_records(path: Path) -> None:
+    """The user guide's three stops (pooled fits), simulated here and saved for the child."""
+    import numpy as np
+
+    import presliding as ps
+
+    truth = ps.PIFriction(coulomb=0.3, stiffness=[4000.0, 1000.0], breakaway=[0.35, 0.35])
+    t = np.arange(600) * 1e-3
+    arrays = {"t": t}
+    for i, v0 in enumerate((0.03, -0.045, 0.06)):
+        d = np.sign(v0)
+        u = np.where(t < 0.05, -0.3 * d, 0.0)
+        memory = ps.preloaded_state(truth, 0.5 * d, direction=d)
+        res = ps.simulate(truth, 2.0, applied_force=(t, u), initial_velocity=v0,
+                          initial_state=memory, t_eval=t)  # fmt: skip
+        arrays[f"y{i}"] = 1e-7 * np.round(res.position / 1e-7)
+        arrays[f"u{i}"] = u
+    np.savez(path, **arrays)
+
+
+def child(entry: str, data: str) -> int:
+    """Run one entry point in this (fresh) process; print the call's CPU seconds as JSON."""
+    import numpy as np
+
+    import presliding as ps
+
+    if entry == "simulate":
+        model = stage_model()
+        start = time.process_time()
+        res = ps.simulate(model, mass=1.0, initial_velocity=0.06, initial_state="saturated",
+                          t_end=0.1)  # fmt: skip
+        took = time.process_time() - start
+        ok = res.success
+    else:
+        arrays = np.load(data)
+        records = [ps.Measurement(arrays["t"], position=arrays[f"y{i}"],
+                                  applied_force=arrays[f"u{i}"]) for i in range(3)]  # fmt: skip
+        start = time.process_time()
+        fit = ps.fit_response(records, n_elements=2, signal="position", initial_state="preload")
+        took = time.process_time() - start
+        ok = fit.success
+    print(json.dumps({"call": took, "ok": bool(ok)}))
+    return 0
+
+
+# ---------------------------------------------------------------- the parent
 def cpu_name() -> str:
     try:
         for line in Path("/proc/cpuinfo").read_text().splitlines():
@@ -110,113 +169,136 @@ def machine_busy() -> float | None:
         return None
 
 
-def run_demo(
-    cache: Path, out: Path, one_core: bool, profile: Path | None = None
-) -> tuple[float, float, float | None]:
-    """Wall and CPU seconds of one ``presliding demo`` in a new process using the cache
-    folder (CPU: the demo and the processes it waited for), and the CPU seconds other
-    processes used meanwhile (None where the machine's counters cannot be read)."""
+class Run:
+    """One child process: wall and CPU seconds (whole process), the call's CPU seconds (the
+    two functions), other processes' CPU seconds meanwhile."""
+
+    def __init__(self, wall: float, cpu: float, call: float | None, others: float | None):
+        self.wall, self.cpu, self.call, self.others = wall, cpu, call, others
+
+
+def run_entry(entry: str, cache: Path, work: Path, profile: Path | None = None) -> Run:
     env = dict(os.environ, NUMBA_CACHE_DIR=str(cache))
     if profile is not None:
-        (profile / "site").mkdir(parents=True)
-        (profile / "site" / "sitecustomize.py").write_text(SITECUSTOMIZE)
-        path = os.pathsep.join(p for p in (str(profile / "site"), env.get("PYTHONPATH")) if p)
+        site = profile / "site"
+        site.mkdir(parents=True, exist_ok=True)
+        (site / "sitecustomize.py").write_text(SITECUSTOMIZE)
+        path = os.pathsep.join(p for p in (str(site), env.get("PYTHONPATH")) if p)
         env.update(PYTHONPATH=path, COLD_START_PROFILE=str(profile))
-    cmd = [sys.executable, "-m", "presliding", "demo", "--quiet", "--overwrite", "-o", str(out)]
-
-    def pin() -> None:
-        if one_core:
-            os.sched_setaffinity(0, {min(os.sched_getaffinity(0))})
-
+    if entry == "demo":
+        out = work / "demo-out"
+        cmd = [sys.executable, "-m", "presliding", "demo", "--quiet", "--overwrite", "-o", str(out)]
+    else:
+        cmd = [sys.executable, __file__, "--child", entry, str(work / "records.npz")]
     start, cpu, busy = time.perf_counter(), children_cpu(), machine_busy()
-    done = subprocess.run(cmd, env=env, preexec_fn=pin, capture_output=True, text=True)
+    done = subprocess.run(cmd, env=env, capture_output=True, text=True)
     took, cpu, after = time.perf_counter() - start, children_cpu() - cpu, machine_busy()
     if done.returncode != 0:
-        raise SystemExit(f"presliding demo failed:\n{done.stderr}")
+        raise SystemExit(f"{entry} failed:\n{done.stderr}")
+    call = None
+    if entry != "demo":
+        report = json.loads(done.stdout.strip().splitlines()[-1])
+        if not report["ok"]:
+            raise SystemExit(f"{entry}: the call did not succeed")
+        call = report["call"]
     others = None if busy is None or after is None else max(after - busy - cpu, 0.0)
-    return took, cpu, others
+    return Run(took, cpu, call, others)
 
 
-def load_note(wall: float, others: float | None) -> str:
-    """Other processes' CPU seconds during a run and the cores they left to the demo."""
-    if others is None:
+def load_note(run: Run) -> str:
+    """Other processes' CPU seconds during a run and the cores they left to it."""
+    if run.others is None:
         return ""
-    left = (os.cpu_count() or 1) - others / wall
-    return f" (others {others:.1f} s CPU meanwhile, {left:.1f} cores left)"
+    left = (os.cpu_count() or 1) - run.others / run.wall
+    return f"others {run.others:.1f} s CPU meanwhile ({left:.1f} cores left)"
 
 
 def print_profile(folder: Path, top: int) -> None:
     """The kernels compiled in the profiled cold run, most costly first."""
     procs = [json.loads(p.read_text()) for p in sorted(folder.glob("*.json"))]
     rows = [r for p in procs for r in p["rows"]]
-    print(f"\ncold run: {len(rows)} compilations in {len(procs)} processes")
+    print(f"\n  {len(rows)} compilations in {len(procs)} process(es)")
     for p in procs:
         own = sum(r["own"] for r in p["rows"])
         print(f"  {p['argv']:>30}: {p['cpu']:6.2f} s CPU in {p['wall']:6.2f} s, "
               f"{own:6.2f} s compiling ({len(p['rows'])} kernels)")  # fmt: skip
-    total = sum(r["own"] for r in rows)
-    print(f"  all processes: {total:.2f} s CPU compiling")
     by = collections.defaultdict(list)
     for r in rows:
         by[r["kernel"]].append(r)
     ranked = sorted(by.items(), key=lambda kv: -sum(r["own"] for r in kv[1]))
-    print(f"\n{'own CPU s':>9} {'with nested':>11} {'times':>5}  kernel (argument types)")
+    print(f"  {'own CPU s':>9} {'with nested':>11} {'times':>5}  kernel (argument types)")
     for name, rs in ranked[:top]:
         own = sum(r["own"] for r in rs)
         took = sum(r["took"] for r in rs)
-        print(f"{own:9.2f} {took:11.2f} {len(rs):5d}  {name.removeprefix('presliding.')}")
-        for r in rs:
+        print(f"  {own:9.2f} {took:11.2f} {len(rs):5d}  {name.removeprefix('presliding.')}")
+        for r in rs[:3]:
             args = r["args"].replace("Array(float64, ", "f8[").replace(", aligned=True)", "]")
-            print(f"{'':29}{args[:150]}{'...' if len(args) > 150 else ''}")
+            print(f"{'':31}{args[:140]}{'...' if len(args) > 140 else ''}")
+    print()
+
+
+def median(values: list[float | None]) -> float | None:
+    return None if None in values else statistics.median(values)
+
+
+def target(warm: float) -> float:
+    return TARGET_TIMES * warm + TARGET_PLUS
+
+
+def summary(entry: str, what: str, pairs: list[tuple[float, float]]) -> bool:
+    cold = statistics.median(c for c, _ in pairs)
+    warm = statistics.median(w for _, w in pairs)
+    ok = cold <= target(warm)
+    print(f"{entry:>12} {what:<17} cold {cold:7.2f} s, warm {warm:6.2f} s, cold / warm "
+          f"{cold / warm:5.2f}; target <= {TARGET_TIMES:g} x warm + {TARGET_PLUS:g} s = "
+          f"{target(warm):.2f} s: {'met' if ok else 'MISSED'}")  # fmt: skip
+    return ok
 
 
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--entry", nargs="+", choices=ENTRIES, default=list(ENTRIES))
     parser.add_argument("--rounds", type=int, default=1, help="cold + warm rounds (median)")
-    parser.add_argument("--one-core", action="store_true", help="pin the demo to one core")
     parser.add_argument("--no-profile", action="store_true", help="no per-kernel table")
     parser.add_argument("--top", type=int, default=10, help="kernels listed (default 10)")
+    parser.add_argument("--child", nargs=2, metavar=("ENTRY", "DATA"), help=argparse.SUPPRESS)
     args = parser.parse_args()
+    if args.child:
+        return child(*args.child)
     import numba
 
     print(f"CPU: {cpu_name()}; {os.cpu_count()} cores; numba {numba.__version__}")
     print(f"load average before: {' '.join(f'{x:.2f}' for x in os.getloadavg())}")
     work = Path(tempfile.mkdtemp(prefix="presliding-cold-"))
-    walls, cpus = [], []
+    figures: dict[tuple[str, str], list[tuple[float, float]]] = collections.defaultdict(list)
     try:
+        if "fit_response" in args.entry:
+            write_records(work / "records.npz")
         for i in range(args.rounds):
-            cache = work / f"cache-{i}"
-            cache.mkdir()
-            profile = None if args.no_profile or i else work / "profile"
-            cold, cold_cpu, others = run_demo(cache, work / "out", args.one_core, profile)
-            again = [run_demo(cache, work / "out", args.one_core) for _ in "ab"]
-            warm = statistics.median(w for w, _, _ in again)
-            warm_cpu = statistics.median(c for _, c, _ in again)
-            walls.append((cold, warm))
-            cpus.append((cold_cpu, warm_cpu))
-            print(f"round {i + 1}: wall cold {cold:6.2f} s, warm {warm:5.2f} s, ratio "
-                  f"{cold / warm:.2f}; CPU cold {cold_cpu:6.2f} s, warm {warm_cpu:5.2f} s, "
-                  f"ratio {cold_cpu / warm_cpu:.2f}")  # fmt: skip
-            print(f"  cold{load_note(cold, others)}; warm"
-                  f"{load_note(again[0][0], again[0][2])}")  # fmt: skip
-        if not args.no_profile:
-            print_profile(work / "profile", args.top)
+            for entry in args.entry:
+                cache = work / f"cache-{entry}-{i}"
+                cache.mkdir()
+                profile = None if args.no_profile or i else work / f"profile-{entry}"
+                cold = run_entry(entry, cache, work, profile)
+                again = [run_entry(entry, cache, work) for _ in "ab"]
+                fields = ("wall", "cpu", "call")
+                warm = Run(*(median([getattr(r, a) for r in again]) for a in fields), None)
+                if cold.call is not None and warm.call is not None:
+                    figures[(entry, "CPU, the call")].append((cold.call, warm.call))
+                figures[(entry, "CPU, the process")].append((cold.cpu, warm.cpu))
+                figures[(entry, "wall, the process")].append((cold.wall, warm.wall))
+                call = "" if cold.call is None else (
+                    f"; the call {cold.call:.2f} s cold, {warm.call:.2f} s warm")  # fmt: skip
+                print(f"round {i + 1}, {entry}: process CPU cold {cold.cpu:.2f} s, warm "
+                      f"{warm.cpu:.2f} s (wall {cold.wall:.2f} s, {warm.wall:.2f} s){call}; "
+                      f"cold run: {load_note(cold)}")  # fmt: skip
+                if profile is not None:
+                    print_profile(profile, args.top)
     finally:
         shutil.rmtree(work, ignore_errors=True)
-
-    def summary(pairs: list[tuple[float, float]], what: str) -> bool:
-        ratios = [c / w for c, w in pairs]
-        med = statistics.median(ratios)
-        cold = statistics.median(c for c, _ in pairs)
-        warm = statistics.median(w for _, w in pairs)
-        spread = f" (rounds {min(ratios):.2f}-{max(ratios):.2f})" if len(pairs) > 1 else ""
-        print(f"{what}: cold {cold:.2f} s, warm {warm:.2f} s, cold / warm {med:.2f}{spread}; "
-              f"target <= {TARGET}: {'met' if med <= TARGET else 'MISSED'}")  # fmt: skip
-        return med <= TARGET
-
     print()
-    summary(walls, "wall time")
-    summary(cpus, "CPU time ")
+    for (entry, what), pairs in figures.items():
+        summary(entry, what, pairs)
     print(f"load average after: {' '.join(f'{x:.2f}' for x in os.getloadavg())}")
     return 0
 

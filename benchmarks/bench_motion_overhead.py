@@ -138,7 +138,7 @@ def event_overhead(repeats: int) -> list[tuple]:
 
         def kernel(o=given, t_eval=t_eval, rev=rev, piece=piece) -> None:
             _event.run_events(1.0, C1, K, R, np.zeros(5), 0.0, 0.0, 0.0, t_u, u, t_eval, t_end,
-                              10**8, *o[:7], o[8], *rev, 0.0, o[7], piece)  # fmt: skip
+                              10**8, *o[:7], o[8], *rev, 0.0, o[7], piece, None)  # fmt: skip
 
         def fresh(t_eval=t_eval, n_out=n_out) -> None:
             o = [np.empty(n_out) for _ in range(9)]
@@ -238,11 +238,13 @@ def _events(n, sigma, energy, t_eval, k, r):  # pragma: no cover - compiled
         if energy:
             res = _event.run_events(1.5, 0.02, k, r, f, 0.0, 0.8, 1.0, u, u, t_eval, t_eval[-1],
                                     10_000_000, o[0], o[1], o[2], o[3], o[4], o[5], o[6], o[8],
-                                    rev[0], rev[1], sigma, o[7], u[:0])  # fmt: skip
+                                    rev[0], rev[1], sigma, o[7], u[:0],
+                                    _event.damped_flag(sigma))  # fmt: skip
         else:
             res = _event.run_events(1.5, 0.02, k, r, f, 0.0, 0.8, 1.0, u, u, t_eval, t_eval[-1],
                                     10_000_000, o[0], o[1], o[2], o[3], o[4], o[5], o[6], o[8],
-                                    rev[0], rev[1], sigma, u[:0], u[:0])  # fmt: skip
+                                    rev[0], rev[1], sigma, u[:0], u[:0],
+                                    _event.damped_flag(sigma))  # fmt: skip
         total += res[4]
     return total
 

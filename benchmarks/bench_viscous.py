@@ -120,11 +120,13 @@ def _events(n, sigma, energy, t_eval):  # pragma: no cover - compiled
         if energy:
             res = _event.run_events(1.5, 0.02, K, R, f, 0.0, 0.8, 1.0, u, u, t_eval, t_eval[-1],
                                     10_000_000, o[0], o[1], o[2], o[3], o[4], o[5], o[6], o[8],
-                                    rev[0], rev[1], sigma, o[7], u[:0])  # fmt: skip
+                                    rev[0], rev[1], sigma, o[7], u[:0],
+                                    _event.damped_flag(sigma))  # fmt: skip
         else:
             res = _event.run_events(1.5, 0.02, K, R, f, 0.0, 0.8, 1.0, u, u, t_eval, t_eval[-1],
                                     10_000_000, o[0], o[1], o[2], o[3], o[4], o[5], o[6], o[8],
-                                    rev[0], rev[1], sigma, u[:0], u[:0])  # fmt: skip
+                                    rev[0], rev[1], sigma, u[:0], u[:0],
+                                    _event.damped_flag(sigma))  # fmt: skip
         total += res[4]
     return total
 

@@ -107,6 +107,10 @@ def main(folder: Path = DATA) -> int:
     for kind, n, _, _, res in rows:
         values = ", ".join(f"{k} {v:.4g}" for k, v in res.parameters.items())
         print(f"{kind}, {n} elements: {res.status}; {values}")
+        if res.asymmetry is not None:  # the sides tested against the symmetric fit
+            a = res.asymmetry
+            print(f"  asymmetry {a.verdict}: F = {a.statistic:.4g}, p = {a.p_value:.3g}, "
+                  f"ΔAIC {a.delta_aic:+.4g}, ΔBIC {a.delta_bic:+.4g}")  # fmt: skip
     print(f"({time.perf_counter() - start:.0f} s)")
     return 0
 

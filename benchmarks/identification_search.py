@@ -16,6 +16,10 @@ Data generated with the library (exact event method) with a 1 µm encoder,
 * ``loops``: the same for torque-driven loops with preload (`fit_quasi_static`).
 * ``guide``: the user guide's 3-stop example (docs/user_guide/pooled_fits.rst):
   status and coverage of the two stiffnesses over seeds of encoder noise.
+
+Every study of correctly specified data also prints the share of fits ``converged`` or
+``not_identifiable`` (the residual tests of `_adequacy` must not cry wolf: target ≥ 90 %)
+and how many passed those tests. Times are CPU times (time.process_time).
 * ``mirror``: a pooled fit and the fit of its mirror image (y, v, u negated).
 * ``speed``: 20 records × 1000 samples, one set per seed: time of the default
   fit and of its nuisance searches.
@@ -93,9 +97,14 @@ def _cost(fit) -> float:
     return float(r @ r)
 
 
-def _summary(label, statuses, at_floor, wrong, cover, seeds, elapsed) -> None:
+def _summary(label, statuses, at_floor, wrong, cover, seeds, elapsed, passed=None) -> None:
     print(f"{label}: {seeds} seeds, {elapsed:.0f} s")
     print(f"  statuses: {dict(statuses)}")
+    honest = statuses["converged"] + statuses["not_identifiable"]
+    print(f"  converged or not_identifiable: {honest}/{seeds} = {100 * honest / seeds:.0f} % "
+          "(target >= 90 %: the residual tests must not cry wolf)")  # fmt: skip
+    if passed is not None:
+        print(f"  residual tests passed: {passed}/{seeds}")
     print(f"  at the noise floor: {at_floor}/{seeds} = {100 * at_floor / seeds:.0f} %")
     print(f"  wrong 'converged' (converged, not at the floor): {wrong}/{seeds}")
     coverage_table(cover)
@@ -188,9 +197,9 @@ def _study(
 ) -> None:
     """One design over seeds: draw records and their own parameters, fit, fit again from the
     truth (the noise floor), and tally statuses, the floor and coverage per parameter."""
-    t0 = time.perf_counter()
+    t0 = time.process_time()
     statuses, cover = Counter(), {}
-    at_floor = wrong = 0
+    at_floor = wrong = passed = 0
     capture = _Capture() if DUMP else None
     chosen = list(range(seeds)) if isinstance(seeds, int) else list(seeds)
     for seed in chosen:
@@ -207,6 +216,7 @@ def _study(
         ref = ref_fn(records, truth)
         floor = _cost(fit) <= 1.05 * _cost(ref)
         statuses[fit.status] += 1
+        passed += fit.adequacy is not None and fit.adequacy.passed
         at_floor += floor
         wrong += fit.status == "converged" and not floor
         for name, value in truth.items():
@@ -218,7 +228,8 @@ def _study(
             f"(truth {ref.search.residual_over_floor:.2f}), {detail(fit)}",
             flush=True,
         )
-    _summary(label, statuses, at_floor, wrong, cover, len(chosen), time.perf_counter() - t0)
+    _summary(label, statuses, at_floor, wrong, cover, len(chosen), time.process_time() - t0,
+             passed)  # fmt: skip
 
 
 class _Timed:
@@ -315,7 +326,7 @@ def guide_records(seed: int) -> list:
 
 
 def study_guide(seeds: int) -> None:
-    t0 = time.perf_counter()
+    t0 = time.process_time()
     statuses, inside = Counter(), Counter()
     for seed in range(seeds):
         fit = fit_response(guide_records(seed), n_elements=2, signal="position",
@@ -324,7 +335,9 @@ def study_guide(seeds: int) -> None:
         for name, value in (("stiffness_1", 4000.0), ("stiffness_2", 1000.0), ("mass", 2.0)):
             lo, hi = fit.confidence_interval[name]
             inside[name] += lo <= value <= hi
-    print(f"user guide 3 stops: {seeds} seeds, {time.perf_counter() - t0:.0f} s; statuses "
+    honest = statuses["converged"] + statuses["not_identifiable"]
+    print(f"user guide 3 stops: converged or not_identifiable {honest}/{seeds}")
+    print(f"user guide 3 stops: {seeds} seeds, {time.process_time() - t0:.0f} s; statuses "
           f"{dict(statuses)}; 95 % coverage " + ", ".join(
               f"{k} {100 * v / seeds:.0f} %" for k, v in inside.items()))  # fmt: skip
 

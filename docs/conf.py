@@ -10,8 +10,8 @@ run during the build and their figures are shown. ``-D plot_gallery=0`` renders
 them without running (what the test suite does: ``tests/test_docs.py``, the
 examples themselves run in ``tests/test_examples.py``).
 
-Links to numpy, scipy, matplotlib, Python and python-control go through the
-inventories bundled in ``docs/_inventories/`` (written offline by
+Links to numpy, scipy, matplotlib, Python, python-control, pandas, lmfit and pint go
+through the inventories bundled in ``docs/_inventories/`` (written offline by
 ``docs/_ext/make_inventories.py``): the build downloads nothing. The changelog
 page is made from ``CHANGELOG.md`` at every build.
 
@@ -211,6 +211,9 @@ intersphinx_mapping = {
         _CONTROL_DOCS,
         str(_INV / "python-control.inv"),
     ),
+    "pandas": ("https://pandas.pydata.org/docs", str(_INV / "pandas.inv")),
+    "lmfit": ("https://lmfit.github.io/lmfit-py", str(_INV / "lmfit.inv")),
+    "pint": ("https://pint.readthedocs.io/en/stable", str(_INV / "pint.inv")),
 }
 intersphinx_timeout = 1
 

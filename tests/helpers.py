@@ -139,7 +139,7 @@ def stop_records(seed: int, n_records: int, model: PIFriction, mass: float = 2.0
         v0 = d * rng.uniform(0.02, 0.06)
         frac = rng.uniform(0.2, 1.0) if preload else 1.0
         y0 = rng.uniform(-1e-3, 1e-3)
-        state = preloaded_state(model, frac * model.max_elastic_force * d, direction=d,
+        state = preloaded_state(model, elastic_share(model, frac * d), direction=d,
                                 position=y0)  # fmt: skip
         u = np.zeros(samples) if free else np.where(t < rng.uniform(0.03, 0.08), -0.3 * d, 0.0)
         res = simulate(model, mass, applied_force=(t, u), initial_position=y0,
@@ -154,12 +154,24 @@ def stop_records(seed: int, n_records: int, model: PIFriction, mass: float = 2.0
     return out, truth
 
 
+def elastic_share(model: PIFriction, fraction: float) -> float:
+    """`fraction` of the largest elastic force on its side: F_m, or of an asymmetric model
+    F_m⁺ = Σ c_j⁺ (fraction > 0) and F_m⁻ = Σ c_j⁻ (fraction < 0)."""
+    if model.is_symmetric:
+        return fraction * model.max_elastic_force
+    k = np.asarray(model.stiffness)
+    side = model.threshold if fraction > 0 or model.threshold_negative is None else (
+        model.threshold_negative)  # fmt: skip
+    return fraction * float(k @ side)
+
+
 def random_preload_stops(seed: int, model: PIFriction, n_records: int = 4, samples: int = 500,
                          mass: float = 2.0, truth: bool = False):  # fmt: skip
     """Stops of the search study's design: each record's preload anywhere in ±0.8 F_m of
-    either sign, initial velocities of both signs, a decelerating force of random level and
-    length, a 1 µm encoder with 0.2 µm noise, velocity from the quantised position. With
-    `truth`, each record comes as (record, initial velocity, preload fraction)."""
+    either sign (of its side's F_m for an asymmetric model), initial velocities of both signs,
+    a decelerating force of random level and length, a 1 µm encoder with 0.2 µm noise,
+    velocity from the quantised position. With `truth`, each record comes as (record, initial
+    velocity, preload fraction)."""
     from presliding import Measurement, preloaded_state, simulate
 
     rng = np.random.default_rng(seed)
@@ -170,7 +182,7 @@ def random_preload_stops(seed: int, model: PIFriction, n_records: int = 4, sampl
         d = float(np.sign(v0))
         fraction = rng.uniform(-0.8, 0.8)
         y0 = rng.uniform(-1e-3, 1e-3)
-        state = preloaded_state(model, fraction * model.max_elastic_force, direction=d,
+        state = preloaded_state(model, elastic_share(model, fraction), direction=d,
                                 position=y0)  # fmt: skip
         u = np.where(t < rng.uniform(0.03, 0.08), -d * rng.uniform(0.1, 0.6), 0.0)
         res = simulate(model, mass, applied_force=(t, u), initial_position=y0,
@@ -205,6 +217,37 @@ def rate_stops(model: Any, seed: int, n_records: int = 3, samples: int = 300, *,
         out.append(Measurement(t, position=y, velocity=v, applied_force=u))
         truth.append((y0, v0))
     return out, truth
+
+
+def sine_records(seed: int, model: PIFriction, n_records: int = 4, samples: int = 500, *,
+                 mass: float = 1.5, delay: int = 0, base: PIFriction | None = None):  # fmt: skip
+    """Sine-driven records of issue 34's review design (smaller): each from a random preload
+    (±0.8 F_m, the memory of `base` or `model`) at a random position, moving at 5–20 mm/s
+    in the direction of the force's first half-wave u = A·sin(2πft), A in 0.5–1.6 F_c, f in
+    1.5–4 Hz; a 1 µm encoder with 0.2 µm noise, the velocity its difference quotient;
+    `delay`: the force recorded that many samples late."""
+    from presliding import Measurement, preloaded_state, simulate
+
+    rng = np.random.default_rng(seed)
+    memory = base or model
+    level = memory.coulomb_level
+    t = np.arange(samples) * 1e-3
+    out = []
+    for _ in range(n_records):
+        amp = rng.uniform(0.5, 1.6) * level * rng.choice([-1.0, 1.0])
+        u = amp * np.sin(2 * np.pi * rng.uniform(1.5, 4.0) * t)
+        d = float(np.sign(amp))
+        y0 = rng.uniform(-1e-3, 1e-3)
+        state = preloaded_state(memory, rng.uniform(-0.8, 0.8) * memory.max_elastic_force,
+                                direction=d, position=y0)  # fmt: skip
+        res = simulate(model, mass, applied_force=(t, u), initial_position=y0,
+                       initial_velocity=d * rng.uniform(0.005, 0.02), initial_state=state,
+                       t_eval=t)  # fmt: skip
+        y = 1e-6 * np.round((res.position + 2e-7 * rng.standard_normal(samples)) / 1e-6)
+        if delay:
+            u = np.concatenate([np.zeros(delay), u[:-delay]])
+        out.append(Measurement(t, position=y, velocity=np.gradient(y, t), applied_force=u))
+    return out
 
 
 def pooled_problem_at(records, nuisance, shared: dict[str, float], n_elements: int = 2):

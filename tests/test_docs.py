@@ -40,8 +40,10 @@ DOCS_PACKAGES = ("sphinx", "numpydoc", "sphinx_gallery", "pydata_sphinx_theme")
 #: is the printed value; an expected str is compared exactly.
 PRINTED: dict[tuple[str, int], list[tuple]] = {
     ("citing", 0): [(r"^(\S+)$", presliding.__version__)],
-    ("install", 0): [(r"^(\S+) (True|False)$", presliding.__version__)],
-    ("command_line", 1): [(r"^(.*)$", f"{_progress.LOCATION} {_progress.FOLDER}")],
+    ("install", 0): [(r"^presliding (\S+)$", presliding.__version__)],
+    ("command_line", 1): [(r"^compiled kernels cached: (.*)$",
+                           f"{_progress.LOCATION}" + (f" {_progress.FOLDER}" if _progress.FOLDER
+                                                      else ""))],
     ("rate_models", 0): [(r"stops at (\S+) s", 0.1668, 1e-3), (r"PI: (\S+) s", 0.1740, 1e-3)],
     ("rate_models", 1): [(r"creeps (\S+) while", 1.276e-05, 1e-3),
                          (r"J·u = (\S+)\)", 1.5e-05, 1e-9)],
@@ -56,14 +58,15 @@ PRINTED: dict[tuple[str, int], list[tuple]] = {
                      (r"^  (\S+) +\S+ +\S+ +False$", 0.000662831, 1e-3),
                      (r"^  \S+ +(\S+) +\S+ +False$", 33.3901, 1e-3)],
     ("identification", 0): [(r"^coulomb +(\S+) N", 0.200218, 1e-3),
-                             (r"^stiffness_2 +(\S+) N/m", 400.062, 1e-3),
+                             (r"^stiffness_1 +(\S+) N/m", 400.062, 1e-3),
                              (r"^threshold_3 +(\S+) m", 0.0150022, 1e-3),
                              (r"explained variance (\S+) %", 100.0, 1e-4)],
     # the tribometer: F_c of about 2.4 N (|F/N| of about 0.47 at a normal load of 5 N)
     ("identification", 1): [(r"^F_c \[N\]: (\S+)$", 2.365, 0.02),
                             (r"^validation RMS \[N\]: (\S+)$", 0.1158, 0.05),
                             (r"^offset +(\S+) N", 0.0993, 0.05),
-                            (r"^stiffness_1 +(\S+) N/m", 2.83e4, 0.05)],
+                            (r"^stiffness_1 +(\S+) N/m", 2.75e4, 0.1)],  # its split with
+    # stiffness_2 (thresholds 53 and 62 µm) moves by ~7 % between optima of equal cost
     # EMPS: the published reference is M = 95.11 kg, 203.5 N s/m, 20.39 N, offset -3.16 N
     ("identification", 2): [(r"^mass +(\S+) kg", 94.97, 2e-3),
                             (r"^viscous +(\S+) N s/m", 204.6, 2e-3),
@@ -82,12 +85,18 @@ PRINTED: dict[tuple[str, int], list[tuple]] = {
     ("pooled_fits", 4): [(r"within (\S+) % of the force range", 0.0, 0.0, 1e-6),
                          (r"\(tolerance (\S+) %\)", 3.0, 0.0),
                          (r"^  (\d+) branches", 2.0, 0.0)],
+    # asymmetric stops (F_c⁻ = 0.8 F_c⁺): both levels, the asymmetry supported
+    ("pooled_fits", 5): [(r"^F_c\+ = (\S+) N", 1.0, 1e-3), (r"F_c- = (\S+) N", 0.8, 1e-3),
+                         (r"N: (\S+)$", "supported")],
+    ("pooled_fits", 6): [(r"the data support (\S+) \(", "pi-asymmetric"),
+                         (r"^  pi-asymmetric \(supported\) +(\S+) ", "converged"),
+                         (r"predicts best \(median NRMSE (\S+) %", 1.52, 0.1)],
     ("quickstart", 3): [(r"stops at t = (\S+) s", 0.0852924142586, 1e-6),
                         (r"at position (\S+) m", 0.00176242655942, 1e-6),
                         (r"^  reversals: (\d+)$", 1.0, 0.0),
                         (r"balance residual (\S+) ", 0.0, 0.0, 1e-12)],
     ("results", 0): [(r"max_events = (\d+) was reached", 20.0, 0.0),
-                     (r"reached at t = (\S+)$", 6.12611, 1e-5)],
+                     (r"reached at t = (\S+) s$", 6.12611, 1e-5)],
     ("emps", 0): [(r"^\((\S+), ", 1.5, 0.0), (r"^\(\S+, (\S+)\)$", 0.85, 0.0),
                   (r"^(\S+) -", 0.15707963267948966, 1e-12),
                   (r"^\S+ (-\S+)$", -5e-4, 1e-9)],
@@ -121,9 +130,19 @@ PRINTED: dict[tuple[str, int], list[tuple]] = {
                      (r"^ +0 +(\d+) ", 8.0, 0.0), (r"^ +2 +(\d+) ", 3.0, 0.0),
                      (r"^ +0 +\d+ +(\S+)", 0.425612, 1e-5)],
     ("network", 4): [(r"^(\S+)$", 2.5e-4, 0.5)],
+    # NLvib's chain: the stuck modes; the backbone of mode 0 from ω0 towards K's own
+    ("structural", 0): [(r"^\[(\S+) ", 1.374878, 1e-6), (r" (\S+) \S+\]$", 2.974046, 1e-6),
+                        (r" (\S+)\]$", 7.434027, 1e-6)],
+    ("structural", 1): [(r"^(\S+) \S+$", 1.374878, 1e-6), (r"^\S+ (\S+)$", 1.089694, 1e-6)],
+    # ring-down against the slow-decay ζ_d and against the secant's ζ (median |Δζ|)
+    ("structural", 2): [(r"^(\S+) \S+$", 3.9e-5, 0.2), (r"^\S+ (\S+)$", 3.5e-4, 0.2)],
+    ("structural", 4): [(r"^\[(\S+) ", 0.066487, 1e-5), (r" (\S+) \S+\]$", 0.120075, 1e-5),
+                        (r" (\S+)\]$", 0.161172, 1e-5)],
     ("rigs", 2): [(r"^(\d+) stops cut", 4.0, 0.0),
                   (r"^ +1 +(\S+) s to", 0.128, 1e-9), (r"^ +4 +\S+ s to (\S+)", 1.931, 1e-9),
-                  (r"^ +2 .* (\d+) samples", 304.0, 0.0)],
+                  (r"^ +2 .* (\d+) samples", 304.0, 0.0),
+                  (r"rest speed (\S+) m/s", 0.001102, 1e-3),
+                  (r"at least (\d+) samples", 10.0, 0.0)],
     ("rigs", 3): [(r"NRMSE (\S+) %", 0.131, 0.05), (r"reversals: measured (\d+)", 1.0, 0.0),
                   (r"predicted (\d+) \(tolerance", 1.0, 0.0),
                   (r"\((3) encoder counts", 3.0, 0.0),
@@ -181,7 +200,8 @@ GUIDED = (
     "describing_function", "predict_limit_cycles", "FrictionNonlinearity", "retries=",
     "dask worker", "NUMBA_CACHE_DIR", "--units", "--window", "--sample-rate", ".mat",
     "Exit status", ".presliding.lock", "progress=True", "CITATION.cff", "GMSFriction",
-    "CreepingFriction", 'family="gms"', "creep=True",
+    "CreepingFriction", 'family="gms"', "creep=True", "asymmetric=True", "compare_fits",
+    "register_family", "--compare",
 )  # fmt: skip
 
 
@@ -260,6 +280,7 @@ def test_docs_build_offline_with_warnings_as_errors(tmp_path):
             for n in module.__all__
         }
     assert names - pages == set()
+    _check_every_member_has_an_entry(out)
     # paper symbols in docstrings keep their bars (|x| is not a reST substitution)
     play = (out / "api" / "generated" / "presliding.play.html").read_text(encoding="utf-8")
     assert "|y − x_j| &lt;= r_j" in play or "|y − x_j| <= r_j" in play
@@ -269,6 +290,44 @@ def test_docs_build_offline_with_warnings_as_errors(tmp_path):
                    "presliding.simulate", "presliding.phi", "presliding.turning_point",
                    "presliding.stops_at_turning_point", "presliding.turning_points"):  # fmt: skip
         assert f"{target}.html" in equations, target
+
+
+def _public_members(cls: type) -> set[str]:
+    """The public methods and properties of `cls`, its own and those it inherits from
+    presliding's classes (not those of Python's builtins: a named tuple's count/index)."""
+    import inspect
+
+    out = set()
+    for name in dir(cls):
+        if name.startswith("_"):
+            continue
+        owner = next(c for c in cls.__mro__ if name in vars(c))
+        if owner.__module__.split(".")[0] != "presliding":
+            continue
+        member = inspect.getattr_static(cls, name)
+        if isinstance(member, property) or callable(getattr(cls, name, None)):
+            out.add(name)
+    return out
+
+
+def _check_every_member_has_an_entry(out: Path) -> None:
+    """Every public method and property of every public class has its entry on its class's
+    page, the inherited ones included (111 of 341 had none: Measurement.from_csv,
+    FitResult.to_lmfit, every result's to_pandas and to_dict)."""
+    import inspect
+
+    missing, total = [], 0
+    for page in (out / "api" / "generated").glob("presliding.*.html"):
+        path = page.stem
+        module, _, name = path.rpartition(".")
+        cls = getattr(importlib.import_module(module), name, None)
+        if not inspect.isclass(cls):
+            continue
+        text = page.read_text(encoding="utf-8")
+        members = _public_members(cls)
+        total += len(members)
+        missing += [f"{path}.{m}" for m in sorted(members) if f'id="{path}.{m}"' not in text]
+    assert total > 300 and missing == [], missing
 
 
 def _text(html: str) -> str:
@@ -300,7 +359,10 @@ def _check_navigation_statuses_links(out: Path) -> None:
                  "https://matplotlib.org/stable/api/_as_gen/matplotlib.axes.Axes.html",
                  "https://docs.python.org/3/library/exceptions.html#KeyboardInterrupt",
                  "https://python-control.readthedocs.io/en/latest/generated/"
-                 "control.TransferFunction.html"):  # fmt: skip
+                 "control.TransferFunction.html",
+                 "https://pandas.pydata.org/docs/reference/api/pandas.DataFrame.html",
+                 "https://lmfit.github.io/lmfit-py/parameters.html#lmfit.parameter.Parameters",
+                 "https://pint.readthedocs.io/en/stable/api/base.html#pint.Quantity"):  # fmt: skip
         assert link in pages, link
     changelog = (out / "changelog.html").read_text(encoding="utf-8")
     assert "Breaking changes" in changelog and "<li>" in changelog

@@ -27,6 +27,7 @@ LAYERS = (
     "identification",
     "control",
     "sweep",
+    "structural",
     "cli",
 )
 

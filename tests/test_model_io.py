@@ -296,3 +296,38 @@ def test_asymmetric_round_trip(tmp_path):
     assert loaded.coulomb_levels == pytest.approx((1.5, 0.7))
     symmetric = PIFriction(0.5, [500.0, 10.0], [1.0, 0.75])
     assert "negative" not in model_to_toml(symmetric)
+
+
+def test_fitted_asymmetric_models_round_trip(tmp_path):
+    """The models the asymmetric fits return (c1⁻ of fit_presliding; F_c⁻ as a share of every
+    level with σ⁻ of the pooled fits) are written and read back unchanged."""
+    from presliding import fit_presliding
+    from presliding.identification.problem._model_spec import ModelSpec
+    from presliding.signals import piecewise_linear
+
+    truth = PIFriction(0.3, [100.0, 40.0], breakaway=[0.32, 0.34], coulomb_negative=0.2)
+    path = piecewise_linear([0.0, 0.01, -0.008, 0.006], 2e-4)
+    fitted = fit_presliding(path, truth.force(path)[0], 2, asymmetric=True).model
+    spec = ModelSpec(2, True, None, 32, asymmetric=True)
+    pooled = spec.model({"coulomb": 0.3, "coulomb_level": 1.0, "stiffness_1": 4e3,
+                         "stiffness_2": 1e3, "coulomb_level_negative": 0.8, "viscous": 2.0,
+                         "viscous_negative": 3.0})  # fmt: skip
+    assert not fitted.is_symmetric and not pooled.is_symmetric
+    for i, model in enumerate((fitted, pooled)):
+        path_i = tmp_path / f"model{i}.toml"
+        save_model(path_i, model)
+        back = load_model(path_i).model
+        assert back.coulomb_levels == model.coulomb_levels
+        for name in ("coulomb", "coulomb_negative", "viscous", "viscous_negative"):
+            assert getattr(back, name) == getattr(model, name), name
+        for name in ("stiffness", "threshold", "threshold_negative"):
+            np.testing.assert_array_equal(getattr(back, name), getattr(model, name))
+
+
+@pytest.mark.parametrize("name", ["model.json", "model.txt"])
+def test_a_model_file_is_written_only_under_a_toml_name(tmp_path, name):
+    """Before: save_model wrote TOML to model.json, which load_model then read as JSON and
+    rejected; now the path is refused before anything is written."""
+    with pytest.raises(ValueError, match=r"`path` must name a TOML file .*" + name):
+        save_model(tmp_path / name, PIFriction(0.1, [100.0], [0.5]))
+    assert not (tmp_path / name).exists()

@@ -116,6 +116,7 @@ def test_the_sdist_carries_what_its_tests_need(tmp_path):
         members = {m.name.split("/", 1)[1] for m in sdist.getmembers() if "/" in m.name}
     for needed in (
         "src/presliding/py.typed",
+        "src/presliding/cli/example_files/stop_1.csv",  # presliding example-data
         "tests/conftest.py",
         "tests/helpers.py",
         "tests/_reference.py",
@@ -159,3 +160,30 @@ def test_python_control_is_core_and_the_main_job_needs_no_extra():
     run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                          timeout=300)  # fmt: skip
     assert run.returncode == 0, run.stderr
+
+
+def test_ci_runs_the_lowest_versions_the_pins_allow(tmp_path):
+    """.ci/lowest installs every core dependency and the pandas, lmfit and h5py extras at the
+    floor of its pin (read from pyproject.toml here), and .ci/run runs it after the tests."""
+    try:
+        import tomllib
+    except ImportError:  # Python 3.10
+        import tomli as tomllib
+
+    script = (ROOT / ".ci" / "lowest").read_text(encoding="utf-8")
+    floors_code = script.split("<<'PY'\n", 1)[1].split("\nPY\n", 1)[0]
+    out = tmp_path / "floors.txt"
+    run = subprocess.run([sys.executable, "-c", floors_code, str(out)], cwd=ROOT,
+                         capture_output=True, text=True, timeout=60)  # fmt: skip
+    assert run.returncode == 0, run.stderr
+    floors = dict(line.split("==") for line in out.read_text().split())
+    project = tomllib.loads((ROOT / "pyproject.toml").read_text(encoding="utf-8"))["project"]
+    pins = [*project["dependencies"], *(project["optional-dependencies"][e][0]
+                                        for e in ("pandas", "lmfit", "h5py"))]  # fmt: skip
+    for pin in pins:
+        if ">=" in pin and ";" not in pin:
+            name, floor = pin.split(">=")
+            assert floors[name.strip()] == floor.strip(), pin
+    assert {"pytest", "hypothesis", "numpy", "numba", "pint", "pandas"} <= set(floors)
+    ci = (ROOT / ".ci" / "run").read_text(encoding="utf-8")
+    assert ci.rstrip().endswith("bash .ci/lowest") and '-c "$work/floors.txt"' in script

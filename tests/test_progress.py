@@ -176,3 +176,47 @@ def test_the_bar_keeps_ticking_and_leads_with_the_note_while_compiling(monkeypat
     assert len(f"presliding demo: {COMPILING}") < 60
     assert "Figure 3 loops; 1 kernel" in last
     assert after.startswith("presliding demo: the paper's Figure 3 loops")
+
+
+def test_a_terminal_that_reports_no_size_still_gets_the_bar(monkeypatch):
+    """A pseudo-terminal nobody sized (0 × 0: some consoles, containers, session recorders)
+    showed nothing at all for a whole cold demo; it gets an 80-column bar now."""
+    import pty
+    import select
+
+    monkeypatch.delenv("COLUMNS", raising=False)
+    monkeypatch.delenv("LINES", raising=False)
+    main, child = pty.openpty()
+    assert os.get_terminal_size(child) == (0, 0)
+    stream = os.fdopen(child, "w")
+    with stream, Progress("presliding demo", total=2, unit="part", stream=stream,
+                          compile_note=False) as bar:  # fmt: skip
+        assert bar.interactive
+        bar.part("the paper's Figure 3 loops")
+        bar._on_compile("kernel_a")
+        stream.flush()
+        text = ""
+        while select.select([main], [], [], 0.5)[0]:  # whatever was drawn, no waiting
+            text += os.read(main, 65536).decode()
+        bar._on_compiled("kernel_a")
+    os.close(main)
+    assert f"presliding demo: {COMPILING}" in text and "0/2 [" in text
+
+
+def test_a_notebook_is_told_from_a_terminal_ipython(monkeypatch):
+    """IPython's shell in a Jupyter kernel has a kernel; the terminal's has none."""
+    import sys
+    import types
+
+    from presliding import _progress
+
+    monkeypatch.delitem(sys.modules, "IPython", raising=False)
+    assert not _progress.in_notebook()
+    for shell, notebook in ((None, False), (types.SimpleNamespace(), False),
+                            (types.SimpleNamespace(kernel=object()), True)):  # fmt: skip
+        fake = types.SimpleNamespace(get_ipython=lambda shell=shell: shell)
+        monkeypatch.setitem(sys.modules, "IPython", fake)
+        assert _progress.in_notebook() is notebook
+        assert _progress.progress_enabled() is notebook  # stderr is no terminal here
+        with Progress("probe", compile_note=False, quiet=True) as bar:
+            assert bar.interactive is notebook and bar.quiet

@@ -76,3 +76,24 @@ def test_the_model_file_example_comes_to_rest(tmp_path, capsys):
     assert "stops at" in capsys.readouterr().out
     data = np.loadtxt(out / "simulation.csv", delimiter=",", skiprows=1)
     assert data[-1, 2] == 0.0 and np.all(data[:, 6] == 0.0)  # at rest; no force applied
+
+
+def test_the_readmes_interconnect_example_connects_every_signal_without_a_warning():
+    """``outputs=["position", "u"]`` left the mass's velocity unconnected: python-control
+    warned (UserWarning: Unused output(s) in InterconnectedSystem)."""
+    import re
+    import warnings
+
+    import control
+    import presliding as ps
+
+    text = (ROOT / "README.md").read_text(encoding="utf-8")
+    found = re.search(r"`(control\.interconnect\(.*?\))`", text, re.S)
+    assert found, "the README's interconnect example"
+    code = " ".join(found.group(1).split())
+    model = ps.PIFriction(coulomb=0.5, stiffness=[500.0, 10.0, 4.0], breakaway=[1.0, 1.0, 1.0])
+    pid = ps.PID(400.0, 4e4, 0.0, dt=1e-4, limit=5.0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        loop = eval(code, {"control": control, "ps": ps, "model": model, "pid": pid})
+    assert loop.output_labels == ["position", "velocity", "u"]

@@ -33,13 +33,17 @@ NOT_RESULTS = {
     "Exponential", "Uniform", "PiecewiseConstant", "Tabulated", "GeneralPIOperator",
     "MemoryState", "PIOperator", "PIState", "PIInverse", "PIBatch", "PIBatchState",
     "Measurement", "SegalmanIwan", "MindlinContact", "MicroslipBar", "SliderNetwork",
+    "Segments",  # the pieces of a Measurement (with table, report and plot), not a result
     "MotionEnergy",  # a part of MotionResult (its `energy`), with its own to_dict
-    "NetworkStructure", "NetworkState",
+    "NetworkStructure", "NetworkState", "JointedStructure", "CompiledStructure",
     "NetworkEnergy",  # a part of NetworkResult (its `energy`), with its own to_dict
 }  # fmt: skip
 
 MODEL = ps.PIFriction(0.3, [100.0, 40.0], breakaway=[0.32, 0.34])
 UNDAMPED = ps.PIFriction(coulomb=0.0, stiffness=[100.0], breakaway=[10.0])
+_JENKINS_1DOF = ps.JointedStructure(
+    1.0, 1.0, [[1.0]], [ps.PIFriction(0.0, [3.0], breakaway=[0.5])], damping=0.1
+)
 PATH = ps.signals.piecewise_linear([0.0, 0.01, -0.008, 0.006], 2e-4)
 
 
@@ -91,6 +95,9 @@ BUILDERS = {
     "Prediction": lambda: _cross_validation().predictions[0],
     "MasingCheck": lambda: ps.masing_check(MODEL, (PATH, MODEL.force(PATH)[0])),
     "CrossValidation": _cross_validation,
+    "FitComparison": lambda: ps.compare_fits(
+        [_measurement(), _measurement()], {"pi": {"n_elements": 2}, "coulomb": {}}
+    ),
     "LoopResult": _loop,
     "LoopBatch": lambda: ps.simulate_loop_batch(
         MODEL, 1.0, ps.PID(300.0, 1000.0, 10.0, dt=1e-3), 1e-3, kp=[200.0, 300.0], t_end=0.2
@@ -100,6 +107,17 @@ BUILDERS = {
     "SweepResult": _sweep,
     "NetworkResult": lambda: ps.simulate_network(
         ps.chain_structure(2, 1.0, 10.0, MODEL), 0.5, None, [0.05, 0.0]
+    ),
+    "PeriodicOrbit": lambda: ps.periodic_orbit(_JENKINS_1DOF, [0.4], 1.3, samples=64),
+    "FrequencyResponse": lambda: ps.frequency_response(
+        _JENKINS_1DOF, [0.4], (1.0, 1.4), step=0.2, max_points=6
+    ),
+    "StructureMotion": lambda: ps.simulate_ring_down(_JENKINS_1DOF, 0, 1.0, 5.0),
+    "RingDown": lambda: ps.analyze_ring_down(
+        ps.simulate_ring_down(_JENKINS_1DOF, 0, 1.0, 120.0), method="peaks"
+    ),
+    "ModalBackbone": lambda: ps.modal_backbone(
+        ps.JointedStructure(1.0, 3.0, [[1.0]], [UNDAMPED]), 0, [0.01, 0.1, 1.0]
     ),
 }
 
@@ -282,3 +300,69 @@ def test_units_follow_the_names():
     assert summarise(np.array([1.0, np.nan, 3.0, 4.0, 5.0])) == "<array 5 float64, 1 … 5>"
     assert summarise(np.arange(3)) == "[0, 1, 2]"
     assert summarise({f"k{i}": float(i) for i in range(10)}).endswith("… 2 more}")
+
+
+def test_a_models_density_is_shown_as_its_fields_with_units_not_as_a_raw_repr():
+    """The model table of a result showed ``'Discrete(stiffness=array([500.,  10., …``."""
+    discrete = ps.simulate(MODEL, 1.0, initial_velocity=0.05, t_end=0.05)
+    uniform = ps.PIFriction(0.1, density=ps.Uniform(height=3.5e7, max_threshold=2e-4))
+    smooth = ps.simulate(uniform, 1.0, initial_velocity=0.01, t_end=0.01, method="implicit",
+                         step=1e-4)  # fmt: skip
+    for res, cell in (
+        (discrete, "<td>density</td><td>Discrete: stiffness = [100, 40] N/m, threshold = ["),
+        (smooth, "<td>density</td><td>Uniform: height = 3.5e+07 N/m², max_threshold = 0.0002 m"),
+    ):
+        page = res._repr_html_()
+        assert cell in page and "array(" not in page
+    pytest.importorskip("pandas")
+    attrs = smooth.to_pandas().attrs["parameters"]
+    assert attrs["density"] == "Uniform: height = 3.5e+07 N/m², max_threshold = 0.0002 m"
+
+
+@pytest.mark.parametrize(
+    "model",
+    [
+        MODEL,
+        ps.PIFriction(0.1, density=ps.Exponential(height=7e7, length=1e-4)),
+        ps.PIFriction(0.5, [500.0], [1.0], coulomb_negative=0.3),
+    ],
+    ids=["elements", "density", "asymmetric"],
+)
+def test_a_friction_model_shows_its_levels_and_parameters_in_a_notebook(model):
+    page = model._repr_html_()
+    tags = _Tags()
+    tags.feed(page)
+    assert tags.open == [] and page.count("<table>") == 2
+    shown = "".join(tags.text)
+    assert "Coulomb level" in shown and "N/m" in shown and "coulomb" in shown
+    if model.is_symmetric:
+        assert f"{model.coulomb_level:.6g}" in shown and f"{model.initial_stiffness:.6g}" in shown
+    else:
+        assert "F_c⁺, F_c⁻" in shown and "coulomb_negative" in shown
+
+
+def test_a_measurement_shows_its_samples_span_and_signals_in_a_notebook():
+    t = np.linspace(0.0, 2.0, 201)
+    m = ps.Measurement(t, position=0.3 * np.sin(t), applied_force=np.cos(t), axis="rotary")
+    page = m._repr_html_()
+    tags = _Tags()
+    tags.feed(page)
+    assert tags.open == []
+    for cell in ("<td>samples</td><td>201</td>", "<td>sampling step</td><td>0.01</td><td>s</td>",
+                 "<td>position</td><td>0 … 0.3</td><td>rad</td>",
+                 "<td>applied_force</td><td>-0.416147 … 1</td><td>N m</td>"):  # fmt: skip
+        assert cell in page
+
+
+@pytest.mark.parametrize(("name", "build"), sorted(BUILDERS.items()))
+def test_to_pandas_without_pandas_names_the_extra(name, build, monkeypatch):
+    """Without pandas, every `to_pandas` raises the one ImportError naming the extra (it was
+    a bare ModuleNotFoundError for most results)."""
+    import sys
+
+    res = build()
+    monkeypatch.setitem(sys.modules, "pandas", None)  # an import of pandas now fails
+    expected = (r"^`\S*to_pandas\(\)` needs the optional package `pandas`; install it with "
+                r'`pip install "presliding\[pandas\]"`\.$')  # fmt: skip
+    with pytest.raises(ImportError, match=expected):
+        res.to_pandas()

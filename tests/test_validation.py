@@ -506,6 +506,6 @@ def test_pint_quantities_are_converted_to_si_or_refused():
         ps.simulate(model, q(1.0, "m"), t_end=1.0)
     with pytest.raises(ValueError, match=r"^`t_end` must be a time"):
         ps.simulate_loop(model, 1.0, pid, t_end=q(1.0, "m"))
-    # where no kind is known a Quantity is refused, never stripped of its unit
-    with pytest.raises(TypeError, match=r"^`stiffness` must be a plain number or array in SI"):
-        ps.PIFriction(0.1, q([500.0, 10.0], "N/m"), [1.0, 1.0])
+    # an argument without a unit refuses a Quantity, never stripping it (a generic weight)
+    with pytest.raises(TypeError, match=r"^`weight` must be a plain number or array \(it has no"):
+        ps.PIOperator([0.001, 0.002], q([500.0, 10.0], "N/m"))

@@ -1,7 +1,8 @@
 """Write the intersphinx inventories the documentation links through, offline.
 
-The build never downloads: ``conf.py`` maps numpy, scipy, matplotlib, Python and
-python-control to the inventories in ``docs/_inventories/``, which this script
+The build never downloads: ``conf.py`` maps numpy, scipy, matplotlib, Python,
+python-control, pandas, lmfit and pint to the inventories in ``docs/_inventories/``,
+which this script
 writes from the names of the installed packages (their public functions and
 classes, each at the address its project documents it under). Run it again
 after a major release of one of them::
@@ -114,11 +115,64 @@ def control_inventory() -> None:
     _write("python-control", control.__version__, entries)
 
 
+def _members(cls: type, prefix: str, uri: str) -> list[tuple[str, str, str]]:
+    """A class's public methods and attributes, each on the page `uri` names."""
+    out = []
+    for name in dir(cls):
+        if name.startswith("_"):
+            continue
+        role = "py:method" if callable(getattr(cls, name, None)) else "py:attribute"
+        out.append((f"{prefix}.{name}", role, uri))
+    return out
+
+
+def pandas_inventory() -> None:
+    import pandas as pd
+
+    entries = [(f"pandas.{n}", f"py:{r}", "reference/api/$.html#$") for n, r in _public("pandas")]
+    for cls in (pd.DataFrame, pd.Series):
+        entries += _members(cls, f"pandas.{cls.__name__}", "reference/api/$.html#$")
+    _write("pandas", pd.__version__, entries)
+
+
+def lmfit_inventory() -> None:
+    import lmfit
+
+    pages = {"Parameters": ("parameters", "parameter"), "Parameter": ("parameters", "parameter"),
+             "Minimizer": ("fitting", "minimizer"), "MinimizerResult": ("fitting", "minimizer"),
+             "minimize": ("fitting", "minimizer"), "Model": ("model", "model"),
+             "ModelResult": ("model", "model")}  # fmt: skip
+    entries = []
+    for name, (page, module) in pages.items():
+        role = "py:function" if name.islower() else "py:class"
+        # documented as lmfit.<module>.<name>; lmfit.<name> is how users import it
+        entries += [(f"lmfit.{module}.{name}", role, f"{page}.html#$"),
+                    (f"lmfit.{name}", role, f"{page}.html#lmfit.{module}.{name}")]  # fmt: skip
+    entries += _members(lmfit.Parameters, "lmfit.parameter.Parameters",
+                        "parameters.html#$")  # fmt: skip
+    _write("lmfit", lmfit.__version__, entries)
+
+
+def pint_inventory() -> None:
+    import pint
+
+    entries = [(f"pint.{n}", f"py:{r}", "api/base.html#$")
+               for n in ("Quantity", "Unit", "UnitRegistry", "Measurement", "Context")
+               for r in ("class",)]  # fmt: skip
+    entries += [(f"pint.{n}", "py:exception", "api/base.html#$")
+                for n in ("DimensionalityError", "UndefinedUnitError", "PintError")]  # fmt: skip
+    entries += _members(pint.Quantity, "pint.Quantity", "api/base.html#$")
+    _write("pint", pint.__version__, entries)
+
+
 if __name__ == "__main__":
     numpy_inventory()
     scipy_inventory()
     matplotlib_inventory()
     python_inventory()
     control_inventory()
+    pandas_inventory()
+    lmfit_inventory()
+    pint_inventory()
     for path in sorted(OUT.glob("*.inv")):
         print(f"{path.name}: {path.stat().st_size} bytes")

@@ -11,7 +11,11 @@ shows itself the same way:
   units (a fit's parameters, a model's coulomb level, stiffnesses, thresholds);
 - ``result.to_pandas().attrs``: ``success``, ``status``, ``message``, the
   ``units`` of the columns and, where there is a model, its ``model`` (repr)
-  and ``parameters`` (plain numbers and lists).
+  and ``parameters`` (plain numbers and lists; a part such as a density as one
+  line of its fields with their units, `describe_part`).
+
+Models and data (`PIFriction`, `Measurement`) show themselves in a notebook with
+`model_html`: their key figures, then their parameters, each with its unit.
 
 Units are the package's SI units, found from the field's name (``stop_time`` [s],
 ``rest_position`` [m], ``elastic_forces`` [N]); a result with other units (a
@@ -31,8 +35,10 @@ import numpy as np
 
 __all__ = [
     "REPR_LIMIT",
+    "describe_part",
     "figures_of",
     "fill_attrs",
+    "model_html",
     "model_parameters",
     "result_html",
     "short_repr",
@@ -51,7 +57,8 @@ _UNITS = {
     "stiffness": "N/m", "viscous": "N s/m", "frequency": "rad/s", "frequencies": "rad/s",
     "work": "J", "energy": "J", "dissipated": "J", "kinetic": "J", "elastic": "J",
     "rms": "m", "max": "m", "range": "m", "reference": "m", "measured": "m", "control": "N",
-    "feedforward": "N", "estimate": "m",
+    "feedforward": "N", "estimate": "m", "height": "N/m²", "length": "m", "breaks": "m",
+    "strength": "N/m",
 }  # fmt: skip
 #: Names whose last word misleads (counts, ratios, labels).
 _UNITLESS = ("n_", "nrmse", "relative", "ratio", "trend", "discrepancy", "tolerance", "kp",
@@ -152,9 +159,29 @@ def model_parameters(model: Any) -> dict[str, Any]:
             out[f.name] = value.tolist() if value.size <= 64 else summarise(value)
         elif isinstance(value, bool | int | float | str | np.number):
             out[f.name] = value.item() if isinstance(value, np.generic) else value
+        elif dataclasses.is_dataclass(value) and not isinstance(value, type):
+            out[f.name] = describe_part(value)
         else:
             out[f.name] = summarise(value)
     return out
+
+
+def describe_part(part: Any) -> str:
+    """A part of a model (a dataclass, such as a density) in one line: its class, then each
+    field with its unit (``Uniform: height = 3.5e+07 N/m², max_threshold = 0.0002 m``);
+    arrays of more than four values by their count and range."""
+    items = []
+    for f in dataclasses.fields(part):
+        if not f.repr or f.name.startswith("_"):
+            continue
+        value = getattr(part, f.name)
+        if isinstance(value, np.ndarray) and value.size > 4 and value.dtype.kind in "iuf":
+            text = f"{value.size} values, {_number(value.min())} … {_number(value.max())}"
+        else:
+            text = summarise(value, 48)
+        unit = unit_of(f.name)
+        items.append(f"{f.name} = {text}{' ' + unit if unit else ''}")
+    return f"{type(part).__name__}: " + ", ".join(items)
 
 
 def figures_of(obj: Any, names: Iterable[str] | None = None,
@@ -190,9 +217,25 @@ def _model_rows(model: Any) -> list[tuple[str, str, str]]:
     rows = []
     for name, value in model_parameters(model).items():
         text = (", ".join(_number(v) for v in value[:8]) + (" …" if len(value) > 8 else "")
-                if isinstance(value, list) else summarise(value))  # fmt: skip
+                if isinstance(value, list) else value if isinstance(value, str)
+                else summarise(value))  # fmt: skip
         rows.append((name, text, unit_of(name)))
     return rows
+
+
+def model_html(obj: Any, figures: Sequence[tuple[str, str, str]], title: str | None = None,
+               parameters: bool = True) -> str:  # fmt: skip
+    """The HTML of a model or of data (no status): its class, key `figures` (name, value,
+    unit) and, with `parameters`, each of its parameters with its unit."""
+    parts = ["<div class='presliding-model'>",
+             f"<p><strong>{html.escape(title or type(obj).__name__)}</strong></p>"]  # fmt: skip
+    if figures:
+        parts.append(_table(("quantity", "value", "unit"), figures))
+    rows = _model_rows(obj) if parameters else []
+    if rows:
+        parts.append(_table(("parameter", "value", "unit"), rows))
+    parts.append("</div>")
+    return "\n".join(parts)
 
 
 def result_html(

@@ -115,6 +115,7 @@ def model_pieces(
     measurement: Any = None,
     header: str = "",
     axis: str = "linear",
+    data: Any = None,
 ) -> Iterator[str]:
     """The text of `model_to_toml` in pieces (a long element array in chunks of numbers)."""
     if not isinstance(model, PIFriction):
@@ -147,6 +148,10 @@ def model_pieces(
         offset = _toml_value(measurement.force_offset)
         note = f"F_0 [{force}]: measured force = model force + F_0; simulate applies u - F_0"
         lines += ["", "[measurement]", f"force_offset = {offset}  # {note}"]
+    if data is not None:
+        from presliding._model_data import data_lines
+
+        lines += data_lines(data)
     for line in lines:
         if isinstance(line, str):
             yield line

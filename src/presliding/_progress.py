@@ -5,19 +5,24 @@ about two seconds (the demo, sweeps, fits): ``with Progress("presliding fit",
 total=3, unit="stage", quiet=args.quiet) as bar:``, then ``bar.part(name)`` as a
 named part begins, ``bar.note(text)`` and ``bar.update()`` per unit done. It
 writes to stderr: on a terminal a tqdm bar named after the current part, with
-the latest note after it; elsewhere (a log file, a pipe, CI) plain lines, one per
-part, one per distinct note within a part and, for counted work without parts,
-one per tenth of the total (``presliding demo: [2/6] free motion to a stop``);
+the latest note after it; in a Jupyter notebook tqdm's notebook bar (`tqdm.auto`: a
+widget where ipywidgets is installed, else the text bar); elsewhere (a log file, a
+pipe, CI) plain lines, one per part, one per distinct note within a part and, for
+counted work without parts, one per tenth of the total (``presliding demo: [2/6]
+free motion to a stop``);
 nothing with ``quiet=True`` (``--quiet``). While it is open it says "compiling
 (first run only)" whenever numba compiles a kernel (a cold cache).
 `progress` and `progress_enabled` are the older bar-only helpers (a tqdm bar on
-a terminal, nothing elsewhere) for short steps such as writing a CSV file.
+a terminal or in a notebook, nothing elsewhere) for short steps such as writing a
+CSV file.
 numba's cache folder is chosen in `presliding._numba_cache` (the package's first import).
 """
 
 from __future__ import annotations
 
 import contextlib
+import os
+import shutil
 import sys
 import threading
 import time
@@ -32,10 +37,38 @@ COMPILING = "compiling (first run only)"
 
 
 def progress_enabled(quiet: bool = False) -> bool:
-    """True when a progress bar should be drawn: not quiet and stderr is a terminal."""
+    """True when a progress bar should be drawn: not quiet, and stderr is a terminal or the
+    code runs in a Jupyter notebook."""
     if quiet:
         return False
-    return _isatty(sys.stderr)
+    return _interactive(sys.stderr)
+
+
+def in_notebook() -> bool:
+    """True inside a Jupyter kernel (a notebook in Jupyter, JupyterLab, VS Code or Colab):
+    IPython's shell there has a kernel; a terminal IPython has none."""
+    ipython = sys.modules.get("IPython")  # never imported here: a kernel has imported it
+    if ipython is None:
+        return False
+    try:
+        shell = ipython.get_ipython()
+    except Exception:  # an IPython without it, or in a broken state: not a notebook
+        return False
+    return shell is not None and hasattr(shell, "kernel")
+
+
+def _interactive(stream: Any) -> bool:
+    """A bar for `stream`: a terminal, or the notebook's own output (stderr or stdout)."""
+    return _isatty(stream) or (in_notebook() and stream in (sys.stderr, sys.stdout))
+
+
+def _tqdm(stream: Any) -> Any:
+    """tqdm's bar class for `stream`: `tqdm.auto`'s in a notebook, the text bar elsewhere."""
+    if not _isatty(stream) and in_notebook():
+        from tqdm.auto import tqdm as bar
+    else:
+        from tqdm import tqdm as bar
+    return bar
 
 
 def _isatty(stream: Any) -> bool:
@@ -46,17 +79,31 @@ def _isatty(stream: Any) -> bool:
         return False
 
 
+def _shape(stream: Any) -> dict[str, Any]:
+    """tqdm's size options for a terminal `stream`: its own size, followed as it changes;
+    or, where the terminal reports no size (0 × 0: a pseudo-terminal nobody sized, as
+    some consoles, containers and session recorders open), ``COLUMNS``/``LINES`` or
+    80 × 24. tqdm draws nothing at all on a terminal of 0 rows."""
+    try:
+        size = os.get_terminal_size(stream.fileno())
+    except (AttributeError, OSError, ValueError):  # not a real file: tqdm's own defaults
+        return {"dynamic_ncols": True}
+    if size.columns > 0 and size.lines > 0:
+        return {"dynamic_ncols": True}
+    fallback = shutil.get_terminal_size((80, 24))  # COLUMNS and LINES first
+    columns = fallback.columns if fallback.columns > 0 else 80
+    return {"ncols": columns, "nrows": fallback.lines if fallback.lines > 0 else 24}
+
+
 def progress(total: float | None, desc: str, *, quiet: bool = False, unit: str = "it") -> Any:
     """A tqdm bar on stderr (a disabled one when `progress_enabled` is False).
 
     Use it as a context manager and call ``update(n)``; a disabled bar accepts
     the same calls and prints nothing.
     """
-    from tqdm import tqdm
-
-    return tqdm(
+    return _tqdm(sys.stderr)(
         total=total, desc=desc, unit=unit, disable=not progress_enabled(quiet), file=sys.stderr,
-        leave=False, dynamic_ncols=True,
+        leave=False, **_shape(sys.stderr),
     )  # fmt: skip
 
 
@@ -77,7 +124,7 @@ class Progress:
         Where to write (default: ``sys.stderr`` at the time of the call).
     interactive : bool, optional
         Force the bar (True) or the plain lines (False); default: a bar when
-        `stream` is a terminal.
+        `stream` is a terminal or a Jupyter notebook's output.
     compile_note : bool
         Say "compiling (first run only)" while numba compiles presliding's kernels.
     delay : float
@@ -106,7 +153,7 @@ class Progress:
         self.unit = unit
         self.quiet = quiet
         self.stream = sys.stderr if stream is None else stream
-        self.interactive = _isatty(self.stream) if interactive is None else interactive
+        self.interactive = _interactive(self.stream) if interactive is None else interactive
         self.delay = float(delay)
         self.n = 0
         self.n_compiled = 0
@@ -127,11 +174,9 @@ class Progress:
         if quiet:
             return
         if self.interactive:
-            from tqdm import tqdm
-
-            self._bar = tqdm(
+            self._bar = _tqdm(self.stream)(
                 total=total, desc=desc, unit=unit, file=self.stream, leave=False,
-                dynamic_ncols=True, mininterval=0.2, delay=self.delay,
+                mininterval=0.2, delay=self.delay, **_shape(self.stream),
             )  # fmt: skip
             if self.delay > 0:  # drawn when the delay ends, even if no update comes then
                 self._timer = threading.Timer(self.delay, self._draw)
@@ -280,5 +325,6 @@ class Progress:
 
 
 __all__ = [
-    "COMPILING", "FOLDER", "LOCATION", "Progress", "compiling", "progress", "progress_enabled"
+    "COMPILING", "FOLDER", "LOCATION", "Progress", "compiling", "in_notebook", "progress",
+    "progress_enabled",
 ]  # fmt: skip

@@ -7,8 +7,10 @@ no NaN or inf is returned in place of an error. Beyond the plain checks: quantit
 from the arguments (F_c, Σ k_j, r_j = c_j/k_j, energies, ranges) are checked for finiteness
 naming their sources (`check_finite_derived`, `check_derived`); `check_size` compares an
 allocation with `size_limit()` before it is made; `check_time_span` bounds simulated time;
-`renamed` makes errors of an inner call name the argument the user passed; `kind=` converts
-a pint Quantity to SI (`presliding._interop.as_si`); any other Quantity is refused.
+`renamed` makes errors of an inner call name the argument the user passed. A pint
+Quantity is converted to SI wherever a number enters (`as_si`): of the kind its argument's
+name has in `presliding._interop.QUANTITY_KINDS` (or the `kind` a helper is given), its
+dimension checked; an argument without a unit refuses it.
 """
 
 from __future__ import annotations
@@ -16,20 +18,21 @@ from __future__ import annotations
 import math
 import numbers
 import os
+import warnings as _warnings
 from collections.abc import Iterator
 from contextlib import contextmanager, suppress
 from typing import Any
 
 import numpy as np
 
-from presliding._interop import as_si, is_quantity
+from presliding._interop import SI_UNITS, is_quantity, quantity_kind, si_magnitude
 
 __all__ = [
-    "as_bounds", "as_choice", "as_count", "as_list", "as_nonnegative_scalar", "as_parameter_matrix",
-    "as_parameter_vector", "as_positive_scalar", "as_real_array", "as_real_scalar",
-    "as_real_vector", "as_si", "as_signal", "as_state_vector", "check_derived",
-    "check_finite_derived", "check_increasing", "check_same_length",
-    "check_size", "check_time_span", "check_type", "fmt", "renamed", "size_limit"
+    "BY_NAME", "as_bounds", "as_choice", "as_count", "as_list", "as_nonnegative_scalar",
+    "as_parameter_matrix", "as_parameter_vector", "as_positive_scalar", "as_real_array",
+    "as_real_scalar", "as_real_vector", "as_si", "as_signal", "as_state_vector",
+    "check_finite_derived", "check_increasing", "check_same_length", "check_size",
+    "check_time_span", "check_type", "fmt", "renamed", "size_limit"
 ]  # fmt: skip
 
 
@@ -43,13 +46,34 @@ def fmt(value: Any) -> str:
     return text if len(text) <= 60 else text[:57] + "..."
 
 
-def _real_array(name: str, value: Any) -> np.ndarray:
-    """Convert to a float64 array, rejecting booleans, strings, complex and objects."""
+#: `kind` of the helpers: the kind the argument's name has (`quantity_kind`)
+BY_NAME = "by name"
+
+
+def as_si(name: str, value: Any, kind: str | None = BY_NAME) -> Any:
+    """A pint Quantity `value` as its magnitude in SI, its dimension checked (of `kind`, by
+    default the kind of the argument `name`: `presliding._interop.QUANTITY_KINDS`); anything
+    else unchanged. An argument without a unit (`kind` None) refuses a Quantity."""
+    if not is_quantity(value):
+        return value
+    kind = quantity_kind(name) if kind == BY_NAME else kind
+    magnitude = None if kind is None else si_magnitude(value, kind)
+    if magnitude is None:
+        units = " or ".join(SI_UNITS[kind]) if kind else ""
+        need = (f"a {kind} (a Quantity in {units} or any unit of the same dimension)" if kind
+                else "a plain number or array (it has no unit)")  # fmt: skip
+        error = TypeError if kind is None else ValueError
+        raise error(f"`{name}` must be {need}; got a Quantity in {value.units}.")
+    return magnitude
+
+
+def _real_array(name: str, value: Any, kind: str | None = BY_NAME) -> np.ndarray:
+    """Convert to a float64 array, rejecting booleans, strings, complex and objects (a pint
+    Quantity: to SI, `as_si`)."""
     rule = f"`{name}` must be a real number or array of real numbers; got"
+    value = as_si(name, value, kind)
     if value is None or isinstance(value, (str, bytes)):
         raise TypeError(f"{rule} {fmt(value)}.")
-    if is_quantity(value):  # never strip a unit: only arguments of a known kind convert
-        as_si(name, value, None)
     try:
         arr = np.asarray(value)
     except ValueError:  # ragged nested sequences
@@ -80,11 +104,11 @@ def _check_finite(name: str, arr: np.ndarray) -> None:
 
 
 def as_signal(
-    name: str, value: Any, *, min_length: int = 1, copy: bool = True, kind: str | None = None
+    name: str, value: Any, *, min_length: int = 1, copy: bool = True, kind: str | None = BY_NAME
 ) -> np.ndarray:
     """A sampled signal: 1-D, finite, float64, with at least `min_length` samples
     (``copy=False``: a float64 C-contiguous ndarray itself, only read; `kind`: Quantity to SI)."""
-    value = as_si(name, value, kind) if kind is not None else value
+    value = as_si(name, value, kind)
     plain = type(value) is np.ndarray and value.dtype == np.float64
     arr = value if not copy and plain and value.flags.c_contiguous else _real_array(name, value)
     if arr.ndim != 1:
@@ -100,8 +124,8 @@ def as_signal(
     return np.ascontiguousarray(arr)
 
 
-def _as_scalar(name: str, value: Any, finite: bool = True, kind: str | None = None) -> float:
-    value = as_si(name, value, kind) if kind is not None or is_quantity(value) else value
+def _as_scalar(name: str, value: Any, finite: bool = True, kind: str | None = BY_NAME) -> float:
+    value = as_si(name, value, kind)
     if type(value) is float or type(value) is int:  # the common case, without numpy
         try:
             x = float(value)
@@ -120,7 +144,7 @@ def _as_scalar(name: str, value: Any, finite: bool = True, kind: str | None = No
     return float(arr)
 
 
-def as_nonnegative_scalar(name: str, value: Any, *, kind: str | None = None) -> float:
+def as_nonnegative_scalar(name: str, value: Any, *, kind: str | None = BY_NAME) -> float:
     """A finite real number >= 0 (`kind`: a pint Quantity of that kind in SI)."""
     x = _as_scalar(name, value, kind=kind)
     if x < 0:
@@ -128,7 +152,7 @@ def as_nonnegative_scalar(name: str, value: Any, *, kind: str | None = None) -> 
     return x
 
 
-def as_positive_scalar(name: str, value: Any, *, kind: str | None = None) -> float:
+def as_positive_scalar(name: str, value: Any, *, kind: str | None = BY_NAME) -> float:
     """A finite real number > 0 (`kind`: a pint Quantity of that kind in SI)."""
     x = _as_scalar(name, value, kind=kind)
     if not x > 0:
@@ -136,7 +160,9 @@ def as_positive_scalar(name: str, value: Any, *, kind: str | None = None) -> flo
     return x
 
 
-def as_real_scalar(name: str, value: Any, *, finite: bool = True, kind: str | None = None) -> float:
+def as_real_scalar(
+    name: str, value: Any, *, finite: bool = True, kind: str | None = BY_NAME
+) -> float:
     """A real number, finite unless `finite` is False (`kind`: a Quantity of it in SI)."""
     return _as_scalar(name, value, finite, kind)
 
@@ -258,6 +284,15 @@ def renamed(**names: str) -> Iterator[None]:
         raise type(exc)(text) from exc
 
 
+def renamed_keyword(options: dict[str, Any], old: str, new: str, value: Any, where: str) -> Any:
+    """Keyword `new`'s `value`, or its old name `old` from `options` (a DeprecationWarning)."""
+    if old in options and value is not None:
+        raise TypeError(f"{where}: give `{new}` only (`{old}` is its old name); got both.")
+    if old in options:
+        _warnings.warn(f"{where}: `{old}` is renamed `{new}`.", DeprecationWarning, stacklevel=3)
+    return options.pop(old, value)
+
+
 def check_type(name: str, value: Any, expected: type | tuple[type, ...], *, where: str = "") -> Any:
     """`value` is an instance of `expected` (class or tuple); `where` locates it (" at index 2")."""
     if not isinstance(value, expected):
@@ -354,44 +389,6 @@ def as_real_array(name: str, value: Any, *, finite: bool = True) -> np.ndarray:
     elif np.isnan(arr).any():
         raise ValueError(f"`{name}` must not be NaN; {_first_bad(arr, np.isnan(arr))}.")
     return arr if arr.ndim == 0 else np.ascontiguousarray(arr)
-
-
-def check_derived(
-    k: np.ndarray,
-    c: np.ndarray,
-    r: np.ndarray,
-    *,
-    coulomb: Any = 0.0,
-    given: str = "breakaway",
-) -> None:
-    """A bank's derived c and r = c/k (eq. 6) are finite and positive, and its totals over
-    the last axis finite: Σ k_j (eq. 7), F_c (eq. 9), ½ Σ k_j r_j². `given`: "breakaway" or
-    "threshold", the argument passed besides `stiffness`."""
-    for name, arr in (("breakaway c_j = k_j r_j", c), ("threshold r_j = c_j/k_j", r)):
-        bad = ~(np.isfinite(arr) & (arr > 0))  # the one not given is derived (eq. 6)
-        if bad.any():
-            raise ValueError(
-                f"`stiffness` and `{given}` must give a finite, positive {name} (eq. 6); "
-                f"{_first_bad(arr, bad)}."
-            )
-    if k.shape[-1] == 0:
-        return
-    with np.errstate(over="ignore", invalid="ignore"):
-        totals = (
-            ("initial stiffness Σ k_j (eq. 7)", np.sum(k, axis=-1), ("stiffness",)),
-            (
-                "Coulomb level F_c = c1 + Σ c_j (eq. 9)",
-                np.sum(c, axis=-1) + coulomb,
-                ("coulomb", given) if given == "breakaway" else ("coulomb", "stiffness", given),
-            ),
-            (
-                "largest stored energy ½ Σ k_j r_j²",
-                0.5 * np.sum(c * r, axis=-1),
-                ("stiffness", given),
-            ),
-        )
-    for what, value, names in totals:
-        check_finite_derived(what, value, names)
 
 
 def as_bounds(name: str, value: Any, names: Any) -> dict[str, tuple[float, float]]:

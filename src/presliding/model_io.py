@@ -28,6 +28,10 @@ Schema (units in brackets; any consistent unit set works, SI shown)::
     [measurement]                  # optional: terms a fit identified besides friction
     force_offset = -3.16           # F_0 [N]: measured force = model force + F_0
 
+    [data]                         # optional: how `presliding fit` read its records
+    columns = { time = "Time [s]", position = "Position [mm]", applied_force = "Force [N]" }
+    # (and units, scale, sample_rate, decimal, header, axis, segments: `DataSettings`)
+
 A JSON file with the same structure is accepted too. Unknown keys are errors,
 so a misspelt parameter is never ignored; every number must be finite. Comment
 lines at the head of a file written by `presliding fit` state the data, units
@@ -43,6 +47,7 @@ from __future__ import annotations
 
 import json
 import math
+import os
 import sys
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -50,10 +55,11 @@ from typing import Any
 
 from presliding._io import atomic_path
 from presliding._model_arrays import loads_toml
+from presliding._model_data import DataSettings, data_from_table
 from presliding._model_toml import DENSITIES as _DENSITIES
 from presliding._model_toml import MOTION_DEFAULTS as _MOTION_DEFAULTS
 from presliding._model_toml import model_pieces, model_to_toml
-from presliding._validation import check_time_span, check_type
+from presliding._validation import check_time_span, check_type, fmt
 from presliding.friction.pi_friction import PIFriction
 
 if sys.version_info >= (3, 11):
@@ -63,6 +69,7 @@ else:  # pragma: no cover
 
 __all__ = [
     "MAX_SAMPLES",
+    "DataSettings",
     "MeasurementTerms",
     "ModelFile",
     "MotionSettings",
@@ -121,6 +128,14 @@ class ModelFile:
     model: PIFriction
     motion: MotionSettings
     measurement: MeasurementTerms = MeasurementTerms()
+    data: DataSettings = field(default_factory=DataSettings)
+
+
+def _as_path(path: Any) -> Path:
+    """A model file's path: a str or os.PathLike, else a TypeError naming what was given."""
+    if isinstance(path, bool) or not isinstance(path, (str, os.PathLike)):
+        raise TypeError(f"`path` must be a file path (str or os.PathLike); got {fmt(path)}.")
+    return Path(path)
 
 
 def _read_mapping(path: Path) -> dict[str, Any]:
@@ -164,15 +179,22 @@ def load_model(path: str | Path) -> ModelFile:
     ModelFileError
         (a ValueError) naming the file and the field for any problem.
     """
-    path = Path(path)
+    path = _as_path(path)
     data = _read_mapping(path)
-    unknown = sorted(set(data) - {"friction", "motion", "measurement"})
+    unknown = sorted(set(data) - {"friction", "motion", "measurement", "data"})
     if unknown:
         raise ModelFileError(
             f"{path}: unknown table `{unknown[0]}`; allowed tables are friction, motion, "
-            "measurement."
+            "measurement, data."
         )
-    return model_from_tables(path, data)
+    spec = model_from_tables(path, data)
+    if "data" not in data:
+        return spec
+    try:
+        settings = data_from_table(data["data"], f"{path}: ")
+    except ValueError as exc:
+        raise ModelFileError(str(exc)) from None
+    return ModelFile(spec.model, spec.motion, spec.measurement, settings)
 
 
 def read_tables(path: str | Path) -> dict[str, Any]:
@@ -186,7 +208,7 @@ def read_tables(path: str | Path) -> dict[str, Any]:
     ModelFileError
         (a ValueError) naming the file for a missing, unreadable or invalid file.
     """
-    return _read_mapping(Path(path))
+    return _read_mapping(_as_path(path))
 
 
 def model_from_tables(path: str | Path, data: dict[str, Any]) -> ModelFile:
@@ -320,18 +342,28 @@ def save_model(
     header: str = "",
     overwrite: bool = False,
     axis: str = "linear",
+    data: DataSettings | None = None,
 ) -> None:
     """Write a model file atomically (temporary file, then rename).
 
-    `measurement` adds the `[measurement]` table, `header` comment lines at the
-    top, `axis` the units of the comments. An existing file is replaced only with
-    ``overwrite=True``.
+    `measurement` adds the `[measurement]` table, `data` the `[data]` table (how
+    the records were read), `header` comment lines at the top, `axis` the units
+    of the comments. An existing file is replaced only with ``overwrite=True``. The file
+    is TOML: a `path` with another suffix than ``.toml`` (a ``.json`` one, which
+    `load_model` would read as JSON) is refused.
     """
     check_type("model", model, PIFriction)
     if motion is not None:
         check_type("motion", motion, MotionSettings)
-    path = Path(path)
-    pieces = model_pieces(model, motion, measurement, header, axis)
+    path = _as_path(path)
+    if path.suffix.lower() not in (".toml", ""):
+        raise ValueError(
+            f"`path` must name a TOML file (suffix .toml): save_model writes TOML with "
+            f"comments, which {path.suffix} readers would reject; got {str(path)!r}."
+        )
+    if data is not None:
+        check_type("data", data, DataSettings)
+    pieces = model_pieces(model, motion, measurement, header, axis, data)
     first = next(pieces)  # the arguments are checked before any file is touched
     if path.exists() and not overwrite:
         raise FileExistsError(

@@ -103,7 +103,8 @@ def test_demo_prints_where_and_shows_progress(tmp_path, capsys):
     parts = [ln for ln in captured.err.splitlines() if ln.startswith("presliding demo: [")]
     assert [ln.split("]")[0] for ln in parts] == [f"presliding demo: [{i}/6" for i in range(1, 7)]
     assert parts[0] == "presliding demo: [1/6] the paper's Figure 3 loops"
-    assert parts[-1] == "presliding demo: [6/6] continuous densities (section 3)"
+    # in the order of the report: one process, nothing compiled ahead in another
+    assert parts[-1] == "presliding demo: [6/6] hunting of a PI loop (describing function)"
     others = [ln for ln in captured.err.splitlines() if ln not in parts]
     # on a cold cache: the note, and a heartbeat at least every 5 s while kernels compile
     assert all(ln.startswith("presliding demo: compiling (first run only)") for ln in others)

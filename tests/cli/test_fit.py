@@ -233,3 +233,18 @@ def test_motion_fit_with_asymmetric_friction(tmp_path, capsys):
     text = (tmp_path / "fit" / "model.toml").read_text(encoding="utf-8")
     assert "--asymmetric" in text and "coulomb_negative" in text
     assert main([*args[:-1], str(tmp_path / "g"), "--offset"]) == 2
+
+
+def test_presliding_fit_with_asymmetric_friction(tmp_path, capsys):
+    """--asymmetric with --kind presliding (ignored before): c1⁻ fitted, tested against the
+    symmetric fit in the report, written to the model file."""
+    t, y, _ = _loops()
+    sided = ps.PIFriction(TRUE.coulomb, TRUE.stiffness, TRUE.breakaway,
+                          coulomb_negative=0.5 * TRUE.coulomb)  # fmt: skip
+    path = tmp_path / "loops.csv"
+    np.savetxt(path, np.column_stack([t, y, sided.force(y)[0]]), delimiter=",", comments="",
+               header="time,position,friction")  # fmt: skip
+    assert _fit(tmp_path, path, "--asymmetric") == 0
+    assert "asymmetry: supported" in capsys.readouterr().out
+    model = load_model(tmp_path / "fit" / "model.toml").model
+    assert model.coulomb_negative == pytest.approx(0.5 * TRUE.coulomb, rel=1e-6)

@@ -13,8 +13,8 @@ from tests.helpers import stop_records
 MODEL = ps.PIFriction(0.3, [4000.0, 1000.0], breakaway=[0.35, 0.35])
 
 
-def _stop_files(tmp_path, n=3):
-    records, _ = stop_records(7, n, MODEL)
+def _stop_files(tmp_path, n=3, records=None):
+    records = stop_records(7, n, MODEL)[0] if records is None else records
     paths = []
     for i, r in enumerate(records):
         path = tmp_path / f"stop{i + 1}.csv"
@@ -134,4 +134,76 @@ def test_velocity_option_is_refused_where_no_velocity_is_compared(tmp_path, caps
     code = main(["fit", *paths, "--kind", kind, "--velocity", "measured", "--quiet",
                  "-o", str(tmp_path / "out")])  # fmt: skip
     err = capsys.readouterr().err
-    assert code == 2 and "--velocity measured is for --kind response" in err, err
+    assert code == 2 and f"--velocity measured: --kind {kind} does not use it" in err, err
+
+
+ASYMMETRIC = ps.PIFriction(0.3, [4000.0, 1000.0], breakaway=[0.35, 0.35], coulomb_negative=0.24,
+                           breakaway_negative=[0.28, 0.28])  # fmt: skip
+
+
+def _asymmetric_files(tmp_path, n=5):
+    from tests.helpers import random_preload_stops
+
+    return _stop_files(tmp_path, records=random_preload_stops(5, ASYMMETRIC, n_records=n,
+                                                              samples=500))  # fmt: skip
+
+
+def test_compare_families_table_and_exit_status(tmp_path, capsys):
+    """--compare: each family fitted to the same files, the table in comparison.csv and the
+    report, held-out files predicted by each; the asymmetric family wins on asymmetric stops,
+    its model is written and the exit status is its fit's."""
+    paths = _asymmetric_files(tmp_path)
+    out = tmp_path / "cmp"
+    code = main(["fit", *paths[:4], "--hold-out", paths[4], "--kind", "response", "--elements",
+                 "2", "--initial-state", "preload", "--compare", "pi,pi-asymmetric,coulomb",
+                 "--quiet", "-o", str(out)])  # fmt: skip
+    assert code == 0, capsys.readouterr().err
+    rows = (out / "comparison.csv").read_text().splitlines()
+    assert rows[0].startswith("family,status,free parameters,RSS,AIC")
+    assert [r.split(",")[0] for r in rows[1:]] == ["pi", "pi-asymmetric (supported)", "coulomb"]
+    report = (out / "report.md").read_text()
+    assert "## Model families" in report and "the data support pi-asymmetric" in report
+    model = load_model(out / "model.toml").model
+    assert model.coulomb_levels[1] / model.coulomb_levels[0] == pytest.approx(0.8, abs=0.01)
+    assert "# model family pi-asymmetric: the least BIC" in (out / "model.toml").read_text()
+
+
+@pytest.mark.parametrize(("extra", "needle"), [
+    (["--kind", "quasi-static", "--compare", "pi"], "--compare pi: --kind quasi-static does"),
+    (["--kind", "response", "--compare", "pi,lugre-x"], "name families of"),
+    (["--kind", "response", "--compare", "pi", "--asymmetric"], "name pi-asymmetric"),
+    (["--kind", "response", "--asymmetric", "--offset"], "--asymmetric: the two directions"),
+])  # fmt: skip
+def test_compare_and_asymmetric_refusals(tmp_path, capsys, extra, needle):
+    paths = _stop_files(tmp_path, 2)
+    assert main(["fit", *paths, *extra, "-o", str(tmp_path / "o")]) == 2
+    assert needle in capsys.readouterr().err
+
+
+def test_asymmetric_response_and_virgin_kinds(tmp_path, capsys):
+    """--asymmetric is used by --kind response (F_c⁻ and the test in the report, an
+    asymmetric model file) and by --kind virgin on ramps (refused on loops)."""
+    paths = _asymmetric_files(tmp_path, 3)
+    out = tmp_path / "r"
+    code = main(["fit", *paths, "--kind", "response", "--elements", "2", "--initial-state",
+                 "preload", "--asymmetric", "--no-cross-validation", "--quiet",
+                 "-o", str(out)])  # fmt: skip
+    assert code in (0, 1), capsys.readouterr().err
+    report = (out / "report.md").read_text()
+    assert "coulomb_level_negative" in report and "\nasymmetry: " in report
+    assert not load_model(out / "model.toml").model.is_symmetric
+    model = ps.PIFriction(0.1, [500.0, 100.0], threshold=[0.001, 0.01], coulomb_negative=0.08,
+                          threshold_negative=[0.0008, 0.007])  # fmt: skip
+    ramps = []
+    for i, sign in enumerate((1.0, -1.0)):
+        y = sign * np.linspace(0.0, 0.03, 200)
+        path = tmp_path / f"ramp{i}.csv"
+        np.savetxt(path, np.column_stack([y, model.force(y)[0]]), delimiter=",",
+                   header="position,friction_force", comments="")  # fmt: skip
+        ramps.append(str(path))
+    assert main(["fit", *ramps, "--kind", "virgin", "--elements", "2", "--asymmetric",
+                 "--ramps", "--quiet", "-o", str(tmp_path / "v")]) == 0  # fmt: skip
+    assert "threshold_negative_1" in (tmp_path / "v" / "report.md").read_text()
+    loops = _stop_files(tmp_path, 2)
+    assert main(["fit", *loops, "--kind", "virgin", "--asymmetric", "--columns",
+                 "friction_force=applied_force [N]", "-o", str(tmp_path / "w")]) == 2  # fmt: skip

@@ -122,8 +122,14 @@ def test_fit_with_held_out_files(tmp_path, capsys):
                  "--hold-out", held, "-o", str(out)])  # fmt: skip
     assert code == 0, capsys.readouterr()
     report = (out / "report.md").read_text()
-    assert "## Held-out files" in report and "| held.txt | measured |" in report
-    assert "| held.txt | fitted |" in report and (out / "held_out_1.png").exists()
+    # the held-out file is cut into its stop as the fitted ones were (--segments stops)
+    assert "## Held-out files" in report and "| held.txt #1 | measured |" in report
+    assert "| held.txt #1 | fitted |" in report and (out / "held_out_1.png").exists()
+    assert "1 stops cut from held.txt" in report
+    # the cut stated (its values) and drawn
+    assert "cut with rest speed" in report and (out / "segments.png").exists()
+    head = (out / "model.toml").read_text().split("[friction]")[0]
+    assert "2 stops cut from s0.txt:" in head and "cut with rest speed" in head
     assert ps.reversal_tolerance is not None
 
 
@@ -159,4 +165,44 @@ def test_virgin_ramps_without_time_are_detected_and_fitted(tmp_path, capsys):
     code = main(["fit", *paths, "--kind", "virgin", *cols, "--density", "uniform", "-o",
                  str(tmp_path / "v3")])  # fmt: skip
     assert code == 2
-    one_error_line(capsys, "--density uniform: --kind virgin fits elastoplastic elements")
+    one_error_line(
+        capsys,
+        "--density uniform: --kind virgin does not use it (it is for --kind "
+        "response, quasi-static)",
+    )
+
+
+def _raw_ramp_files(tmp_path):
+    """Raw ramp files as a rig writes them: rest, loading, hold, unloading, rest (time,
+    position in mm, force in N; quantised position, force noise)."""
+    model = ps.PIFriction(0.1, [1e4, 3e3, 1e3], breakaway=[0.2, 0.2, 0.2])
+    rng = np.random.default_rng(1)
+    paths = []
+    for k, sign in enumerate((1.0, -1.0, 1.0)):
+        up, down = np.linspace(0, 8e-4, 400), np.linspace(8e-4, 0, 400)
+        y = sign * np.concatenate([np.zeros(50), up, np.full(50, 8e-4), down, np.zeros(50)])
+        y = 1e-6 * np.round(y / 1e-6)
+        f = model.force(y)[0] + 2e-3 * rng.standard_normal(y.size)
+        path = tmp_path / f"raw{k}.csv"
+        np.savetxt(
+            path,
+            np.column_stack([np.arange(y.size) * 1e-3, y * 1e3, f]),
+            fmt="%.9g",
+            delimiter=",",
+            header="Time [s],Position [mm],Force [N]",
+            comments="",
+        )
+        paths.append(str(path))
+    return paths
+
+
+@pytest.mark.parametrize("how", [[], ["--ramps"], ["--segments", "ramps"]])
+def test_virgin_fits_raw_ramp_files(tmp_path, capsys, how):
+    """Each exited 2: "at least two turning points", "must end away from its start"."""
+    out = tmp_path / "virgin"
+    code = main(["fit", *_raw_ramp_files(tmp_path), "--kind", "virgin", *how, "-o", str(out)])
+    assert code == 0, capsys.readouterr()
+    assert "a virgin loading from rest, then returns by Masing's rule" in capsys.readouterr().out
+    fitted = load_model(out / "model.toml").model
+    assert fitted.coulomb == pytest.approx(0.1, rel=0.02)
+    np.testing.assert_allclose(fitted.stiffness, [1e4, 3e3, 1e3], rtol=0.02)

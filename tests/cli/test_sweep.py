@@ -328,7 +328,7 @@ def test_scheduler_address_and_missing_dask(tmp_path, capsys, monkeypatch):
     monkeypatch.setitem(sys.modules, "distributed", None)
     args = ["sweep", str(spec), "-o", str(tmp_path / "o"), "--scheduler", "tcp://127.0.0.1:1"]
     assert main(args) == 2
-    one_error_line(capsys, r"pip install presliding[dask]")
+    one_error_line(capsys, r'pip install "presliding[dask]"')
     assert not (tmp_path / "o" / "sweep.csv").exists()
 
 

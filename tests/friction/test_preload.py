@@ -62,3 +62,23 @@ def test_errors():
         preloaded_state(model, 0.1, path="other")
     with pytest.raises(TypeError, match="`model` must be a PIFriction"):
         preloaded_state("model", 0.1)
+
+
+def test_asymmetric_memories_carry_each_sides_forces():
+    """An asymmetric bank: saturated memories hold F_m⁺ and −F_m⁻; branch and virgin memories
+    any force between, with deformations inside the asymmetric band [−r⁻, r⁺]."""
+    model = PIFriction(0.2, [300.0, 40.0], breakaway=[0.6, 0.3], coulomb_negative=0.1,
+                       breakaway_negative=[0.4, 0.25])  # fmt: skip
+    k, rp, rn = model.stiffness, model.threshold, model.threshold_negative
+    up = preloaded_state(model, 0.9, direction=1.0)  # F_m⁺ = 0.9
+    np.testing.assert_allclose(up.last_input - up.play, rp, rtol=1e-12)
+    down = preloaded_state(model, -0.65, direction=-1.0)  # F_m⁻ = 0.65
+    np.testing.assert_allclose(up.last_input - down.play, -rn, rtol=1e-12)
+    for force in (-0.6, -0.1, 0.0, 0.3, 0.85):
+        for path in ("branch", "virgin"):
+            state = preloaded_state(model, force, direction=-1.0, position=0.01, path=path)
+            f = state.last_input - state.play
+            assert float(k @ f) == pytest.approx(force, abs=1e-12), (force, path)
+            assert np.all(f <= rp * (1 + 1e-12)) and np.all(f >= -rn * (1 + 1e-12))
+    with pytest.raises(ValueError, match=r"\[−F_m⁻, F_m⁺\]"):
+        preloaded_state(model, -0.7)

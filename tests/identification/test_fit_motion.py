@@ -167,6 +167,10 @@ def test_asymmetric_round_trip():
     assert (model.viscous, model.viscous_negative) == pytest.approx((15.0, 22.0), rel=1e-8)
     assert model.coulomb_levels[0] - model.coulomb_levels[1] == pytest.approx(0.8, rel=1e-6)
     np.testing.assert_allclose(predict_motion_force(res, m), u, atol=1e-8)
+    # the symmetric fit of the same data is tested against it: both sides' differences count
+    test = res.asymmetry
+    assert test.verdict == "supported" and test.degrees_of_freedom[0] == 2
+    assert "coulomb_negative" not in test.symmetric.parameters and test.rss[1] < test.rss[0]
     # without viscous terms: only the Coulomb sides
     coulomb_only = fit_motion(m, 2, asymmetric=True, refine_thresholds=False,
                               thresholds=[0.001, 0.006])  # fmt: skip
@@ -182,3 +186,14 @@ def test_asymmetric_excludes_the_offset_and_needs_both_directions():
                           acceleration=np.full_like(T, 2.0), applied_force=4.0 + 2 * T)  # fmt: skip
     with pytest.raises(ValueError, match="two Coulomb levels"):
         fit_motion(one_way, 0, asymmetric=True)
+
+
+def test_symmetric_noisy_data_do_not_support_an_asymmetry():
+    """c1⁺ = c1⁻ and σ⁺ = σ⁻ with noise: the F test of the two nested fits does not reject."""
+    elastic, _ = MODEL.elastic_force(Y)
+    u = 3.0 * A + 2.0 * np.sign(V) + elastic + 15.0 * V  # no offset: both sides equal
+    u = u + np.random.default_rng(3).normal(0.0, 0.05, u.shape)
+    m = Measurement(T, position=Y, velocity=V, acceleration=A, applied_force=u)
+    res = fit_motion(m, 2, viscous=True, asymmetric=True)
+    assert res.asymmetry.verdict == "not supported", res.asymmetry.message
+    assert res.asymmetry.scale == pytest.approx(1.0)  # a direct fit: ordinary covariance

@@ -256,3 +256,30 @@ def test_search_options_are_checked(kwargs, exc, message):
     n = len(kwargs.get("thresholds", [0, 0, 0]))
     with pytest.raises(exc, match=re.escape(message)):
         fit_presliding(PATH, force, n, **kwargs)
+
+
+def test_asymmetric_coulomb_sides():
+    """c1⁺ ≠ c1⁻ (symmetric elements) recovered from noise-free loops; the symmetric fit
+    tested against it; with an offset, or without the Coulomb element, refused."""
+    model = PIFriction(0.3, [100.0, 40.0], breakaway=[0.32, 0.34], coulomb_negative=0.2)
+    path = piecewise_linear([0.0, 0.01, -0.008, 0.006, -0.004], 2e-4)
+    fit = fit_presliding(path, model.force(path)[0], 2, asymmetric=True)
+    assert fit.success, fit.message
+    assert fit.parameters["coulomb"] == pytest.approx(0.3, rel=1e-8)
+    assert fit.parameters["coulomb_negative"] == pytest.approx(0.2, rel=1e-8)
+    assert fit.derived["coulomb_level_negative"] == pytest.approx(0.86, rel=1e-8)
+    assert fit.model.coulomb_negative == pytest.approx(0.2, rel=1e-8)
+    assert fit.asymmetry.verdict == "supported" and fit.asymmetry.rss[1] < 1e-12
+    with pytest.raises(ValueError, match="needs coulomb=True and offset=False"):
+        fit_presliding(path, model.force(path)[0], 2, asymmetric=True, offset=True)
+
+
+def test_a_fit_without_the_coulomb_element_runs():
+    """``coulomb=False`` raised "`bounds` must name parameters of the fit; got 'coulomb'"."""
+    import presliding as ps
+
+    truth = ps.PIFriction(0.0, [400.0, 60.0], [0.3, 0.4])
+    y = ps.signals.piecewise_linear([0.0, 0.02, -0.015, 0.01], 4e-5)
+    fit = ps.fit_presliding(y, truth.force(y)[0], 2, coulomb=False)
+    assert fit.success and "coulomb" not in fit.parameters
+    assert fit.model.coulomb == 0.0 and fit.model.coulomb_level == pytest.approx(0.7, 1e-6)

@@ -93,6 +93,7 @@ def test_without_a_family_the_pi_fit_is_unchanged():
      ({"family": "lugre", "n_elements": 2}, r"`n_elements` is an option of the PI model's fit"),
      ({"family": "dahl", "prune": True}, r"`prune` is an option of the PI model's fit"),
      ({"family": "gms", "substeps": 0}, r"`substeps` must be"),
+     ({"family": "gms", "asymmetric": True}, r"`asymmetric`=True fits the PI model's two"),
      ({"family": "gms", "fixed": {"lag_time": -1.0}}, r"`fixed\['lag_time'\]` must be nonnegative"),
      ({"family": "lugre", "initial": {"stiffness": 0.0}}, r"`initial\['stiffness'\]` must be "
                                                           r"positive")],
@@ -112,3 +113,19 @@ def test_the_rate_families_as_fitters_of_a_registry():
     with pytest.raises(TypeError, match="unexpected keyword"):
         RATE_FAMILIES["lugre"](records, elements=3)
     assert set(RATE_FAMILIES) == {"gms", "lugre", "dahl"}
+
+
+def test_compare_fits_knows_the_rate_families_and_chooses_gms_on_stribeck_stops():
+    """The rate families are registered in `compare_fits`' registry at import: the GMS
+    family wins by BIC and on the held-out record, and the table holds both."""
+    from presliding.identification import FAMILIES, compare_fits
+
+    assert {"gms", "lugre", "dahl"} <= set(FAMILIES)
+    records, _ = rate_stops(GMS, 5, n_records=4, noise=2e-7, substeps=2)
+    cmp = compare_fits(records[:3], {"pi": {"n_elements": 2},
+                                     "gms": {"n_elements": 2, "substeps": 2}},
+                       hold_out=records[3], initial_state="saturated")  # fmt: skip
+    assert cmp.families == ("pi", "gms") or list(cmp.families) == ["pi", "gms"]
+    assert cmp.best == "gms"
+    assert cmp.bic[1] < cmp.bic[0] - 50.0
+    assert cmp.held_out_nrmse[1] < 0.7 * cmp.held_out_nrmse[0]

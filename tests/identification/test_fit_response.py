@@ -86,7 +86,7 @@ def test_bad_input():
         fit_response(meas)
     with pytest.raises(ValueError, match="`signal`"):
         fit_response(Measurement(T, velocity=np.sin(T)), signal="force")
-    with pytest.raises(ValueError, match="`velocity` must vary"):
+    with pytest.raises(ValueError, match="`records` must move: its velocity is constant"):
         fit_response(Measurement(T, velocity=np.zeros_like(T)))
     with pytest.raises(ValueError, match="equal_breakaway"):
         fit_response(Measurement(T, velocity=np.sin(T)), equal_breakaway=False, coulomb_level=1.0)

@@ -80,3 +80,27 @@ def test_masing_check_passes_model_loops_and_flags_creep():
         masing_check("model", (y, f))
     with pytest.raises(ValueError, match="at least one branch"):
         masing_check(MODEL, (np.linspace(0, 1, 50), np.linspace(0, 1, 50)))
+
+
+def test_asymmetric_ramps_give_both_branches():
+    """Ramps from rest in +y and −y of a model with its own c1⁻ and r_j⁻: both branches
+    recovered (the stiffnesses shared), the asymmetry supported; loops and ramps of one
+    direction refused."""
+    model = PIFriction(0.1, [500.0, 100.0], threshold=[0.001, 0.01], coulomb_negative=0.08,
+                       threshold_negative=[0.0008, 0.007])  # fmt: skip
+    ys = [s * np.linspace(0.0, 0.03, 200) for s in (1.0, -1.0)]
+    fs = [model.force(y)[0] for y in ys]
+    fit = fit_virgin_curve(ys, fs, 2, loops=False, asymmetric=True)
+    assert fit.success, fit.message
+    truth = {"coulomb": 0.1, "coulomb_negative": 0.08, "stiffness_1": 500.0,
+             "stiffness_2": 100.0, "threshold_1": 0.001, "threshold_2": 0.01,
+             "threshold_negative_1": 0.0008, "threshold_negative_2": 0.007}  # fmt: skip
+    for name, value in truth.items():
+        assert fit.parameters[name] == pytest.approx(value, rel=1e-6), name
+    assert fit.model.coulomb_levels == pytest.approx(model.coulomb_levels, rel=1e-6)
+    assert fit.asymmetry.verdict == "supported" and fit.asymmetry.degrees_of_freedom[0] == 3
+    assert len(fit.records) == 2 and np.all(np.diff(fit.abscissa[: fit.records[0][1]]) >= 0)
+    with pytest.raises(ValueError, match="needs loops=False"):
+        fit_virgin_curve(ys, fs, 2, asymmetric=True)
+    with pytest.raises(ValueError, match="ramps in both directions"):
+        fit_virgin_curve(ys[:1], fs[:1], 2, loops=False, asymmetric=True)

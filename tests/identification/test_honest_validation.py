@@ -48,7 +48,7 @@ def test_the_reversal_tolerance_is_the_users():
 def test_a_prediction_names_what_it_took_from_the_record():
     records, _ = stop_records(12, 2, MODEL, quantum=1e-6)
     fit = ps.fit_response(records[0], 2)
-    pred = fit.predict(records[1], initial="measured", tolerance=3e-6)
+    pred = fit.predict(records[1], initial="measured", reversal_tolerance=3e-6)
     assert pred.initial == "measured" and pred.reversal_tolerance == 3e-6
     assert pred.quantum == pytest.approx(1e-6)
     assert set(pred.from_record.values()) <= {"its first samples"}
@@ -57,3 +57,19 @@ def test_a_prediction_names_what_it_took_from_the_record():
     assert "3 encoder counts" in text
     assert ps.reversal_tolerance(records[1].position) == pytest.approx(3e-6, rel=1e-6)
     assert np.isfinite(pred.nrmse)
+
+
+def test_the_report_fits_a_page_and_says_why_a_left_out_fit_did_not_converge(cv):
+    """The table was 254 columns wide and a fold's status came without its reason."""
+    import dataclasses
+
+    table = cv.report().split("  median NRMSE")[0].splitlines()
+    assert max(len(line) for line in table) <= 100, table
+    assert "fitted to each held-out record: initial_position" in cv.report()
+    reason = "rule correlation: the data do not separate stiffness_1 ~ stiffness_2"
+    odd = dataclasses.replace(cv.fits[1], status="not_identifiable", message=reason)
+    fits = (cv.fits[0], odd, *cv.fits[2:])
+    report = dataclasses.replace(cv, fits=fits).report()
+    said = [ln for ln in report.splitlines() if f"{cv.labels[1]}: fit not_identifiable" in ln]
+    assert len(said) == 1 and "rule correlation: the data do not separate" in said[0]
+    assert len(said[0]) <= 100

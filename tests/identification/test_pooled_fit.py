@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 import pytest
 
@@ -143,22 +145,31 @@ def test_min_coulomb_level_bounds_the_level_from_below(clean):
     assert free.derived["coulomb_level"] >= 1.2 * (1 - 1e-6)
 
 
-def test_elements_that_never_slide_are_reported_and_pruned():
-    """Stops whose swings stay below 2·r of the softer elements: those act as springs.
+def _dropped(note: str) -> list[int]:
+    """The elements a pruning note names (``element(s) 3 (...), 4 (...) never slide``)."""
+    named = note.split(" never slide")[0].removeprefix("element(s) ")
+    return [int(m) for m in re.findall(r"(?:^|\), )(\d+) \(", named)]
 
-    They are reported; with prune=True they are merged into one and the model
-    is refitted: the effective N, and the reachable F_c below the model's F_c.
-    """
+
+def test_elements_that_never_slide_are_reported_and_pruned_for_one_more_fit():
+    """Noisy stops of two elements fitted with four: elements 3 and 4 never slide (their
+    play wider than the swings of these stops: springs there). They are reported with the
+    effective N and the reachable F_c below the model's. prune=True drops exactly those
+    (the model has the 2 elements the note leaves, none of which the refit finds dead: no
+    note of its own) and costs one refit from the fit's optimum, not a second search
+    (within the evaluations of the fit itself), at the fit's residual."""
     model = PIFriction(0.3, [4000.0, 800.0], breakaway=[0.3, 0.3])
-    records, _ = stop_records(5, 3, model)
+    records, _ = stop_records(5, 3, model, quantum=1e-6, noise=2e-7)
     fit = fit_response(records, 4, signal="both", initial_state="preload")
-    assert fit.derived["effective_elements"] < 4
-    assert any("never slide" in n and "prune=True" in n for n in fit.notes)
+    assert fit.derived["effective_elements"] == 2
+    assert any("never slide" in n and "prune=True drops them" in n for n in fit.notes)
     assert fit.derived["reachable_coulomb_level"] < fit.model.coulomb_level
     pruned = fit_response(records, 4, signal="both", initial_state="preload", prune=True)
-    assert pruned.model.n_elements == int(fit.derived["effective_elements"])
-    assert any("refitted without them" in n for n in pruned.notes)
-    assert pruned.relative_residual < 1e-2  # the springs merged still carry the presliding
+    (note,) = [n for n in pruned.notes if "never slide" in n]
+    assert _dropped(note) == [3, 4] and note.endswith("refitted without them")
+    assert pruned.model.n_elements == 4 - len(_dropped(note)) == 2
+    assert pruned.nfev - fit.nfev <= fit.nfev
+    assert pruned.search.residual_over_floor <= fit.search.residual_over_floor * 1.01
 
 
 def test_noisy_pooled_fit_intervals_hold_the_truth():
@@ -183,8 +194,10 @@ def test_an_undetermined_split_of_the_stiffnesses_is_not_converged():
     the fit is not_identifiable by rule optima, and its intervals hold both optima. A
     search that ends in the second valley (k2 = k3, the symmetric point) finds the pair
     not separated instead (rule correlation, their intervals unbounded; or the coalesced
-    pair's split held along its sum, rule profile); either way the intervals hold the
-    truth."""
+    pair's split held along its sum, rule profile). From a start 1e-4 away (the regression
+    start solved exactly, in any units) the search ends at 2985/251/236 with k3 and k4 a pair
+    nearly coalesced, whose linearised intervals (±86 % and ±51 %) the profile could not
+    replace (it stopped unresolved): rule profile again, never converged."""
     records, _ = stop_records(12, 6, MODEL, quantum=1e-6, noise=2e-7)
     fit = fit_response(records, signal="both", initial_state="preload")
     assert fit.status == "not_identifiable", fit.message
@@ -197,6 +210,12 @@ def test_an_undetermined_split_of_the_stiffnesses_is_not_converged():
             assert lo <= fit.parameters[x] <= hi and lo <= fit.alternatives[0].parameters[x] <= hi
     elif "rule correlation" in fit.message:
         assert "stiffness_2 ~ stiffness_3" in fit.message
+    elif "too wide to hold" in fit.message:  # a pair nearly coalesced (k3 ≈ k4 ≈ 250): the
+        # profiles of their linearised intervals (±50–90 %) not resolved, the other valley near:
+        # those intervals are said not to be calibrated (they miss the other valley)
+        assert "rule profile" in fit.message and "stiffness_3" in fit.message
+        assert not fit.intervals_calibrated and "not calibrated" in fit.report()
+        return
     else:  # the pair coalesced: their split held along the sum (`coalesced_split`)
         assert "rule profile" in fit.message
         assert "split of stiffness_2 and stiffness_3: the two coalesced" in fit.message

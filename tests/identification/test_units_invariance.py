@@ -40,14 +40,14 @@ def factor(name: str, units: tuple[float, float, float]) -> float:
 def test_the_regression_start_is_the_same_in_other_consistent_units(units):
     """Before: the bounded regression's right-hand side (force × time) kept its units, so
     its solver stopped elsewhere: c1 came out 85 % lower in mm, s and g, the stiffnesses
-    5e-4 apart in mm and ms. The regression's right-hand side is now scaled too. What
-    remains is the solve of the equal-break-away stiffnesses, a kinked least-squares problem
-    whose finite-difference steps are relative to log k_j (whose value shifts with the
-    units): up to 5e-4 in k_j with scipy 1.17, the mass and forces to rounding."""
+    5e-4 apart in mm and ms (the equal-break-away solve took finite-difference steps relative
+    to log k_j, whose value shifts with the units). The regression's right-hand side is
+    scaled, its bounded solve is BVLS (exact, not stopped on a tolerance) and the stiffness
+    solve has its exact Jacobian in log k relative to its start: every value to rounding."""
     records, _ = stop_records(0, 4, MODEL, samples=500, quantum=1e-6, noise=2e-7)
     spec = ModelSpec(4, True, None, 32)
     si = pooled_start([as_record(m) for m in records], spec, None, False)
     other = pooled_start([as_record(rescaled(m, units)) for m in records], spec, None, False)
     for name, value in si.items():
-        rel = 1e-3 if name.startswith("stiffness") else 1e-9
+        rel = 1e-9
         assert other[name] / factor(name, units) == pytest.approx(value, rel=rel), name

@@ -205,3 +205,23 @@ def test_quasi_static_response_of_an_asymmetric_model():
     assert np.all(f <= model.threshold + 1e-12) and np.all(f >= -model.threshold_negative - 1e-12)
     with pytest.raises(ValueError, match="F_c"):
         ps.quasi_static_response(model, [0.0, -fn])
+
+
+@pytest.mark.parametrize("fraction", [-0.9, 0.0, 0.6])
+def test_sides_of_one_share_move_as_the_mean_model_under_a_shifted_force(fraction):
+    """Every negative level ρ times its positive one: from a preload on the branch (or
+    saturated), the motion is that of the symmetric model of the mean levels under
+    u − (F_c⁺ − F_c⁻)/2 (the play band shifted by (r⁺ − r⁻)/2). The pooled fits rest on it:
+    their data fix the difference of the levels, not how it splits (`_model_spec`)."""
+    rho, c = 0.8, np.array([1.0, 1.0, 1.0])
+    sided = ps.PIFriction(0.5, K, c, coulomb_negative=rho * 0.5, breakaway_negative=rho * c)
+    mean = ps.PIFriction(0.5 * (1 + rho) * 0.5, K, 0.5 * (1 + rho) * c)
+    fp, fn = sided.coulomb_levels
+    shift = 0.5 * (1 - rho) * float(c.sum())  # Σ k_j (r_j⁺ − r_j⁻)/2
+    f_mean = fraction * mean.max_elastic_force
+    a = _run(sided, initial_state=ps.preloaded_state(sided, f_mean + shift, direction=1.0))
+    b = _run(mean, u=U - 0.5 * (fp - fn),
+             initial_state=ps.preloaded_state(mean, f_mean, direction=1.0))  # fmt: skip
+    assert a.success and a.n_reversals >= 2
+    np.testing.assert_allclose(a.position, b.position, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(a.velocity, b.velocity, rtol=0, atol=1e-11)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import re
 
 import numpy as np
 import pytest
@@ -635,3 +636,14 @@ def test_docstring_examples_run():
     for module in (motion, batch_module):
         result = doctest.testmod(module)
         assert result.attempted >= 2 and result.failed == 0
+
+
+def test_the_event_limit_message_gives_its_time_with_the_unit():
+    """The message said "reached at t = 0.0123", no unit; every time in a message is in s."""
+    model = ps.PIFriction(0.3, [2e4, 5e3], [0.175, 0.175])
+    res = simulate(model, 1.0, initial_velocity=0.06, t_end=1.0, max_events=3)
+    assert res.status == "event_limit"
+    assert re.search(r"was reached at t = \S+ s$", res.message), res.message
+    free = free_response(1.0, 0.3, [2e4, 5e3], [1e-5, 3e-5], 0.06, 1e-4, 1000,
+                         initial_state="relaxed", max_events=1)  # fmt: skip
+    assert re.search(r"was reached at t = \S+ s; \d+ of 1000 samples", free.message), free.message

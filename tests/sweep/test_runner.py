@@ -190,7 +190,7 @@ def test_malformed_address_is_refused_before_connecting():
 
 def test_missing_dask_names_the_extra(monkeypatch):
     monkeypatch.setitem(sys.modules, "distributed", None)
-    with pytest.raises(ImportError, match=r"pip install presliding\[dask\]"):
+    with pytest.raises(ImportError, match=r"pip install \"presliding\[dask\]\""):
         sweep(surface, GRID, scheduler="tcp://127.0.0.1:1")
 
 
@@ -247,9 +247,9 @@ def test_pandas_and_xarray_are_optional(monkeypatch):
     res = sweep(surface, GRID, n_workers=1)
     monkeypatch.setitem(sys.modules, "pandas", None)
     monkeypatch.setitem(sys.modules, "xarray", None)
-    with pytest.raises(ImportError, match=r"pip install presliding\[pandas\]"):
+    with pytest.raises(ImportError, match=r"pip install \"presliding\[pandas\]\""):
         res.to_pandas()
-    with pytest.raises(ImportError, match=r"pip install presliding\[xarray\]"):
+    with pytest.raises(ImportError, match=r"pip install \"presliding\[xarray\]\""):
         res.to_xarray()
 
 
@@ -387,3 +387,42 @@ def test_dask_local_cluster_equals_local_run(tmp_path, monkeypatch):
     np.testing.assert_array_equal(killed.values, serial.values.ravel())
     lists = [n for n in scattered if n]
     assert lists[0] == 11 and len(lists) >= 2 and sum(lists[1:]) < 11, scattered
+
+
+def test_a_cheap_default_sweep_runs_in_this_process(monkeypatch):
+    """A trivial function on a default sweep started a pool of worker processes (27 s of
+    wall time on a loaded machine); the first chunk is timed and the rest run here."""
+    from presliding.sweep import runner
+
+    def no_pool(*args, **kwargs):
+        raise AssertionError("a pool was started")
+
+    monkeypatch.setattr(runner, "on_local_pool", no_pool)
+    monkeypatch.setattr(runner.os, "cpu_count", lambda: 4)
+    res = sweep(surface, GRID)
+    assert res.backend == "serial" and res.n_workers == 1 and res.n_chunks == 16
+    np.testing.assert_array_equal(res.values, sweep(surface, GRID, n_workers=1).values)
+
+
+def test_a_costly_default_sweep_runs_its_remaining_chunks_on_a_pool(monkeypatch):
+    """Chunks that would take longer than IN_PROCESS_SECONDS in all go to worker processes,
+    the first (timed here) excepted; a function that cannot be sent is refused either way."""
+    import threading
+
+    from presliding.sweep import runner
+
+    pooled = []
+
+    def pool(fn, points, n_chunks, workers, bar, first=0):
+        pooled.append((first, workers))
+        return runner._execute(fn, points, n_chunks, "serial", 1, None, bar, 0, start=first)
+
+    monkeypatch.setattr(runner, "on_local_pool", pool)
+    monkeypatch.setattr(runner.os, "cpu_count", lambda: 2)
+    monkeypatch.setattr(runner, "IN_PROCESS_SECONDS", 0.0)  # every chunk counts as costly
+    res = sweep(surface, GRID)
+    assert pooled == [(1, 2)] and res.backend == "processes" and res.n_workers == 2
+    np.testing.assert_array_equal(res.values, sweep(surface, GRID, n_workers=1).values)
+    lock = threading.Lock()
+    with pytest.raises(TypeError, match="must be picklable"):  # whatever the timing decides
+        sweep(lambda ratio, velocity: (lock, ratio)[1], GRID)

@@ -122,9 +122,9 @@ def add_simulate(
         "-o",
         "--output",
         type=Path,
-        required=True,
-        help="output folder (simulation.csv and simulation.png in it), or a .csv path "
-        "(the figure next to it with the suffix .png)",
+        default=Path("presliding-simulate"),
+        help="output folder (simulation.csv and simulation.png in it; default: "
+        "./presliding-simulate), or a .csv path (the figure next to it with the suffix .png)",
     )
     return simulate
 
@@ -165,7 +165,7 @@ def add_sweep(
         "the free motion m·ÿ + c1·Sign(ẏ) + F_el(y) = u (eqs. 12, 17) on a grid over one or "
         "two parameters (c1/F_m, c1, v0, m), with the exact batch simulation or the "
         "turning-point analysis (eqs. 13-16). Runs on local worker processes, or on a Dask "
-        "cluster with --scheduler (pip install presliding[dask]; the workers need presliding "
+        'cluster with --scheduler (pip install "presliding[dask]"; the workers need presliding '
         "installed). Writes sweep.csv (one row per point, units in the header), sweep.png "
         "and report.md/report.html.",
         epilog="examples:\n  presliding sweep spec.toml -o map/\n"
@@ -200,7 +200,11 @@ def add_sweep(
     )
     retries = "with --scheduler: re-run a chunk that raised up to N times (default: 2)"
     sweep.add_argument(
-        "--retries", type=checked("--retries", integer=True), default=2, metavar="N", help=retries
+        "--retries",
+        type=checked("--retries", integer=True),
+        default=None,
+        metavar="N",
+        help=retries,
     )
     return sweep
 
@@ -213,10 +217,11 @@ def add_precompile(
     precompile = sub.add_parser(
         "precompile",
         help="compile the numba kernels into the cache (for CI images and containers)",
-        description="Compile the numba kernels that the commands use (by running the demo's "
-        "computations and a small network of each path once, writing nothing but the "
-        "cache) so that a later first run does "
-        "not compile. Run it when building a CI image or a container, with the same "
+        description="Compile the numba kernels that the commands and a first call can use "
+        "(by running the demo's computations and each further route once on a small case: "
+        "viscous motions, the implicit stepper, the pooled and quasi-static fits, closed "
+        "loops and both network paths; writing nothing but the cache) so that a later first "
+        "run does not compile. Run it when building a CI image or a container, with the same "
         "NUMBA_CACHE_DIR (if any) as the runs that follow; it prints where the kernels are "
         "cached.",
         epilog="example:\n  NUMBA_CACHE_DIR=/opt/numba-cache presliding precompile",

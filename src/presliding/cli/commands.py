@@ -4,8 +4,11 @@ Subcommands: ``demo`` (the built-in main job), ``simulate`` (a model file to a
 motion CSV and figure), ``analyze`` (stop analysis of a model file, eqs. 7, 9,
 14–16), ``fit`` (identification from a CSV file, section 4), ``sweep`` (a
 quantity of the free motion over a parameter grid, locally or on Dask) and
-``loop`` (a PID loop with PI friction: exact response, predicted limit cycles) and
-``network`` (a structure with many friction contacts, stick/slip per contact).
+``loop`` (a PID loop with PI friction: exact response, predicted limit cycles),
+``network`` (a structure with many friction contacts, stick/slip per contact),
+``predict`` (a model file predicting records it never saw), ``example-data``
+(small records to try ``fit`` and ``predict`` on) and ``ring-down`` (a measured free
+decay: ω(A), ζ(A) and a fitted joint model).
 
 User errors (a bad file, a missing column, a bad parameter) print one line on
 stderr naming the file or field and the fix, and exit with code 2; ``--debug``
@@ -43,6 +46,8 @@ examples:
   presliding loop spec.toml -o loop/       # PID loop: exact response, predicted limit cycles
   presliding precompile                    # fill numba's cache (CI images, containers)
   presliding network spec.toml -o net/     # many masses and contacts: stick/slip per contact
+  presliding example-data -o data/         # small records to try fit and predict on
+  presliding ring-down decay.csv -o rd/    # a free decay: ω(A), ζ(A), a fitted joint model
 
 model files (TOML, or JSON with the same tables; units in brackets):
   [friction]
@@ -58,6 +63,9 @@ model files (TOML, or JSON with the same tables; units in brackets):
   samples = 2001                   # at most 10,000,000
   [measurement]                    # optional: measured force = model force + F_0
   force_offset = -3.16             # F_0 [N]; simulate applies u - F_0
+  [data]                           # optional: how presliding fit read the records
+  columns = { time = "Time [s]", position = "Position [mm]", applied_force = "Force [N]" }
+  (and units, scale, sample_rate, decimal, header, axis, segments: predict reads alike)
   A continuous density instead of elements (section 3, eq. 10):
   [friction.density]
   kind = "uniform"                 # height [N/m^2], max_threshold [m]
@@ -135,7 +143,26 @@ def _build_parser() -> argparse.ArgumentParser:
     from presliding.cli.predict import add_parser as add_predict_parser
 
     add_predict_parser(sub, [common, writes]).set_defaults(handler=_cmd_predict)
+
+    from presliding.cli.example_data import add_parser as add_example_parser
+
+    add_example_parser(sub, [common, writes]).set_defaults(handler=_cmd_example_data)
+    from presliding.cli.ring_down import add_parser as add_ring_down_parser
+
+    add_ring_down_parser(sub, [common, writes]).set_defaults(handler=_cmd_ring_down)
     return parser
+
+
+def _cmd_ring_down(args: argparse.Namespace) -> int:
+    from presliding.cli.ring_down import run
+
+    return run(args)
+
+
+def _cmd_example_data(args: argparse.Namespace) -> int:
+    from presliding.cli.example_data import run
+
+    return run(args)
 
 
 def _cmd_predict(args: argparse.Namespace) -> int:
@@ -180,6 +207,14 @@ def _cmd_analyze(args: argparse.Namespace) -> int:
 
 
 def _cmd_fit(args: argparse.Namespace) -> int:
+    from presliding.cli.command_line import rerun_line
+    from presliding.cli.fit_options import check_fit_options
+    from presliding.cli.records import check_sources
+
+    # the command as given (model.toml's "identified by"), before anything is read
+    args.command_line = rerun_line(args, args.command_parser, "fit")
+    check_fit_options(args)
+    check_sources(args)
     if args.kind in ("response", "quasi-static", "virgin"):
         from presliding.cli.fit_pooled import run_pooled
 
@@ -236,7 +271,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     except (UserError, ValueError, TypeError, OSError, NotImplementedError) as exc:
         if args.debug:
             raise
-        text = " ".join(str(exc).split()) or type(exc).__name__
+        from presliding.cli.common import cli_words
+
+        text = cli_words(" ".join(str(exc).split())) or type(exc).__name__
         print(f"presliding {args.command}: error: {text}", file=sys.stderr)
         return 2
     finally:

@@ -16,7 +16,7 @@ from numpy.typing import NDArray
 from presliding import _io
 from presliding._io import atomic_path, remove_stale_temporaries, write_text
 from presliding._progress import progress
-from presliding._validation import as_count, as_positive_scalar
+from presliding._validation import as_count, as_nonnegative_scalar, as_positive_scalar
 
 FloatArray = NDArray[np.float64]
 
@@ -85,7 +85,7 @@ def claim_folder(folder: Path) -> None:
     key = folder.resolve()
     if key in _held:
         return
-    lock = FileLock(str(folder / LOCK), blocking=False)
+    lock = FileLock(str(folder / LOCK), timeout=0)  # one attempt (filelock >= 3.12)
     try:
         lock.acquire()
     except Timeout:
@@ -311,6 +311,47 @@ def tidy_fit_axes(fig: Any, ax: Any, ylabel: str, unit: str) -> None:
     fig.align_ylabels([ax, residual])
 
 
+#: Words of the library's messages that name Python arguments, and the command line's words
+#: for them (`cli_words`): a command-line user sets flags, not keywords.
+_CLI_WORDS = (
+    ("(prune=True drops them)", "(--prune drops them)"),
+    ("give `mass` or `coulomb_level` to scale them", "give --mass to scale them"),
+    (
+        "`offset` must be False with `asymmetric`=True",
+        "--offset cannot be combined with --asymmetric",
+    ),
+    ("levels); got offset=True.", "levels); drop --offset."),
+    (
+        "pass interpolate=True to interpolate onto the times of record 0",
+        "pass --interpolate to interpolate onto the times of the group's first file",
+    ),
+    ("must be a loading ramp for loops=False", "must be a loading ramp for --ramps"),
+    (": fit it with loops=True.", ": drop --ramps to fit it as loops."),
+    (
+        "(fit a virgin loading with fit_virgin_curve(..., loops=False))",
+        "(fit a virgin loading with --kind virgin)",
+    ),
+    ("or give `axis` when reading", "or give --axis"),
+    ("`units` names", "--units names"),
+    ("`scale` names", "--scale names"),
+    ("`reversal_tolerance`", "--reversal-tolerance"),
+    ("`max_evaluations`", "--max-evaluations"),
+    ("`n_elements`", "--elements"),
+)
+
+
+#: A Python argument followed by its flag in parentheses ("with `units` (--units)", "with
+#: decimal=',' (--decimal ,)"): the command line says the flag alone.
+_BOTH = re.compile(r"(?:`\w+`(?:(?: and |/)`\w+`)?|\b\w+='[^']*') \((--[^)]*)\)")
+
+
+def cli_words(text: str) -> str:
+    """A library message with the Python arguments it names put as command-line flags."""
+    for python, flag in _CLI_WORDS:
+        text = text.replace(python, flag)
+    return _BOTH.sub(r"\1", text)
+
+
 def check_options(pairs: Sequence[str] | None, option: str, allowed: Sequence[str]) -> dict:
     """Parse ``KEY=VALUE`` command-line items; keys must be in `allowed`."""
     out: dict[str, str] = {}
@@ -339,6 +380,7 @@ __all__ = [
     "check_outputs",
     "check_readable",
     "claim_folder",
+    "cli_words",
     "column_key",
     "make_folder",
     "new_figure",
@@ -352,7 +394,8 @@ __all__ = [
 
 def checked(option: str, *, integer: bool = False, **limits: Any) -> Callable[[str], Any]:
     """An argparse `type` for a numeric option, checked by the shared validation: a positive
-    number, or (`integer`) a count within `limits` (``minimum``, ``maximum``). A bad value is
+    number (nonnegative with ``minimum=0.0``), or (`integer`) a count within `limits`
+    (``minimum``, ``maximum``). A bad value is
     one line naming the option: "argument --cutoff: `--cutoff` must be positive; got -1.0."."""
 
     def convert(text: str) -> Any:
@@ -364,6 +407,8 @@ def checked(option: str, *, integer: bool = False, **limits: Any) -> Callable[[s
         try:
             if integer:
                 return as_count(option, value, **limits)
+            if limits.get("minimum") == 0.0:
+                return as_nonnegative_scalar(option, value)
             return as_positive_scalar(option, value)
         except (TypeError, ValueError) as exc:
             raise argparse.ArgumentTypeError(str(exc)) from None

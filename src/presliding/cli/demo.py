@@ -14,8 +14,9 @@ Six parts, each a figure and a report section:
    exact sampled-data loop (`presliding.cli.demo_hunting`).
 
 It takes a few seconds once the compiled kernels are cached (the first run
-compiles them, and says so). Progress goes to stderr: a bar on a terminal, one
-line per part elsewhere, nothing with ``--quiet``.
+compiles them, about 13 s of CPU on a 2-core machine, and says so). Progress goes
+to stderr: a bar on a terminal, one line per part elsewhere, nothing with
+``--quiet``.
 """
 
 from __future__ import annotations
@@ -26,8 +27,7 @@ from typing import Any
 
 import numpy as np
 
-from presliding._progress import COMPILING, Progress
-from presliding.cli import _precompile
+from presliding._progress import Progress
 from presliding.cli._demo_common import (
     FIGURE3_FIRST_STIFFNESS,
     STOP_COULOMB,
@@ -305,8 +305,9 @@ def _intro() -> Section:
     )
 
 
-def run_demo(out_dir: Path, *, quiet: bool = True) -> list[Path]:
-    """Write every demo output to `out_dir`; return the paths written."""
+def run_demo(out_dir: Path, *, quiet: bool = True, desc: str = "presliding demo") -> list[Path]:
+    """Write every demo output to `out_dir`; return the paths written. `desc` names the
+    command in the progress lines (``presliding precompile`` runs the demo too)."""
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     from presliding.cli.demo_hunting import hunting_figure, hunting_part, hunting_section
@@ -319,56 +320,25 @@ def run_demo(out_dir: Path, *, quiet: bool = True) -> list[Path]:
         identification_section,
     )
 
-    # On a cold cache the kernels of the last two parts (the density part's, the
-    # largest share, then the identification's) compile in a second process while
-    # parts 1-4 run here (the closed loop compiles here, after the free stop has
-    # cached the event kernel it calls); each part then loads its kernels from the
-    # cache. That process waits for the kernels it shares with parts 1-2 (the
-    # densities' primitives, which the first model built here compiles, the event
-    # kernel and the stop kernels) to be cached here rather than compile them twice.
-    # The two processes then compile about as long each. The report order is unchanged.
-    precompiling = _precompile.start("demo-later")
+    steps = [  # (progress name, part, figure and section), in the order of the report
+        ("the paper's Figure 3 loops", None, lambda _: _figure3_section(figure3_loops(out_dir))),
+        ("free motion to a stop (Figures 4 and 5)", free_stop,
+         lambda p: _free_stop_section(p, free_stop_figure(p, out_dir))),
+        ("reversal counts over c1/F_m", reversal_sweep,
+         lambda p: _reversal_section(p, reversal_figure(p, out_dir))),
+        ("continuous densities (section 3)", density_part,
+         lambda p: density_section(p, density_figure(p, out_dir))),
+        ("identification round trip (section 4)", identification,
+         lambda p: identification_section(p, identification_figure(p, out_dir))),
+        ("hunting of a PI loop (describing function)", hunting_part,
+         lambda p: hunting_section(p, hunting_figure(p, out_dir))),
+    ]  # fmt: skip
     sections = []
-    parts = [  # in the order they run
-        "the paper's Figure 3 loops",
-        "free motion to a stop (Figures 4 and 5)",
-        "reversal counts over c1/F_m",
-        "hunting of a PI loop (describing function)",
-        "identification round trip (section 4)",
-        "continuous densities (section 3)",
-    ]
-    try:
-        with Progress("presliding demo", total=len(parts), unit="part", quiet=quiet) as bar:
-            bar.part(parts[0])
-            path = figure3_loops(out_dir)
-            sections.append(_figure3_section(path))
+    with Progress(desc, total=len(steps), unit="part", quiet=quiet) as bar:
+        for name, part, section in steps:
+            bar.part(name)
+            sections.append(section(None if part is None else part()))
             bar.update()
-            bar.part(parts[1])
-            stop = free_stop()
-            sections.append(_free_stop_section(stop, free_stop_figure(stop, out_dir)))
-            bar.update()
-            bar.part(parts[2])
-            sweep = reversal_sweep()
-            sections.append(_reversal_section(sweep, reversal_figure(sweep, out_dir)))
-            bar.update()
-            bar.part(parts[3])
-            hunt = hunting_part()
-            hunt_section = hunting_section(hunt, hunting_figure(hunt, out_dir))
-            bar.update()
-            bar.part(parts[4])
-            if precompiling:  # its kernels may still be compiling in the second process
-                bar.note(COMPILING)
-            _precompile.wait("demo-later")
-            ident = identification()
-            ident_section = identification_section(ident, identification_figure(ident, out_dir))
-            bar.update()
-            bar.part(parts[5])
-            dens = density_part()
-            sections.append(density_section(dens, density_figure(dens, out_dir)))
-            sections.extend([ident_section, hunt_section])
-            bar.update()
-    finally:
-        _precompile.stop_all()
     figures = [p for s in sections for p in s.figures]
     reports = write_report(out_dir, "presliding demo", [_intro(), *sections])
     return figures + reports

@@ -191,7 +191,7 @@ def identification_figure(part: dict[str, Any], out_dir: Path) -> Path:
         fit.fitted,
         ax=axes[1],
         xlabel="sample",
-        title=f"force along the path (NRMSE {100 * fit.nrmse:.2f} %)",
+        title=f"force along the path (NRMSE {100 * fit.nrmse:.3g} %)",
     )
     tidy_fit_axes(fig, ax, "friction force", "N")
     return _save(fig, out_dir / "identification.png")
@@ -223,7 +223,7 @@ def identification_section(part: dict[str, Any], path: Path) -> Section:
         f"Gaussian noise of {FIT_NOISE:g} N, as a tribometer measures it (displacement in, "
         "friction force out). fit_presliding starts from nonnegative least squares for the "
         "stiffnesses on a threshold grid and refines the thresholds by nonlinear least "
-        f"squares: status {fit.status}, NRMSE {100 * fit.nrmse:.2f} %, residual RMS "
+        f"squares: status {fit.status}, NRMSE {100 * fit.nrmse:.3g} %, residual RMS "
         f"{fit.residual_rms:.3g} N (the noise level)."
     )
     return Section("Identification round trip (section 4)", text, (path,), table=rows)

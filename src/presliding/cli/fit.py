@@ -8,9 +8,10 @@ a scalar variable). ``--window START:STOP`` keeps the samples in that time span.
 
 Exit codes, the same for every ``--kind`` (`identification._status.EXIT_CODES`):
 0 when the fit converged; 1 when it did not (status ``local_minimum``,
-``not_identifiable``, ``at_bound``, ``poor_fit``, ``max_evaluations`` or
-``failed``: the report names the rule that fired); 2 for a user error. ``model.toml`` is written for
-a converged fit, and marked as not converged in its header for
+``model_inadequate``, ``not_identifiable``, ``at_bound``, ``poor_fit``,
+``max_evaluations`` or ``failed``: the report names the rule that fired); 2 for a
+user error. ``model.toml`` is written for a converged fit, and marked as not
+converged in its header for ``local_minimum``, ``model_inadequate``,
 ``not_identifiable``, ``at_bound`` and ``max_evaluations``; a ``poor_fit`` or
 ``failed`` fit, or one with non-finite or absurd parameters, writes none.
 """
@@ -19,9 +20,6 @@ from __future__ import annotations
 
 import argparse
 import textwrap
-from collections.abc import Callable, Sequence
-from dataclasses import replace
-from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -30,38 +28,13 @@ from presliding._progress import Progress, progress_enabled
 from presliding.cli.common import (
     UserError,
     check_folder,
-    check_options,
     check_outputs,
-    check_readable,
-    column_key,
+    cli_words,
     record_outputs,
 )
+from presliding.cli.inputs.columns import ALIASES
+from presliding.cli.inputs.files import parse_window, read_measurement
 
-SIGNALS = ("time", "position", "velocity", "acceleration", "applied_force", "friction_force")
-#: Column names tried for each signal (after `column_key` normalisation).
-ALIASES = {
-    "time": ("time", "t"),
-    "position": ("position", "displacement", "y", "x"),
-    "velocity": ("velocity", "v", "speed"),
-    "acceleration": ("acceleration", "a"),
-    "applied_force": ("applied_force", "u", "force_applied", "input"),
-    "friction_force": ("friction_force", "friction", "force", "f"),
-}
-#: Signals each kind needs (one of a tuple), and those it uses when present.
-NEEDS = {
-    "presliding": (("position",), ("friction_force",)),
-    "motion": (("time",), ("position",), ("applied_force",)),
-    "response": (("time",), ("velocity", "position")),
-    "quasi-static": (("position",), ("applied_force",)),
-    "virgin": (("position",), ("friction_force", "applied_force")),
-}
-OPTIONAL = {
-    "presliding": ("time",),
-    "motion": ("velocity", "acceleration"),
-    "response": ("applied_force",),
-    "quasi-static": ("time",),
-    "virgin": ("time",),
-}
 DEFAULT_ELEMENTS = {"presliding": 3, "motion": 0, "response": 4, "quasi-static": 3, "virgin": 3}
 #: The help text of `presliding fit` (description and examples).
 FIT_DESCRIPTION = (
@@ -113,124 +86,6 @@ def fit_progress(quiet: bool) -> Progress:
 ABSURD_TRAVEL = 100.0
 
 
-def parse_window(text: str | None) -> tuple[float | None, float | None] | None:
-    """``"8:210"`` → (8.0, 210.0); either side may be empty (``"8:"``, ``":210"``)."""
-    if text is None:
-        return None
-    start, sep, stop = text.partition(":")
-    try:
-        if not sep:
-            raise ValueError
-        bounds = tuple(float(x) if x.strip() else None for x in (start, stop))
-    except ValueError:
-        raise UserError(
-            f"--window {text}: expected START:STOP in seconds, e.g. --window 8:210 (either "
-            "side may be left empty)."
-        ) from None
-    if any(b is not None and not np.isfinite(b) for b in bounds):
-        raise UserError(f"--window {text}: the bounds must be finite numbers of seconds.")
-    return bounds  # type: ignore[return-value]
-
-
-def _is_mat(path: Path) -> bool:
-    with open(path, "rb") as fh:
-        return path.suffix.lower() == ".mat" or fh.read(19) == b"MATLAB 5.0 MAT-file"
-
-
-def _locate(signal: str, columns: dict[str, str], names: Sequence[str] | None) -> str | int | None:
-    """The column (name or index) of `signal`: from --columns, else by alias; None if absent."""
-    if signal in columns:
-        spec = columns[signal]
-        if names is not None and spec in names:
-            return spec
-        return int(spec) if spec.lstrip("-").isdigit() else spec
-    if names is None:
-        return None
-    keys = [column_key(n) for n in names]
-    for alias in ALIASES[signal]:
-        for name, key in zip(names, keys, strict=True):
-            if alias in (name, key):
-                return name
-    return None
-
-
-def read_measurement(args: argparse.Namespace) -> Any:
-    """The Measurement of the columns `args.kind` needs, in SI, windowed; clear errors."""
-    from presliding.measurement._mat import read_mat
-    from presliding.measurement._readers import read_text
-    from presliding.measurement.measurement import Measurement
-
-    check_readable(args.data, "data file")
-    columns = check_options(args.columns, "--columns", SIGNALS)
-    units = check_options(args.units, "--units", SIGNALS)
-    window = parse_window(args.window)
-    mat = _is_mat(args.data)
-    scales: dict[str, Any] = {}
-    for key, text in check_options(args.scale, "--scale", SIGNALS).items():
-        try:
-            scales[key] = float(text)
-        except ValueError:
-            if not mat:
-                raise UserError(
-                    f"--scale {key}={text}: the factor must be a number (names of scalar "
-                    "variables work for MATLAB files only)."
-                ) from None
-            scales[key] = text
-        if isinstance(scales[key], float) and not (np.isfinite(scales[key]) and scales[key]):
-            raise UserError(f"--scale {key}={text}: the factor must be finite and nonzero.")
-    text_options: dict[str, Any] = {"header": getattr(args, "header", None),
-                    "decimal": getattr(args, "decimal", None) or "."}  # fmt: skip
-    source = read_mat(args.data) if mat else read_text(args.data, **text_options)
-    names = source.names if mat else (list(source.names) if source.names else None)
-    found = {}
-    for signal in (*[s for group in NEEDS[args.kind] for s in group], *OPTIONAL[args.kind]):
-        col = _locate(signal, columns, names)
-        if col is not None:
-            found[signal] = col
-    rate = args.sample_rate
-    numbered = ("presliding", "virgin")  # fits that use no time
-    if "time" not in found and rate is None and args.kind in numbered and window is None:
-        rate = 1.0  # numbered samples: the presliding fit needs no time
-    for group in NEEDS[args.kind]:
-        if not any(s in found for s in group) and not (group == ("time",) and rate):
-            raise UserError(_missing(args, group, names, mat))
-    time = found.pop("time", None)
-    if time is None and rate is None:
-        raise UserError(_missing(args, ("time",), names, mat))
-    if time is not None and rate is not None:
-        raise UserError(f"--sample-rate: {args.data} has a time column ({time!r}); drop one.")
-    reader: Callable[..., Measurement] = Measurement.from_mat if mat else Measurement.from_csv
-    extra = {} if mat else text_options
-    meas = reader(args.data, time, sample_rate=rate, units=units or None, scale=scales,
-                  axis=getattr(args, "axis", None), **extra, **found)  # fmt: skip
-    if time is None and args.sample_rate is None:
-        note = "no time column: samples numbered 0, 1, 2, ..."
-        assert meas.source is not None  # a record read from a file knows its source
-        meas = replace(meas, source=replace(meas.source, sample_rate=None, notes=(note,)))
-    if window is not None:
-        try:
-            meas = meas.window(*window)
-        except ValueError as exc:
-            raise UserError(f"--window {args.window}: {exc}") from None
-    return meas
-
-
-def _missing(args: argparse.Namespace, group: tuple[str, ...], names: Any, mat: bool) -> str:
-    what = " or ".join(f"`{s}`" for s in group)
-    if names is None:
-        return (
-            f"{args.data}: has no header line, so columns are chosen by 0-based index; name "
-            f"{what} with --columns, e.g. --columns time=0 position=1."
-        )
-    kinds = "variables" if mat else "columns"
-    hint = " (or give --sample-rate HZ)" if group == ("time",) else ""
-    return (
-        f"{args.data}: no {kinds[:-1]} for {what} (needed by --kind {args.kind}); the {kinds} "
-        f"are {', '.join(repr(n) for n in names)}; name it with --columns "
-        f"{group[0]}=COLUMN{hint}."
-    )
-
-
 def fit(args: argparse.Namespace, meas: Any, bar: Any = False) -> tuple[Any, Any]:
     """Run the fit of `args.kind`; returns the FitResult and the measurement it used.
 
@@ -246,7 +101,8 @@ def fit(args: argparse.Namespace, meas: Any, bar: Any = False) -> tuple[Any, Any
 
         return fit_presliding(
             meas.position, meas.friction_force, n, offset=args.offset, search=args.search,
-            seed=args.seed, progress=bar,
+            seed=args.seed, max_evaluations=args.max_evaluations,
+            asymmetric=args.asymmetric, progress=bar,
         ).on_axis(meas.axis), meas  # fmt: skip
     fixed = None if args.mass is None else {"mass": args.mass}
     if args.kind == "motion":
@@ -256,12 +112,17 @@ def fit(args: argparse.Namespace, meas: Any, bar: Any = False) -> tuple[Any, Any
             meas = meas.resample(meas.sampling_step) if not meas.is_uniform else meas
             cutoff = 0.1 / meas.sampling_step if args.cutoff is None else args.cutoff
             meas = meas.differentiate(cutoff)
+        elif args.cutoff is not None:
+            raise UserError(f"--cutoff {args.cutoff:g}: {args.data} has velocity and "
+                            "acceleration columns, so nothing is estimated; drop it.")  # fmt: skip
         return fit_motion(meas, n, viscous=args.viscous, offset=args.offset, fixed=fixed,
-                          asymmetric=args.asymmetric, progress=bar), meas  # fmt: skip
+                          asymmetric=args.asymmetric, max_evaluations=args.max_evaluations,
+                          progress=bar), meas  # fmt: skip
     from presliding.identification.fit_response import fit_response
 
     signal = "velocity" if meas.velocity is not None else "position"
-    return fit_response(meas, n, mass=args.mass, signal=signal, progress=bar), meas
+    return fit_response(meas, n, mass=args.mass, signal=signal, asymmetric=args.asymmetric,
+                        progress=bar), meas  # fmt: skip
 
 
 def _motion_settings(args: argparse.Namespace, meas: Any, result: Any) -> Any:
@@ -306,28 +167,82 @@ def model_problem(result: Any, meas: Any) -> str:
     return ""
 
 
-def _command_line(args: argparse.Namespace) -> str:
-    """The fit's command line, rebuilt from its options (paths shortened to file names)."""
-    parts = ["presliding fit", args.data.name, "--kind", args.kind]
-    for option in ("columns", "units", "scale"):
-        items = getattr(args, option)
-        if items:
-            parts += [f"--{option}", *items]
-    for option, value in (("--window", args.window), ("--sample-rate", args.sample_rate),
-                          ("--elements", args.elements), ("--cutoff", args.cutoff),
-                          ("--mass", args.mass)):  # fmt: skip
-        if value is not None:
-            parts += [option, str(value)]
-    parts += [flag for flag in ("--viscous", "--offset", "--asymmetric") if getattr(args, flag[2:])]
-    return " ".join(parts)
+def explained(result: Any, records: list[Any], labels: list[str]) -> Any:
+    """The result with the column roles of its records among its notes (the result's
+    metadata: `FitResult.notes`, its report and `to_dict`), and its message and notes in
+    the command line's words (`cli_words`)."""
+    from dataclasses import replace
+
+    from presliding.cli.common import cli_words
+
+    notes = tuple(cli_words(n) for n in (*column_roles(records, labels), *result.notes))
+    return replace(result, notes=notes, message=cli_words(result.message))
+
+
+def column_roles(records: list[Any], labels: list[str]) -> list[str]:
+    """The column roles of the records (`Source.roles`): once when every file was read
+    alike, else each file's own, named."""
+    own = [meas.source.roles if meas.source is not None else () for meas in records]
+    if not own or all(o == own[0] for o in own):
+        return list(own[0]) if own else []
+    roles, seen = [], set()
+    for meas, label, lines in zip(records, labels, own, strict=True):
+        path = meas.source.path if meas.source is not None else label
+        if lines and path not in seen:  # the pieces of one file share its roles
+            seen.add(path)
+            roles += [f"{label.split(' #')[0]}: {line}" for line in lines]
+    return roles
+
+
+def data_settings(args: argparse.Namespace, records: list[Any]) -> Any:
+    """The model file's ``[data]`` table: how these records were read (columns shared by
+    every file, the units, factors, sample rate, text options, axis and cut given)."""
+    from presliding._model_data import DataSettings
+    from presliding.cli.common import check_options
+    from presliding.cli.inputs.columns import SIGNALS
+
+    columns: dict[str, Any] = {}
+    for i, meas in enumerate(records):
+        conversions = meas.source.all_conversions() if meas.source is not None else ()
+        mine = {c.signal: c.column for c in conversions if c.column != "sample rate"}
+        if meas.source is not None and meas.source.kind == "join":
+            mine = {}  # --join files: each names its own columns
+        columns = mine if i == 0 else {k: v for k, v in columns.items() if mine.get(k) == v}
+    scale: dict[str, Any] = {}
+    for key, text in check_options(args.scale, "--scale", SIGNALS).items():
+        try:
+            scale[key] = float(text)
+        except ValueError:
+            scale[key] = text  # a MATLAB variable
+    cut = {}
+    if getattr(args, "segments", None) not in (None, "none"):
+        from presliding.cli.inputs.cuts import segment_options
+
+        cut = {"kind": args.segments, **segment_options(args)}
+    return DataSettings(
+        columns=_as_given(columns), units=check_options(args.units, "--units", SIGNALS),
+        scale=scale, sample_rate=args.sample_rate, decimal=getattr(args, "decimal", None),
+        header=getattr(args, "header", None), axis=getattr(args, "axis", None), segments=cut,
+    )  # fmt: skip
+
+
+def _as_given(columns: dict[str, Any]) -> dict[str, Any]:
+    """Column labels as --columns takes them: ``column 2`` of a headerless file is 2."""
+    out: dict[str, Any] = {}
+    for signal, label in columns.items():
+        text = str(label)
+        out[signal] = int(text[7:]) if text.startswith("column ") and text[7:].isdigit() else text
+    return out
 
 
 def _header(args: argparse.Namespace, meas: Any, result: Any) -> str:
-    lines = [f"identified by `{_command_line(args)}`"]
+    lines = [f"identified by `{args.command_line}`"]
     if result.status != "converged":
         lines.append(f"NOT CONVERGED: status {result.status}. Check the report before using it.")
     lines.append(f"status {result.status}, NRMSE {100 * result.nrmse:.3g} %")
     lines.append("data: " + meas.source.describe())
+    if getattr(args, "cuts", None):
+        lines += args.cuts
     return "\n".join(lines)
 
 
@@ -362,8 +277,11 @@ def run(args: argparse.Namespace) -> int:
         bar.part(f"fitting (--kind {args.kind}, {meas.time.shape[0]} samples)")
         try:
             result, meas = fit(args, meas, bar)
+        except UserError:
+            raise
         except (TypeError, ValueError) as exc:
-            raise UserError(f"{args.data}: cannot fit: {exc}") from None
+            raise UserError(cli_words(f"{args.data}: cannot fit: {exc}")) from None
+        result = explained(result, [meas], [args.data.name])
         bar.update()
         bar.part(f"writing {folder}")
         record_outputs(paths.values())
@@ -376,7 +294,7 @@ def run(args: argparse.Namespace) -> int:
             save_model(
                 paths["model"], result.model, _motion_settings(args, meas, result),
                 measurement=terms, header=_header(args, meas, result), overwrite=True,
-                axis=meas.axis,
+                axis=meas.axis, data=data_settings(args, [meas]),
             )  # fmt: skip
             written.insert(0, paths["model"])
         else:  # an earlier run's model.toml would be taken for this fit's
@@ -394,7 +312,7 @@ def run(args: argparse.Namespace) -> int:
         )
         bar.update()
     if not args.quiet:
-        print("data: " + meas.source.describe())
+        print("data: " + meas.source.describe(roles=False))  # the roles: the result's notes
         print(result.report())
         if note:
             print(note)

@@ -10,13 +10,19 @@ import numpy as np
 
 from presliding.cli.common import new_figure, tidy_fit_axes
 
-__all__ = ["save_fit_figure"]
+__all__ = ["figure_title", "save_fit_figure"]
 
 
 def _timed(meas: Any) -> bool:
     """True unless the samples were only numbered (a presliding file without time)."""
     src = meas.source
     return src.sample_rate is not None or any(c.signal == "time" for c in src.conversions)
+
+
+def figure_title(name: str, result: Any) -> str:
+    """``loops.csv: presliding fit, converged, NRMSE 0.000582 %`` (significant digits, never
+    a rounded 0.00 %)."""
+    return f"{name}: {result.kind} fit, {result.status}, NRMSE {100 * result.nrmse:.3g} %"
 
 
 def save_fit_figure(
@@ -31,7 +37,7 @@ def save_fit_figure(
     name = Path(args.data[0] if isinstance(args.data, list) else args.data).name
     if labels is not None and len(labels) > 1:
         name = f"{len(labels)} files ({', '.join(labels[:3])}{', …' if len(labels) > 3 else ''})"
-    head = f"{name}: {result.kind} fit, {result.status}, NRMSE {100 * result.nrmse:.2f} %"
+    head = figure_title(name, result)
     if args.kind == "presliding":
         fig, axes = new_figure(2, 1, size=(13.2, 4.8))
         ax = plot_loop_fit(result.abscissa, result.measured, result.fitted, ax=axes[0, 0],

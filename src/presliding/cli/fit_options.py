@@ -1,4 +1,8 @@
-"""The options of ``presliding fit`` (its sub-parser)."""
+"""The options of ``presliding fit`` (its sub-parser), and which kinds use each.
+
+An option a kind does not use is refused with one line naming it and the kinds
+that do (`check_fit_options`), never accepted and ignored.
+"""
 
 from __future__ import annotations
 
@@ -7,9 +11,85 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
 
-from presliding.cli.common import checked
+from presliding.cli.common import UserError, checked
 
-__all__ = ["add_fit_parser"]
+__all__ = ["USES", "add_fit_parser", "check_fit_options", "check_record_count"]
+
+POOLED = ("response", "quasi-static", "virgin")
+#: The kinds that use each option (its `dest`); an option given to another kind is refused.
+USES: dict[str, tuple[str, ...]] = {
+    "viscous": ("motion", "response"),
+    "offset": ("presliding", "motion", "response", "quasi-static"),
+    "search": ("presliding",),
+    "seed": ("presliding", "response", "quasi-static"),
+    "mass": ("motion", "response"),
+    "cutoff": ("motion",),
+    "signal": ("response",),
+    "velocity": ("response",),
+    "density": ("response", "quasi-static"),
+    "initial_state": ("response", "quasi-static"),
+    "prune": ("response",),
+    "bootstrap": ("response", "quasi-static"),
+    "no_cross_validation": ("response", "quasi-static"),
+    "segments": POOLED,
+    "ramps": ("virgin",),
+    "hold_out": ("response", "quasi-static"),
+    "reversal_tolerance": ("response", "quasi-static"),
+    "compare": ("response",),
+}
+
+
+def _given(args: argparse.Namespace, dest: str) -> bool:
+    value = getattr(args, dest, None)
+    return value not in (None, False, 0, (), [], "none") and not (dest == "search" and
+                                                                 value == "grid")  # fmt: skip
+
+
+def _text(value: Any) -> str:
+    if isinstance(value, (list, tuple)):
+        return " ".join(Path(v).name if isinstance(v, Path) else str(v) for v in value)
+    return str(value)
+
+
+def check_fit_options(args: argparse.Namespace) -> None:
+    """Refuse an option `args.kind` does not use, or one whose partner is missing."""
+    kind = args.kind
+    flag = {d: "--" + d.replace("_", "-") for d in USES}
+    for dest, kinds in USES.items():
+        if _given(args, dest) and kind not in kinds:
+            value = getattr(args, dest)
+            shown = flag[dest] if isinstance(value, bool) else f"{flag[dest]} {_text(value)}"
+            raise UserError(f"{shown}: --kind {kind} does not use it (it is for --kind "
+                            f"{', '.join(kinds)}); drop it.")  # fmt: skip
+    if _given(args, "seed"):
+        if kind == "presliding" and args.search != "global":
+            raise UserError("--seed: seeds the global search; add --search global, or drop it.")
+        if kind != "presliding" and not args.bootstrap:
+            raise UserError("--seed: seeds the bootstrap of a pooled fit; add --bootstrap N, "
+                            "or drop it.")  # fmt: skip
+    from presliding.cli.inputs.cuts import segment_options
+
+    segment_options(args)  # the options of a cut need --segments (every kind)
+    if kind == "virgin" and args.segments == "stops":
+        raise UserError("--segments stops: --kind virgin reads ramps or loops, not stops; use "
+                        "--segments ramps or loops.")  # fmt: skip
+
+
+def check_record_count(args: argparse.Namespace, n_records: int) -> None:
+    """Options that need several records (the cross-validation, the bootstrap)."""
+    if args.no_cross_validation and n_records < 2:
+        raise UserError("--no-cross-validation: with one record there is no cross-validation "
+                        "to skip; drop it.")  # fmt: skip
+    if (
+        args.reversal_tolerance is not None
+        and not args.hold_out
+        and (n_records < 2 or args.no_cross_validation)
+    ):
+        raise UserError("--reversal-tolerance: counts reversals in the cross-validation and "
+                        "--hold-out tables, and there is neither; drop it.")  # fmt: skip
+    if args.bootstrap and n_records < 3:
+        raise UserError(f"--bootstrap {args.bootstrap}: a record-level bootstrap needs three "
+                        f"or more records; got {n_records}.")  # fmt: skip
 
 
 def add_fit_parser(
@@ -28,12 +108,13 @@ def add_fit_parser(
     )
     _add_inputs(fit)
     _add_model_options(fit)
-    fit.add_argument("-o", "--output", type=Path, required=True, help="output folder")
+    fit.add_argument("-o", "--output", type=Path, default=Path("presliding-fit"),
+                     help="output folder (default: ./presliding-fit)")  # fmt: skip
     _add_pooled_options(fit)
     from presliding.cli.records import add_data_options
 
     add_data_options(fit)
-    fit.set_defaults(handler=handler)
+    fit.set_defaults(handler=handler, command_parser=fit)
     return fit
 
 
@@ -105,8 +186,10 @@ def _add_model_options(fit: argparse.ArgumentParser) -> None:
     fit.add_argument(
         "--asymmetric",
         action="store_true",
-        help="motion: separate Coulomb (and with --viscous viscous) levels for the two "
-        "directions of sliding (excludes --offset)",
+        help="separate levels for the two directions of sliding, every --kind (excludes "
+        "--offset): motion and presliding c1 and c1⁻ (with --viscous σ and σ⁻); response and "
+        "quasi-static F_c⁻ beside F_c⁺; virgin the two branches of ramps in ±y (--ramps). The "
+        "symmetric fit runs too and the report tests the asymmetry against it",
     )
     fit.add_argument(
         "--search",
@@ -119,7 +202,8 @@ def _add_model_options(fit: argparse.ArgumentParser) -> None:
         "--seed",
         type=checked("--seed", integer=True),
         default=None,
-        help="seed of the global search (reproducible runs)",
+        help="seed of the global search (--search global) or of the bootstrap (--bootstrap): "
+        "reproducible runs",
     )
     fit.add_argument(
         "--mass",
@@ -179,7 +263,7 @@ def _add_pooled_options(fit: argparse.ArgumentParser) -> None:
         type=checked("--max-evaluations", integer=True, minimum=1),
         default=None,
         metavar="N",
-        help="most residual evaluations of each solver run",
+        help="most residual evaluations of each solver run (every kind)",
     )
     fit.add_argument(
         "--bootstrap",
@@ -188,6 +272,24 @@ def _add_pooled_options(fit: argparse.ArgumentParser) -> None:
         metavar="N",
         help="record-level bootstrap resamples (three or more files; at most 10000, each a "
         "full refit: the progress shows the time left)",
+    )
+    fit.add_argument(
+        "--reversal-tolerance",
+        type=checked("--reversal-tolerance", minimum=0.0),
+        default=None,
+        metavar="TRAVEL",
+        help="travel [m or rad] by which reversals are counted in the cross-validation and "
+        "--hold-out tables (default: each record's own, three encoder counts or noise levels)",
+    )
+    fit.add_argument(
+        "--compare",
+        default=None,
+        metavar="FAMILIES",
+        help="response: fit each model family named (comma-separated, e.g. "
+        "pi,pi-asymmetric,coulomb) to the same records, tabulate status, parameters, RSS, AIC, "
+        "BIC and the --hold-out files' errors (comparison.csv and the report), and keep the "
+        "family of least BIC; --elements goes to the families with elements. The exit status "
+        "is that family's",
     )
     fit.add_argument(
         "--no-cross-validation",

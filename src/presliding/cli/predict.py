@@ -6,38 +6,38 @@ force offset (`presliding.identification.predict_record`), twice: from the
 record's measured start (its first samples; nothing taken from the record) and
 from a start fitted to it (the initial velocity, and with ``--signal position``
 the initial position, taken from the record: the report names them). Writes,
-atomically, ``predictions.csv`` (a row per file: NRMSE, reversal counts measured
-and predicted at the stated tolerance, rest error, for both starts), a figure
-per file and ``report.md``/``report.html``.
+atomically, ``predictions.csv`` (a row per record and start, naming its file
+and segment: NRMSE, reversal counts measured and predicted at the stated
+tolerance, rest error), a figure per record and ``report.md``/``report.html``.
+
+The model file's ``[data]`` table says how the fitted records were read: the
+column of each signal, the units and factors given, the sample rate, the text
+options and the cut into segments. New records are read the same way unless an
+option says otherwise (``--columns``, ``--units``, ``--scale``, ``--segments``
+...; ``--segments none`` predicts whole files); the report says what was taken
+from the model file, and which column each signal came from.
 
 ``presliding fit ... --hold-out FILE ...`` reports the same figures for files
-the fit never saw (`held_out_section`).
+the fit never saw, cut by ``--segments`` as the fitted ones (`held_out_section`).
 """
 
 from __future__ import annotations
 
 import argparse
-import sys
 from pathlib import Path
 from typing import Any
-
-import numpy as np
 
 from presliding.cli.common import (
     UserError,
     check_folder,
     check_outputs,
     check_readable,
+    cli_words,
     new_figure,
     record_outputs,
 )
 
-if sys.version_info >= (3, 11):
-    import tomllib
-else:  # pragma: no cover
-    import tomli as tomllib
-
-__all__ = ["add_parser", "held_out_section", "run"]
+__all__ = ["add_parser", "held_out_section", "run", "use_model_data"]
 
 COLUMNS = ("file", "start", "NRMSE %", "reversals measured", "reversals predicted",
            "rest error", "taken from the record")  # fmt: skip
@@ -82,20 +82,64 @@ def add_parser(sub: Any, parents: list) -> argparse.ArgumentParser:
     return p
 
 
-def _model(path: Path) -> tuple[Any, float, float]:
-    """Friction model, mass and force offset of a model file (the mass must be given)."""
+def _model(path: Path) -> Any:
+    """The model file (`ModelFile`); its [motion] mass must be given."""
     from presliding.model_io import load_model
 
     check_readable(path, "model file")
     spec = load_model(path)
-    try:
-        raw = tomllib.loads(path.read_text(encoding="utf-8")) if path.suffix != ".json" else None
-    except (OSError, ValueError):
-        raw = None
-    if raw is not None and "mass" not in raw.get("motion", {}):
+    if "mass" not in spec.motion.given:
         raise UserError(f"{path}: has no [motion] mass; predicting a motion needs the mass "
                         "(add `mass = ...` under [motion]).")  # fmt: skip
-    return spec.model, spec.motion.mass, spec.measurement.force_offset
+    return spec
+
+
+def _as_items(table: dict[str, Any]) -> list[str]:
+    return [f"{k}={v:g}" if isinstance(v, float) else f"{k}={v}" for k, v in table.items()]
+
+
+def use_model_data(args: argparse.Namespace, data: Any) -> list[str]:
+    """Read new records as the model file's ``[data]`` says, where no option overrides it;
+    returns sentences saying what was taken from it."""
+    from presliding.cli.common import check_options
+    from presliding.cli.inputs.columns import SIGNALS
+
+    if data.empty:
+        return ["The model file has no [data] table (written by hand, or by an older "
+                "presliding): the columns were found by their names and units."]  # fmt: skip
+    args.model_data = data
+    taken = []
+    for option, table in (("units", data.units), ("scale", data.scale)):
+        given = check_options(getattr(args, option), f"--{option}", SIGNALS)
+        kept = {k: v for k, v in table.items() if k not in given}
+        if kept:
+            taken.append(f"--{option} {' '.join(_as_items(kept))}")
+        setattr(args, option, _as_items({**table, **given}))
+    if data.axis is not None and args.axis is None:
+        args.axis = data.axis
+        taken.append(f"--axis {data.axis}")
+    if data.sample_rate is not None and args.sample_rate is None:
+        taken.append(f"--sample-rate {data.sample_rate:g} for files without a time column")
+    if data.decimal is not None and args.decimal is None:
+        taken.append(f"--decimal {data.decimal} for text files")
+    if data.header is not None and args.header is None:
+        taken.append(f"--{'' if data.header else 'no-'}header for text files")
+    if data.columns:
+        taken.append("the columns " + ", ".join(f"{k} = {v!r}" for k, v in data.columns.items())
+                     + " (where a file has them)")  # fmt: skip
+    if data.segments and getattr(args, "segments", None) is None:
+        options = {k: v for k, v in data.segments.items() if k != "kind"}
+        args.segments = data.segments["kind"]
+        for name, value in options.items():
+            dest = "segment_tolerance" if name == "tolerance" else name
+            if getattr(args, dest, None) is None:
+                setattr(args, dest, value)
+        from presliding.cli.inputs.cuts import OPTIONS
+
+        taken.append(f"the cut --segments {args.segments}"
+                     + "".join(f" {OPTIONS[k]} {v:g}" for k, v in options.items())
+                     + " (--segments none predicts whole files)")  # fmt: skip
+    return [f"Read as the model file's [data] table states: {'; '.join(taken)}."] if taken else []
 
 
 def predict_both(model: Any, mass: float, meas: Any, args: argparse.Namespace,
@@ -105,12 +149,13 @@ def predict_both(model: Any, mass: float, meas: Any, args: argparse.Namespace,
 
     tol = getattr(args, "reversal_tolerance", None)
     if result is not None and result.predictor is not None:  # a fit in memory: its predictor
-        extra = {} if tol is None else {"tolerance": tol}
+        extra = {} if tol is None else {"reversal_tolerance": tol}
         return (result.predict(meas, initial="measured", **extra),
                 result.predict(meas, initial="fit", **extra))  # fmt: skip
     signal = getattr(args, "signal", None)
     signal = signal if signal in ("velocity", "position") else None
-    common: dict[str, Any] = {"signal": signal, "force_offset": offset, "tolerance": tol}
+    common: dict[str, Any] = {"signal": signal, "force_offset": offset,
+                              "reversal_tolerance": tol}  # fmt: skip
     return (predict_record(model, mass, meas, initial="measured", **common),
             predict_record(model, mass, meas, initial="fit", **common))  # fmt: skip
 
@@ -135,7 +180,7 @@ def _figure(label: str, pair: tuple[Any, Any], path: Path, unit: str) -> None:
         ax.plot(p.abscissa, p.predicted, color="C1", lw=1.0, ls="--", label="predicted")
         start = "measured start" if p.initial == "measured" else "start fitted to the record"
         ax.set(xlabel=p.abscissa_label, ylabel=f"{p.signal_label} [{unit}]",
-               title=f"{label}: {start}, NRMSE {100 * p.nrmse:.2g} %")  # fmt: skip
+               title=f"{label}: {start}, NRMSE {100 * p.nrmse:.3g} %")  # fmt: skip
         ax.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize="small")
     save_figure(fig, path)
 
@@ -158,7 +203,7 @@ def _predict_all(
         try:
             pair = predict_both(model, mass, meas, args, offset, result)
         except (TypeError, ValueError) as exc:
-            raise UserError(f"{label}: cannot predict: {exc}") from None
+            raise UserError(cli_words(f"{label}: cannot predict: {exc}")) from None
         unit = meas.unit("velocity" if pair[0].signal_label == "velocity" else "position")
         rows += _rows(label, pair, meas.unit("position"))
         path = folder / f"{stem}_{i + 1}.png"
@@ -168,76 +213,115 @@ def _predict_all(
     return rows, figures, pairs
 
 
+def _read_cut(args: argparse.Namespace, files: list[Path], joins: list) -> tuple:
+    """The records of `files` and --join groups, cut by --segments: (pieces, labels, cuts,
+    the files' names, the notes on their columns)."""
+    from presliding.cli.inputs.cuts import cut_records, segment_options
+    from presliding.cli.records import read_file, read_join
+
+    options = segment_options(args)
+    records = [read_file(args, p) for p in files] + [read_join(args, g) for g in joins]
+    names = [p.name for p in files] + [" + ".join(Path(i.rpartition("=")[0] or i).name
+                                                  for i in g) for g in joins]  # fmt: skip
+    roles = [f"{n}: {line}" for n, m in zip(names, records, strict=True)
+             for line in (m.source.roles if m.source is not None else ())]  # fmt: skip
+    pieces, labels, cuts, _ = cut_records(records, names, getattr(args, "segments", None),
+                                          options)  # fmt: skip
+    return pieces, labels, cuts, roles
+
+
 def held_out_section(args: argparse.Namespace, result: Any, folder: Path) -> tuple[Any, list]:
-    """The report section of ``fit --hold-out``: each held-out file predicted by the fit."""
-    from presliding.cli.records import read_file
+    """The report section of ``fit --hold-out``: each held-out file, cut by --segments as
+    the fitted ones, predicted by the fit."""
     from presliding.cli.report import Section
 
     files = [Path(p) for p in args.hold_out]
-    outputs = [folder / f"held_out_{i + 1}.png" for i in range(len(files))]
+    records, labels, cuts, roles = _read_cut(args, files, [])
+    outputs = [folder / f"held_out_{i + 1}.png" for i in range(len(records))]
     check_outputs(outputs, files, overwrite=True)
     record_outputs(outputs)
-    records = [read_file(args, p) for p in files]
     mass = float(result.parameters.get("mass", 1.0))
     offset = float(result.parameters.get("offset", 0.0))
-    rows, figures, pairs = _predict_all(args, folder, records, [p.name for p in files],
-                                        result.model, mass, offset, result, "held_out")  # fmt: skip
+    rows, figures, pairs = _predict_all(args, folder, records, labels, result.model, mass,
+                                        offset, result, "held_out")  # fmt: skip
     unit = records[0].unit("position")
+    cut = (f" Each file was cut by --segments {args.segments} as the fitted ones."
+           if cuts else "")  # fmt: skip
     text = ("Files held out of the fit (--hold-out), predicted from their measured start "
             "(nothing taken from them) and from a start fitted to each (the parameters "
-            "named in the last column are taken from the held-out record). "
+            f"named in the last column are taken from the held-out record).{cut} "
             + _tolerance_note(pairs, unit))  # fmt: skip
-    return Section("Held-out files", text, tuple(figures), table=[list(COLUMNS), *rows]), figures
+    code = "\n".join([*cuts, *roles])
+    return (Section("Held-out files", text, tuple(figures), table=[list(COLUMNS), *rows],
+                    code=code), figures)  # fmt: skip
+
+
+def _write_table(path: Path, labels: list[str], pairs: list[tuple[Any, Any]]) -> None:
+    """predictions.csv: a row per record and start, naming its file and segment."""
+    import csv
+    import io
+
+    from presliding._io import write_text
+
+    def number(x: Any) -> str:
+        return "" if x is None else f"{float(x):.10g}"
+
+    out = io.StringIO()
+    writer = csv.writer(out, lineterminator="\n")
+    writer.writerow(["record", "file_name", "segment", "fitted_start", "nrmse",
+                     "measured_reversals", "predicted_reversals", "rest_error",
+                     "reversal_tolerance"])  # fmt: skip
+    for i, (label, pair) in enumerate(zip(labels, pairs, strict=True)):
+        name, _, piece = label.partition(" #")
+        for p in pair:
+            writer.writerow([i + 1, name, piece or 0, int(p.initial == "fit"), number(p.nrmse),
+                             number(p.measured_reversals), number(p.predicted_reversals),
+                             number(p.rest_error), number(p.reversal_tolerance)])  # fmt: skip
+    write_text(path, out.getvalue())
 
 
 def run(args: argparse.Namespace) -> int:
-    """Load the model, read every record, predict, write the table, figures and report."""
-    from presliding.cli.common import write_csv
-    from presliding.cli.records import data_names, input_files, read_file, read_join
+    """Load the model, read every record (as its [data] table says), predict, write the
+    table, figures and report."""
+    from presliding.cli.records import check_sources, input_files
     from presliding.cli.report import Section, write_report
 
-    args.kind = "response"  # the signals a motion prediction needs
-    model, mass, offset = _model(args.model)
+    args.kind = "predict"  # the signals a motion prediction reads (those of --kind response)
+    spec = _model(args.model)
+    model, mass, offset = spec.model, spec.motion.mass, spec.measurement.force_offset
     if not args.data and not args.join:
         raise UserError("give at least one data file to predict, or per-signal files with --join.")
+    check_sources(args)
+    taken = use_model_data(args, spec.data)
     folder = check_folder(args.output)
-    labels = data_names(args)
+    check_outputs([folder / "predictions.csv"], [args.model, *input_files(args)],
+                  overwrite=args.overwrite)  # fmt: skip
+    records, labels, cuts, roles = _read_cut(args, list(args.data), list(args.join or []))
     figures = [folder / f"prediction_{i + 1}.png" for i in range(len(labels))]
     table_path = folder / "predictions.csv"
     outputs = [*figures, table_path, folder / "report.md", folder / "report.html"]
     check_outputs(outputs, [args.model, *input_files(args)], overwrite=args.overwrite)
-    records = [read_file(args, p) for p in args.data]
-    records += [read_join(args, g) for g in args.join or []]
     record_outputs(outputs)
     rows, written, pairs = _predict_all(args, folder, records, labels, model, mass, offset)
-    flat = [p for pair in pairs for p in pair]
-
-    def column(get: Any) -> np.ndarray:
-        return np.array([np.nan if get(p) is None else float(get(p)) for p in flat])
-
-    columns = [np.repeat(np.arange(1, len(pairs) + 1), 2).astype(float),
-               column(lambda p: p.initial == "fit"), column(lambda p: p.nrmse),
-               column(lambda p: p.measured_reversals), column(lambda p: p.predicted_reversals),
-               column(lambda p: p.rest_error), column(lambda p: p.reversal_tolerance)]  # fmt: skip
-    write_csv(table_path, ["record", "fitted_start", "nrmse", "measured_reversals",
-                           "predicted_reversals", "rest_error", "reversal_tolerance"], columns,
-              quiet=True)  # fmt: skip
+    _write_table(table_path, labels, pairs)
     unit = records[0].unit("position")
     text = (f"{len(records)} record(s) predicted by {args.model.name} (mass {mass:.6g} "
             f"{records[0].unit('mass')}, force offset {offset:.6g} {records[0].unit('force')}), "
             "from each record's measured start (nothing taken from the record) and from a "
             "start fitted to it (the parameters named in the last column are taken from the "
             "record). " + _tolerance_note(pairs, unit))  # fmt: skip
-    sources = "\n".join(f"{label}: {m.source.describe()}" for label, m in
-                        zip(labels, records, strict=True) if m.source is not None)  # fmt: skip
+    text = "\n\n".join([text, *taken])
+    sources = "\n".join([*cuts, *roles])
     report = write_report(folder, f"presliding predict: {args.model.name}", [
         Section("Predictions", text, tuple(written), table=[list(COLUMNS), *rows], code=sources)
     ])  # fmt: skip
     if not args.quiet:
+        for line in [*taken, *roles]:
+            print(cli_words(line))
         widths = [max(len(r[i]) for r in [list(COLUMNS), *rows]) for i in range(len(COLUMNS))]
         for r in [list(COLUMNS), *rows]:
             print("  ".join(c.ljust(w) for c, w in zip(r, widths, strict=True)).rstrip())
         print(_tolerance_note(pairs, unit))
         for path in [*written, table_path, *report]:
             print(f"wrote {path}")
-    return 0 if all(p.success for p in flat) else 1
+    return 0 if all(p.success for pair in pairs for p in pair) else 1

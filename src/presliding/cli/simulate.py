@@ -73,6 +73,7 @@ def run(args: argparse.Namespace) -> int:
 
     check_readable(args.model, "model file")
     spec = load_model(args.model)
+    _check_options(args, spec.model)
     mo = _motion(args, spec.motion)
     csv_path, png_path = output_paths(args.output)
     check_outputs((csv_path, png_path), (args.model, args.applied_force), overwrite=args.overwrite)
@@ -148,6 +149,31 @@ def run(args: argparse.Namespace) -> int:
 
 
 DEFAULT_RTOL = 1e-3  # of the largest displacement, for the implicit step
+
+
+def _check_options(args: argparse.Namespace, model: Any) -> None:
+    """Options that this run would not use are refused: how samples of --applied-force are
+    held without such samples, the implicit method's step and accuracy for the event method."""
+    if args.applied_force is None:
+        for flag, given in (("--hold-last", args.hold_last), ("--hold linear",
+                                                              args.hold == "linear")):  # fmt: skip
+            if given:
+                raise UserError(
+                    f"{flag}: says how the samples of --applied-force are held, "
+                    "and none are given (the force is the model file's constant "
+                    "motion.applied_force); drop it, or give --applied-force CSV."
+                )
+    method = args.method
+    if method == "auto":
+        method = "event" if model.is_discrete and args.hold == "zoh" else "implicit"
+    if method == "event":
+        for flag, value in (("--step", args.step), ("--rtol", args.rtol)):
+            if value is not None:
+                how = ("" if args.method == "event" else " (chosen by --method auto for "
+                       "elements and a piecewise-constant force)")  # fmt: skip
+                raise UserError(f"{flag} {value:g}: an option of the implicit method, and this "
+                                f"run uses the exact event method{how}, which has no step; "
+                                "drop it, or pass --method implicit.")  # fmt: skip
 
 
 def _motion(args: argparse.Namespace, mo: Any) -> Any:

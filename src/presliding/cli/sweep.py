@@ -75,8 +75,13 @@ def run(args: argparse.Namespace) -> int:
     spec = load_spec(args.spec)
     if args.workers is not None and args.workers < 1:
         raise UserError(f"--workers must be a whole number >= 1; got {args.workers}.")
-    if args.retries < 0:
+    if args.retries is not None and args.retries < 0:
         raise UserError(f"--retries must be a whole number >= 0; got {args.retries}.")
+    if args.retries is not None and args.scheduler is None:
+        raise UserError(
+            f"--retries {args.retries}: re-runs the chunks that failed on a Dask "
+            "cluster (--scheduler); a local sweep never retries: drop it."
+        )
     if args.workers is not None and args.scheduler is not None:
         raise UserError(
             "--workers sets local worker processes; with --scheduler the cluster's workers run "
@@ -98,7 +103,7 @@ def run(args: argparse.Namespace) -> int:
             chunk_size=chunk_size(spec, workers),
             n_workers=None if args.scheduler is not None else workers,
             progress=not args.quiet,
-            retries=args.retries if args.scheduler is not None else 0,
+            retries=(2 if args.retries is None else args.retries) if args.scheduler else 0,
         )
     except (OSError, ValueError, RuntimeError) as exc:
         if args.scheduler is None or args.debug:

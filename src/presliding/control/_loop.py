@@ -22,7 +22,7 @@ import numba as nb
 import numpy as np
 
 from presliding.hysteresis._jit import JitFlags, njit
-from presliding.motion._event import run_events, run_events_sided
+from presliding.motion._event import damped_flag, run_events, run_events_sided
 
 _JIT: JitFlags = {"cache": True, "error_model": "numpy"}
 _JIT_PARALLEL: JitFlags = {"cache": True, "error_model": "numpy", "parallel": True}
@@ -106,8 +106,10 @@ def acceleration_sided(m, c1p, c1n, sp, sn, fel, v, u):  # pragma: no cover - co
 
 
 @njit(**_JIT)
-def plant_period(m, c1, sigma, k, r, f, y, v, last_dir, u, t0, t1, max_events):  # pragma: no cover
+def plant_period(m, c1, sigma, k, r, f, y, v, last_dir, u, t0, t1, max_events,
+                 damped):  # fmt: skip  # pragma: no cover
     """The exact motion over [t0, t1] under a constant u (viscous σ); f updated in place.
+    ``damped``: None when σ = 0, else True (`presliding.motion._event`).
 
     Returns (status, y, v, last_dir, n_events).
     """
@@ -117,7 +119,7 @@ def plant_period(m, c1, sigma, k, r, f, y, v, last_dir, u, t0, t1, max_events): 
     rev = np.empty(REVERSALS_PER_PERIOD)
     res = run_events(m, c1, k, r, f, y, v, last_dir, u_t, u_val, none, t1, max_events,
                      none, none, none, none, none, none, none, none, rev, rev, sigma, none,
-                     none)  # fmt: skip
+                     none, damped)  # fmt: skip
     return res[0], res[4], res[5], res[6], res[7]
 
 
@@ -152,6 +154,7 @@ def run_loop(
         m, c1, sigma, k, r, f, y, v, last_dir, kind, p, s, a, b, c, d, x, ref, ff, t0, dt, sub,
         max_events, o_y, o_v, o_a, o_fel, o_u, o_eel, o_dis, o_work, o_vis, o_ctrl, rev_t,
         rev_y, w, tmp, rt, ry, u_t, u_val, te, none, c1n, sigman, rn,
+        damped_flag(sigma, sigman),
     )  # fmt: skip
 
 
@@ -161,9 +164,10 @@ def run_loop(
 def _loop_body(  # pragma: no cover - compiled
     m, c1, sigma, k, r, f, y, v, last_dir, kind, p, s, a, b, c, d, x, ref, ff, t0, dt, sub,
     max_events, o_y, o_v, o_a, o_fel, o_u, o_eel, o_dis, o_work, o_vis, o_ctrl, rev_t, rev_y,
-    w, tmp, rt, ry, u_t, u_val, te, none, c1n, sigman, rn,
+    w, tmp, rt, ry, u_t, u_val, te, none, c1n, sigman, rn, damped,
 ):  # fmt: skip
-    """The periods of `run_loop`, with its scratch arrays handed in."""
+    """The periods of `run_loop`, with its scratch arrays handed in (``damped``: None when
+    σ = 0 on both sides, else True; `presliding.motion._event`)."""
     n_k = ref.shape[0] - 1
     low, high = (p[5], p[6]) if kind == 0 else (p[0], p[1])
     n_rev = 0
@@ -191,7 +195,7 @@ def _loop_body(  # pragma: no cover - compiled
         res = run_events_sided(m, c1, c1n, k, r, rn, f, y, v, last_dir, u_t, u_val, te,
                                tk + dt, max_events - n_ev, o_y[i0:], o_v[i0:], o_a[i0:],
                                o_fel[i0:], o_u[i0:], o_eel[i0:], o_dis[i0:], o_work[i0:], rt,
-                               ry, sigma, sigman, o_vis[i0:], none)  # fmt: skip
+                               ry, sigma, sigman, o_vis[i0:], none, damped)  # fmt: skip
         st, n_s, nr, stop, y, v, last_dir, ne, dd, ww, _, vv = res
         for j in range(n_s):
             o_dis[i0 + j] += dis
@@ -237,11 +241,12 @@ def _loop_body(  # pragma: no cover - compiled
 @njit(**_JIT_PARALLEL)
 def run_loop_batch(  # pragma: no cover - compiled
     m, c1, sigma, k, r, f0, y0, v0, d0, p_all, s0, ref, ff, t0, dt, max_events, i_from,
-    o_y, o_u, status, n_rev, e_rms, e_max, half_range, y_end, v_end,
+    o_y, o_u, status, n_rev, e_rms, e_max, half_range, y_end, v_end, damped,
 ):  # fmt: skip
     """Many PID loops (one row of ``p_all`` each), in parallel; positions and u at the
     K + 1 instants when ``o_y`` has B rows (else summaries only), and summaries of
-    the samples from index ``i_from`` on: rms and max |e|, half the range of y."""
+    the samples from index ``i_from`` on: rms and max |e|, half the range of y (``damped``:
+    None when σ = 0, else True; `presliding.motion._event`)."""
     n_b = p_all.shape[0]
     n_k = ref.shape[0] - 1
     full = o_y.shape[0] == n_b
@@ -283,7 +288,7 @@ def run_loop_batch(  # pragma: no cover - compiled
             u_val[0] = u
             res = run_events(m, c1, k, r, f, y, v, last_dir, u_t, u_val, none, tk + dt,
                              max_events - ne_all, none, none, none, none, none, none, none,
-                             none, rt, rt, sigma, none, none)  # fmt: skip
+                             none, rt, rt, sigma, none, none, damped)  # fmt: skip
             st = res[0]
             nr_all += res[2]
             y, v, last_dir = res[4], res[5], res[6]

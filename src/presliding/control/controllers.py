@@ -222,14 +222,17 @@ class DiscreteController:
 
     @property
     def limits(self) -> tuple[float, float]:
+        """(low, high) of the output [N]; ±inf without saturation."""
         return _limits(self.limit)
 
     @property
     def n_states(self) -> int:
+        """n, the controller's states (0: a static gain D)."""
         return int(self.A.shape[0])
 
     @property
     def n_inputs(self) -> int:
+        """p: 1 when the controller reads the error e_k, 2 when it reads (r_k, y_k)."""
         return int(self.D.shape[1])
 
     @classmethod

@@ -9,6 +9,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from presliding._display import fill_attrs, result_html, short_repr, summarise
+from presliding._interop import require
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
@@ -63,6 +64,7 @@ class LimitCycles:
 
     @property
     def n_cycles(self) -> int:
+        """Number of limit cycles predicted (stable or not)."""
         return int(self.amplitude.shape[0])
 
     def plot(self, ax: Axes | None = None) -> Axes:
@@ -117,7 +119,7 @@ class LimitCycles:
 
     def to_pandas(self) -> Any:
         """One row per cycle."""
-        import pandas as pd
+        pd = require("pandas", "`to_pandas()`")
 
         frame = pd.DataFrame({"amplitude": self.amplitude, "frequency": self.frequency,
                               "period": self.period, "stable": self.stable})  # fmt: skip

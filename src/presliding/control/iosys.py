@@ -22,7 +22,8 @@ e.g. ``inputs="force"``), and ``friction`` [N] is the friction force.
 ``to_iosys(PID(...))``, ``to_iosys(DiscreteController(...))``
     Inputs ``reference`` and ``position``, output ``u``; the same arithmetic as
     `simulate_loop`. A loop ``control.interconnect([to_iosys(pid),
-    to_iosys(model, mass=m, dt=pid.dt)], inputs="reference", outputs=[...])``
+    to_iosys(model, mass=m, dt=pid.dt)], inputs="reference",
+    outputs=["position", "velocity", "u"])``
     equals `simulate_loop` to rounding.
 
 Parameters (``params`` of python-control, e.g. of ``input_output_response``)
@@ -335,7 +336,8 @@ def _mass_system(control, model: PIFriction, mass: float, dt: float, name, ins, 
                                             float(x[0]),
                                             float(x[1]), float(x[n + 2]),
                                             float(np.atleast_1d(u)[0]), t0, t0 + dt,
-                                            10_000_000)  # fmt: skip
+                                            10_000_000,
+                                            _loop.damped_flag(float(mod.viscous)))  # fmt: skip
         if st != 0:
             raise RuntimeError(f"the plant step at t = {t!r} reached the event limit.")
         return np.concatenate(([y, v], f, [d]))

@@ -396,7 +396,8 @@ def simulate_loop_batch(
     _loop.run_loop_batch(m, float(model.coulomb), float(model.viscous), k, r, f, y0, v0,
                          last_dir, p_all,
                          np.zeros(4), ref, ff, t0, ctrl.dt, max_events, i_from, o_y, o_u,
-                         status, n_rev, e_rms, e_max, half, y_end, v_end)  # fmt: skip
+                         status, n_rev, e_rms, e_max, half, y_end, v_end,
+                         _loop.damped_flag(float(model.viscous)))  # fmt: skip
     # a loop that left the floating-point range (unstable gains) is not an event-limit failure
     diverged = ~(np.isfinite(e_rms) & np.isfinite(e_max) & np.isfinite(y_end) & np.isfinite(v_end))
     status[diverged] = -3

@@ -10,6 +10,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from presliding._display import figures_of, fill_attrs, result_html, short_repr
+from presliding._interop import require
 from presliding._validation import as_real_scalar, as_real_vector, check_same_length, fmt
 from presliding.hysteresis._results import deprecated_code
 from presliding.motion.results import STATUS_SUCCESS, MotionResult, motion_status
@@ -70,7 +71,7 @@ class MeasuredCycle(NamedTuple):
 
     def to_pandas(self) -> Any:
         """A one-row DataFrame of the figures and the status."""
-        import pandas as pd
+        pd = require("pandas", "`to_pandas()`")
 
         frame = pd.DataFrame([self.to_dict()])
         return fill_attrs(frame, self, units={"amplitude": "m", "frequency": "rad/s"})
@@ -245,7 +246,7 @@ class LoopResult(MotionResult):
 
     def to_pandas(self) -> Any:
         """A DataFrame of the controller's samples (time index t_k): r, y, e, u, u_ff."""
-        import pandas as pd
+        pd = require("pandas", "`to_pandas()`")
 
         frame = pd.DataFrame(
             {"reference": self.reference, "position": self.measured, "error": self.error,
@@ -369,7 +370,7 @@ class LoopBatch:
 
     def to_pandas(self) -> Any:
         """One row per gain set: gains, summaries, status."""
-        import pandas as pd
+        pd = require("pandas", "`to_pandas()`")
 
         cols = ("kp", "ki", "kd", "error_rms", "error_max", "half_range", "n_reversals",
                 "final_position", "final_velocity", "member_status")  # fmt: skip

@@ -12,6 +12,7 @@ batch.py              `friction_batch`: B finite-element models on one path as a
 _baseline_kernels.py  compiled time loops of the Dahl and LuGre models, and their single steps
 _gms_kernels.py       the GMS element over a step in closed form, and its path loop
 _parts.py             a model's elements or its density, typed (`elements`, `density_of`)
+_summary.py           what a `PIFriction` shows in a notebook: levels and stiffness
 _pi_setup.py          validation and set-up of a `PIFriction` on construction
 _sides.py             asymmetric friction: the two sides' levels, the asymmetric play band
 _model_checks.py      checks the layers above make of a model (Coulomb element, finite stiffness)

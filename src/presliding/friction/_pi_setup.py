@@ -10,11 +10,10 @@ from numpy.typing import NDArray
 from presliding._validation import (
     as_nonnegative_scalar,
     as_parameter_vector,
-    check_derived,
     check_finite_derived,
 )
 from presliding.friction import _sides
-from presliding.friction._model_checks import check_has_friction
+from presliding.friction._model_checks import check_derived, check_has_friction
 from presliding.hysteresis.densities import Density, Discrete
 
 __all__ = ["setup"]

@@ -28,9 +28,9 @@ from numpy.typing import NDArray
 from presliding._validation import (
     as_nonnegative_scalar,
     as_parameter_vector,
-    check_derived,
     check_finite_derived,
 )
+from presliding.friction._model_checks import check_derived
 from presliding.hysteresis import _kernels
 from presliding.hysteresis.operators import PIState
 

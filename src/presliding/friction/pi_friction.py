@@ -32,13 +32,10 @@ from typing import TYPE_CHECKING, cast
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from presliding._display import model_html
 from presliding._out import as_output
-from presliding._validation import (
-    as_real_array,
-    as_signal,
-    fmt,
-)
-from presliding.friction import _pi_setup, _sides
+from presliding._validation import as_real_array, as_signal, fmt
+from presliding.friction import _pi_setup, _sides, _summary
 from presliding.hysteresis import _kernels
 from presliding.hysteresis.densities import Density
 from presliding.hysteresis.general_pi import GeneralPIOperator, MemoryState, run_density
@@ -237,6 +234,9 @@ class PIFriction:
             f"PIFriction(coulomb={self.coulomb!r}, stiffness={self.stiffness.tolist()!r}, "
             f"breakaway={self.breakaway.tolist()!r}{visc})"
         )
+
+    def _repr_html_(self) -> str:  # a notebook's view: F_c, F_m, Σk, each parameter's unit
+        return model_html(self, _summary.figures(self))
 
     # ------------------------------------------------------------------ viscous term
     def viscous_force(self, velocity: ArrayLike) -> FloatArray | float:

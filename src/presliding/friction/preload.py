@@ -16,6 +16,12 @@ a memory with F_el = F0 from one of two one-parameter families:
 For finite elements, Δ solves Σ_j k_j·min(Δ, 2 r_j) = F_m + d·F0 (branch) or
 δ solves Σ_j k_j·min(δ, r_j) = |F0| (virgin): piecewise linear, solved exactly
 (`preload_deformation`, also used compiled by the fits).
+
+Asymmetric friction (thresholds r_j⁺ in +y and r_j⁻ in −y, `presliding.friction._sides`):
+the branch is that of the symmetric bank of the mid thresholds r̄_j = (r_j⁺ + r_j⁻)/2 with
+every deformation shifted by δ_j = (r_j⁺ − r_j⁻)/2, so F0 ranges over [−F_m⁻, F_m⁺]; the
+virgin curve loads the side of sign(F0) with that side's thresholds
+(`preload_deformation_sided`).
 """
 
 from __future__ import annotations
@@ -25,12 +31,14 @@ import math
 import numpy as np
 
 from presliding._validation import as_choice, as_real_scalar, fmt
+from presliding.friction._sides import sides_of
 from presliding.friction.pi_friction import PIFriction
 from presliding.hysteresis._jit import njit
+from presliding.hysteresis._sorting import stable_argsort
 from presliding.hysteresis.general_pi import MemoryState
 from presliding.hysteresis.operators import PIState
 
-__all__ = ["preload_deformation", "preloaded_state"]
+__all__ = ["preload_deformation", "preload_deformation_sided", "preloaded_state"]
 
 PATHS = ("branch", "virgin")
 
@@ -54,7 +62,7 @@ def preload_deformation(k, r, fraction, direction, branch, out):  # pragma: no c
         target = fm * abs(fraction)
         scale = 1.0
     # G(Δ) = Σ k_j min(Δ, scale·r_j) is piecewise linear and increasing: walk its knots
-    order = np.argsort(r)
+    order = stable_argsort(r)
     g = 0.0  # G at the current knot
     slope = 0.0
     for j in range(n):
@@ -79,6 +87,33 @@ def preload_deformation(k, r, fraction, direction, branch, out):  # pragma: no c
             out[j] = sgn * min(delta, r[j])
 
 
+@njit(cache=True)
+def preload_deformation_sided(k, rp, rn, fraction, direction, branch, out):  # pragma: no cover
+    """`preload_deformation` of an asymmetric bank: thresholds rp in +y, rn in −y.
+
+    ``branch``: the symmetric bank of the mid thresholds, its deformations shifted by
+    (rp − rn)/2 (the elastic force is then fraction·Σ k_j r̄_j + Σ k_j δ_j, module notes);
+    else the virgin curve of the side sign(fraction), fraction of that side's F_m. Equal
+    sides run `preload_deformation` itself (bit for bit).
+    """
+    n = k.shape[0]
+    same = True
+    for j in range(n):
+        if rp[j] != rn[j]:
+            same = False
+            break
+    if same:
+        preload_deformation(k, rp, fraction, direction, branch, out)
+        return
+    if not branch:
+        preload_deformation(k, rp if fraction >= 0.0 else rn, fraction, direction, False, out)
+        return
+    mid = 0.5 * (rp + rn)
+    preload_deformation(k, mid, fraction, direction, True, out)
+    for j in range(n):
+        out[j] += 0.5 * (rp[j] - rn[j])
+
+
 def preloaded_state(
     model: PIFriction,
     elastic_force: float,
@@ -94,7 +129,8 @@ def preloaded_state(
     model : PIFriction
         Finite elements or a density.
     elastic_force : float
-        F0 [N], with |F0| <= F_m (the largest elastic force, `max_elastic_force`).
+        F0 [N], with |F0| <= F_m (the largest elastic force, `max_elastic_force`);
+        an asymmetric model: −F_m⁻ <= F0 <= F_m⁺ (Σ c_j⁻ and Σ c_j⁺).
     direction : {1, -1}, keyword only
         For ``path="branch"``: the direction of the motion along the branch
         (F0 = direction·F_m is the saturated memory of sliding that way).
@@ -122,6 +158,8 @@ def preloaded_state(
     d = as_real_scalar("direction", direction)
     if d not in (-1.0, 1.0):
         raise ValueError(f"`direction` must be 1 or -1; got {fmt(direction)}.")
+    if not model.is_symmetric:
+        return _asymmetric_state(model, f0, d, y, path == "branch")
     fm = model.max_elastic_force
     if abs(f0) > fm * (1 + 1e-12):
         raise ValueError(
@@ -136,6 +174,29 @@ def preloaded_state(
         sgn = d if path == "branch" else float(np.sign(f0))
         return PIState(y, y - f, sgn)
     return _density_state(model, fraction, d, y, path)
+
+
+def _asymmetric_state(model: PIFriction, f0: float, d: float, y: float, branch: bool) -> PIState:
+    """The memory of an asymmetric finite-element model (module notes)."""
+    k = np.asarray(model.stiffness)
+    rp, rn = sides_of(model).threshold
+    fmp, fmn = float(k @ rp), float(k @ rn)
+    if not -fmn * (1 + 1e-12) <= f0 <= fmp * (1 + 1e-12):
+        raise ValueError(
+            f"`elastic_force` must lie in [−F_m⁻, F_m⁺] = [{fmt(-fmn)}, {fmt(fmp)}] (the "
+            f"largest forces the elements carry in each direction); got {fmt(f0)}."
+        )
+    if branch:
+        mid = 0.5 * (rp + rn)
+        fm_mid, shift = float(k @ mid), float(k @ (0.5 * (rp - rn)))
+        fraction = (f0 - shift) / fm_mid if fm_mid > 0 else 0.0
+    else:
+        side = fmp if f0 >= 0 else fmn
+        fraction = f0 / side if side > 0 else 0.0
+    f = np.empty(k.shape[0])
+    preload_deformation_sided(k, np.ascontiguousarray(rp), np.ascontiguousarray(rn),
+                              fraction, d, branch, f)  # fmt: skip
+    return PIState(y, y - f, d if branch else float(np.sign(f0)))
 
 
 def _density_state(

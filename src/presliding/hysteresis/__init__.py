@@ -17,6 +17,7 @@ _batch_kernels.py       the compiled loop of `PIBatch` (batch as the SIMD axis, 
 _general_pi.py          compiled kernels of the general operator (closed-form pieces)
 _density_base.py, _density_primitives.py, _tabulated.py   the density classes and their primitives
 _jit.py                 the typed `njit` decorator every compiled kernel uses (cache=True)
+_sorting.py             a stable argsort for kernels (numba's own costs 0.9 s to compile)
 _results.py             the result convention shared by every layer: string `Status`, `ResultMixin`
 
 May import: numpy, scipy, numba and the package root's shared modules only.

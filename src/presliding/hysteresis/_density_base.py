@@ -27,7 +27,7 @@ from presliding._validation import (
     fmt,
     renamed,
 )
-from presliding.hysteresis._density_primitives import DISCRETE, evaluate
+from presliding.hysteresis._density_primitives import DISCRETE, discrete_lookup, evaluate
 
 FloatArray = NDArray[np.float64]
 
@@ -66,8 +66,11 @@ class Density:
         if (rv < 0).any():
             i = int(np.argmax(rv < 0))
             raise ValueError(f"`{name}` must be nonnegative; got {fmt(rv[i])} at index {i}.")
-        out = np.empty(rv.shape[0])
-        evaluate(self._kind, self._par, self._tab, rv, which, out)
+        if self._kind == DISCRETE:  # a table lookup: nothing to compile
+            out = discrete_lookup(self._tab, rv, which)
+        else:
+            out = np.empty(rv.shape[0])
+            evaluate(self._kind, self._par, self._tab, rv, which, out)
         return float(out[0]) if scalar else out
 
     def M1(self, r: ArrayLike) -> Any:

@@ -31,6 +31,8 @@ Functions for other compiled code
 ---------------------------------
 * ``primitives(kind, par, tab, r) -> (M1, M2, T)``
 * ``evaluate(kind, par, tab, r, which, out)``: M1, M2 or T at every r of an array.
+* ``discrete_lookup(tab, r, which)``: the same for ``DISCRETE`` in numpy (a table
+  lookup, the same values: building a finite-element model compiles nothing).
 * ``_unpack(par) -> (R, p1, p2)`` and ``_prim(kind, R, p1, p2, tab, r, want_m2)``:
   the scalar form used inside the time loops (parameters unpacked once).
 """
@@ -185,6 +187,13 @@ def primitives(kind, par, tab, r):  # pragma: no cover - compiled
     """(M1(r), M2(r), T(r)) = (∫_0^r s dμ, ∫_0^r s² dμ, μ((r, R]))."""
     big_r, p1, p2 = _unpack(par)
     return _prim(kind, big_r, p1, p2, tab, r, np.bool_(True))
+
+
+def discrete_lookup(tab: np.ndarray, r: np.ndarray, which: int) -> np.ndarray:
+    """M1, M2 or T (which = 1, 2, 3) of a ``DISCRETE`` table at every r >= 0 (no NaN):
+    `_prim`'s binary search (entries <= r) as numpy's, the same rows read."""
+    n = tab.shape[1] - 1
+    return tab[which, np.searchsorted(tab[0, :n], r, side="right")]
 
 
 @njit(**_JIT)

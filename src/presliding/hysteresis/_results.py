@@ -20,6 +20,7 @@ from typing import Any, ClassVar
 import numpy as np
 
 from presliding._display import fill_attrs, result_html, short_repr
+from presliding._interop import require
 
 __all__ = ["ResultMixin", "Status", "deprecated_code"]
 
@@ -104,7 +105,7 @@ class ResultMixin:
 
     def to_pandas(self) -> Any:
         """A DataFrame of the sampled arrays (see the class notes); needs pandas."""
-        import pandas as pd
+        pd = require("pandas", "`to_pandas()`")
 
         rows = np.asarray(getattr(self, self._rows))
         n = rows.shape[0]

@@ -360,9 +360,10 @@ class GeneralPIOperator:
             still stick (ρ the front at `y`).
         """
         check_type("state", state, MemoryState)
-        head, stack = _memory(self.density, state, as_real_scalar("y", y))
+        yv = as_real_scalar("y", y)
+        head, stack = _memory(self.density, state, yv)
         d = self.density
-        f, s = gk.force_at(float(y), head, stack, d._kind, d._par, d._tab)
+        f, s = gk.force_at(yv, head, stack, d._kind, d._par, d._tab)
         return float(f), float(s)
 
     def elastic_energy(self, state: MemoryState) -> float:

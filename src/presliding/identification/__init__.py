@@ -18,6 +18,8 @@ rate_families.py    `fit_gms`, `fit_lugre`, `fit_dahl`: the rate families as fit
 masing.py           `masing_check`, `MasingCheck`: do measured loops follow a virgin curve?
 prediction.py       `Prediction`, `count_reversals`: a fitted model on another record
 cross_validation.py `cross_validate`, `CrossValidation`: leave-one-record-out tables
+fit_comparison.py   `compare_fits`, `FitComparison`: model families side by side
+families.py         `FAMILIES`, `register_family`: the families compare_fits knows (registry)
 model_prediction.py `predict_record`: a given model (a model file's) predicting a record
 uncertainty.py      HAC (Newey–West) covariance, correlations
 _fit_engine.py      `run_fit`: the one pipeline (search, checks, judge, intervals, result)
@@ -46,7 +48,10 @@ May import: `presliding.measurement`, `presliding.motion`, `presliding.analysis`
 # first: the old paths of the modules that moved to `presliding.measurement`
 from presliding.identification import _moved  # noqa: F401  (registers the aliases)
 from presliding.identification import fit_presliding as _fit_presliding
+from presliding.identification import rate_families as _rate_families  # noqa: F401  (registers)
 from presliding.identification.cross_validation import CrossValidation, cross_validate
+from presliding.identification.families import CARRIES, FAMILIES, register_family
+from presliding.identification.fit_comparison import FitComparison, compare_fits
 from presliding.identification.fit_motion import fit_motion, predict_motion_force
 from presliding.identification.fit_presliding import fit_presliding
 from presliding.identification.fit_quasi_static import fit_quasi_static
@@ -64,11 +69,15 @@ _fit_presliding.fit_virgin_curve = fit_virgin_curve  # type: ignore[attr-defined
 _fit_presliding.virgin_samples = virgin_samples  # type: ignore[attr-defined]
 
 __all__ = [
+    "CARRIES",
+    "FAMILIES",
     "CrossValidation",
+    "FitComparison",
     "FitResult",
     "MasingCheck",
     "Measurement",
     "Prediction",
+    "compare_fits",
     "correlation_matrix",
     "count_reversals",
     "cross_validate",
@@ -81,5 +90,6 @@ __all__ = [
     "masing_check",
     "predict_motion_force",
     "predict_record",
+    "register_family",
     "reversal_tolerance",
 ]

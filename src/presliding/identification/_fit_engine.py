@@ -14,9 +14,12 @@ functions (lmfit's single Minimizer, scipy's result conventions):
    whose own start the data cannot pin down;
 3. **refit** — a fit may end here with another fit (`FitPlan.refit`: the
    refit without elements that never slide);
-4. **judge** — the noise-floor rule of record-pooled problems
-   (`_search.floor_test`: ``local_minimum``) and the search summary (a
-   direct problem's summary is its `Found`);
+4. **judge** — the residual tests of the optimum (`FitPlan.adequacy`,
+   `_adequacy`: level, whiteness and independence per record, the likely cause
+   when they fail), the noise-floor rule of record-pooled problems
+   (`_search.floor_test`: ``local_minimum``), then rule ``adequacy`` of
+   `_status` (``model_inadequate``) and the search summary (a direct
+   problem's summary is its `Found`);
 5. **intervals** — the record bootstrap when asked (its intervals joined
    with the profile-likelihood ones, `_response_setup.record_bootstrap`);
 6. **result** — `FitPlan.result` assembles the `FitResult`, whose
@@ -101,6 +104,8 @@ class FitPlan:
     refit: Callable[[FitRun, Solution], Any] | None = None  # a FitResult ends the fit
     bootstrap: int = 0
     seed: int | None = None
+    #: the residual tests of an optimum (`_adequacy.Adequacy`; None: not tested)
+    adequacy: Callable[[FitRun, Solution], Any] | None = None
 
 
 def run_fit(problem: FitProblem, options: FitOptions, plan: FitPlan) -> Any:
@@ -115,7 +120,7 @@ def run_fit(problem: FitProblem, options: FitOptions, plan: FitPlan) -> Any:
         other = plan.refit(run, sol)
         if other is not None:
             return other
-    sol, summary = judge(run, sol, found)
+    sol, summary = judge(run, sol, found, plan.adequacy)
     sol, boot = intervals(run, sol, plan.bootstrap, plan.seed)
     sol = replace(sol, others=other_optima(run, sol))
     if problem.records is not None:  # every start and check counted; a direct problem
@@ -154,16 +159,32 @@ def settle(run: FitRun, sol: Solution) -> Solution:
     return consistent_level(nuisance_only(sol, p.records, p.fixed), p.spec)
 
 
-def judge(run: FitRun, sol: Solution, found: Found) -> tuple[Solution, Any]:
-    """The noise-floor rule of a record-pooled fit and its search summary (`_search`);
-    a direct problem has no noise floor: its summary is what the search found."""
+def judge(
+    run: FitRun,
+    sol: Solution,
+    found: Found,
+    adequacy: Callable[[FitRun, Solution], Any] | None = None,
+) -> tuple[Solution, Any]:
+    """The residual tests, the noise-floor rule of a record-pooled fit, rule ``adequacy``
+    and the search summary (`_search`); a direct problem has no floor of its own but its
+    tests' level: its summary is what the search found."""
+    from presliding.identification.judge._status import OPTIMUM, adequacy_verdict
     from presliding.identification.search._search import SearchSummary, floor_test
 
-    records = run.problem.records
-    if records is None:
-        return sol, found
+    tested = adequacy(run, sol) if adequacy is not None and sol.status in OPTIMUM else None
     agree = found.n_starts_at_best == found.n_starts
-    sol, ratios, floor, over = floor_test(records, sol, agree)
+    records = run.problem.records
+    if records is None:  # its search is global (every start a threshold set by projection):
+        # residual tests that fail are the model's, wherever the other starts ended
+        status, message = adequacy_verdict(sol.status, sol.message, tested)
+        return replace(sol, status=status, message=message, adequacy=tested), found
+    failing = 0 if tested is None or tested.passed else len(tested.failing_records)
+    cause = failing > 0 and tested is not None and tested.cause is not None
+    every = failing == records.n_rec  # no record fits
+    named = cause or 2 * failing >= records.n_rec > 0 < failing
+    sol, ratios, floor, over = floor_test(records, sol, agree or cause or every, named)
+    status, message = adequacy_verdict(sol.status, sol.message, tested, agree or every)
+    sol = replace(sol, status=status, message=message, adequacy=tested)
     summary = SearchSummary(found.n_starts, found.n_starts_at_best, floor, over, ratios,
                             found.search_evaluations)  # fmt: skip
     return sol, summary

@@ -17,6 +17,7 @@ not see, not how well the fit reproduces its own data.
 
 from __future__ import annotations
 
+import textwrap
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING, Any
@@ -24,6 +25,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from presliding._display import fill_attrs, result_html, short_repr
+from presliding._interop import require
 from presliding._validation import as_choice, as_nonnegative_scalar
 from presliding.identification.fit_result import FitResult
 from presliding.identification.prediction import Prediction, tolerance_text
@@ -109,7 +111,7 @@ class CrossValidation:
 
     def table(self) -> list[list[str]]:
         """Rows: record, fit status, NRMSE and reversals (measured and fitted start), rest."""
-        unit = self.result.units.get("initial_position", "m") if self.result else "m"
+        unit = _position_unit(self.result)
         rows = [["record", "fit status", "NRMSE % (measured start)", "NRMSE % (fitted start)",
                  "reversals meas. / pred. (measured start)",
                  "reversals meas. / pred. (fitted start)", f"rest error [{unit}] (measured / "
@@ -123,17 +125,37 @@ class CrossValidation:
     @property
     def reversal_tolerances(self) -> str:
         """The tolerances the reversals were counted at, as text (encoder counts if quantised)."""
-        texts = sorted({tolerance_text(p.reversal_tolerance, p.quantum) for p in self.predictions})
+        unit = _position_unit(self.result)
+        texts = sorted({tolerance_text(p.reversal_tolerance, p.quantum, unit)
+                        for p in self.predictions})  # fmt: skip
         return texts[0] if len(texts) == 1 else f"each record's own ({', '.join(texts[:3])}, ...)"
 
     def report(self) -> str:
-        """The table as text, with the median NRMSE and the share of exact reversal counts."""
-        rows = self.table()
-        widths = [max(len(r[i]) for r in rows) for i in range(len(rows[0]))]
+        """The table as text (headers wrapped to the columns, about 100 characters wide), the
+        median NRMSE, the share of exact reversal counts and why a left-out fit did not
+        converge."""
+        head, *rows = self.table()
+        own = {r[-1] for r in rows}
+        if len(own) == 1:  # the same parameters fitted to every held-out record: said below
+            head, rows = head[:-1], [r[:-1] for r in rows]
+        widths = [max([len(r[i]) for r in rows] + [len(w) for w in head[i].split()])
+                  for i in range(len(head))]  # fmt: skip
+        wrapped = [textwrap.wrap(h, max(w, 10)) for h, w in zip(head, widths, strict=True)]
+        widths = [max(w, *(len(x) for x in h)) for w, h in zip(widths, wrapped, strict=True)]
         lines = ["leave-one-record-out cross-validation:"]
-        lines += [
-            "  " + "  ".join(c.ljust(w) for c, w in zip(r, widths, strict=True)) for r in rows
-        ]
+        for k in range(max(len(h) for h in wrapped)):
+            cells = [h[k] if k < len(h) else "" for h in wrapped]
+            lines.append(
+                "  " + "  ".join(c.ljust(w) for c, w in zip(cells, widths, strict=True)).rstrip()
+            )
+        lines += ["  " + "  ".join(c.ljust(w) for c, w in zip(r, widths, strict=True)).rstrip()
+                  for r in rows]  # fmt: skip
+        if len(own) == 1:
+            lines.append(f"  fitted to each held-out record: {own.pop()}")
+        for label, fit in zip(self.labels, self.fits, strict=True):
+            if fit.status != "converged":
+                lead = f"  {label}: fit {fit.status}: "
+                lines.append(lead + textwrap.shorten(fit.message, max(40, 100 - len(lead))))
         lines.append(
             f"  median NRMSE {100 * float(np.median(self.nrmse)):.3g} % (start "
             f"{self.predictions[0].initial if self.predictions else 'fit'}); reversal counts "
@@ -164,7 +186,7 @@ class CrossValidation:
 
     def to_pandas(self) -> Any:
         """A DataFrame with a row per held-out record."""
-        import pandas as pd
+        pd = require("pandas", "`to_pandas()`")
 
         rows = [
             {"record": label, "fit_status": f.status, **p.to_dict()}
@@ -172,7 +194,8 @@ class CrossValidation:
         ]
         frame = pd.DataFrame(rows).drop(columns=["parameters"]).set_index("record")
         frame.attrs.update(median_nrmse=float(np.median(self.nrmse)))
-        return fill_attrs(frame, self, units={"measured_rest": "m", "predicted_rest": "m"},
+        unit = _position_unit(self.result)
+        return fill_attrs(frame, self, units={"measured_rest": unit, "predicted_rest": unit},
                           model=self.result.model)  # fmt: skip
 
     def __repr__(self) -> str:
@@ -196,6 +219,13 @@ class CrossValidation:
         ax.set_ylabel("NRMSE of the prediction [%]")
         ax.set_title("leave-one-record-out cross-validation")
         return ax
+
+
+def _position_unit(result: FitResult | None) -> str:
+    """The unit of positions on the axis of the records (m, or rad on a rotary axis)."""
+    from presliding._axes import axis_unit
+
+    return axis_unit("position", getattr(result, "axis", None) or "linear")
 
 
 def _num(x: float | None) -> str:
@@ -302,7 +332,7 @@ def cross_validate(
                 alternatives.append(_failed(held, part))
                 continue
             other = "measured" if initial == "fit" else "fit"
-            tol = {} if reversal_tolerance is None else {"tolerance": tol_value}
+            tol = {} if reversal_tolerance is None else {"reversal_tolerance": tol_value}
             predictions.append(part.predict(held, initial=initial, **tol))
             alternatives.append(part.predict(held, initial=other, **tol))
     cv = CrossValidation(tuple(predictions), tuple(fits), full, names, tuple(alternatives))

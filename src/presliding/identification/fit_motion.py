@@ -10,6 +10,11 @@ this is linear least squares (the classical "inverse dynamic identification
 model" when there are no elements); the thresholds follow by nonlinear least
 squares from a start found on a threshold grid (`presliding.identification.problem._pi_regression`).
 
+With ``asymmetric=True`` the symmetric fit (no offset) runs first, the
+asymmetric one also starts from its thresholds (its residual is then never the
+larger), and ``result.asymmetry`` tests the difference of the sides
+(`presliding.identification.judge._asymmetry`).
+
 When u = 0 throughout (a free response) the equation is homogeneous: the
 mass and every force are determined only up to a common factor. Fix the mass
 (``fixed={"mass": m}``) or use `fit_response`, which reports them per unit mass.
@@ -41,7 +46,8 @@ from presliding.identification.fit_result import FitResult, Tie
 from presliding.identification.judge._status import sign_hint
 from presliding.identification.problem import _pi_regression as pr
 from presliding.identification.problem._fit_problem import FitOptions
-from presliding.identification.problem._parameters import resolve_parameters
+from presliding.identification.problem._parameters import check_flag, resolve_parameters
+from presliding.identification.problem._separable_adequacy import separable_adequacy
 from presliding.identification.problem._separable_problem import Separable, separable_problem
 from presliding.identification.result._fit_progress import FitProgress, as_reporter, shows_progress
 from presliding.measurement.measurement import Measurement
@@ -119,7 +125,8 @@ def fit_motion(
         separate σ⁺ (``viscous``) and σ⁻ (``viscous_negative``). The elements
         stay symmetric. Excludes `offset`: while the mass slides, a constant
         force is the same column as c1⁺ − c1⁻ (the offset is absorbed into
-        (c1⁺ − c1⁻)/2).
+        (c1⁺ − c1⁻)/2). ``result.asymmetry`` tests the sides against the
+        symmetric fit (module notes).
     min_speed : float
         Samples with |ẏ| <= min_speed are left out of the residual (at rest the
         Coulomb force is set-valued, and sign(ẏ) of a noisy estimate is
@@ -150,6 +157,7 @@ def fit_motion(
         the offset F_0 is in `parameters` only: the measured force is
         u = m·ÿ + F + F_0).
     """
+    request = dict(locals())
     n = _check_request(measurement, n_elements, thresholds, asymmetric, offset)
     min_speed = as_nonnegative_scalar("min_speed", min_speed)
     initial, bounds, fixed, tied = resolve_parameters(initial, bounds, fixed, tied)
@@ -158,16 +166,31 @@ def fit_motion(
     )
     sep = _motion_model(measurement, n, viscous, offset, asymmetric, min_speed, fixed)
     names, position = sep.x_names, measurement.require("position")[0]
-    problem = separable_problem(
-        sep, {k: _NONNEGATIVE for k in _BOUNDED if k in names},
-        grid=pr.threshold_grid(position, grid_size), thresholds=thresholds,
-        refine_thresholds=refine_thresholds, fixed=fixed, tied=tied,
-        progress=as_reporter(progress), user_initial=initial, user_bounds=bounds,
+    problem = partial(
+        separable_problem, sep, {k: _NONNEGATIVE for k in _BOUNDED if k in names},
+        grid=pr.threshold_grid(position, grid_size), refine_thresholds=refine_thresholds,
+        fixed=fixed, tied=tied, progress=as_reporter(progress), user_initial=initial,
+        user_bounds=bounds,
     )  # fmt: skip
     options = FitOptions(level, max_evaluations, tolerance, progress=as_reporter(progress))
-    plan = FitPlan(search=lambda run: Found(run.problem.solve(run.options)),
-                   result=partial(_result, sep, measurement, viscous or asymmetric))  # fmt: skip
-    return run_fit(problem, options, plan)
+    result = partial(_result, sep, measurement, viscous or asymmetric)
+    adequacy = partial(_adequacy, sep, measurement)
+    if check_flag("asymmetric", asymmetric):
+        return _fit_sided(request, problem, thresholds, result, options, viscous, adequacy)
+    plan = FitPlan(search=lambda run: Found(run.problem.solve(run.options)), result=result,
+                   adequacy=adequacy)  # fmt: skip
+    return run_fit(problem(thresholds=thresholds), options, plan)
+
+
+def _fit_sided(request: dict[str, Any], problem: Any, thresholds: Any, result: Any,
+               options: FitOptions, viscous: bool, adequacy: Any) -> FitResult:  # fmt: skip
+    """``asymmetric=True``: the symmetric fit, then the asymmetric one (module notes)."""
+    from presliding.identification.plans._asymmetric_plan import fit_nested, split_negative
+
+    symmetric = fit_motion(**{**split_negative(request), "asymmetric": False})
+    rows = [{"coulomb_negative": 1.0, "coulomb": -1.0}]
+    rows += [{"viscous_negative": 1.0, "viscous": -1.0}] if viscous else []
+    return fit_nested(problem, thresholds, symmetric, result, rows, options, adequacy)
 
 
 def _check_request(measurement: Any, n_elements: Any, thresholds: Any, asymmetric: Any,
@@ -238,6 +261,28 @@ def _result(sep: Separable, m: Measurement, sided: bool, run: FitRun, sol: Any, 
         hint=sign_hint(u, np.sign(velocity), "applied force"),
         rotary=rotary,
     )  # fmt: skip
+
+
+def _adequacy(sep: Separable, m: Measurement, run: FitRun, sol: Any) -> Any:
+    """The residual tests (`_separable_adequacy`): the equation error's own noise (it
+    combines the force's with the acceleration's)."""
+    position, velocity, _, u = m.require("position", "velocity", "acceleration", "applied_force")
+    extra = {}
+    if "coulomb_negative" not in sep.x_names:
+        extra["asymmetry"] = (velocity < 0).astype(float)
+    if "viscous" not in sep.x_names:
+        extra["velocity"] = velocity
+    regressors = {"the applied force": u, "the velocity": velocity,
+                  "the direction of motion": np.sign(velocity)}  # fmt: skip
+    return separable_adequacy(
+        sep,
+        sol,
+        regressors,
+        own_noise=True,
+        extra=extra,
+        signal="applied force",
+        span=float(np.ptp(position)) if sep.n_elements else None,
+    )
 
 
 def _side(values: Mapping[str, float], name: str) -> float | None:

@@ -22,6 +22,15 @@ intervals say so).
 Start: eq. 8 as a regression, u = c1·sign(ẏ) + Σ_g w_g·stop_g(y) (+ offset) on
 the samples where the position moves (there the balance holds with equality),
 after each record's first reversal (an unknown earlier memory wiped out).
+
+Asymmetric friction (``asymmetric=True``): F_c⁻ (``coulomb_level_negative``)
+besides F_c⁺, every negative level the share F_c⁻/F_c⁺ of its positive one, as
+in `fit_response`. The quasi-static response of an asymmetric model is exactly
+that of the symmetric model of the mean levels under u − (F_c⁺ − F_c⁻)/2 (the
+exact inverse walks each direction's thresholds, `_quasi_static_kernel`): the
+records determine the difference of the levels as they would an offset, and
+the fit reports it as the sides'. The symmetric fit runs first;
+``result.asymmetry`` tests the difference.
 """
 
 from __future__ import annotations
@@ -31,11 +40,14 @@ from collections.abc import Mapping, Sequence
 from presliding._progress import Progress
 from presliding.identification._fit_engine import run_fit
 from presliding.identification.fit_result import FitResult, Tie
+from presliding.identification.plans._asymmetric_plan import fit_asymmetric
 from presliding.identification.plans._quasi_static_plan import (
+    asymmetric_parts,
     check_quasi_static,
     quasi_static_plan,
     quasi_static_problem,
 )
+from presliding.identification.problem._parameters import check_flag
 from presliding.identification.records._quasi_static_start import (  # noqa: F401 (their home before)
     lift_density,
     quasi_static_start,
@@ -57,6 +69,7 @@ def fit_quasi_static(
     min_coulomb_level: float | None = None,
     offset: bool = False,
     creep: bool = False,
+    asymmetric: bool = False,
     initial_state: str = "preload",
     initial: Mapping[str, float] | None = None,
     fixed: Mapping[str, float] | None = None,
@@ -89,6 +102,10 @@ def fit_quasi_static(
         [s], shared; the records' `time` is used). A joint that keeps moving under a
         constant torque below break-away creeps to a limit this way; with J = 0 the
         model is the PI model. The returned model is then a `CreepingFriction`.
+    asymmetric : bool, keyword only
+        Separate levels for the two directions (``coulomb_level_negative`` F_c⁻,
+        bounded below by the largest −u; module notes); excludes `offset` and a
+        `density`. ``result.asymmetry`` tests it against the symmetric fit.
     initial_state : {"preload", "continuing", "relaxed"}, keyword only
         The memory each record starts with: a fitted preload
         (``preload_fraction``; the record reverses at it), a branch its first
@@ -103,6 +120,14 @@ def fit_quasi_static(
         model is `PIFriction` (no mass: quasi-static; with ``creep=True`` a
         `CreepingFriction`), `predict` gives the response of another record.
     """
-    checked = check_quasi_static(dict(locals()))
+    request = dict(locals())
+    if check_flag("asymmetric", asymmetric):
+        if check_flag("creep", creep):
+            raise ValueError(
+                "`creep`=True fits one level for both directions; it is not available with "
+                "`asymmetric`=True; got creep=True, asymmetric=True."
+            )
+        return fit_asymmetric(fit_quasi_static, request, check_quasi_static, asymmetric_parts)
+    checked = check_quasi_static(request)
     problem, options = quasi_static_problem(checked)
     return run_fit(problem, options, quasi_static_plan(checked))

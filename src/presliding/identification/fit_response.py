@@ -34,6 +34,15 @@ stiffest element can trade places with the Coulomb element (k_1 → ∞). The fi
 tries the regression start and a spread start, then refits with that element
 rigid; if the cost rises by no more than s²·t² the status is
 ``"not_identifiable"``. A model parameter on its bound 0 gives ``"at_bound"``.
+
+Asymmetric friction (``asymmetric=True``): the level of sliding in −y, F_c⁻
+(``coulomb_level_negative``; ``coulomb_negative`` c1⁻ without elements) and σ⁻
+(``viscous_negative``) are fitted besides the positive side, every negative
+level the share F_c⁻/F_c⁺ of its positive one (`_model_spec`: the records
+determine the difference of the levels, not how it splits between c1 and the
+elements). The symmetric fit runs first and the asymmetric one starts from it
+(`_asymmetric_plan`); ``result.asymmetry`` tests whether the data support the
+difference (`judge._asymmetry`).
 """
 
 from __future__ import annotations
@@ -43,8 +52,14 @@ from collections.abc import Mapping, Sequence
 from presliding._progress import Progress
 from presliding.identification._fit_engine import run_fit
 from presliding.identification.fit_result import FitResult, Tie
-from presliding.identification.plans._response_plan import response_plan, response_problem
+from presliding.identification.plans._asymmetric_plan import fit_asymmetric
+from presliding.identification.plans._response_plan import (
+    asymmetric_parts,
+    response_plan,
+    response_problem,
+)
 from presliding.identification.plans._response_request import check_response, order_options
+from presliding.identification.problem._parameters import check_flag
 from presliding.identification.result._fit_progress import FitProgress, shows_progress
 from presliding.identification.search._model_order import choose_order
 from presliding.measurement.measurement import Measurement
@@ -65,6 +80,7 @@ def fit_response(
     min_coulomb_level: float | None = None,
     viscous: bool = False,
     offset: bool = False,
+    asymmetric: bool = False,
     signal: str = "velocity",
     velocity: str = "auto",
     weights: Mapping[str, float] | None = None,
@@ -125,6 +141,17 @@ def fit_response(
         model returned carries it, `PIFriction(..., viscous=σ)`).
     offset : bool, keyword only
         Fit a constant force offset (parameter ``offset``): the drive is u − offset.
+    asymmetric : bool, keyword only
+        Separate levels for the two directions of sliding: ``coulomb_level_negative``
+        F_c⁻ (``coulomb_negative`` without elements) and, with `viscous`,
+        ``viscous_negative`` σ⁻; c1⁻ = ρ·c1 and c_j⁻ = ρ·c_j with ρ = F_c⁻/F_c⁺
+        (the play band [y − r_j, y + ρ·r_j]). Elements only (no `density`);
+        excludes `offset`, which is the same model: from any memory but the
+        relaxed one, the asymmetric model moves exactly as the symmetric model
+        of the mean levels under u − (F_c⁺ − F_c⁻)/2. The symmetric fit runs
+        first; ``result.asymmetry`` says whether the data support the
+        asymmetry (an F test of the nested fits, scaled for the residual's
+        autocorrelation, with ΔAIC and ΔBIC) and holds the symmetric fit.
     signal : {"velocity", "position", "both"}, keyword only
         What is compared; "both" weighs each signal by the inverse of its RMS.
     velocity : {"auto", "difference", "measured"}, keyword only
@@ -169,8 +196,10 @@ def fit_response(
         Bounds on any parameter, intersected with its natural ones.
     prune : bool, keyword only
         Drop elements that never slide in the data (their k_j → 0, or 2·r_j
-        beyond the largest swing) and refit, with the `fixed`, `tied` and
-        `bounds` given (those of dropped elements left out); the derived values
+        beyond the largest swing) and refit once, from the fit's optimum without
+        them, with the `fixed`, `tied` and `bounds` given (those of dropped
+        elements left out); the notes name the elements dropped, and any of the
+        refit's own that never slide in turn (kept). The derived values
         ``effective_elements`` and ``reachable_coulomb_level`` are always given.
     bootstrap : int, keyword only
         Record-level bootstrap resamples (used with three or more records; 0: none).
@@ -212,7 +241,14 @@ def fit_response(
     """
     request = dict(locals())
     if family != "pi" or substeps is not None:
+        if check_flag("asymmetric", asymmetric):
+            raise ValueError(
+                "`asymmetric`=True fits the PI model's two directions (family 'pi'); the rate "
+                f"families have one level; got asymmetric=True with family {family!r}."
+            )
         return _fit_rate(request)
+    if check_flag("asymmetric", asymmetric):
+        return fit_asymmetric(fit_response, request, check_response, asymmetric_parts)
     if isinstance(n_elements, str):
         return choose_order(fit_response, order_options(request))
     checked = check_response(request)

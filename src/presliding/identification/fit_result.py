@@ -105,7 +105,10 @@ class FitResult(FitReport, LmfitNames):
         One of `STATUSES`: ``"converged"`` (the only success),
         ``"local_minimum"`` (the search found a better optimum than the one
         returned, or the residual stays far above the noise floor),
-        ``"not_identifiable"`` (the data do not determine some parameters:
+        ``"model_inadequate"`` (the residuals are not what the noise model
+        says: the model does not describe the data; `adequacy` says which test
+        failed where, and the likely cause), ``"not_identifiable"`` (the data
+        do not determine some parameters:
         |ρ| >= 0.999, a standard error that is not finite, an interval that
         is unbounded or spans orders of magnitude, a flat profile),
         ``"at_bound"`` (a model parameter sits on a bound, where the linearised
@@ -163,6 +166,24 @@ class FitResult(FitReport, LmfitNames):
         `presliding.identification.intervals._profile_bound`; its standard error raised
         to match) or ``"union"`` (widened to hold another local optimum,
         `alternatives`).
+    asymmetry : AsymmetryTest or None
+        A fit with ``asymmetric=True``: the test of the asymmetry against the
+        symmetric fit of the same data (``verdict`` "supported", "not
+        supported" or "undetermined", ``statistic``, ``p_value``, ``delta_aic``,
+        ``delta_bic``, the ``symmetric`` fit;
+        `presliding.identification.judge._asymmetry`).
+    adequacy : Adequacy or None
+        The residual tests of the fit (`presliding.identification.judge._adequacy`):
+        ``passed``, ``findings`` (test, record, signal, lag), ``levels`` (each
+        record's residual RMS over its noise) and ``cause`` (the likely mechanism
+        the model lacks, when one is found); None where they did not run (a fit
+        that is not at an optimum).
+    intervals_calibrated : bool (property)
+        False when the intervals cannot be read as calibrated confidence
+        intervals: the residual tests failed (the model does not describe the
+        data), the fit is not at an optimum of its model, or a linearised
+        interval is too wide to hold and its profile was not resolved (rule
+        ``profile``). The numbers stay.
     alternatives : tuple of Alternative
         Other local optima the search reached whose cost rise over the best is
         within the profile's likelihood-ratio threshold while they put a
@@ -210,6 +231,9 @@ class FitResult(FitReport, LmfitNames):
     ties: dict[str, tuple[str, float, float]] = field(default_factory=dict)
     search: Any = None  # the pooled fits' `_search.SearchSummary` (starts, noise floor, order)
     alternatives: tuple[Alternative, ...] = ()
+    asymmetry: Any = None  # an `AsymmetryTest` (fits with asymmetric=True)
+    adequacy: Any = None
+    unresolved: tuple[str, ...] = ()  # parameters whose profile stopped unresolved
 
     @classmethod
     def from_solution(
@@ -232,6 +256,7 @@ class FitResult(FitReport, LmfitNames):
             standard_error=sol.standard_error, intervals=sol.confidence_interval,
             covariance=sol.covariance, bounds=sol.bounds,
             model_hint=labels.pop("model_hint", ""),
+            interval_method={x: sol.interval_method.get(x, "") for x in sol.unresolved},
         )  # fmt: skip
         chisqr = float(sol.residual @ sol.residual) if sol.residual.size else float("nan")
         units = parameter_units([*sol.values, *labels.get("derived", {})], rotary)
@@ -251,7 +276,8 @@ class FitResult(FitReport, LmfitNames):
             units=units, covariance=sol.covariance, bounds=sol.bounds, chisqr=chisqr,
             ndata=int(sol.residual.size), var_names=sol.free,
             interval_method=dict(sol.interval_method), ties=dict(sol.ties),
-            alternatives=alternatives, **labels,
+            alternatives=alternatives, adequacy=sol.adequacy, unresolved=sol.unresolved,
+            **labels,
         )  # fmt: skip
 
     def on_axis(self, axis: str) -> FitResult:
@@ -267,6 +293,18 @@ class FitResult(FitReport, LmfitNames):
             signal_unit=on_axis(self.signal_unit, axis),
             abscissa_label=on_axis(self.abscissa_label, axis),
         )  # fmt: skip
+
+    @property
+    def intervals_calibrated(self) -> bool:
+        """Whether the intervals may be read as calibrated: the fit is at an optimum of its
+        model and its residuals pass the tests of `adequacy` (where they ran)."""
+        from presliding.identification.judge._status import loose_wald
+
+        at_optimum = self.status in ("converged", "not_identifiable", "at_bound")
+        if loose_wald(self.parameters, self.confidence_interval, self.interval_method,
+                      self.unresolved):  # fmt: skip
+            return False  # a linearised interval too wide to hold, its profile not resolved
+        return at_optimum and (self.adequacy is None or bool(self.adequacy.passed))
 
     @property
     def n_starts(self) -> int | None:
@@ -300,9 +338,12 @@ class FitResult(FitReport, LmfitNames):
         measurement : Measurement
             A record of the kind fitted (same signals).
         **options
-            Passed to the fit's predictor, e.g. ``initial="fit"`` (default: the
+            Passed to the fit's predictor: ``initial="fit"`` (default: the
             record's own initial conditions estimated with every shared
-            parameter held) or ``initial="measured"`` (its first samples).
+            parameter held) or ``initial="measured"`` (its first samples), and
+            ``reversal_tolerance`` (the travel [m or rad] by which reversals are
+            counted; default the record's own; its old name ``tolerance`` works
+            with a DeprecationWarning).
 
         Returns
         -------
@@ -310,10 +351,16 @@ class FitResult(FitReport, LmfitNames):
             Measured against predicted signal, NRMSE, reversal counts and rest
             positions (`presliding.identification.cross_validation`).
         """
+        from presliding._validation import renamed_keyword
+
         if self.predictor is None:
             raise ValueError(
                 f"a {self.kind} fit cannot predict other records; got kind {self.kind!r}."
             )
+        given = renamed_keyword(options, "tolerance", "reversal_tolerance",
+                                options.pop("reversal_tolerance", None), "predict")  # fmt: skip
+        if given is not None:
+            options["tolerance"] = given  # the predictors' own name
         return self.predictor.predict(self, measurement, **options)
 
     def to_dict(self) -> dict[str, Any]:
@@ -343,11 +390,14 @@ class FitResult(FitReport, LmfitNames):
             "nvarys": self.nvarys,
             "var_names": list(self.var_names),
             "interval_method": dict(self.interval_method),
+            "intervals_calibrated": self.intervals_calibrated,
+            "adequacy": None if self.adequacy is None else self.adequacy.to_dict(),
             "alternatives": [a.to_dict() for a in self.alternatives],
             "covariance": None if self.covariance is None else self.covariance.tolist(),
             "bootstrap": None if self.bootstrap is None else {
                 k: list(v) for k, v in self.bootstrap.items()},
             "notes": list(self.notes),
+            "asymmetry": None if self.asymmetry is None else self.asymmetry.to_dict(),
             "model": repr(self.model),
         }  # fmt: skip
 

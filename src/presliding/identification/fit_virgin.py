@@ -25,6 +25,15 @@ turn back), refined on the samples themselves. The better of that fit and
 the fit from the threshold grid is kept. The final fit is always to the
 samples: the envelope is biased upwards where the curve is flat and noisy
 (pool-adjacent-violators keeps the running maxima there), the samples are not.
+
+Asymmetric friction (``asymmetric=True``, ramps only): the two branches of the
+virgin curve, F_v⁺ of ramps in +y and F_v⁻ of ramps in −y, share the elements'
+stiffnesses and have each their Coulomb element and thresholds
+(`problem._sided_virgin`). The symmetric fit of the same samples runs first, the
+asymmetric one starts from it (and from it with the − branch scaled to its
+level), and ``result.asymmetry`` tests the two against each other
+(`judge._asymmetry`). Loops cannot tell the sides apart: every branch after a
+reversal follows the mean of the two curves.
 """
 
 from __future__ import annotations
@@ -53,7 +62,8 @@ from presliding.identification.fit_result import FitResult, Tie
 from presliding.identification.prediction import reversal_tolerance as auto_tolerance
 from presliding.identification.problem import _pi_regression as pr
 from presliding.identification.problem._fit_problem import FitOptions, FitProblem
-from presliding.identification.problem._parameters import resolve_parameters
+from presliding.identification.problem._parameters import check_flag, resolve_parameters
+from presliding.identification.problem._separable_adequacy import separable_adequacy
 from presliding.identification.problem._separable_problem import Separable, separable_problem
 from presliding.identification.result._fit_progress import FitProgress, as_reporter, shows_progress
 
@@ -201,6 +211,7 @@ def fit_virgin_curve(
     loops: bool = True,
     reversal_tolerance: float | None = None,
     envelope: bool = True,
+    asymmetric: bool = False,
     fixed: Mapping[str, float] | None = None,
     tied: Mapping[str, Tie] | None = None,
     initial: Mapping[str, float] | Any = None,
@@ -230,6 +241,11 @@ def fit_virgin_curve(
     envelope : bool
         Also start from the thresholds fitted to the monotone envelope of the
         pooled samples (module notes), keeping the better fit to the samples.
+    asymmetric : bool
+        Fit the two branches of ramps in +y and in −y (``loops=False`` only):
+        ``coulomb_negative`` c1⁻ and ``threshold_negative_j`` r_j⁻ besides c1
+        and r_j, the stiffnesses shared (module notes); ``result.asymmetry``
+        tests them against the symmetric fit.
     fixed, tied, initial, bounds, level, grid_size, max_evaluations, tolerance, progress
         As in `fit_presliding`.
 
@@ -239,6 +255,8 @@ def fit_virgin_curve(
         Fitted against s (sorted); `measured` holds the pooled samples, `fitted`
         the model; the model reproduces every loop by the Madelung/Masing rules.
     """
+    if check_flag("asymmetric", asymmetric):
+        return _fit_sided(dict(locals()))
     records = _as_records(displacement, force)
     n = element_count(n_elements, thresholds, 3)
     if reversal_tolerance is not None:
@@ -268,7 +286,10 @@ def fit_virgin_curve(
     samples = model_of(fv)
     use_envelope = envelope and thresholds is None and n > 0
     plan = FitPlan(search=partial(_search, problem, model_of, samples, use_envelope),
-                   result=partial(_result, samples, s, loops))  # fmt: skip
+                   result=partial(_result, samples, s, loops),
+                   adequacy=lambda run, sol: separable_adequacy(
+                       samples, sol, {"s": s}, signal="virgin-curve force",
+                       span=float(s[-1]) if n else None))  # fmt: skip
     options = FitOptions(level, max_evaluations, tolerance, progress=shown)
     return run_fit(problem(samples, thresholds), options, plan)
 
@@ -318,3 +339,41 @@ def _result(samples: Separable, s: FloatArray, loops: bool, run: FitRun, sol: An
         abscissa_label="s = half travel since reversal" if loops else "s = travel from rest",
         signal_label="virgin-curve force", signal_unit="N", derived=derived_quantities(model),
     )  # fmt: skip
+
+
+def _sided_samples(records: list, tolerance: float | None) -> tuple:
+    """Every ramp's samples (s, F_v) with its side (+1, −1): the + branch, then the − branch,
+    each sorted by s; both sides needed."""
+    parts = []
+    for i, (y, f) in enumerate(records):
+        check_varies("force" if len(records) == 1 else f"force[{i}]", f)
+        tol = auto_tolerance(y) if tolerance is None else tolerance
+        which = "`displacement`" if len(records) == 1 else f"`displacement[{i}]`"
+        s, fv = _ramp_samples(y, f, tol, which)
+        parts.append((s, fv, np.full(s.shape[0], np.sign(y[-1] - y[0]))))
+    s, fv, side = (np.concatenate(x) for x in zip(*parts, strict=True))
+    if not (np.any(side > 0) and np.any(side < 0)):
+        raise ValueError(
+            "`asymmetric=True` needs loading ramps in both directions (the two branches of the "
+            f"virgin curve); got ramps in {'+' if side[0] > 0 else '−'}y only."
+        )
+    order = np.lexsort((s, -side))
+    return s[order], fv[order], side[order]
+
+
+def _fit_sided(request: dict[str, Any]) -> FitResult:
+    """``asymmetric=True``: the symmetric fit, then both branches from it (module notes)."""
+    from presliding.identification.plans._asymmetric_plan import split_negative
+    from presliding.identification.plans._virgin_sides import fit_branches
+
+    if request["loops"]:
+        raise ValueError(
+            "`asymmetric=True` needs loops=False (loading ramps from rest): after a reversal "
+            "every branch follows the mean of the two sides' curves, so loops cannot tell them "
+            "apart; got loops=True."
+        )
+    tol = request["reversal_tolerance"]
+    tol = None if tol is None else as_nonnegative_scalar("reversal_tolerance", tol)
+    samples = _sided_samples(_as_records(request["displacement"], request["force"]), tol)
+    symmetric = fit_virgin_curve(**{**split_negative(request), "asymmetric": False})
+    return fit_branches(request, symmetric, *samples)

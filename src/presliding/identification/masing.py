@@ -33,6 +33,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from presliding._display import fill_attrs, result_html, short_repr
+from presliding._interop import require
 from presliding._validation import (
     as_list,
     as_nonnegative_scalar,
@@ -107,7 +108,7 @@ class MasingCheck:
 
     def to_pandas(self) -> Any:
         """A DataFrame of the compared samples."""
-        import pandas as pd
+        pd = require("pandas", "`to_pandas()`")
 
         frame = pd.DataFrame({"displacement": self.displacement, "measured": self.measured,
                               "predicted": self.predicted})  # fmt: skip

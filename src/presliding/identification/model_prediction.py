@@ -23,14 +23,20 @@ from typing import Any
 
 import numpy as np
 
-from presliding._validation import as_choice, as_nonnegative_scalar, as_positive_scalar, fmt
+from presliding._validation import (
+    as_choice,
+    as_nonnegative_scalar,
+    as_positive_scalar,
+    fmt,
+    renamed_keyword,
+)
 from presliding.friction.pi_friction import PIFriction
 from presliding.identification.prediction import (
     Prediction,
     count_reversals,
     counted,
-    reversal_tolerance,
 )
+from presliding.identification.prediction import reversal_tolerance as own_tolerance
 from presliding.motion.simulation import simulate
 
 __all__ = ["predict_record"]
@@ -51,7 +57,8 @@ def predict_record(
     signal: str | None = None,
     initial: str = "measured",
     force_offset: float = 0.0,
-    tolerance: float | None = None,
+    reversal_tolerance: float | None = None,
+    **deprecated: Any,
 ) -> Prediction:
     """Predict a record's motion with a given model and mass (module notes).
 
@@ -69,14 +76,20 @@ def predict_record(
         The start: the first samples, or fitted to the record (module notes).
     force_offset : float
         F_0 of a model file's ``[measurement]`` table: u − F_0 acts on the mass.
-    tolerance : float, optional
-        Travel by which reversals are counted (default: the record's
-        `reversal_tolerance`, three quanta or noise levels).
+    reversal_tolerance : float, optional
+        Travel [m or rad] by which reversals are counted, measured and predicted
+        alike (default: the record's own `reversal_tolerance`, three quanta or
+        noise levels). Its old name ``tolerance`` works with a DeprecationWarning.
 
     Returns
     -------
     Prediction
     """
+    tolerance = renamed_keyword(deprecated, "tolerance", "reversal_tolerance",
+                                reversal_tolerance, "predict_record")  # fmt: skip
+    if deprecated:
+        raise TypeError(f"predict_record() got an unexpected keyword argument "
+                        f"{next(iter(deprecated))!r}.")  # fmt: skip
     if not isinstance(model, PIFriction):
         raise TypeError(f"`model` must be a PIFriction; got {type(model).__name__}.")
     m = as_positive_scalar("mass", mass)
@@ -94,8 +107,8 @@ def predict_record(
          else np.gradient(y, t))  # fmt: skip
     u = measurement.applied_force
     force = (np.zeros_like(t) if u is None else np.asarray(u, dtype=float)) - float(force_offset)
-    tol = reversal_tolerance(y) if tolerance is None else as_nonnegative_scalar(
-        "tolerance", tolerance)  # fmt: skip
+    tol = own_tolerance(y) if tolerance is None else as_nonnegative_scalar(
+        "reversal_tolerance", tolerance)  # fmt: skip
 
     def run(y0: float, v0: float) -> Any:
         # sliding (or pushed) at the start: the memory saturated its way; at rest: relaxed

@@ -19,6 +19,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from presliding._display import fill_attrs, result_html, short_repr, unit_of
+from presliding._interop import require
 from presliding._validation import as_nonnegative_scalar, as_signal
 from presliding.identification.fit_result import fit_statistics
 from presliding.identification.problem._pi_regression import reversal_indices
@@ -26,7 +27,13 @@ from presliding.identification.problem._pi_regression import reversal_indices
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
 
-__all__ = ["Prediction", "count_reversals", "counted", "position_quantum", "reversal_tolerance"]
+__all__ = [
+    "Prediction",
+    "count_reversals",
+    "counted",
+    "position_quantum",
+    "reversal_tolerance",
+]
 
 FloatArray = NDArray[np.float64]
 
@@ -102,7 +109,7 @@ def count_reversals(position: ArrayLike, tolerance: float | None = None) -> int:
     """
     y = as_signal("position", position)
     tol = reversal_tolerance(y) if tolerance is None else as_nonnegative_scalar(
-        "tolerance", tolerance)  # fmt: skip
+        "tolerance", tolerance, kind="position")  # fmt: skip
     return int(reversal_indices(np.ascontiguousarray(y), tol).shape[0])
 
 
@@ -204,7 +211,7 @@ class Prediction:
 
     def to_pandas(self) -> Any:
         """A DataFrame of the abscissa, measured and predicted signal."""
-        import pandas as pd
+        pd = require("pandas", "`to_pandas()`")
 
         frame = pd.DataFrame({self.abscissa_label: self.abscissa, "measured": self.measured,
                               "predicted": self.predicted})  # fmt: skip
@@ -255,7 +262,7 @@ class Prediction:
         xlabel += "" if "[" in xlabel else f" [{unit_of(xlabel.split()[-1]) or 'index'}]"
         return plot_fit(self.abscissa, self.measured, self.predicted, ax=ax,
                         xlabel=xlabel, ylabel=ylabel, fitted_label="predicted",
-                        title=f"prediction (NRMSE {100 * self.nrmse:.2f} %)")  # fmt: skip
+                        title=f"prediction (NRMSE {100 * self.nrmse:.3g} %)")  # fmt: skip
 
 
 def _units(abscissa_label: str, signal_label: str) -> dict[str, str]:

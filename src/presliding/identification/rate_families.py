@@ -6,8 +6,9 @@ no use for is refused: `fit_response` raises for it), the result the family's po
 fit by the same engine — the same residual as the PI model's fit of the same records
 and options, so its ``chisqr``, ``ndata``, ``nvarys``, AIC and BIC compare with it —
 with ``predict(measurement, initial=...)`` for a held-out record. `RATE_FAMILIES` maps
-their names to them, ready to be registered where families are compared side by side
-(``for name, fitter in RATE_FAMILIES.items(): register_family(name, fitter)``).
+their names to them; importing this module registers them in `compare_fits`' registry
+(`families.register_family`), so ``compare_fits(records, ("pi", "gms"))`` and
+``presliding fit --compare pi,gms`` fit them beside the PI model.
 """
 
 from __future__ import annotations
@@ -15,6 +16,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any
 
+from presliding.identification.families import register_family
 from presliding.identification.fit_response import fit_response
 from presliding.identification.fit_result import FitResult
 
@@ -42,3 +44,6 @@ RATE_FAMILIES: dict[str, Callable[..., FitResult]] = {
     "lugre": fit_lugre,
     "dahl": fit_dahl,
 }
+
+for _name, _fitter in RATE_FAMILIES.items():  # replace: a reload registers them again
+    register_family(_name, _fitter, replace=True)

@@ -17,6 +17,7 @@ _units.py           units in column headers → SI factors (pint), parameter uni
 _source.py          `Source`: the file, columns, units, factors and window of a measurement
 segments.py         `Measurement.segments`, `Segments`: stops, loops and ramps cut from a record
 _filters.py         zero-phase filters and derivative estimates
+_summary.py         what a `Measurement` shows in a notebook (`_repr_html_`)
 
 May import: the root's shared modules only (it needs no friction model).
 """

@@ -8,6 +8,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from presliding._interop import require
 from presliding.measurement._units import header_unit
 
 __all__ = ["dataframe_columns"]
@@ -24,12 +25,7 @@ def dataframe_columns(
     numeric index [s, or the unit in its name], a TimedeltaIndex or a
     DatetimeIndex: seconds since its first entry).
     """
-    try:
-        import pandas as pd
-    except ImportError:  # pragma: no cover - pandas is in the test extra
-        raise ImportError(
-            "Measurement.from_dataframe needs pandas: pip install 'presliding[pandas]'."
-        ) from None
+    pd = require("pandas", "`Measurement.from_dataframe`")
     if not isinstance(df, pd.DataFrame):
         raise TypeError(f"`df` must be a pandas DataFrame; got {type(df).__name__}.")
     raw: dict[str, tuple[str, FloatArray, str | None]] = {}

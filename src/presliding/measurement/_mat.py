@@ -13,6 +13,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from presliding._interop import require
 from presliding._validation import fmt
 from presliding.measurement._readers import check_path, read_bytes
 
@@ -66,6 +67,11 @@ class MatFile:
     def vector(self, name: str, signal: str) -> FloatArray:
         """A numeric vector variable (any of N, 1×N, N×1)."""
         arr = self._numeric(name, f"`{signal}`")
+        if arr.size == 0:
+            raise ValueError(
+                f"{self.path}: variable {name!r} of `{signal}` is empty (it holds no values); "
+                "choose the variable that holds the samples."
+            )
         if arr.ndim != 1:
             raise ValueError(
                 f"{self.path}: variable {name!r} of `{signal}` must be a vector; got shape "
@@ -83,6 +89,11 @@ class MatFile:
     def scalar(self, name: str, signal: str) -> float:
         """A numeric scalar variable (a scale factor)."""
         arr = self._numeric(name, f"the scale of `{signal}`")
+        if arr.size == 0:
+            raise ValueError(
+                f"{self.path}: variable {name!r} (the scale of `{signal}`) is empty; it must "
+                "hold one number."
+            )
         if arr.ndim != 0:
             raise ValueError(
                 f"{self.path}: variable {name!r} (the scale of `{signal}`) must be a scalar; got "
@@ -93,13 +104,9 @@ class MatFile:
 
 def _read_hdf5(path: str) -> dict[str, Any]:
     """The top-level variables of a MATLAB 7.3 file (HDF5, through h5py; arrays transposed)."""
-    try:
-        import h5py
-    except ImportError:
-        raise ImportError(
-            f"{path}: is a MATLAB 7.3 (HDF5) file; reading it needs h5py, the `h5py` extra "
-            "(pip install 'presliding[h5py]'), or save it with save(..., '-v7') in MATLAB."
-        ) from None
+    h5py = require(
+        "h5py", f"{path}: a MATLAB 7.3 (HDF5) file (or save it with save(..., '-v7')); reading it"
+    )
     out: dict[str, Any] = {}
     try:
         with h5py.File(path, "r") as fh:
@@ -110,6 +117,8 @@ def _read_hdf5(path: str) -> dict[str, Any]:
                 kind = kind.decode() if isinstance(kind, bytes) else str(kind)
                 if not isinstance(item, h5py.Dataset) or kind in ("cell", "struct"):
                     out[name] = np.empty(0, dtype=object)  # named as a cell or struct
+                elif item.attrs.get("MATLAB_empty", 0):  # its data are its dimensions
+                    out[name] = np.empty(0, dtype=bool if kind == "logical" else float)
                 elif kind == "char":
                     out[name] = np.asarray("".join(map(chr, np.ravel(item[()]))))
                 elif kind == "logical":

@@ -8,9 +8,10 @@ Delimited text (`read_text`):
   (``header=None``); a file without one has its columns chosen by 0-based index;
 - a delimiter at the end of every line (rig software that ends each value
   with a tab) is not a column: the cells before it are the row;
-- a UTF-8 byte-order mark is skipped; UTF-16 text with its byte-order mark
-  (Excel's "Unicode text") is read; a file that is not UTF-8 is read as
-  Windows-1252 (``µ`` from older rig software);
+- a UTF-8 byte-order mark is skipped; UTF-16 and UTF-32 text (Excel's "Unicode
+  text") is read, with its byte-order mark or without one (told by where its
+  zero bytes fall); a file that is not UTF-8 is read as Windows-1252 (``µ``
+  from older rig software);
 - ``decimal=","`` reads decimal commas (European exports, ``1,5;2,25``), with
   a tab, semicolon or whitespace between the cells;
 - rows are parsed by pandas' C parser when pandas is installed (else numpy);
@@ -148,9 +149,25 @@ class TextTable:
         data = self._fast_values()
         if data is None or data.ndim != 2 or data.shape[1] != n:
             return self._slow_values(indices)
-        if not np.all(np.isfinite(data)):  # a gap, a short row or a bad value: named below
+        # a gap or a bad value in a column used is named below, line by line; a gap in an
+        # unused column costs nothing, unless its row is short (cells would be shifted)
+        if not np.all(np.isfinite(data[:, indices])) or not self._whole(np.isnan(data)):
             return self._slow_values(indices)
         return {j: np.ascontiguousarray(data[:, j]) for j in indices}
+
+    def _whole(self, gaps: NDArray[np.bool_]) -> bool:
+        """True when every row with a gap (NaN) has all its cells: an empty or NaN cell, not
+        a short row that the parser padded at its end (its cells shifted left)."""
+        rows_with_gaps = np.flatnonzero(gaps.any(axis=1))
+        if rows_with_gaps.size == 0:
+            return True
+        rows = [r for r in self.rows if _is_row(r)]
+        if len(rows) != gaps.shape[0]:
+            return False
+        n = self.n_columns
+        if self.delimiter:  # the count of delimiters is the cells' (as `_split` sees them)
+            return all(rows[i].count(self.delimiter) == n - 1 for i in rows_with_gaps)
+        return all(len(self._split(rows[i])) == n for i in rows_with_gaps)
 
     def _fast_values(self) -> FloatArray | None:
         """Every row parsed at once (pandas' C parser, else numpy); None when a row fails."""
@@ -163,10 +180,13 @@ class TextTable:
             pd = None
         try:
             if pd is not None:
+                # correctly rounded numbers: pandas' default before 3.0 may be 1 ulp off
+                old = int(pd.__version__.split(".")[0]) < 3
+                exact = {"float_precision": "round_trip"} if old else {}
                 frame = pd.read_csv(
                     io.StringIO("\n".join(rows)), sep=self.delimiter or r"\s+", header=None,
                     comment="#", dtype=np.float64, engine="c", quotechar='"',
-                    skip_blank_lines=True, skipinitialspace=True,
+                    skip_blank_lines=True, skipinitialspace=True, **exact,
                 )  # fmt: skip
                 return np.asarray(frame.to_numpy(dtype=np.float64), dtype=np.float64)
             return np.loadtxt(rows, delimiter=self.delimiter, ndmin=2, dtype=np.float64,
@@ -206,7 +226,7 @@ class TextTable:
                 except ValueError:
                     raise ValueError(
                         f"{self.path}: line {line}, column {self.label(j)!r}: {cell[:40]!r} is "
-                        "not a number."
+                        f"not a number{_comma_hint(cell, self.decimal)}."
                     ) from None
                 if not np.isfinite(value):
                     raise ValueError(
@@ -215,6 +235,17 @@ class TextTable:
                     )
                 columns[j].append(value)
         return {j: np.asarray(v, dtype=np.float64) for j, v in columns.items()}
+
+
+_DECIMAL_COMMA = re.compile(r"^[+-]?(\d+,\d*|,\d+)([eE][+-]?\d+)?$")
+
+
+def _comma_hint(cell: str, decimal: str) -> str:
+    """``; it looks like a number with a decimal comma: ...`` for ``0,001`` read with '.'."""
+    if decimal == "." and _DECIMAL_COMMA.match(cell.strip()):
+        return (f"; it looks like a number with a decimal comma ({cell.replace(',', '.')!r}): "
+                "read the file with decimal=',' (--decimal ,)")  # fmt: skip
+    return ""
 
 
 def _is_row(line: str) -> bool:
@@ -229,13 +260,18 @@ def _decode(path: str, raw: bytes) -> str:
             f"{path}: is a MATLAB file, not delimited text; read it with Measurement.from_mat "
             "(the command line reads .mat files by their suffix)."
         )
-    if head.startswith((b"\xff\xfe", b"\xfe\xff")):  # UTF-16 with its byte-order mark
+    codec = _wide_codec(head)
+    if codec is not None:  # UTF-16 or UTF-32, with a byte-order mark or without one
         try:
-            return raw.decode("utf-16")
+            text = raw.decode(codec)
         except UnicodeDecodeError:
             raise ValueError(
-                f"{path}: is not valid UTF-16 text although it starts as such."
+                f"{path}: is not valid {codec.upper()} text although it starts as such."
             ) from None
+        if "\x00" in text:
+            raise ValueError(f"{path}: holds NUL characters after decoding it as "
+                             f"{codec.upper()}; save it as UTF-8 text.")  # fmt: skip
+        return text.removeprefix("\ufeff")
     if b"\x00" in head:
         raise ValueError(
             f"{path}: is not a text file (it holds binary data); a data file must be delimited "
@@ -245,6 +281,32 @@ def _decode(path: str, raw: bytes) -> str:
         return raw.decode("utf-8-sig")
     except UnicodeDecodeError:
         return raw.decode("cp1252", errors="replace")
+
+
+#: Byte-order marks of the wide encodings (UTF-32 first: its little-endian mark starts
+#: with UTF-16's).
+_BOMS = ((b"\xff\xfe\x00\x00", "utf-32"), (b"\x00\x00\xfe\xff", "utf-32"),
+         (b"\xff\xfe", "utf-16"), (b"\xfe\xff", "utf-16"))  # fmt: skip
+
+
+def _wide_codec(head: bytes) -> str | None:
+    """The codec of UTF-16 or UTF-32 text (Excel's "Unicode text", exports of rig software),
+    from its byte-order mark, else from where its zero bytes fall (text in Latin letters and
+    digits has a zero high byte in every code unit); None for anything else."""
+    for bom, codec in _BOMS:
+        if head.startswith(bom):
+            return codec
+    for width, codec in ((4, "utf-32"), (2, "utf-16")):
+        n = (len(head) // width) * width
+        if n < 4 * width or b"\x00" not in head:
+            continue
+        units = np.frombuffer(head[:n], dtype=np.uint8).reshape(-1, width)
+        zero = units == 0
+        for order, low in (("le", 0), ("be", width - 1)):
+            high = [j for j in range(width) if j != low]
+            if zero[:, high].mean() >= 0.99 and (~zero[:, low]).mean() >= 0.9:
+                return f"{codec}-{order}"
+    return None
 
 
 def read_text(

@@ -57,6 +57,9 @@ class Source:
     notes : tuple of str
         Further steps (rows dropped by a join, interpolation, resampling,
         differentiation with its cut-off).
+    roles : tuple of str
+        Why each column was taken for its signal, and why the file's other
+        columns were not (set by the command line, which finds columns itself).
     """
 
     path: str | None
@@ -66,6 +69,7 @@ class Source:
     window: tuple[float | None, float | None] | None = None
     parts: tuple[Source, ...] = ()
     notes: tuple[str, ...] = ()
+    roles: tuple[str, ...] = ()
 
     @property
     def units(self) -> dict[str, str]:
@@ -83,6 +87,28 @@ class Source:
         if not given:
             return None
         return "rotary" if any(c.rotary for c in given) else "linear"
+
+    def axis_conflict(self) -> str:
+        """Why the units read do not fit one axis ("" when they do): an angle beside a force,
+        a length beside a torque, an angular speed beside a length, ..."""
+        given = [c for c in self.all_conversions() if c.signal != "time" and c.unit is not None]
+        rotary = [c for c in given if c.rotary]
+        linear = [c for c in given if not c.rotary]
+        if not rotary or not linear:
+            return ""
+
+        def said(c: UnitConversion) -> str:
+            return f"`{c.signal}` {c.column!r} is in {c.unit} (SI {c.si_unit})"
+
+        torque = next((c.signal for c in rotary if c.si_unit == "N m"), "applied_force")
+        return (
+            f"the units read mix a rotary and a linear axis: {said(rotary[0])}, a rotary "
+            f"axis, but {said(linear[0])}, a linear one; a rotary axis takes angles and torques "
+            "(rad, N m), a linear one lengths and forces (m, N). Correct the unit in the "
+            "header or give it with `units` (--units); a torque that drives a linear axis "
+            "through a transmission is a force: give its unit N and the ratio with `units` and "
+            f"`scale` (--units {torque}=N --scale {torque}=RATIO)"
+        )
 
     def on_axis(self, axis: str) -> Source:
         """The same source with the signals read without a unit labelled in `axis`'s SI units."""
@@ -117,8 +143,9 @@ class Source:
         """The same source with one more processing note."""
         return replace(self, notes=(*self.notes, note))
 
-    def describe(self) -> str:
-        """Lines stating the file, the columns and units read, the factors and the window."""
+    def describe(self, roles: bool = True) -> str:
+        """Lines stating the file, the columns and units read, the factors and the window
+        (and, unless `roles` is False, why each column was or was not taken)."""
         head = {"csv": "text file", "mat": "MATLAB file", "dataframe": "DataFrame",
                 "join": "joined records"}.get(self.kind, self.kind)  # fmt: skip
         lines = [f"{head} {self.path}" if self.path else head]
@@ -133,6 +160,7 @@ class Source:
             hi_text = "end" if hi is None else f"{hi:.6g} s"
             lines.append(f"  window: {lo_text} to {hi_text}")
         lines += [f"  {note}" for note in self.notes]
+        lines += [f"  {role}" for role in self.roles] if roles else []
         return "\n".join(lines)
 
 

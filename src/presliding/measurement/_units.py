@@ -140,10 +140,11 @@ def header_unit(name: str, where: str = "") -> str | None:
     """The unit of a column header (`parse_header`); an unclosed bracket is an error.
 
     ``"Position [mm"`` would otherwise be read as a column without a unit, in
-    SI, a factor of 1000 off without a word.
+    SI, a factor of 1000 off without a word. Empty brackets (``"Time []"``)
+    pair up: they say "no unit".
     """
     unit = parse_header(name)[1]
-    if unit is None and any(mark in name for mark in "[]()"):
+    if unit is None and _HEADER.match(name.strip()) is None and any(m in name for m in "[]()"):
         raise ValueError(
             f"{where}column {name!r}: its unit's brackets do not pair up; write the unit as "
             "'Name [unit]' or 'Name (unit)', or give it with `units` (--units)."

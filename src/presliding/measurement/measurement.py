@@ -38,6 +38,7 @@ from presliding._validation import (
 from presliding.measurement._filters import estimate_derivatives, lowpass
 from presliding.measurement._measurement_readers import MeasurementReaders
 from presliding.measurement._source import Source
+from presliding.measurement._summary import NotebookView
 from presliding.measurement._units import is_quantity, quantity_to_si
 
 __all__ = ["Measurement", "common_axis", "estimate_derivatives", "lowpass"]
@@ -52,7 +53,7 @@ _UNIFORM_TOL = 1e-3
 
 
 @dataclass(frozen=True, eq=False)
-class Measurement(MeasurementReaders):
+class Measurement(MeasurementReaders, NotebookView):
     """Signals sampled on one time base (units: s, m, m/s, m/s², N; rad and N m on a rotary axis).
 
     Parameters
@@ -118,26 +119,33 @@ class Measurement(MeasurementReaders):
         if self.source is not None and not isinstance(self.source, Source):
             raise TypeError(f"`source` must be a Source or None; got {type(self.source).__name__}.")
         if not given:
-            raise ValueError(
-                "a Measurement must hold at least one signal besides `time`; got none of "
-                + ", ".join(f"`{s}`" for s in SIGNALS)
-                + "."
-            )
+            listed = ", ".join(f"`{s}`" for s in SIGNALS)
+            raise ValueError(f"a Measurement must hold at least one signal besides `time`; got "
+                             f"none of {listed}.")  # fmt: skip
         self._settle_axis(rotary_quantity)
 
     def _convert_quantities(self) -> bool | None:
-        """pint Quantities to SI magnitudes (dimension checked); whether one was rotary."""
-        rotary = None
+        """pint Quantities to SI magnitudes (dimension checked); whether they are rotary
+        (None without Quantities; an error when they mix a rotary and a linear axis)."""
+        kinds: dict[bool, str] = {}
         for name in ("time", *SIGNALS):
             value = getattr(self, name)
             if is_quantity(value):
                 magnitude, si = quantity_to_si(name, value)
                 object.__setattr__(self, name, magnitude)
                 if name != "time":
-                    rotary = bool(rotary) or si in ("rad", "rad/s", "rad/s^2", "N m")
-        return rotary
+                    kinds.setdefault(si in ("rad", "rad/s", "rad/s^2", "N m"), f"`{name}` in {si}")
+        if len(kinds) > 1:
+            raise ValueError(
+                f"the Quantities mix a rotary and a linear axis: {kinds[True]} (rotary) beside "
+                f"{kinds[False]} (linear); give angles with torques, or lengths with forces."
+            )
+        return next(iter(kinds)) if kinds else None
 
     def _settle_axis(self, rotary_quantity: bool | None = None) -> None:
+        conflict = "" if self.source is None else self.source.axis_conflict()
+        if conflict:
+            raise ValueError(f"{conflict}.")
         read = None if self.source is None else self.source.axis_read
         if read is None and rotary_quantity is not None:
             read = "rotary" if rotary_quantity else "linear"
@@ -355,22 +363,25 @@ class Measurement(MeasurementReaders):
             (turning point to the second turning point after it); ``"ramps"``:
             one monotone run each (turning point to turning point).
         lead_in : float, optional
-            Stops: time [s] kept before the drop (default: a fifth of the
-            deceleration).
+            Stops only: time [s] kept before the drop (>= 0; default: a fifth of
+            the deceleration).
         rest_speed : float, optional
-            Stops: the speed [m/s or rad/s] below which the record is at rest
-            (default: 2 % of its 99th-percentile speed, smoothed).
+            Stops only: the speed [m/s or rad/s] below which the record is at
+            rest (default: 2 % of its 99th-percentile speed, smoothed).
         tolerance : float, optional
-            Loops and ramps: the retreat [m or rad] that makes a turning point
-            (default: three quanta of a quantised position, else 1 % of its span).
+            Loops and ramps only: the retreat [m or rad] that makes a turning
+            point (default: three quanta of a quantised position, else 1 % of
+            its span); a piece must also travel beyond it.
         min_samples : int
-            Shorter pieces are left out.
+            Shorter pieces are left out (an integer >= 2). An option of another
+            kind is a ValueError, not ignored; so is a record with nothing to cut.
 
         Returns
         -------
         Segments
-            ``.records`` (the pieces, each a `Measurement` whose source notes the
-            cut), ``.table()`` and ``.report()``; iterable and indexable.
+            The pieces (each a `Measurement` whose source notes the cut), their
+            ``table()``, ``report()``, ``parameters`` (every value used: passed
+            back, they cut the same pieces) and ``plot()``; indexable.
 
         Examples
         --------

@@ -18,13 +18,14 @@ from presliding.motion._event import run_events, run_events_sided
 
 @njit(cache=True)
 def free_kernel(
-    m, c1, sigma, k, r, f0, y0, v0, last_dir, u, dt, n_samples, max_events
+    m, c1, sigma, k, r, f0, y0, v0, last_dir, u, dt, n_samples, max_events, damped
 ):  # pragma: no cover
     """Position and velocity at t = i·dt, i < n_samples, under a constant force u.
 
     Returns (position, velocity, status, stop_time (nan if moving), n_reversals,
     n_filled, t_last): only the first ``n_filled`` samples are computed (all of
     them when status is 0; fewer when the event limit stopped the run at t_last).
+    ``damped``: None when σ = 0, else True (`presliding.motion._event`).
     """
     t_eval = np.arange(n_samples) * dt
     t_end = max(t_eval[-1], dt)
@@ -39,7 +40,7 @@ def free_kernel(
     res = run_events(
         m, c1, k, r, f, y0, v0, last_dir, u_t, u_val, t_eval, t_end, max_events,
         o_y, o_v, scratch[0], scratch[1], scratch[2], scratch[3], scratch[4], scratch[5],
-        rev[0], rev[1], sigma, none, none,
+        rev[0], rev[1], sigma, none, none, damped,
     )  # fmt: skip
     return o_y, o_v, res[0], res[3], res[2], res[1], res[10]
 
@@ -47,10 +48,11 @@ def free_kernel(
 @njit(cache=True, nogil=True)
 def batch_events(  # pragma: no cover - compiled
     b0, b1, m, c1, sigma, k, r, f0, y0, v0, last_dir, u_t, u_val, t_eval, t_end, max_events,
-    o_y, o_v, stop, n_rev, status, y_end, v_end,
+    o_y, o_v, stop, n_rev, status, y_end, v_end, damped,
 ):  # fmt: skip
     """Run members b0 <= b < b1, member b with m[b], c1[b], sigma[b], k[b], r[b], f0[b],
-    y0[b], v0[b], last_dir[b]; releases the GIL (threads run disjoint ranges)."""
+    y0[b], v0[b], last_dir[b]; releases the GIL (threads run disjoint ranges). ``damped``:
+    None when every sigma[b] is 0, else True (`presliding.motion._event`)."""
     n_t = t_eval.shape[0]
     scratch = np.empty((6, n_t))  # samples nobody reads
     none = np.empty(0)  # no viscous record, no piece record
@@ -63,6 +65,7 @@ def batch_events(  # pragma: no cover - compiled
             m[b], c1[b], c1[b], k[b], r[b], r[b], f, y0[b], v0[b], last_dir[b], u_t, u_val,
             t_eval, t_end, max_events, o_y[b], o_v[b], scratch[0], scratch[1], scratch[2],
             scratch[3], scratch[4], scratch[5], rev[0], rev[1], sigma[b], sigma[b], none, none,
+            damped,
         )  # fmt: skip
         status[b] = res[0]
         n_rev[b] = res[2]

@@ -17,11 +17,10 @@ from presliding._validation import (
     as_parameter_matrix,
     as_parameter_vector,
     as_real_vector,
-    check_derived,
     check_same_length,
     fmt,
 )
-from presliding.friction._model_checks import check_has_friction
+from presliding.friction._model_checks import check_derived, check_has_friction
 from presliding.friction.pi_friction import PIFriction
 from presliding.motion._event import kernel_array
 from presliding.motion._run import check_model, saturation_direction
@@ -161,6 +160,7 @@ def batch_deformation(initial_state: Any, r: FloatArray, v0: FloatArray, u0: flo
 def run_batch(m, c1, sigma, k, r, f0, y0, v0, last_dir, u_t, u_val, times, t_end, max_events):
     """Run the batch kernel on ranges of members in threads and wrap the outputs."""
     from presliding.motion._batch_events import batch_events
+    from presliding.motion._event import damped_flag
     from presliding.motion.results import MotionBatch, member_statuses
 
     n_b, n_t = m.shape[0], times.shape[0]
@@ -176,7 +176,8 @@ def run_batch(m, c1, sigma, k, r, f0, y0, v0, last_dir, u_t, u_val, times, t_end
     y_end = np.empty(n_b)
     v_end = np.empty(n_b)
     args = (m, c1, sigma, k, r, f0, y0, v0, last_dir, u_t, u_val, times, float(t_end),
-            int(max_events), o_y, o_v, stop, n_rev, status, y_end, v_end)  # fmt: skip
+            int(max_events), o_y, o_v, stop, n_rev, status, y_end, v_end,
+            damped_flag(sigma))  # fmt: skip
     n_threads = min(n_b, numba.get_num_threads())
     if n_threads <= 1:
         batch_events(0, n_b, *args)

@@ -32,6 +32,12 @@ the exponential Coulomb–viscous decay when K = 0), with the time of zero
 velocity in closed form and the time an element reaches its threshold by a
 bracketed, safeguarded Newton iteration on the closed form. σ = 0 runs the
 undamped formulas above, unchanged.
+
+The damped pieces are compiled only where they can run: the kernels take a
+last argument ``damped``, None when σ = 0 on both sides (numba then removes
+every ``damped is None`` branch by its type before it compiles, and the damped
+closed forms are never compiled) or True otherwise. A first undamped motion
+compiles about half the code it did with both kinds of piece.
 """
 
 from __future__ import annotations
@@ -56,6 +62,12 @@ def kernel_array(a: np.ndarray) -> np.ndarray:
     if a.dtype == np.float64 and a.flags.c_contiguous and a.flags.writeable:
         return a
     return np.array(a, dtype=np.float64, order="C")
+
+
+def damped_flag(*sigma: float | np.ndarray) -> bool | None:
+    """The kernels' `damped` argument: None when every σ (scalars or arrays) is 0 (the damped
+    pieces are then not compiled), else True."""
+    return True if any(np.any(np.asarray(s) != 0.0) for s in sigma) else None
 
 
 _JIT: JitFlags = {"cache": True, "error_model": "numpy"}
@@ -106,13 +118,13 @@ def time_to_reach(vp, ap, w, dist):  # pragma: no cover - compiled
 @njit(refcount=False, **_JIT)
 def run_events(  # pragma: no cover - compiled
     m, c1, k, r, f, y, v, last_dir, u_t, u_val, t_eval, t_end, max_events,
-    o_y, o_v, o_a, o_fel, o_u, o_eel, o_dis, o_work, rev_t, rev_y, sigma, o_vis, piece,
+    o_y, o_v, o_a, o_fel, o_u, o_eel, o_dis, o_work, rev_t, rev_y, sigma, o_vis, piece, damped,
 ):  # fmt: skip
     """`run_events_sided` with equal sides: symmetric friction (c1, r_j and σ)."""
     return run_events_sided(
         m, c1, c1, k, r, r, f, y, v, last_dir, u_t, u_val, t_eval, t_end, max_events,
         o_y, o_v, o_a, o_fel, o_u, o_eel, o_dis, o_work, rev_t, rev_y, sigma, sigma, o_vis,
-        piece,
+        piece, damped,
     )  # fmt: skip
 
 
@@ -120,6 +132,7 @@ def run_events(  # pragma: no cover - compiled
 def run_events_sided(  # pragma: no cover - compiled
     m, c1p, c1n, k, rp, rn, f, y, v, last_dir, u_t, u_val, t_eval, t_end, max_events,
     o_y, o_v, o_a, o_fel, o_u, o_eel, o_dis, o_work, rev_t, rev_y, sigmap, sigman, o_vis, piece,
+    damped,
 ):  # fmt: skip
     """Event-driven exact motion from time u_t[0]; samples written at t_eval.
 
@@ -139,7 +152,8 @@ def run_events_sided(  # pragma: no cover - compiled
     skips it: then the returned viscous dissipation is 0). ``piece`` (shape
     (5 + N,), or empty to skip it) receives the start of the last closed-form
     piece: [t, y, v, last_dir, u, f_1..f_N] (a continuation that resumes it
-    reproduces this run bit for bit).
+    reproduces this run bit for bit). ``damped``: None when sigmap = sigman = 0 (the
+    damped pieces are then not compiled: see the module notes), else True.
 
     Every caller passes the same argument types (C-contiguous, writable
     float64 arrays; empty arrays rather than None), so that this kernel is
@@ -243,7 +257,7 @@ def run_events_sided(  # pragma: no cover - compiled
                 dmin = min(dmin, dj)
         vp = abs(v)  # s·v >= 0; abs also clears a signed zero (atan2 tells -0.0 apart)
         gam = 0.0
-        if sigma == 0.0:
+        if damped is None or sigma == 0.0:
             a0 = (u - c1 * s - fel) / m
             w = math.sqrt(kk / m)
             ap = s * a0
@@ -282,7 +296,7 @@ def run_events_sided(  # pragma: no cover - compiled
         while ie < n_eval and (t_eval[ie] < t1 or (kind == 3 and t_eval[ie] <= t1)):
             tau = t_eval[ie] - t
             sq = 0.0
-            if sigma == 0.0:
+            if damped is None or sigma == 0.0:
                 d, vv, aa = closed_form(v, a0, w, tau)
             elif not record_vis:
                 d, vv, aa = _damped.state(v, a0, gam, w, tau)
@@ -299,9 +313,9 @@ def run_events_sided(  # pragma: no cover - compiled
                 o_vis[ie] = vis + sigma * sq
             o_work[ie] = work + u * d
             ie += 1
-        if record_vis and sigma > 0.0:
+        if damped is not None and record_vis and sigma > 0.0:
             vis += sigma * _damped.square_integral(v, a0, gam, w, t1 - t)
-        if sigma == 0.0:
+        if damped is None or sigma == 0.0:
             if kind == 0:
                 d = s * dmin
                 v = closed_form(v, a0, w, dt)[1]

@@ -310,7 +310,7 @@ def run_event(
         o = _buffers(n_out, 9)
         rev = _buffers(cap, 2)
         p_out = np.empty(5 + k.shape[0])
-        tail = [*o[:7], o[8], *rev, sigma, sigman, o[7], p_out]  # buffers, σ±, the piece
+        tail = [*o[:7], o[8], *rev, sigma, sigman, o[7], p_out, _event.damped_flag(sigma, sigman)]
         res = _event.run_events_sided(m, c1, c1n, k, r, rn, f, y_start, v_start, last_dir,
                                       u_t, u_val, t_eval, t_end, max_events, *tail)  # fmt: skip
         status, n, n_rev, stop, y, v, d, n_ev, _, _, t_last, _ = res
@@ -329,7 +329,7 @@ def run_event(
     message = (
         "the motion was solved exactly"
         if status == 0
-        else f"the event limit max_events = {max_events} was reached at t = {t_last:.6g}"
+        else f"the event limit max_events = {max_events} was reached at t = {t_last:.6g} s"
     )
     return {
         "n": n, "time": times[:n], "position": y_o, "velocity": v_o, "acceleration": a_o,

@@ -244,13 +244,14 @@ def free_response(
     f0, last_dir = _setup.batch_deformation(initial_state, r[None, :], np.array([v0]), u)
     k, r, f0 = (_event.kernel_array(a) for a in (k, r, f0[0]))  # one compiled type
     y, v, status, stop, n_rev, n, t_last = _batch.free_kernel(
-        m, c1, sigma, k, r, f0, y0, v0, float(last_dir[0]), u, dt, n_t, limit
-    )
+        m, c1, sigma, k, r, f0, y0, v0, float(last_dir[0]), u, dt, n_t, limit,
+        _event.damped_flag(sigma),
+    )  # fmt: skip
     if status == 0:
         message = "the motion was solved exactly"
     else:
         message = (
-            f"the event limit max_events = {limit} was reached at t = {t_last:.6g}; "
+            f"the event limit max_events = {limit} was reached at t = {t_last:.6g} s; "
             f"{n} of {n_t} samples computed"
         )
     return FreeResponse(

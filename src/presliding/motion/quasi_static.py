@@ -29,6 +29,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from presliding._display import figures_of, fill_attrs, result_html, short_repr
+from presliding._interop import require
 from presliding._validation import (
     as_real_scalar,
     as_signal,
@@ -116,7 +117,7 @@ class QuasiStaticResponse:
 
     def to_pandas(self) -> Any:
         """A pandas DataFrame of the sampled signals (pandas must be installed)."""
-        import pandas as pd
+        pd = require("pandas", "`to_pandas()`")
 
         data = {k: v for k, v in self.to_dict().items() if isinstance(v, np.ndarray)}
         return fill_attrs(pd.DataFrame(data), self)

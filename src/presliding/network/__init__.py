@@ -28,12 +28,15 @@ slider_network.py     `SliderNetwork`: springs, Coulomb sliders and stops (quasi
 quasi_static.py       `quasi_static_network`: the exact piecewise-linear quasi-static response
 _qs_solver.py         the event-driven active-set solution of the sweeping process
 compile.py            `compile_network`: a network driven through one input as a `PIFriction`
+compile_joints.py     `compile_structure`: a structure with joints loaded along one vector as a
+                      linear spring plus a PI operator (force-driven, order-preservation checked)
 
 May import: `presliding.friction`, `presliding.hysteresis` and the root's shared modules.
 It does not import `presliding.motion` or `presliding.analysis` (sibling layers).
 """
 
 from presliding.network.compile import compile_network, network_virgin_curve
+from presliding.network.compile_joints import CompiledStructure, compile_structure
 from presliding.network.exact import simulate_network
 from presliding.network.moreau import simulate_network_moreau
 from presliding.network.quasi_static import QuasiStaticNetworkResult, quasi_static_network
@@ -48,6 +51,7 @@ from presliding.network.structure import (
 
 __all__ = [
     "GROUND",
+    "CompiledStructure",
     "NetworkEnergy",
     "NetworkResult",
     "NetworkState",
@@ -56,6 +60,7 @@ __all__ = [
     "SliderNetwork",
     "chain_structure",
     "compile_network",
+    "compile_structure",
     "modal_structure",
     "multi_contact_structure",
     "network_virgin_curve",

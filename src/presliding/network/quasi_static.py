@@ -18,6 +18,7 @@ from numpy.typing import NDArray
 from threadpoolctl import threadpool_limits
 
 from presliding._display import fill_attrs
+from presliding._interop import require
 from presliding._validation import as_count, as_signal, check_type, fmt
 from presliding.hysteresis._results import ResultMixin
 from presliding.network._qs_solver import EventLimit, EventSolver, Path
@@ -111,7 +112,7 @@ class QuasiStaticNetworkResult(ResultMixin):
 
     def to_pandas(self) -> Any:
         """A DataFrame indexed by sample: positions ``x<node>`` and forces ``force<node>``."""
-        import pandas as pd
+        pd = require("pandas", "`to_pandas()`")
 
         cols: dict[str, Any] = {
             f"x{i}": self.positions[:, i] for i in range(self.positions.shape[1])

@@ -26,8 +26,9 @@ __all__ = ["NetworkStructure", "chain_structure", "modal_structure", "multi_cont
 FloatArray = NDArray[np.float64]
 
 
-def _square(name: str, value: Any, n: int | None, *, definite: bool) -> FloatArray:
-    """A symmetric, positive (semi)definite n × n matrix (a scalar is a 1 × 1 one)."""
+def square_matrix(name: str, value: Any, n: int | None, *, definite: bool) -> FloatArray:
+    """A read-only symmetric n × n matrix, positive definite or semidefinite (a scalar is a
+    1 × 1 one, a vector its diagonal; n None: any size). Also `JointedStructure`'s check."""
     arr = as_real_array(name, value)
     if arr.ndim == 0:
         arr = arr.reshape(1, 1)
@@ -49,6 +50,9 @@ def _square(name: str, value: Any, n: int | None, *, definite: bool) -> FloatArr
         )
     arr.setflags(write=False)
     return arr
+
+
+_square = square_matrix
 
 
 def _forcing(value: Any, n: int) -> tuple[FloatArray, FloatArray]:

@@ -21,10 +21,11 @@ from collections.abc import Callable
 from concurrent.futures import CancelledError
 from typing import Any
 
+from presliding._interop import install_hint, require
 from presliding._validation import check_type, fmt
 from presliding.sweep._grid import Points, describe_error, run_chunk
 
-DASK_HINT = "install it with `pip install presliding[dask]`"
+DASK_HINT = f"install it with `{install_hint('dask')}`"
 #: How long a sweep waits for a first worker to join a scheduler that has none [s].
 WORKER_WAIT = 60.0
 #: How many times a table's chunks are scattered again after their worker died.
@@ -32,14 +33,8 @@ LOST_DATA_ROUNDS = 3
 
 
 def import_distributed() -> Any:
-    try:
-        import distributed
-        import distributed.comm
-    except ImportError as exc:
-        raise ImportError(
-            f"running a sweep on a Dask cluster needs the optional `distributed` package; "
-            f"{DASK_HINT}."
-        ) from exc
+    distributed = require("distributed", "running a sweep on a Dask cluster")
+    require("distributed.comm", "running a sweep on a Dask cluster")
     return distributed
 
 

@@ -98,15 +98,17 @@ def on_executor(
     n_chunks: int,
     bar: Any,
     cancel: bool = True,
+    first: int = 0,
 ) -> list[tuple[bool, Any]]:
-    """Each chunk's own rows go to a worker (a product grid sends only its axes); on any
-    interruption the chunks not yet started are cancelled (with `cancel`; a pool that is
-    shut down drops them itself) before it propagates."""
+    """Each chunk from `first` on: its own rows go to a worker (a product grid sends only its
+    axes); on any interruption the chunks not yet started are cancelled (with `cancel`; a
+    pool that is shut down drops them itself) before it propagates."""
+    chunks = range(first, n_chunks)
     if points.kind == "product" and points.nbytes < 1 << 20:
-        futures = [pool.submit(run_chunk, fn, points, i, n_chunks) for i in range(n_chunks)]
+        futures = [pool.submit(run_chunk, fn, points, i, n_chunks) for i in chunks]
     else:
         futures = [pool.submit(run_chunk, fn, points.rows(i, n_chunks), 0, 1)
-                   for i in range(n_chunks)]  # fmt: skip
+                   for i in chunks]  # fmt: skip
     for f in futures:
         f.add_done_callback(lambda _: bar.update())
     try:
@@ -118,16 +120,22 @@ def on_executor(
 
 
 def on_local_pool(
-    fn: Callable[..., Any], points: Points, n_chunks: int, workers: int, bar: Any
+    fn: Callable[..., Any],
+    points: Points,
+    n_chunks: int,
+    workers: int,
+    bar: Any,
+    first: int = 0,
 ) -> list[tuple[bool, Any]]:
-    """The chunks on a new loky pool of `workers` processes, shut down afterwards: waiting
-    for the workers on success, killing them on Ctrl-C or any other interruption."""
+    """The chunks from `first` on, on a new loky pool of `workers` processes, shut down
+    afterwards: waiting for the workers on success, killing them on Ctrl-C or any other
+    interruption."""
     from loky import ProcessPoolExecutor
     from loky.backend.context import get_context
 
     pool = ProcessPoolExecutor(max_workers=workers, context=get_context("loky"))
     try:
-        outcomes = on_executor(pool, fn, points, n_chunks, bar, cancel=False)
+        outcomes = on_executor(pool, fn, points, n_chunks, bar, cancel=False, first=first)
     except BaseException:
         pool.shutdown(wait=False, kill_workers=True)
         raise

@@ -15,6 +15,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from presliding._display import result_html, short_repr, summarise
+from presliding._interop import require
 from presliding._validation import check_type
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -232,16 +233,8 @@ class SweepResult:
 
 
 def _optional(module: str, method: str) -> Any:
-    """Import an optional dependency, or say which extra installs it."""
-    import importlib
-
-    try:
-        return importlib.import_module(module)
-    except ImportError as exc:
-        raise ImportError(
-            f"`SweepResult.{method}` needs the optional `{module}` package; install it with "
-            f"`pip install presliding[{module}]`."
-        ) from exc
+    """Import an optional dependency, or say which extra installs it (`require`)."""
+    return require(module, f"`SweepResult.{method}()`")
 
 
 def where_run(backend: str, workers: int) -> str:

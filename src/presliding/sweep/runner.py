@@ -13,7 +13,7 @@ starts clean interpreters and never re-runs the calling script, and ``fn`` sent
 by value with cloudpickle, so a function defined in a notebook or a script
 works: `presliding.sweep._local`); a scheduler
 address string (``"tcp://host:8786"``) or a ``distributed.Client`` runs the
-chunks on a Dask cluster (optional dependency: ``pip install presliding[dask]``),
+chunks on a Dask cluster (optional dependency: ``pip install "presliding[dask]"``),
 where the grid's description is sent once and each task carries an index range
 (`presliding.sweep._dask`). Every backend calls ``fn`` on the same chunks, so an
 elementwise ``fn`` gives the same values everywhere.
@@ -51,6 +51,11 @@ __all__ = ["DASK_HINT", "SweepResult", "check_address", "sweep"]
 CHUNKS_PER_WORKER = 4
 #: Most local worker processes (each starts an interpreter and the compiled kernels).
 MAX_WORKERS = 1024
+#: Without a scheduler or `n_workers`, a sweep whose chunks would take less than this many
+#: seconds in all runs in this process [s]: starting worker processes (an interpreter,
+#: numpy and presliding each) costs seconds, 27 s of wall time for a trivial function on a
+#: loaded 2-core machine. The first chunk, run here, times one chunk.
+IN_PROCESS_SECONDS = 2.0
 
 
 def sweep(
@@ -78,7 +83,7 @@ def sweep(
         shape); a structured array gives a table, one point per row.
     scheduler : None, str, distributed.Client or concurrent.futures.Executor
         None: a new pool of local worker processes. An address string or a
-        Client: Dask (``pip install presliding[dask]``); a Client made from an
+        Client: Dask (``pip install "presliding[dask]"``); a Client made from an
         address is closed afterwards, a given Client is left open. An Executor
         (e.g. a ProcessPoolExecutor kept for many sweeps, which saves the worker
         start-up) is used as given and left open.
@@ -86,9 +91,12 @@ def sweep(
         Points per call of `fn`. Default: about four chunks per local worker,
         or per worker thread of the Dask cluster.
     n_workers : int, optional
-        Local worker processes (default: the machine's cores; 1 runs serially
-        in this process). With an Executor, only reported; ignored with Dask,
-        where the cluster's workers are counted.
+        Local worker processes (1 runs serially in this process). Default: the
+        first chunk runs in this process and is timed; when all the chunks would
+        take less than `IN_PROCESS_SECONDS` (2 s) here, or there is one chunk, the
+        rest run here too (``backend`` "serial": a pool's start-up would cost
+        more), else on the machine's cores. With an Executor, only reported;
+        ignored with Dask, where the cluster's workers are counted.
     progress : bool
         Show progress on stderr once the sweep has run for a second: a bar on a
         terminal, else a line per tenth of the chunks
@@ -147,11 +155,11 @@ def sweep(
             if n_workers is None
             else as_count("n_workers", n_workers, minimum=1, maximum=MAX_WORKERS)
         )
-        backend = "serial" if workers == 1 else "processes"
+        backend = "serial" if workers == 1 else ("auto" if n_workers is None else "processes")
     if chunk_size is not None:
         chunk_size = as_count("chunk_size", chunk_size, minimum=1)
-    if backend in ("processes", "executor"):
-        by_value(fn)  # a TypeError now if it cannot be sent
+    if backend in ("processes", "executor", "auto"):
+        by_value(fn)  # a TypeError now if it cannot be sent (whatever the timing decides)
     t0 = time.perf_counter()
     try:
         if backend == "dask":
@@ -161,7 +169,10 @@ def sweep(
         with Progress(
             "presliding sweep", total=n_chunks, unit="chunk", quiet=not progress, delay=1.0
         ) as bar:
-            outcomes = _execute(fn, points, n_chunks, backend, workers, client, bar, retries)
+            if backend == "auto":
+                outcomes, backend, workers = _timed(fn, points, n_chunks, workers, bar)
+            else:
+                outcomes = _execute(fn, points, n_chunks, backend, workers, client, bar, retries)
     finally:
         if owned:
             client.close()
@@ -169,11 +180,26 @@ def sweep(
     return _assemble(outcomes, points, elapsed, workers, backend)
 
 
-def _execute(fn, points, n_chunks, backend, workers, client, bar, retries):
-    """(ok, values or error text) per chunk, in chunk order."""
+def _timed(fn, points, n_chunks, workers, bar):
+    """The first chunk here, timed; the rest here too when all would take less than
+    `IN_PROCESS_SECONDS` (or there is no rest), else on a pool. Returns (outcomes, backend,
+    workers)."""
+    start = time.perf_counter()
+    first = _execute(fn, points, n_chunks, "serial", 1, None, bar, 0, stop=1)
+    took = time.perf_counter() - start
+    if n_chunks == 1 or took * n_chunks < IN_PROCESS_SECONDS:
+        rest = _execute(fn, points, n_chunks, "serial", 1, None, bar, 0, start=1)
+        return first + rest, "serial", 1
+    workers = min(workers, n_chunks - 1)
+    rest = on_local_pool(by_value(fn), points, n_chunks, workers, bar, first=1)
+    return first + rest, "processes", workers
+
+
+def _execute(fn, points, n_chunks, backend, workers, client, bar, retries, start=0, stop=None):
+    """(ok, values or error text) per chunk, in chunk order (serially: chunks start..stop)."""
     if backend == "serial":
         outcomes = []
-        for i in range(n_chunks):
+        for i in range(start, n_chunks if stop is None else stop):
             try:
                 outcomes.append(run_chunk(fn, points, i, n_chunks))
             except Exception as exc:  # reported on the result, not raised

@@ -233,3 +233,37 @@ def test_a_parameter_a_hair_inside_its_bound_is_put_on_it():
     assert y_on[0] == 1.0 and y_on[1] == 3.0 and c_on <= c
     w = np.array([0.5, 3.0])
     assert np.array_equal(_onto_bounds(prof, w, float(np.sum(residual(w) ** 2)))[0], w)
+
+
+def test_auto_profiles_a_doubtful_wald_interval_and_not_a_determined_one(monkeypatch):
+    """Two independent parts: a slope fitted to 40 points (linear: the cost along its
+    linearised path is the quadratic, its Wald interval exact) and a decay rate fitted to
+    10 noisy points (the cost departs from the quadratic at its Wald ends). "auto" keeps the
+    slope's Wald interval without an inner optimisation and profiles the rate, whose
+    interval is then asymmetric about the estimate."""
+    from presliding.identification.intervals import _profile_walk
+
+    rng = np.random.default_rng(4)
+    x, t = np.linspace(0.0, 1.0, 40), np.linspace(0.0, 3.0, 10)
+    y1 = 3.0 * x + rng.normal(0.0, 0.05, x.size)
+    y2 = np.exp(-1.3 * t) + rng.normal(0.0, 0.05, t.size)
+
+    def residual(p):
+        return np.concatenate([p[0] * x - y1, np.exp(-p[1] * t) - y2])
+
+    sol = solve_least_squares(residual, {"slope": 1.0, "rate": 1.0}, tolerance=1e-12)
+    held = []
+    original = _profile_walk.Walker._solve
+
+    def solve(walk, theta, z0):
+        held.append(walk.prof.free[walk.j])
+        return original(walk, theta, z0)
+
+    monkeypatch.setattr(_profile_walk.Walker, "_solve", solve)
+    out = profile_solution(sol, "auto")
+    assert out.interval_method == {"slope": "wald", "rate": "profile"}
+    assert set(held) == {"rate"}  # no inner optimisation spent on the slope
+    assert out.confidence_interval["slope"] == sol.confidence_interval["slope"]
+    lo, hi = out.confidence_interval["rate"]
+    k = sol.values["rate"]
+    assert abs((hi - k) - (k - lo)) > 0.05 * (hi - lo)

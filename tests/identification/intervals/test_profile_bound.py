@@ -12,7 +12,7 @@ from scipy import optimize, stats
 from presliding import PIFriction, fit_response
 from presliding.identification.intervals._profile import profile_solution
 from presliding.identification.solve._least_squares import solve_least_squares
-from presliding.identification.solve._normal_equations import profile_thresholds
+from presliding.identification.solve._normal_equations import NEAR_FLAT, profile_thresholds
 from tests.helpers import random_preload_stops
 
 T = np.linspace(0.0, 1.0, 80)
@@ -83,9 +83,10 @@ def test_an_initial_velocity_whose_preload_is_saturated_gets_an_interval_from_it
     monkeypatch,
 ):
     """Three stops; the first one's preload (0.69 in the motion's direction) fits on its bound
-    1, where its column vanishes. Read there, the initial velocity's Wald error is 1.9e-5 m/s
-    and the truth 19 of them away; the preload's profile inward from the bound holds the
-    truth, and the velocity's interval follows it (z about 4 on the raised error)."""
+    1 (or a hair inside it), where its column vanishes. Read there, the initial velocity's
+    Wald error is 1.9e-5 m/s and the truth 19 of them away; the preload's profile inward from
+    the bound holds the truth, and the velocity's interval follows it (z about 4 on the
+    raised error)."""
     from presliding.identification import fit_result
 
     model = PIFriction(0.3, [4000.0, 2000.0, 1000.0, 500.0], breakaway=[0.175] * 4)
@@ -102,7 +103,9 @@ def test_an_initial_velocity_whose_preload_is_saturated_gets_an_interval_from_it
     monkeypatch.setattr(fit_result, "profile_solution", keep)
     fit = fit_response(records, signal="both", initial_state="preload")
     wald = min(seen, key=lambda s: float(s.residual @ s.residual))
-    assert fit.parameters["preload_fraction_1"] == pytest.approx(1.0, abs=1e-12)
+    # on its bound, or a hair inside it where the solver stopped (from a start 1e-4 away it
+    # ended at 0.99915): within NEAR_FLAT of the range, profiled from the bound alike
+    assert fit.parameters["preload_fraction_1"] == pytest.approx(1.0, abs=NEAR_FLAT * 2.0)
     # the case: the Wald interval read on the bound misses the initial velocity by far
     name = "initial_velocity_1"
     lo, hi = wald.confidence_interval[name]

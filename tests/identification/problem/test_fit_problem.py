@@ -37,7 +37,7 @@ def _path_problem(force):
 
 
 def test_a_direct_problem_is_what_fit_presliding_minimises():
-    """The problem's start, residual and Jacobian; one solve of it is the public fit."""
+    """The problem's start, residual and Jacobian; one solve of it reaches the public fit."""
     force = _force()
     sep, problem = _path_problem(force)
     assert tuple(problem.start()) == problem.names == (
@@ -54,9 +54,11 @@ def test_a_direct_problem_is_what_fit_presliding_minimises():
         np.testing.assert_allclose(jac[:, j], col, rtol=1e-5, atol=1e-6 * np.abs(col).max())
     fit = solve_separable(sep, problem, FitOptions(0.95, None, 1e-8))
     public = fit_presliding(PATH, force, 2)
-    assert public.parameters == fit.solution.values  # the same solve, bit for bit
-    assert public.nfev == fit.solution.n_evaluations
-    np.testing.assert_array_equal(public.fitted, fit.fitted)
+    # the public fit keeps the best of this solve and those from the threshold search's
+    # starts (`_threshold_search`): on noise-free data all reach the truth, to rounding
+    for name, value in fit.solution.values.items():
+        assert public.parameters[name] == pytest.approx(value, rel=1e-9, abs=1e-15), name
+    np.testing.assert_allclose(public.fitted, fit.fitted, rtol=1e-9, atol=1e-12)
     assert public.parameters["stiffness_1"] == pytest.approx(50.0, rel=1e-8)
 
 

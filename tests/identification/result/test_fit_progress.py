@@ -86,6 +86,35 @@ def test_progress_true_shows_on_a_terminal_only_and_false_writes_nothing(capsys,
     _same(a, c)
 
 
+def test_in_a_notebook_progress_true_draws_tqdms_notebook_bar(monkeypatch):
+    """Jupyter's stderr is no terminal: the fit drew nothing there; now tqdm.auto's bar."""
+    import sys
+    import types
+
+    import tqdm.auto
+
+    drawn: list[str] = []
+
+    class NotebookBar:  # what tqdm.auto gives in a notebook (a widget)
+        def __init__(self, *args, desc="", **kwargs):
+            drawn.append(desc)
+
+        def __getattr__(self, name):
+            return lambda *args, **kwargs: drawn.append(name)
+
+    kernel_shell = types.SimpleNamespace(kernel=object())  # IPython's shell in a kernel
+    monkeypatch.setitem(
+        sys.modules, "IPython", types.SimpleNamespace(get_ipython=lambda: kernel_shell)
+    )
+    monkeypatch.setattr(tqdm.auto, "tqdm", NotebookBar)
+    monkeypatch.setattr(sys, "stderr", io.StringIO())  # the kernel's output stream
+    y, f = _loops()
+    fit = ps.fit_presliding(y, f, 2, progress=True)
+    assert drawn[0] == "presliding fit_presliding"
+    assert "set_postfix_str" in drawn  # the notes: stages and evaluations
+    _same(fit, ps.fit_presliding(y, f, 2))
+
+
 def test_a_pooled_fit_with_a_bootstrap_shows_its_steps_and_fits_the_same():
     records, _ = stop_records(5, 3, STOPS, samples=300)
     options = {"n_elements": 2, "bootstrap": 3, "seed": 1}

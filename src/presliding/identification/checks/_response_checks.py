@@ -292,11 +292,13 @@ def bound_check(sol, start, names, fixed, tied, equal_breakaway) -> Solution:
         "mass": abs(start["mass"]),
         "coulomb_level": abs(start.get("coulomb_level", 0.0)),
         "coulomb": val.get("coulomb_level", val["coulomb"] + c_max),
+        "coulomb_level_negative": abs(start.get("coulomb_level_negative", 0.0)),
+        "coulomb_negative": max(val["coulomb"], val.get("coulomb_negative", 0.0)),
     }
     at = []
     for x in free:
         ref = scale.get(x, k_max if x.startswith("stiffness_") else c_max)
-        if x.startswith(_NUISANCE) or x in ("offset", "viscous"):
+        if x.startswith(_NUISANCE) or x in ("offset", "viscous", "viscous_negative"):
             continue  # a record's start, an offset or no viscous friction: not a model bound
         if val[x] <= _BOUND * ref:
             at.append(f"{x} = 0")
@@ -325,10 +327,16 @@ def consistent_level(sol: Solution, spec: Any) -> Solution:
     """
     if not spec.has_level_parameter or spec.n == 0 or sol.status == "failed":
         return sol
-    level = spec.model(sol.values).coulomb_level
+    model = spec.model(sol.values)  # PIFriction: F_c⁻ of an asymmetric model; a rate family: one
+    sides = hasattr(model, "coulomb_levels")
+    level, below = model.coulomb_levels if sides else (model.coulomb_level, 0.0)
     if level == sol.values["coulomb_level"]:
         return sol
     values = {**sol.values, "coulomb_level": float(level)}
+    if (
+        getattr(spec, "negative", None) is not None
+    ):  # the negative side's level the same way (ρ kept)
+        values[spec.negative] = float(below)
     return replace(sol, values=values)
 
 

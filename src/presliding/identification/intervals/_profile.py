@@ -60,6 +60,7 @@ from typing import Any
 
 import numpy as np
 
+from presliding.identification.intervals._profile_bound import ACCURACY as BOUND_ACCURACY
 from presliding.identification.intervals._profile_bound import partner_intervals, widen
 from presliding.identification.intervals._profile_inner import cost, minimise
 from presliding.identification.intervals._profile_walk import (
@@ -168,7 +169,7 @@ def profile_solution(sol: Any, which: str | Sequence[str] = "auto", budget: int 
             continue
         if which not in ("auto", "all") and prof.free[p] not in which:
             continue
-        walk = Walker(prof, x, c0, normal, p, crit, -drop)
+        walk = Walker(prof, x, c0, normal, p, crit, -drop, accuracy=BOUND_ACCURACY)
         ci[prof.free[p]], ranges = partner_intervals(walk)
         methods[prof.free[p]] = "profile"
         done.add(p)
@@ -181,6 +182,7 @@ def profile_solution(sol: Any, which: str | Sequence[str] = "auto", budget: int 
         range(len(prof.free)),
         key=lambda i: (_per_record(prof.free[i]), not _at_bound(prof, x, i, ci[prof.free[i]])),
     )
+    unresolved: tuple[str, ...] = ()  # their profiles stopped where P was not resolved
     for j in order:
         name = prof.free[j]
         if j in done:
@@ -213,12 +215,14 @@ def profile_solution(sol: Any, which: str | Sequence[str] = "auto", budget: int 
             methods[name] = "profile"
         spent += walk.solves
         if ends is None:  # the inner optimisations do not resolve P here: stop profiling
+            unresolved = tuple(prof.free[i] for i in order[order.index(j) :] if i not in done)
             break
     ci.update(_tied_intervals(sol, ci))
     if done:
         return replace(sol, confidence_interval=ci, interval_method=methods,
-                       standard_error=se, covariance=_rescaled(sol, se))  # fmt: skip
-    return replace(sol, confidence_interval=ci, interval_method=methods)
+                       standard_error=se, covariance=_rescaled(sol, se),
+                       unresolved=unresolved)  # fmt: skip
+    return replace(sol, confidence_interval=ci, interval_method=methods, unresolved=unresolved)
 
 
 def _rescaled(sol: Any, se: dict) -> Any:

@@ -63,7 +63,7 @@ def partner_intervals(walk: Walker) -> tuple[tuple[float, float], dict[int, tupl
     side = -1 if prof.upper[j] - v <= v - prof.lower[j] else 1  # inward from the nearer
     bound = float(prof.upper[j] if side < 0 else prof.lower[j])
     span = float(prof.upper[j] - prof.lower[j])
-    end = interval_end(walk, side, STEP * span, ACCURACY)
+    end = interval_end(walk, side, STEP * span)
     end = float(np.clip(end, prof.lower[j], prof.upper[j]))
     crit = walk.root**2
     points = sorted(walk.solved.items(), key=lambda kv: side * (kv[0] - v))

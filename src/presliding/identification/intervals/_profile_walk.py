@@ -107,7 +107,8 @@ class Walker:
     """Profile of one parameter: P(θ) by inner optimisations, every solved point kept."""
 
     def __init__(self, prof: Profiler, x: FloatArray, c0: float, normal: FloatArray, j: int,
-                 threshold: float, low: float = 0.0):  # fmt: skip
+                 threshold: float, low: float = 0.0,
+                 accuracy: float = END_ACCURACY):  # fmt: skip
         self.prof, self.x, self.c0, self.j = prof, x, c0, j
         self.keep = np.array([i for i in range(x.shape[0]) if i != j], dtype=int)
         self.path = _path(prof, x, normal, j, self.keep)
@@ -116,8 +117,9 @@ class Walker:
         self.refined: set[float] = set()
         self.solves = 0
         # the cost left by an inner optimisation moves an end by about δP/(2·P_crit) of the
-        # half width: a share of END_ACCURACY
-        self.tol = INNER_SHARE * END_ACCURACY * threshold
+        # half width: a share of the accuracy the walk's ends are found to
+        self.accuracy = accuracy
+        self.tol = INNER_SHARE * accuracy * threshold
         #: the lowest P found (below 0 where the fit's optimum is not a minimum on the scale
         #: of P_crit: the profile is then measured from it)
         self.low = low
@@ -253,14 +255,15 @@ def _path(prof: Profiler, x: FloatArray, normal: FloatArray, j: int,
     return out
 
 
-def interval_end(walk: Walker, side: int, half: float, accuracy: float = END_ACCURACY) -> float:
+def interval_end(walk: Walker, side: int, half: float) -> float:
     """The interval end on `side` (±1): where g = √P − √P_crit crosses 0, a bound, or ±inf.
 
     The walk: a first step of `FIRST_STEP` half widths, then secant steps on the
     two farthest points inside, a little past the predicted root, until it is
-    bracketed (module notes); the end to `accuracy` half widths.
+    bracketed (module notes); the end to the walk's accuracy (`Walker.accuracy`, in half
+    widths: `END_ACCURACY` unless the walk was made for another).
     """
-    prof, j = walk.prof, walk.j
+    prof, j, accuracy = walk.prof, walk.j, walk.accuracy
     theta0 = float(walk.x[j])
     limit = float(prof.upper[j] if side > 0 else prof.lower[j])
     if theta0 == limit:

@@ -15,8 +15,20 @@ status               rule that gives it (the first that fires wins)             
                      variance (1 − ‖r‖²/‖y − ȳ‖² < 0.5); ``all_bounds``: every
                      free parameter sits on a bound.
 ``max_evaluations``  ``budget``: the evaluation limit stopped the optimiser.    1
-``local_minimum``    ``search``: a better optimum exists, or the residual stays 1
-                     far above the noise floor (set by the search).
+``local_minimum``    ``search``: a better optimum of this model exists or is    1
+                     likely: the residual stays far above the noise floor while
+                     the starts ended apart, or while some records fit at
+                     their floor, and the residuals name no mechanism the model
+                     lacks nor fail on every record (set by the search).
+``model_inadequate`` ``adequacy``: the residuals are not what the noise model   1
+                     says (`_adequacy`: a record's level above its floor, a
+                     residual that is not white, or one that correlates with
+                     the input or the motion), and no better optimum of this
+                     model is likely: the model does not describe the data.
+                     The message names the test, the record and the lag, and
+                     the likely cause when a diagnostic points to it (an
+                     asymmetry, a velocity dependence, a delay, too few
+                     elements). Its intervals are not calibrated.
 ``not_identifiable`` ``singular``: a direction of parameter space the data do   1
                      not determine; ``correlation``: |ρ| ≥ 0.999 between two
                      free parameters, both with an interval wider than 10 % of
@@ -24,7 +36,12 @@ status               rule that gives it (the first that fires wins)             
                      standard error that is not finite; ``interval``: an
                      interval end the data do not bound, or one spanning more
                      than two orders of magnitude; ``profile``: a flat profile
-                     (set by a check); ``optima``: another local optimum the
+                     (set by a check), or a linearised interval wider than
+                     half the value on each side whose profile
+                     stopped unresolved (its inner optimisations disagree:
+                     the cost has other valleys within reach); ``optima``:
+                     another
+                     local optimum the
                      search reached is within the profile's likelihood-ratio
                      threshold of the best and outside an interval (the
                      interval widened to hold both, `_alternatives`).
@@ -51,15 +68,20 @@ from typing import Any
 
 import numpy as np
 
+from presliding.identification.judge._poor_fit import MIN_EXPLAINED, poor_fit_text
+
 __all__ = [
     "EXIT_CODES",
     "MAX_CORRELATION",
     "MAX_DECADES",
     "MIN_EXPLAINED",
+    "OPTIMUM",
     "STATUSES",
+    "adequacy_verdict",
     "exit_code",
     "explained_variance",
     "judge",
+    "loose_wald",
     "sign_hint",
 ]
 
@@ -67,6 +89,7 @@ __all__ = [
 STATUSES = (
     "converged",
     "local_minimum",
+    "model_inadequate",
     "not_identifiable",
     "poor_fit",
     "at_bound",
@@ -75,22 +98,49 @@ STATUSES = (
 )
 #: Exit code of ``presliding fit`` for each status (every ``--kind`` alike).
 EXIT_CODES = {s: (0 if s == "converged" else 1) for s in STATUSES}
-#: Least share of the variance a fit must explain not to be a poor fit.
-MIN_EXPLAINED = 0.5
 #: |ρ| at or above which two parameters are not separately determined.
 MAX_CORRELATION = 0.999
 #: A correlated pair is undetermined only where an interval exceeds this share of its value.
 LOOSE = 0.1
 #: Interval spanning more decades than this (hi/value or value/lo): not determined.
 MAX_DECADES = 2.0
+#: A linearised interval wider than this share of the value (each side) of a parameter whose
+#: profile stopped unresolved is not one the data support: within a factor 2 of 0, a
+#: positive parameter's quadratic approximation does not hold, and the profile that would
+#: replace it found other valleys
+WIDE_WALD = 0.5
 #: Parameters whose bound is a natural value (a record's start, an offset, no viscous friction).
 NATURAL = ("initial_velocity", "initial_position", "preload_fraction", "offset", "viscous")
-_SOLVER_KEPT = ("failed", "max_evaluations", "local_minimum")
+_SOLVER_KEPT = ("failed", "max_evaluations", "local_minimum", "model_inadequate")
+_KEPT_RULES = {"max_evaluations": "budget", "local_minimum": "search",
+               "model_inadequate": "adequacy"}  # fmt: skip
+#: statuses of an optimum (the rules after the search's may still change them)
+OPTIMUM = ("converged", "not_identifiable", "at_bound")
 
 
 def exit_code(status: str) -> int:
     """The command line's exit code for a fit's `status` (0 only for "converged")."""
     return EXIT_CODES.get(status, 1)
+
+
+def adequacy_verdict(status: str, message: str, adequacy: Any,
+                     starts_agree: bool = True) -> tuple[str, str]:  # fmt: skip
+    """Rule ``adequacy`` (module table): an optimum whose residuals fail the tests of
+    `_adequacy` is ``model_inadequate``; with starts that ended apart while a record sits
+    above its floor and no mechanism named, a better optimum is likely instead
+    (``local_minimum``)."""
+    if status not in OPTIMUM or adequacy is None or adequacy.passed:
+        return status, message
+    old = "" if status == "converged" else message
+    off_floor = any(f.test == "level" for f in adequacy.findings)
+    if off_floor and not starts_agree and adequacy.cause is None:
+        text = (
+            "local minimum: the starts ended apart and the residual stays above the noise "
+            f"floor, so a better optimum of this model is likely; {adequacy.text()}"
+        )
+        return "local_minimum", _rule("search", text, old)
+    text = f"model inadequate: {adequacy.text()}"
+    return "model_inadequate", _rule("adequacy", text, old)
 
 
 def explained_variance(measured: np.ndarray, fitted: np.ndarray) -> float:
@@ -130,8 +180,14 @@ def undetermined(
     free: Sequence[str],
     at_bounds: Sequence[str],
     bounds: Mapping[str, tuple[float, float]],
+    methods: Mapping[str, str] | None = None,
 ) -> tuple[str, str]:
-    """The first not-identifiable rule that fires, as (rule, text); ("", "") for none."""
+    """The first not-identifiable rule that fires, as (rule, text); ("", "") for none.
+    `methods` are the intervals' methods (`interval_method`) of the parameters whose profile
+    stopped unresolved (`Solution.unresolved`): a model parameter's linearised interval wider
+    than `WIDE_WALD` of its value among them is not one the data support (rule
+    ``profile``)."""
+    methods = methods or {}
     names = list(values)
     inner = [x for x in free if x not in at_bounds and x in values]
     bad = [x for x in inner if not np.isfinite(standard_error.get(x, 0.0))]
@@ -175,7 +231,28 @@ def undetermined(
             f"the data do not determine {_names(wide)}: the interval is not bounded or spans "
             f"more than {MAX_DECADES:g} orders of magnitude"
         )
+    unheld = [
+        f"{x} (±{100 * (intervals[x][1] - intervals[x][0]) / 2 / abs(values[x]):.0f} %)"
+        for x in loose_wald(values, intervals, methods, inner)
+    ]
+    if unheld:
+        return "profile", (
+            f"the linearised intervals of {_names(unheld)} are too wide to hold (their "
+            "profiles were not resolved: the cost has other valleys within reach)"
+        )
     return "", ""
+
+
+def loose_wald(values: Mapping[str, float], intervals: Mapping[str, tuple[float, float]],
+               methods: Mapping[str, str], free: Sequence[str]) -> list[str]:  # fmt: skip
+    """The model parameters among `free` whose interval is linearised (``"wald"``) and wider
+    than `WIDE_WALD` of the value on each side: one the profile would replace, and did not."""
+    return [
+        x for x in free
+        if methods.get(x) == "wald" and not x.startswith(NATURAL) and x in intervals
+        and values.get(x, 0.0) != 0
+        and (intervals[x][1] - intervals[x][0]) / 2 > WIDE_WALD * abs(values[x])
+    ]  # fmt: skip
 
 
 def _loose(
@@ -200,8 +277,8 @@ def _held(
 ) -> str:
     """A poor fit's cause: model parameters held on (or within 1e-5 of) a finite bound."""
     held = []
-    for x in free:
-        if x.startswith(NATURAL) or x not in values:
+    for x in free:  # a threshold's bounds are the data's resolution and reach: natural ones
+        if x.startswith(NATURAL) or x.startswith("threshold") or x not in values:
             continue
         v = values[x]
         for end in bounds.get(x, (-np.inf, np.inf)):
@@ -251,6 +328,7 @@ def judge(
     covariance: Any = None,
     bounds: Mapping[str, tuple[float, float]] | None = None,
     model_hint: str | Callable[[], str] = "",
+    interval_method: Mapping[str, str] | None = None,
 ) -> tuple[str, str]:
     """The status and message of a fit under the rules of the module table.
 
@@ -270,11 +348,11 @@ def judge(
         held = _held(values or {}, free, at_bounds, bounds or {})
         if held:
             hint = "; ".join(x for x in (hint, held) if x)
-        return "poor_fit", _poor_fit_text(
+        return "poor_fit", poor_fit_text(
             share, all_bound, measured, signal_label, hint, model_hint, message
         )
     if status in _SOLVER_KEPT:
-        rule = {"max_evaluations": "budget", "local_minimum": "search"}[status]
+        rule = _KEPT_RULES[status]
         return status, message if message.startswith("rule ") else _rule(rule, "", message)
     if values is None:
         return status, message
@@ -282,7 +360,14 @@ def judge(
     if status == "not_identifiable" and not message.startswith("rule "):
         return status, _rule("singular" if "singular" in message else "profile", "", message)
     rule, text = undetermined(
-        values, standard_error or {}, intervals or {}, covariance, free, at_bounds, bounds
+        values,
+        standard_error or {},
+        intervals or {},
+        covariance,
+        free,
+        at_bounds,
+        bounds,
+        interval_method,
     )
     if rule:
         return "not_identifiable", _rule(rule, text, message)
@@ -298,88 +383,3 @@ def judge(
         )
         return "at_bound", _rule("bound", text, message)
     return status, message
-
-
-def _poor_fit_text(
-    share: float,
-    all_bound: bool,
-    measured: np.ndarray,
-    signal_label: str,
-    hint: str,
-    model_hint: str | Callable[[], str],
-    message: str,
-) -> str:
-    reasons = []
-    if share < MIN_EXPLAINED:
-        pct = "none" if not np.isfinite(share) or share <= 0 else f"{100 * share:.3g} %"
-        reasons.append(
-            f"the model explains {pct} of the variance of the {signal_label} (at least "
-            f"{100 * MIN_EXPLAINED:g} % is expected)"
-        )
-    if all_bound:
-        reasons.append("every fitted parameter sits on a bound")
-    name = "explained" if share < MIN_EXPLAINED else "all_bounds"
-    causes = [hint] if hint else []
-    if not _plausible_span(measured, signal_label):
-        causes.append(
-            f"units (the {signal_label} spans {_span(measured)}, implausible in SI: a unit in "
-            "a column header is converted to SI, else give `units`/`scale` (--units/--scale))"
-        )
-    window = _window_hint(measured)
-    if window:
-        causes.append(
-            f"the window ({window}: cut load ramps, idle or saturated stretches away with "
-            "Measurement.window or --window START:STOP)"
-        )
-    if not causes:
-        more = model_hint() if callable(model_hint) else model_hint
-        causes.append(
-            "model inadequacy: units, window and sign look right, so the model cannot "
-            "explain these data (a mechanism it lacks, e.g. Coulomb friction alone on a "
-            "viscous damper: try more elements, a viscous term or another model)"
-            + (f"; {more}" if more else "")
-        )
-    text = f"poor fit: {'; '.join(reasons)}. Likely causes: {'; '.join(causes)}. Solver: {message}"
-    return f"rule {name}: {text}"
-
-
-#: Spans of a signal that are plausible in SI for a rig, by the words of its label.
-_PLAUSIBLE = (
-    (("force", "torque"), 1e-5, 1e6),
-    (("position", "displacement"), 1e-9, 10.0),
-    (("velocity",), 1e-8, 100.0),
-)
-
-
-def _plausible_span(measured: np.ndarray, label: str) -> bool:
-    """False when the signal's span is implausible in SI (mm read as m, µN as N, ...)."""
-    span = float(np.ptp(measured)) if measured.size else 0.0
-    for words, lo, hi in _PLAUSIBLE:
-        if any(w in label for w in words):
-            return lo <= span <= hi
-    return True
-
-
-def _window_hint(measured: np.ndarray) -> str:
-    """What looks wrong with the window: idle or saturated stretches, or a ramp ("" if none)."""
-    n = measured.shape[0]
-    if n < 8:
-        return ""
-    still = float(np.mean(np.diff(measured) == 0.0))
-    if still > 0.3:
-        return f"the signal stands still over {100 * still:.0f} % of the samples"
-    t = np.arange(n, dtype=float)
-    spread = float(np.sum((measured - measured.mean()) ** 2))
-    if spread > 0:
-        slope = np.polyfit(t, measured, 1)
-        trend = 1.0 - float(np.sum((measured - np.polyval(slope, t)) ** 2)) / spread
-        if trend > 0.9:
-            return f"a ramp or drift explains {100 * trend:.0f} % of the signal's variance"
-    return ""
-
-
-def _span(values: Any) -> str:
-    arr = np.asarray(values, dtype=float)
-    if arr.size == 0:
-        return "nothing"
-    return f"{float(arr.min()):.3g} to {float(arr.max()):.3g}"

@@ -7,7 +7,8 @@ applied force, and the user's `initial` and `bounds`. `quasi_static_plan`
 gives the fit's own steps:
 
 * search: the residual is far from convex in the records' preloads, in c1
-  against the stiffest element and in the element split. The cheapest route
+  against the stiffest element, in the element split and in a density's length
+  scale (its further starts move it by `DENSITY_SCALES` with F_m kept). The cheapest route
   first: the regression start solved once (the records' own starts fitted one
   by one first, `record_starts`); when it converged with every record within
   the floor rule (`_search.at_floor`) no further start runs. Otherwise the
@@ -21,10 +22,15 @@ gives the fit's own steps:
   split is the least determined direction of the loops; another optimum that
   the profile's threshold does not exclude is reported, `_alternatives`), and
   so is its flattest direction, stepped far both ways (`_flat_probe`);
+* refit: a preload fit far above the noise floor is fitted again from relaxed
+  records and replaced where that fits clearly better (`_relaxed`: a relaxed
+  memory is not on the branch of the preloads);
 * checks: coalesced elements split, elements relabelled stiffest first, then a
   split of neighbouring elements the records do not determine made
   ``not_identifiable`` with its plateau in the intervals (`_split_check`: an
   element that never slides leaves only the sum of the stiffnesses);
+* ``asymmetric=True``: the symmetric fit first, the asymmetric one from it
+  (`_asymmetric_plan`; the parts it keeps: `asymmetric_parts`);
 * result: the errors raised to the floor that runs of equal quantised samples
   imply (`_quasi_static_errors`: a record's initial position is fixed by its
   first samples alone), the model, the preloads as forces, the note of an F_c
@@ -51,6 +57,7 @@ from presliding.identification.checks._response_checks import (
     stiffest_first,
 )
 from presliding.identification.checks._split_check import undetermined_split
+from presliding.identification.plans._asymmetric_plan import Parts
 from presliding.identification.plans._response_setup import (
     MAX_BOOTSTRAP,
     check_model_values,
@@ -68,6 +75,7 @@ from presliding.identification.problem._model_spec import DENSITIES, ModelSpec
 from presliding.identification.problem._parameters import (
     check_flag,
     check_levels,
+    check_sides,
     resolve_parameters,
 )
 from presliding.identification.records._creep_problem import CREEP, CreepQuasiStaticProblem
@@ -79,6 +87,7 @@ from presliding.identification.records._quasi_static_start import (
     lift_density,
     quasi_static_start,
 )
+from presliding.identification.records._residual_blocks import pooled_adequacy
 from presliding.identification.search._flat_probe import flat_probe
 from presliding.identification.search._nuisance_search import search_nuisance
 from presliding.identification.search._probes import other_valley, solve_probes, split_starts
@@ -92,7 +101,8 @@ from presliding.identification.search._search import (
 from presliding.identification.solve._least_squares import Solution
 from presliding.measurement.measurement import Measurement, common_axis
 
-__all__ = ["STATES", "check_quasi_static", "quasi_static_plan", "quasi_static_problem"]
+__all__ = ["STATES", "asymmetric_parts", "check_quasi_static", "quasi_static_plan",
+           "quasi_static_problem"]  # fmt: skip
 
 STATES = ("preload", "continuing", "relaxed")
 _UNITS = {"height": "N/m^2", "max_threshold": "m", "length": "m", "preload": "N"}
@@ -136,7 +146,8 @@ def check_quasi_static(request: dict[str, Any]) -> QuasiStaticRequest:
                                                       a["tied"])  # fmt: skip
     check_levels(None, a["min_coulomb_level"], fixed)
     fixed, tied = check_constraints(fixed, tied)
-    spec = ModelSpec(n, a["equal_breakaway"], density, cells)
+    asymmetric = check_sides(a.get("asymmetric", False), a["offset"])
+    spec = ModelSpec(n, a["equal_breakaway"], density, cells, asymmetric)
     check_model_values(spec, fixed, tied, initial)
     bootstrap = as_count("bootstrap", a["bootstrap"], maximum=MAX_BOOTSTRAP)
     fmin = 0.0 if a["min_coulomb_level"] is None else as_positive_scalar(
@@ -151,8 +162,10 @@ def check_quasi_static(request: dict[str, Any]) -> QuasiStaticRequest:
 
 
 def _level_floor(req: QuasiStaticRequest, records: QuasiStaticProblem) -> float:
-    """The lower bound of F_c: the largest |u| (without an offset) and `min_coulomb_level`."""
-    return max(req.fmin, records.u_max * (1 + 1e-9)) if not req.offset else req.fmin
+    """The lower bound of F_c: the largest |u| (without an offset) and `min_coulomb_level`;
+    of F_c⁺ an asymmetric model's: the largest u."""
+    largest = records.u_sides[0] if req.spec.negative else records.u_max
+    return max(req.fmin, largest * (1 + 1e-9)) if not req.offset else req.fmin
 
 
 def _start_and_box(req: QuasiStaticRequest, records: QuasiStaticProblem) -> tuple[dict, dict]:
@@ -179,6 +192,10 @@ def _start_and_box(req: QuasiStaticRequest, records: QuasiStaticProblem) -> tupl
     if spec.has_level_parameter and floor > 0:
         box["coulomb_level"] = (floor, np.inf)
         start["coulomb_level"] = max(start["coulomb_level"], floor * 1.01)
+    if spec.negative is not None:  # F_c⁻ above the largest −u (and `min_coulomb_level`)
+        below = max(req.fmin, records.u_sides[1] * (1 + 1e-9))
+        box[spec.negative] = (below, np.inf)
+        start[spec.negative] = max(start[spec.negative], below * 1.01)
     elif floor > 0:  # a density: F_c = c1 + F_m is derived; F_m is linear in the heights
         start = lift_density(spec, start, 1.2 * floor, req.fixed)
     for key, (lo, hi) in as_bounds("bounds", req.bounds, names).items():  # the user's, within
@@ -208,8 +225,65 @@ def quasi_static_plan(req: QuasiStaticRequest) -> FitPlan:
     """The quasi-static fit's own steps (module notes)."""
     return FitPlan(
         search=partial(_search, req), checks=(partial(_split, req), partial(_plateau, req)),
-        result=partial(_result, req), bootstrap=req.bootstrap, seed=req.seed,
+        refit=partial(_relaxed, req), result=partial(_result, req), bootstrap=req.bootstrap,
+        seed=req.seed, adequacy=lambda run, sol: pooled_adequacy(run.problem, sol),
     )  # fmt: skip
+
+
+def asymmetric_parts(req: QuasiStaticRequest) -> Parts:
+    """The parts an asymmetric quasi-static fit keeps (`_asymmetric_plan`): the problem, its
+    search, the elements relabelled stiffest first, and the result."""
+    problem, options = quasi_static_problem(req)
+    own = req.initial_state == "preload" and not any(
+        x in problem.fixed or x in problem.tied for x in problem.names)  # fmt: skip
+    prepare = partial(record_starts, problem.records) if own else None
+    return Parts(problem, options, (partial(_relabel, req),), partial(_result, req),
+                 req.bootstrap, req.seed, prepare, partial(_search, req))  # fmt: skip
+
+
+def _relabel(req: QuasiStaticRequest, run: FitRun, sol: Solution) -> Solution:
+    """Elements of equal break-away force relabelled stiffest first."""
+    spec = req.spec
+    if spec.density is None and spec.equal and not _shaped(req) and sol.status != "failed":
+        return stiffest_first(sol, spec.k_names)
+    return sol
+
+
+#: a relaxed start is kept where its cost is below this share of the best preload's
+RELAXED_BETTER = 0.5
+
+
+def _relaxed(req: QuasiStaticRequest, run: FitRun, sol: Solution) -> Any:
+    """A preload fit far above the noise floor, fitted again from relaxed records; kept when
+    it fits clearly better (`RELAXED_BETTER`), with a note.
+
+    The preloads are memories on the branch from saturation (the record reverses at its
+    preload): a record that starts relaxed (a new contact, its first loading on the virgin
+    curve) is none of them, and its fit ended 38 times above the noise floor with a preload
+    of −0.6 and an initial position 0.37 mm off where the truth is relaxed at 0 (torque loops
+    of a uniform density)."""
+    from presliding.identification._fit_engine import run_fit
+
+    if req.initial_state != "preload" or at_floor(run.problem.records, sol):
+        return None
+    if not np.isfinite(cost(sol)):
+        return None
+
+    def own(given: dict) -> dict:
+        return {x: v for x, v in given.items() if not x.startswith("preload_fraction")}
+
+    other = replace(req, initial_state="relaxed", initial=own(req.initial),
+                    bounds=own(req.bounds), fixed=own(req.fixed), tied=own(req.tied))  # fmt: skip
+    run.stage("refit: the records started relaxed")
+    problem, options = quasi_static_problem(other)
+    result = run_fit(problem, options, quasi_static_plan(other))
+    if not result.chisqr < RELAXED_BETTER * cost(sol):
+        return None
+    note = (f"the records start relaxed: that memory fits them {cost(sol) / result.chisqr:.3g} "
+            "times better (in cost) than any preload on the branch from saturation, so the "
+            "fit is that of initial_state='relaxed'")  # fmt: skip
+    return replace(result, notes=(*result.notes, note),
+                   n_evaluations=result.n_evaluations + run.evaluations)  # fmt: skip
 
 
 def _shaped(req: QuasiStaticRequest) -> bool:
@@ -229,6 +303,8 @@ def _starts(req: QuasiStaticRequest, run: FitRun) -> list[dict[str, float]]:
             starts += [
                 {**spread, "coulomb": share * spread["coulomb_level"]} for share in (0.1, 0.4)
             ]
+    if spec.density is not None and not _density_shaped(req):
+        starts += _density_starts(spec, start)
     if not p.tied:
         extra, count = global_start(p.records, start, p.fixed, p.bounds, keep=1)
         run.evaluations += count
@@ -236,6 +312,30 @@ def _starts(req: QuasiStaticRequest, run: FitRun) -> list[dict[str, float]]:
     if req.creep and "creep_time" not in p.fixed and "creep_time" not in p.tied:
         starts += [{**start, "creep_time": start["creep_time"] * f} for f in CREEP_TIMES]
     return starts
+
+
+#: factors of a density's length scale in its further starts (its F_m kept)
+DENSITY_SCALES = (0.5, 2.0)
+
+
+def _density_shaped(req: QuasiStaticRequest) -> bool:
+    """Whether the density's length or heights are fixed or tied (its shape is given)."""
+    return bool({x for x in req.spec.names if x != "coulomb"} & (set(req.fixed) | set(req.tied)))
+
+
+def _density_starts(spec: ModelSpec, start: dict[str, float]) -> list[dict[str, float]]:
+    """Starts along a density's length scale with its F_m kept (heights × 1/f²): the loops
+    determine the virgin curve's reach poorly where the data do not reach the density's
+    end, and the regression's start sat in the wrong valley of it."""
+    length = "length" if spec.density == "exponential" else "max_threshold"
+    heights = [x for x in spec.names if x.startswith("height")]
+    out = []
+    for f in DENSITY_SCALES:
+        cand = dict(start)
+        cand[length] = start[length] * f
+        cand.update({x: start[x] / f**2 for x in heights})
+        out.append(cand)
+    return out
 
 
 def _search(req: QuasiStaticRequest, run: FitRun) -> Found:
@@ -320,11 +420,19 @@ def _result(req: QuasiStaticRequest, run: FitRun, sol: Solution, boot: Any,
         sol = replace(sol, status="failed", message="no quasi-static response at the optimum")
     derived = {"coulomb_level": spec.coulomb_level(values)} if not spec.has_level_parameter else {}
     fm = spec.coulomb_level(values) - max(values["coulomb"], 0.0)
+    mid, shift = fm, 0.0
+    if spec.negative is not None:  # c1⁻, ρ = F_c⁻/F_c⁺; a preload about the mid band
+        rho = spec.ratio(values)
+        derived.update(coulomb_negative=rho * max(values["coulomb"], 0.0),
+                       coulomb_level_ratio=rho)  # fmt: skip
+        mid, shift = 0.5 * (1.0 + rho) * fm, 0.5 * (1.0 - rho) * fm
     if req.initial_state == "preload":
         for i in range(records.n_rec):
             x = records.nuisance("preload_fraction", i)
-            derived[x.replace("preload_fraction", "preload")] = values[x] * fm
+            derived[x.replace("preload_fraction", "preload")] = values[x] * mid + shift
     units = {x: "1" for x in records.names if x.startswith("preload_fraction")}
+    if spec.negative is not None:
+        units["coulomb_level_ratio"] = "1"
     contact = spec.model(values)
     model: PIFriction | CreepingFriction = contact
     if req.creep:

@@ -43,6 +43,7 @@ from presliding.identification.problem._fit_problem import FitOptions, FitProble
 from presliding.identification.problem._model_spec import ModelSpec
 from presliding.identification.records._pooled_start import pooled_start
 from presliding.identification.records._rate_problem import RateProblem
+from presliding.identification.records._residual_blocks import pooled_adequacy
 from presliding.identification.search._rate_search import (
     base_values,
     rate_search,
@@ -149,7 +150,8 @@ def rate_plan(req: ResponseRequest, spec: FamilySpec, pi_fit: Callable[..., Any]
     model's fit that starts a GMS fit's elements)."""
     return FitPlan(search=partial(_search, req, spec, pi_fit),
                    result=partial(_result, req, spec), bootstrap=req.bootstrap,
-                   seed=req.seed)  # fmt: skip
+                   seed=req.seed,
+                   adequacy=lambda run, sol: pooled_adequacy(run.problem, sol))  # fmt: skip
 
 
 def _search(req: ResponseRequest, spec: FamilySpec, pi_fit: Callable[..., Any],

@@ -31,7 +31,7 @@ def start_and_box(
     """The start of every parameter and its (lower, upper) bounds, in `problem.names` order."""
     names = problem.names
     start = pooled_start(recs, spec, fixed.get("mass", None if forced else 1.0), offset, viscous)
-    if not forced and "mass" not in fixed and "coulomb_level" in fixed:
+    if not forced and "mass" not in fixed and "coulomb_level" in fixed:  # forces scaled
         factor = fixed["coulomb_level"] / start["coulomb_level"]
         start = {key: val * factor for key, val in start.items()}
     for i, rec in enumerate(recs):
@@ -47,7 +47,7 @@ def start_and_box(
         start[key] = float(val)
     start = {x: start[x] for x in names}
     box = {**spec.bounds(), "mass": (0.0, np.inf), "offset": (-np.inf, np.inf),
-           "viscous": (0.0, np.inf)}  # fmt: skip
+           "viscous": (0.0, np.inf), "viscous_negative": (0.0, np.inf)}  # fmt: skip
     box.update(initial_bounds(problem, initial_state))
     if fmin is not None and spec.has_level_parameter:
         box["coulomb_level"] = (fmin, np.inf)

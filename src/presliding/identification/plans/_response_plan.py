@@ -15,22 +15,24 @@ the options. `response_plan` gives the fit's own steps:
   3 × the floor) on seeds where the exact one went on to the optimum;
   the polish moves the parameters only by the quotient's bias. A pooled fit
   then probes the neighbouring valleys from the best optimum (`_probes`: an
-  element that never engaged re-engaged, the rigid corner left, the element
-  split moved; each a short solve of `PROBE_EVALUATIONS`, solved on when it
-  ends near the best), then steps along eq. 17's scale, the mass and every
-  force scaled together with every record's block searched again
-  (`_scale_probe`), and last takes a far step both ways along the least
-  determined split of the stiffnesses (`_flat_probe`): the starts all derive
-  from one regression start and can miss a valley next to the one they reach.
-  The probes' solves defer their covariance (`_deferred`); the best one's is
-  computed once, before the flat-direction probe, which needs its normal matrix;
+  element that never engaged re-engaged and the rigid corner left, where the best
+  has such an element; each a short solve of `PROBE_EVALUATIONS`, solved on when
+  it ends near the best). Where the best is not known to be the optimum
+  (`_probe_gate`: above the noise floor, starts that ended apart, or a search
+  whose solve stopped short of a minimum), it moves the element split, steps
+  along eq. 17's scale, the mass and every force scaled together with every
+  record's block searched again (`_scale_probe`), and last takes a far step
+  both ways along the least determined split of the stiffnesses
+  (`_flat_probe`): the starts all derive from one regression start and can
+  miss a valley next to the one they reach. The probes' solves defer their
+  covariance (`_deferred`); the best one's is computed once;
 * checks: the rigid corner, the Coulomb corner (c1 ≥ F_c: the elements carry
   nothing) and coalesced elements, the start from rest of a single record,
   interchangeable elements relabelled, the rigid limit of the smallest-threshold
   element, and two elements still coalesced after all that
   (their split checked, `coalesced_split`) (`_response_checks`);
 * refit: with ``prune=True``, the fit again without the elements that never
-  slide;
+  slide (one refit, from this optimum);
 * result: the model, derived values, notes and predictor
   (`_response_result`).
 """
@@ -57,15 +59,23 @@ from presliding.identification.checks._response_checks import (
     spread_start,
     stiffest_first,
 )
+from presliding.identification.plans._asymmetric_plan import Parts
 from presliding.identification.plans._response_box import start_and_box
 from presliding.identification.plans._response_request import ResponseRequest
 from presliding.identification.plans._response_result import PER_UNIT_MASS, response_result
-from presliding.identification.plans._response_setup import prune_elements, signal_weights
+from presliding.identification.plans._response_setup import (
+    DROPS,
+    LEFT,
+    prune_elements,
+    signal_weights,
+)
 from presliding.identification.problem._fit_options import check_enough
 from presliding.identification.problem._fit_problem import FitOptions, FitProblem
 from presliding.identification.problem._parameters import kept_parameters
 from presliding.identification.records import _pooled_problem as pp
+from presliding.identification.records._residual_blocks import pooled_adequacy
 from presliding.identification.search._flat_probe import flat_probe
+from presliding.identification.search._probe_gate import needs_probes, predicted_decrease
 from presliding.identification.search._probes import (
     corner_starts,
     engage_starts,
@@ -85,7 +95,7 @@ from presliding.identification.solve._least_squares import LARGE_PROBLEM, Soluti
 from presliding.identification.solve._structured_lm import on_one_blas_thread
 from presliding.measurement.measurement import common_axis
 
-__all__ = ["held_starts", "response_plan", "response_problem"]
+__all__ = ["asymmetric_parts", "held_starts", "response_plan", "response_problem"]
 
 #: evaluations of a probe's short solve (`_probes`; solved on when it ends near the best)
 PROBE_EVALUATIONS = 40
@@ -132,6 +142,16 @@ def response_problem(req: ResponseRequest) -> tuple[FitProblem, FitOptions]:
     return problem, options
 
 
+def asymmetric_parts(req: ResponseRequest) -> Parts:
+    """The parts an asymmetric response fit keeps (`_asymmetric_plan`): the problem, its
+    search, the relabelling of interchangeable elements and the result."""
+    problem, options = response_problem(req)
+    assert options.max_evaluations is not None
+    search = partial(_search, req, _flags(req, problem, options.max_evaluations))
+    return Parts(problem, options, (partial(_relabel, req),), partial(_result, req),
+                 req.bootstrap, req.seed, search=search)  # fmt: skip
+
+
 @dataclass(frozen=True)
 class _Flags:
     """Which searches and checks a response fit runs."""
@@ -164,6 +184,7 @@ def response_plan(req: ResponseRequest, problem: FitProblem, options: FitOptions
                 partial(_rigid_limit, flags), partial(_coalesced, req, flags)),
         refit=partial(_prune, req, refit_with), result=partial(_result, req),
         bootstrap=req.bootstrap, seed=req.seed,
+        adequacy=lambda run, sol: pooled_adequacy(run.problem, sol),
     )  # fmt: skip
 
 
@@ -193,6 +214,7 @@ def _search(req: ResponseRequest, flags: _Flags, run: FitRun) -> Found:
                                                         p.fixed, p.bounds, flags.short,
                                                         errors=not polish)  # fmt: skip
     run.evaluations += count
+    searched = sol
     if polish and sol.status != "failed":
         run.stage("search: the optimum polished with the velocity's difference quotient")
         polished = run.solve(sol.values)
@@ -200,7 +222,9 @@ def _search(req: ResponseRequest, flags: _Flags, run: FitRun) -> Found:
     sol = complete(sol)
     if flags.search and flags.discrete_equal and rec.n_rec > 1 and _elements_carry(sol):
         run.stage("search: probes of the neighbouring valleys from the best optimum")
-        sol, n_starts, at_best = _probe(req, flags, run, sol, n_starts, at_best)
+        with rec.exact_velocity_compared() if polish else nullcontext():  # the search's own
+            decrease = predicted_decrease(sol, searched.values)  # cost, where its solve ended
+        sol, n_starts, at_best = _probe(req, run, sol, n_starts, at_best, decrease)
     return Found(sol, n_starts, at_best, count)
 
 
@@ -213,18 +237,34 @@ def _elements_carry(sol: Solution) -> bool:
     return at_optimum and v.get("coulomb", 0.0) < v.get("coulomb_level", np.inf)
 
 
-def _probe(req: ResponseRequest, flags: _Flags, run: FitRun, sol: Solution, n_starts: int,
-           at_best: int) -> tuple[Solution, int, int]:  # fmt: skip
+def _probe(req: ResponseRequest, run: FitRun, sol: Solution, n_starts: int, at_best: int,
+           decrease: float) -> tuple[Solution, int, int]:  # fmt: skip
     """The probes of `_probes` from the best optimum: an element that never engaged
-    re-engaged and the rigid corner left (each solved on when it ends near the best), the
-    element split moved (solved on only when already below the best); then the steps along
-    eq. 17's scale (`_scale_probe`)."""
+    re-engaged and the rigid corner left (each solved on when it ends near the best); then,
+    where the best is not known to be the optimum (`_probe_gate.needs_probes`, `decrease`
+    the Gauss–Newton decrease where the search's solve ended), the valleys' probes
+    (`_valley_probes`)."""
     p, k_names = run.problem, req.spec.k_names
     assert run.options.max_evaluations is not None
     budget = min(PROBE_EVALUATIONS, run.options.max_evaluations)  # the user's cap holds
     moved = engage_starts(sol.values, k_names) + corner_starts(sol.values, k_names)
     solve = partial(run.solve, errors=False)  # errors only for the best (`complete`)
     best, probes = solve_probes(p.records, solve, moved, sol, budget)
+    best = complete(best)
+    if needs_probes(p.records, best, best is sol and at_best == n_starts, decrease):
+        best, probes = _valley_probes(req, run, solve, sol, best, probes, budget)
+    at = sum(1 for t in probes if same_point(p.records, t.values, best.values)
+             or cost(t) <= cost(best) * (1.0 + SAME_OPTIMUM))  # fmt: skip
+    return complete(best), n_starts + len(probes), at + (at_best if best is sol else 0)
+
+
+def _valley_probes(req: ResponseRequest, run: FitRun, solve: Callable[..., Solution],
+                   sol: Solution, best: Solution, probes: list[Solution],
+                   budget: int) -> tuple[Solution, list[Solution]]:  # fmt: skip
+    """The probes a best that is not known to be the optimum needs (`_probe_gate`): the
+    element split moved, the steps along eq. 17's scale, the far step along the least
+    determined split."""
+    p, k_names = run.problem, req.spec.k_names
     best, split = solve_probes(p.records, solve, split_starts(sol.values, k_names), best,
                                budget, within=1.0)  # fmt: skip
     probes += split
@@ -240,10 +280,7 @@ def _probe(req: ResponseRequest, flags: _Flags, run: FitRun, sol: Solution, n_st
             best, again = solve_probes(p.records, solve, moved, best, budget)
             probes += again
     best, flat = flat_probe(p.records, solve, complete(best), k_names, budget)  # needs H
-    probes += flat
-    at = sum(1 for t in probes if same_point(p.records, t.values, best.values)
-             or cost(t) <= cost(best) * (1.0 + SAME_OPTIMUM))  # fmt: skip
-    return complete(best), n_starts + len(probes), at + (at_best if best is sol else 0)
+    return best, probes + flat
 
 
 def _corner_checks(req: ResponseRequest, flags: _Flags, run: FitRun, sol: Solution) -> Solution:
@@ -296,7 +333,14 @@ def _coalesced(req: ResponseRequest, flags: _Flags, run: FitRun, sol: Solution) 
 
 def _prune(req: ResponseRequest, refit_with: Callable[..., Any], run: FitRun,
            sol: Solution) -> Any:  # fmt: skip
-    """With ``prune=True``: the fit again without the elements that never slide."""
+    """With ``prune=True``: the fit again without the elements that never slide.
+
+    One refit, from this optimum without them (`Pruning.start`: the model's force while
+    sliding kept), whose search stops at the floor where this fit was. An element that
+    never slides at the refit's optimum in turn is kept and its note says so (`LEFT`): the
+    model returned has exactly the elements the notes leave. The fit's evaluations are the
+    sum of both.
+    """
     spec, rec = req.spec, run.problem.records
     pruned = prune_elements(rec, sol, spec)
     kept = spec.n - len(pruned.dead)
@@ -315,7 +359,8 @@ def _prune(req: ResponseRequest, refit_with: Callable[..., Any], run: FitRun,
         **kept_parameters(req.given, kept),
     )  # fmt: skip
     note = pruned.note(spec) + "; refitted without them"
-    return replace(refit, notes=(*refit.notes, note),
+    left = tuple(n.replace(DROPS, LEFT) for n in refit.notes)  # the refit's own: kept
+    return replace(refit, notes=(note, *left),
                    n_evaluations=refit.n_evaluations + run.evaluations)  # fmt: skip
 
 
@@ -326,6 +371,6 @@ def _result(req: ResponseRequest, run: FitRun, sol: Solution, boot: Any,
     pruned = prune_elements(rec, sol, spec)
     notes = [PER_UNIT_MASS] if req.per_unit_mass else []
     if pruned.dead:
-        notes.append(pruned.note(spec) + " (prune=True drops them)")
+        notes.append(pruned.note(spec) + DROPS)
     result = response_result(sol, rec, spec, pruned, notes, boot, req.per_unit_mass, req.signal)
     return replace(result, search=summary).on_axis(common_axis(req.records))

@@ -29,6 +29,7 @@ from presliding.identification.problem._model_spec import DENSITIES, ModelSpec
 from presliding.identification.problem._parameters import (
     check_flag,
     check_levels,
+    check_sides,
     resolve_parameters,
 )
 from presliding.measurement.measurement import Measurement
@@ -49,6 +50,7 @@ class ResponseRequest:
     """The checked arguments of one `fit_response` call."""
 
     records: Any  # as given (a Measurement or a sequence of them)
+    asymmetric: bool
     recs: list  # as `_pooled_problem.Record`
     single: bool
     spec: ModelSpec
@@ -114,7 +116,8 @@ def _model(request: dict[str, Any]) -> tuple[ModelSpec, dict[str, Any]]:
             "`coulomb_level` can be given only with equal_breakaway=True and elements; got "
             + ("a density." if a["density"] else "equal_breakaway=False.")
         )
-    return ModelSpec(n, a["equal_breakaway"], a["density"], cells), a
+    asymmetric = check_sides(a.get("asymmetric", False), a["offset"])
+    return ModelSpec(n, a["equal_breakaway"], a["density"], cells, asymmetric), a
 
 
 def _known(a: dict[str, Any], fixed: dict[str, float], recs: list) -> tuple[Any, bool, bool]:
@@ -159,7 +162,8 @@ def check_response(request: dict[str, Any]) -> ResponseRequest:
             f"left for the elements); got {fmt(fixed['coulomb'])}."
         )
     return ResponseRequest(
-        records=a["records"], recs=recs, single=isinstance(a["records"], Measurement),
+        records=a["records"], asymmetric=spec.negative is not None, recs=recs,
+        single=isinstance(a["records"], Measurement),
         spec=spec, signal=signal, velocity=request["velocity"], initial_state=initial_state,
         mass=a["mass"],
         coulomb_level=a["coulomb_level"], min_coulomb_level=a["min_coulomb_level"], fmin=fmin,

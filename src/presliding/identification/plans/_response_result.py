@@ -25,6 +25,7 @@ EXTRA_UNITS = {
     "largest_swing": "m",
     "reachable_coulomb_level": "N",
     "effective_elements": "1",
+    "coulomb_level_ratio": "1",
 }
 
 
@@ -50,10 +51,17 @@ def response_result(
         if spec.equal and spec.n:
             derived["breakaway_each"] = float(k[0] * r[0])
     fm = spec.coulomb_level(values) - c1
+    mid, shift = fm, 0.0
+    if spec.negative is not None:  # c1⁻ and ρ = F_c⁻/F_c⁺; a preload about the mid band
+        rho = spec.ratio(values)
+        if spec.n:  # without elements c1⁻ is the parameter itself
+            derived["coulomb_negative"] = rho * c1
+        derived["coulomb_level_ratio"] = rho
+        mid, shift = 0.5 * (1.0 + rho) * fm, 0.5 * (1.0 - rho) * fm
     if problem.initial_state == "preload":
         for i in range(problem.n_rec):
             x = problem.nuisance("preload_fraction", i)
-            derived[x.replace("preload_fraction", "preload")] = values[x] * fm
+            derived[x.replace("preload_fraction", "preload")] = values[x] * mid + shift
     derived.update(pruned.derived(spec))
     measured, fitted = (
         (np.concatenate([r.position for r in problem.records]), o_y[0])
@@ -79,6 +87,8 @@ def response_result(
 def _per_kg(names: list[str]) -> dict[str, str]:
     """Units of the parameters reported per unit mass."""
     per = {"mass": "1 (fixed)", "coulomb": "N/kg", "coulomb_level": "N/kg",
+           "coulomb_negative": "N/kg", "coulomb_level_negative": "N/kg",
+           "viscous_negative": "N s/(m kg)",
            "stiffness": "N/(m kg)", "breakaway": "N/kg", "viscous": "N s/(m kg)",
            "offset": "N/kg", "preload": "N/kg", "reachable_coulomb_level": "N/kg",
            "height": "N/(m^2 kg)"}  # fmt: skip

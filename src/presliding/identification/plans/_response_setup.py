@@ -6,7 +6,9 @@ element with k_j → 0 or 2·r_j beyond the largest swing of the fitted motion
 never slides in the data, so its break-away force is a level the data never
 reach. Elements with k_j → 0 are dropped; those beyond the swing act as linear
 springs over the data, indistinguishable from one another, and are merged
-into one (the stiffnesses added). The reachable Coulomb level is
+into one (the stiffnesses added). ``prune=True`` refits once without them,
+from the optimum (`Pruning.start`); the refit says which of its own elements
+never slide in turn (kept). The reachable Coulomb level is
 c1 + Σ_j k_j·min(r_j, s) with s half the largest swing (c1 + φ(s) for a
 density): the largest friction force the model produces over the travel seen.
 
@@ -66,10 +68,11 @@ def check_records(
             f"`records` must be a Measurement or a sequence of them; got {type(records).__name__}."
         )
     signal = as_choice("signal", signal, signals)
-    for m in found:
+    single = isinstance(records, Measurement)
+    for i, m in enumerate(found):
         m.require(*NEED[signal], purpose=f"fit_response(signal={signal!r})")
         which = "velocity" if m.velocity is not None else "position"
-        check_varies(which, getattr(m, which))
+        check_record(m, which, "records" if single else f"records[{i}]")
     velocity = as_choice("velocity", velocity, VELOCITY)
     if velocity == "difference":
         for i, m in enumerate(found):
@@ -89,10 +92,35 @@ def check_quasi_static_records(records: Any) -> list[Record]:
     for i, m in enumerate(found):
         if not isinstance(m, Measurement):
             raise TypeError(f"`records[{i}]` must be a Measurement; got {type(m).__name__}.")
-        position, force = m.require("position", "applied_force", purpose="fit_quasi_static")
-        check_varies("position", position)
-        check_varies("applied_force", force)
+        _, force = m.require("position", "applied_force", purpose="fit_quasi_static")
+        label = "records" if isinstance(records, Measurement) else f"records[{i}]"
+        check_record(m, "position", label)
+        check_varies("applied_force" if label == "records" else f"{label}.applied_force", force)
     return [as_record(m) for m in found]
+
+
+#: fewest samples of a record: its own start (up to 3 parameters), the velocity's difference
+#: quotient and the noise floor's second differences
+MIN_RECORD_SAMPLES = 8
+
+
+def check_record(m: Measurement, which: str, label: str) -> None:
+    """A record long enough for the fit and moving: refused naming it (`label`) otherwise.
+
+    A 3-sample record ended ``max_evaluations`` (its noise floor and its own start cannot
+    be had from it), and a record that never moves was refused without saying which."""
+    n = m.time.shape[0]
+    if n < MIN_RECORD_SAMPLES:
+        raise ValueError(
+            f"`{label}` must have at least {MIN_RECORD_SAMPLES} samples (its own start, the "
+            f"velocity's difference quotient and the noise floor need them); got {n}."
+        )
+    signal = getattr(m, which)
+    if not np.ptp(signal) > 0:
+        raise ValueError(
+            f"`{label}` must move: its {which} is constant ({fmt(float(signal[0]))}), a record "
+            "that never moves holds nothing to fit (leave it out)."
+        )
 
 
 def check_model_values(spec: Any, fixed: dict, tied: dict, initial: Mapping | None) -> None:
@@ -111,7 +139,7 @@ def check_model_values(spec: Any, fixed: dict, tied: dict, initial: Mapping | No
             name = f"{label}[{x!r}]"
             if positive(x):
                 as_positive_scalar(name, v)
-            elif x == "coulomb":
+            elif x in ("coulomb", "coulomb_negative"):
                 as_nonnegative_scalar(name, v)
             else:
                 as_real_scalar(name, v)
@@ -136,6 +164,12 @@ def initial_bounds(problem: pp.PooledProblem, initial_state: str) -> dict[str, t
 
 
 # ---------------------------------------------------------------------- pruning
+#: the end of a fit's note on its elements that never slide (`Pruning.note`) ...
+DROPS = " (prune=True drops them)"
+#: ... and of the refit's of ``prune=True``, which refits once (`_response_plan._prune`)
+LEFT = " in turn, in the model refitted without the others: kept (prune=True refits once)"
+
+
 @dataclass
 class Pruning:
     """Elements that never slide in the fitted motion (module notes)."""
@@ -161,19 +195,24 @@ class Pruning:
         )
 
     def start(self, values: dict[str, float], problem: pp.PooledProblem) -> dict[str, float]:
-        """Start values of the refit without the dead elements (renumbered)."""
+        """Start values of the refit without the dead elements (renumbered).
+
+        The springs merged into one add their stiffnesses and (break-away forces free)
+        their break-away forces to it: the spring the data see stays, and so does the force
+        of the elements while they all slide (a record that starts sliding, saturated or
+        preloaded, carries every element's break-away force until its first reversal). With
+        equal break-away forces F_c is kept for that reason: the elements left share it.
+        """
         spec = problem.spec
         alive = [j for j in range(spec.n) if j not in self.dead]
         out = {x: v for x, v in values.items() if x not in (*spec.k_names, *spec.c_names)}
         _, k, r = spec.bank(values)
         merged = [j for j in self.dead if "merged" in self.reasons[j]]
         for new, j in enumerate(alive):
-            extra = float(np.sum(k[merged])) if j == self.spring else 0.0
-            out[f"stiffness_{new + 1}"] = float(k[j]) + extra
+            extra = merged if j == self.spring else []
+            out[f"stiffness_{new + 1}"] = float(k[j] + np.sum(k[extra]))
             if not spec.equal:
-                out[f"breakaway_{new + 1}"] = float(k[j] * r[j])
-        if spec.equal:
-            out["coulomb_level"] = values["coulomb"] + float(np.sum(k[alive] * r[alive]))
+                out[f"breakaway_{new + 1}"] = float(k[j] * r[j] + np.sum(k[extra] * r[extra]))
         return out
 
 

@@ -14,8 +14,10 @@ _model_spec.py         the fitted models as named parameters (elements, densitie
 _parameter_map.py      the free/fixed/tied split of named parameters
 _parameters.py         initial, bounds, fixed, tied and lmfit.Parameters, checked together
 _pi_regression.py      the PI bases and threshold grids of the separable fits; the fused batch loss
+_separable_adequacy.py a separable fit's residual as the adequacy tests read it; candidates
 _separable_problem.py  the separable fits' problem: linear in all but the thresholds
+_sided_virgin.py       the two branches of an asymmetric virgin curve as one problem
 
-May import: the rooms `plans`, `records`, `solve` of identification; the layers below
+May import: the rooms `judge`, `plans`, `records`, `solve` of identification; the layers below
 identification and the root's shared modules.
 """

@@ -43,6 +43,7 @@ class FamilySpec:
 
     def __init__(self, family: str, pi: ModelSpec):
         self.family, self.pi = family, pi
+        self.negative = None  # one level for both directions (asymmetric=True is the PI fit's)
         self.code = {"gms": _rate_step.GMS, "lugre": _rate_step.LUGRE,
                      "dahl": _rate_step.DAHL}[family]  # fmt: skip
         self.density, self.cells = None, pi.cells

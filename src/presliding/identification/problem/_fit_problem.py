@@ -72,6 +72,17 @@ class FitProblem:
     penalty: float | None = None  # lower bound on a derived F_c, as a hinge row
     method: str = "auto"  # of `solve_least_squares`
 
+    def __post_init__(self) -> None:
+        """Every start value finite, or an error naming the one that is not (a NaN start
+        made every evaluation NaN: a fit ran minutes without ending)."""
+        for x in self.names:
+            value = self.initial.get(x, 0.0)
+            if x not in self.fixed and not np.isfinite(value):
+                raise ValueError(
+                    f"the start value of `{x}` came out {value} from the data (too few "
+                    "moving samples for a start of it?); give it in `initial`."
+                )
+
     # ------------------------------------------------------------ what is minimised
     def start(self) -> dict[str, float]:
         """The start values of every parameter, in `names` order."""

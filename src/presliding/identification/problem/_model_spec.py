@@ -11,6 +11,15 @@ simulators run (c1, k_j, r_j) and into the `PIFriction` a fit returns:
 * ``density="piecewise_constant"``: ``coulomb``, ``max_threshold`` R and
   ``height_1..height_m`` on m equal cells of [0, R].
 
+``asymmetric=True`` (elements only) adds the level of sliding in −y: ``coulomb_level_negative``
+F_c⁻ (``coulomb_negative`` c1⁻ without elements), every level of that side the same share
+ρ = F_c⁻/F_c⁺ of its positive one (c1⁻ = ρ·c1, c_j⁻ = ρ·c_j, r_j⁻ = ρ·r_j;
+`presliding.friction._sides`). Motion data do not determine how a difference of the levels
+splits between c1 and the elements: from any memory but the relaxed one, a model whose
+elements share their stiffnesses moves exactly as the symmetric model of the mean levels
+under the force u − (F_c⁺ − F_c⁻)/2 (the play band shifted by (r_j⁺ − r_j⁻)/2), so one
+parameter carries the difference and the shared ratio is the convention that fixes the split.
+
 A density is simulated through its *centroid discretisation* with about `cells`
 elements: cells of about equal stiffness μ(cell) = k_j, each element at the centroid
 r_j = ∫_cell r dμ / μ(cell) of its cell. Σ k_j = μ([0, R]) (eq. 7) and
@@ -65,11 +74,17 @@ def _spread(k: FloatArray, ratio: float = 1.5) -> FloatArray:
     """Stiffnesses (descending) at least `ratio` apart, around the same geometric mean.
 
     Equal elements are interchangeable: a start with two nearly equal ones sits
-    next to the symmetric saddle where the data cannot tell them apart.
+    next to the symmetric saddle where the data cannot tell them apart. A stiffness of 0
+    (an element the start does not want) is taken 1e-12 of the largest: its logarithm
+    made every start stiffness NaN, and the fit of a 50-sample record with four elements
+    ran minutes without ending.
     """
     if k.shape[0] < 2:
         return k
-    logk = np.log(np.sort(k)[::-1])
+    top = float(np.max(k)) if np.all(np.isfinite(k)) else 0.0
+    if not top > 0:
+        raise ValueError(f"the start stiffnesses must be finite and one positive; got {k}.")
+    logk = np.log(np.maximum(np.sort(k)[::-1], 1e-12 * top))  # a zero one: far below the rest
     gaps = np.maximum(-np.diff(logk), np.log(ratio))
     spread = np.concatenate([[0.0], -np.cumsum(gaps)])
     return np.exp(spread - spread.mean() + logk.mean())
@@ -78,8 +93,10 @@ def _spread(k: FloatArray, ratio: float = 1.5) -> FloatArray:
 class ModelSpec:
     """Named parameters of a friction model and their bank (module notes)."""
 
-    def __init__(self, n_elements: int, equal_breakaway: bool, density: str | None, cells: int):
+    def __init__(self, n_elements: int, equal_breakaway: bool, density: str | None, cells: int,
+                 asymmetric: bool = False):  # fmt: skip
         self.n, self.equal, self.density, self.cells = n_elements, equal_breakaway, density, cells
+        self.asymmetric = asymmetric
         self.k_names: list[str] = []
         self.c_names: list[str] = []
         self.h_names: list[str] = []
@@ -97,6 +114,16 @@ class ModelSpec:
         else:
             self.h_names = [f"height_{j + 1}" for j in range(n_elements)]
             self.names = ["coulomb", "max_threshold", *self.h_names]
+        #: the parameter of the negative side's level (`asymmetric`), or None
+        self.negative: str | None = None
+        if asymmetric:
+            if density is not None:
+                raise ValueError(
+                    f"`asymmetric` friction needs elements; got density={density!r} (a density "
+                    "has one side)."
+                )
+            self.negative = "coulomb_level_negative" if n_elements else "coulomb_negative"
+            self.names.append(self.negative)
 
     @property
     def has_level_parameter(self) -> bool:
@@ -104,8 +131,8 @@ class ModelSpec:
         return self.density is None and self.equal
 
     def positive(self, name: str) -> bool:
-        """Whether a parameter must be positive (all but c1, which may be 0)."""
-        return name in self.names and name != "coulomb"
+        """Whether a parameter must be positive (all but c1 and c1⁻, which may be 0)."""
+        return name in self.names and name not in ("coulomb", "coulomb_negative")
 
     def bounds(self) -> dict[str, tuple[float, float]]:
         return dict.fromkeys(self.names, (0.0, np.inf))
@@ -140,8 +167,31 @@ class ModelSpec:
             r = np.minimum(c / k, 1e300)
         return c1, k, r
 
+    def ratio(self, q: Mapping[str, float]) -> float:
+        """ρ = F_c⁻/F_c⁺, the share of every positive level the negative side has (1: one
+        side; module notes)."""
+        if self.negative is None:
+            return 1.0
+        if self.n == 0:
+            c1 = max(q["coulomb"], 0.0)
+            return max(q[self.negative], 0.0) / c1 if c1 > 0 else 1.0
+        return max(q[self.negative], TINY) / max(self.coulomb_level(q), TINY)
+
+    def sided(self, q: Mapping[str, float], ratio: float) -> dict[str, float]:
+        """The values of an asymmetric model whose mean levels are those of `q` and whose
+        negative side is `ratio` times its positive one: c1 and every c_j (F_c) scaled by
+        2/(1 + ρ), F_c⁻ = ρ·F_c⁺ (ρ = 1: `q` itself, the symmetric model exactly)."""
+        out = dict(q)
+        scale = 2.0 / (1.0 + ratio)
+        for x in ("coulomb", *self.c_names):
+            out[x] = out[x] * scale
+        if self.n and self.equal:
+            out["coulomb_level"] = out["coulomb_level"] * scale
+        out[str(self.negative)] = ratio * (self.coulomb_level(out) if self.n else out["coulomb"])
+        return out
+
     def coulomb_level(self, q: Mapping[str, float]) -> float:
-        """F_c = c1 + F_m (eq. 9)."""
+        """F_c = c1 + F_m (eq. 9); F_c⁺ of an asymmetric model."""
         if self.density is None and self.equal:
             return float(q["coulomb_level"])
         c1, k, r = self.bank(q)
@@ -150,15 +200,24 @@ class ModelSpec:
         return c1 + float(k @ r)
 
     def model(self, q: Mapping[str, float]) -> PIFriction:
-        """The identified PIFriction (a density model keeps its density; σ from ``viscous``)."""
+        """The identified PIFriction (a density model keeps its density; σ from ``viscous``,
+        σ⁻ from ``viscous_negative``; the negative side's levels ρ times the positive ones)."""
         sigma = max(q.get("viscous", 0.0), 0.0)
         if self.density is not None:
             dens = self.friction_density(q)
             return PIFriction(max(q["coulomb"], 0.0), density=dens, viscous=sigma)
         c1, k, r = self.bank(q)
+        if self.negative is None:
+            if self.n == 0:
+                return PIFriction(c1, viscous=sigma)
+            return PIFriction(c1, k, breakaway=k * r, viscous=sigma)
+        rho = self.ratio(q)
+        c1n = max(q[self.negative], 0.0) if self.n == 0 else rho * c1
+        sigma_n = max(q.get("viscous_negative", sigma), 0.0)
         if self.n == 0:
-            return PIFriction(c1, viscous=sigma)
-        return PIFriction(c1, k, breakaway=k * r, viscous=sigma)
+            return PIFriction(c1, viscous=sigma, coulomb_negative=c1n, viscous_negative=sigma_n)
+        return PIFriction(c1, k, breakaway=k * r, viscous=sigma, coulomb_negative=c1n,
+                          breakaway_negative=rho * (k * r), viscous_negative=sigma_n)  # fmt: skip
 
     # ------------------------------------------------------------ start values
     def start(
@@ -169,7 +228,7 @@ class ModelSpec:
         from presliding.identification.records._response_tools import equal_breakaway_stiffness
 
         if self.density is None and self.n == 0 and not self.equal:
-            return {"coulomb": float(fc)}  # Coulomb friction alone: c1 = F_c
+            return self._sided({"coulomb": float(fc)})  # Coulomb friction alone: c1 = F_c
         fm = max(fc - c1, TINY)
         out = {"coulomb": float(c1)}
         if self.density is None:
@@ -180,8 +239,14 @@ class ModelSpec:
                 r, k = pr.merge_grid(grid, np.where(weights > 0, weights, 0.0), self.n)
                 out.update({x: float(v) for x, v in zip(self.c_names, k * r, strict=True)})
             out.update({x: float(v) for x, v in zip(self.k_names, k, strict=True)})
-            return out
+            return self._sided(out)
         return {**out, **self._density_start(fm, grid, weights)}
+
+    def _sided(self, start: dict[str, float]) -> dict[str, float]:
+        """A start with its negative level equal to the positive one (one side)."""
+        if self.negative is not None:
+            start[self.negative] = self.coulomb_level(start) if self.n else start["coulomb"]
+        return start
 
     def _density_start(self, fm: float, grid: FloatArray, weights: FloatArray) -> dict[str, float]:
         from scipy.optimize import least_squares

@@ -23,6 +23,7 @@ from typing import Any
 
 import numpy as np
 
+from presliding._interop import require
 from presliding._validation import as_real_scalar, fmt
 
 __all__ = [
@@ -73,7 +74,17 @@ def from_lmfit(params: Any) -> tuple[dict, dict, dict, dict]:
             tied[name] = _linear_tie(name, p.expr)
             continue
         value = as_real_scalar(f"initial[{name!r}].value", p.value, finite=False)
+        if np.isnan(value) or (not p.vary and not np.isfinite(value)):
+            raise ValueError(  # NaN gave a "converged" fit with NaN parameters
+                f"`initial[{name!r}].value` must be a finite number (or ±inf for no start of a "
+                f"varied parameter); got {fmt(value)}."
+            )
         lo, hi = float(p.min), float(p.max)
+        if np.isnan(lo) or np.isnan(hi):
+            raise ValueError(
+                f"`initial[{name!r}]` must have bounds that are numbers or ±inf; got min "
+                f"{fmt(lo)}, max {fmt(hi)}."
+            )
         if np.isfinite(lo) or np.isfinite(hi):
             bounds[name] = (lo, hi)
         if not p.vary:
@@ -85,12 +96,7 @@ def from_lmfit(params: Any) -> tuple[dict, dict, dict, dict]:
 
 def to_lmfit(values: Mapping[str, float], bounds: Mapping, fixed: tuple, tied: Mapping) -> Any:
     """An ``lmfit.Parameters`` holding `values` (fixed ones with vary=False, ties as expr)."""
-    try:
-        import lmfit  # type: ignore[import-untyped]
-    except ImportError:  # pragma: no cover - lmfit is in the test extras
-        raise ImportError(
-            "lmfit is needed for lmfit.Parameters: install it with `pip install presliding[lmfit]`."
-        ) from None
+    lmfit = require("lmfit", "an lmfit.Parameters")
     params = lmfit.Parameters()
     for name, value in values.items():
         lo, hi = bounds.get(name, (-np.inf, np.inf))
@@ -168,6 +174,19 @@ def check_flag(name: str, value: Any) -> bool:
     if not isinstance(value, (bool, np.bool_)):
         raise TypeError(f"`{name}` must be True or False; got {type(value).__name__} {fmt(value)}.")
     return bool(value)
+
+
+def check_sides(asymmetric: Any, offset: Any) -> bool:
+    """`asymmetric` a bool, and not with an `offset`: the difference of the two directions'
+    levels is a constant force (`_model_spec`); returns `asymmetric`."""
+    sided = check_flag("asymmetric", asymmetric)
+    if sided and offset:
+        raise ValueError(
+            "`offset` must be False with `asymmetric`=True: a constant force is the difference "
+            "of the two directions' levels, (F_c⁺ − F_c⁻)/2 (the fit carries it in "
+            "coulomb_level_negative); got offset=True."
+        )
+    return sided
 
 
 def check_levels(coulomb_level: Any, min_coulomb_level: Any, fixed: Mapping[str, Any]) -> None:

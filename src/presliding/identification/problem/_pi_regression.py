@@ -164,6 +164,14 @@ def virgin_basis(s: FloatArray) -> Basis:
     return basis
 
 
+def largest_threshold(y: FloatArray) -> float:
+    """The largest threshold of an element relaxed at y[0] that slides along y at all: the
+    largest excursion max |y − y[0]| (a larger one never leaves its start: a linear spring,
+    the same column for any larger threshold)."""
+    y = np.asarray(y, dtype=float)
+    return float(np.max(np.abs(y - y[0]))) if y.size else 0.0
+
+
 def threshold_grid(y: FloatArray, size: int = DEFAULT_GRID) -> FloatArray:
     """Geometric grid from about two input quanta to half the input range of a path."""
     steps = np.abs(np.diff(y))

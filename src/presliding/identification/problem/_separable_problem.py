@@ -127,6 +127,7 @@ def separable_problem(
     fixed: Mapping[str, float] | None = None,
     tied: Mapping[str, Tie] | None = None,
     smallest_threshold: float | None = None,
+    largest_threshold: float | None = None,
     progress: Any = None,
     user_initial: Mapping[str, float] | None = None,
     user_bounds: Mapping[str, tuple[float, float]] | None = None,
@@ -135,7 +136,9 @@ def separable_problem(
 
     Thresholds are kept >= `smallest_threshold` (default: a quarter of the
     smallest grid threshold): below the resolution of the data an element is
-    indistinguishable from the Coulomb element.
+    indistinguishable from the Coulomb element; and <= `largest_threshold` when
+    given: beyond it an element never slides along the path (a linear spring, the
+    same for any larger threshold), and an optimum there sits on that bound.
     """
     fixed = dict(fixed or {})
     initial = _linear_start(sep, x_bounds, grid, thresholds, fixed, progress)
@@ -145,7 +148,8 @@ def separable_problem(
     bounds = dict(x_bounds)
     bounds.update(dict.fromkeys(k_names, (0.0, np.inf)))
     r_min = float(grid[0]) / 4 if smallest_threshold is None else float(smallest_threshold)
-    bounds.update(dict.fromkeys(r_names, (r_min, np.inf)))
+    r_max = np.inf if largest_threshold is None else max(float(largest_threshold), r_min)
+    bounds.update(dict.fromkeys(r_names, (r_min, r_max)))
     for key, (lo, hi) in as_bounds("bounds", user_bounds, tuple(initial)).items():
         old = bounds.get(key, (-np.inf, np.inf))  # the caller's, within the natural ones
         bounds[key] = (max(old[0], lo), min(old[1], hi))

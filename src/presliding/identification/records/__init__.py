@@ -22,6 +22,7 @@ _quasi_static_problem.py  the pooled quasi-static residual
 _quasi_static_start.py    quasi-static start values (eq. 8 as a regression)
 _rate_kernel.py           compiled batched motions with GMS, LuGre or Dahl friction (implicit)
 _rate_problem.py          the pooled residual of a rate-dependent family
+_residual_blocks.py       a pooled residual as the adequacy tests read it; candidate mechanisms
 _response_tools.py        a record's first direction, integrals, equal-break-away stiffnesses
 
 May import: the rooms `intervals`, `judge`, `problem`, `solve` of identification;

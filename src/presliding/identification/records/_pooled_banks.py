@@ -1,4 +1,5 @@
-"""The banks (c1, k_j, r_j) of many parameter sets of a pooled fit, as kernel arrays."""
+"""The banks (c1, k_j, r_j) of many parameter sets of a pooled fit, as kernel arrays;
+an asymmetric model's negative side (c1⁻, r_j⁻: ρ times the positive one, `ModelSpec`)."""
 
 from __future__ import annotations
 
@@ -44,3 +45,29 @@ def banks_one_by_one(spec: ModelSpec, names: Sequence[str], sets: FloatArray,
         k_arr[p, : k.shape[0]], r_arr[p, : r.shape[0]] = k, r
         r_arr[p, k.shape[0] :] = np.max(r) if r.shape[0] else 1.0
     return np.array([b[0] for b in banks]), k_arr, r_arr
+
+
+def negative_sides(spec: ModelSpec, index: dict[str, int], sets: FloatArray, c1: FloatArray,
+                   k: FloatArray, r: FloatArray) -> FloatArray | None:  # fmt: skip
+    """ρ = F_c⁻/F_c⁺ of every parameter set of an asymmetric element model (`ModelSpec.ratio`),
+    from its unrigid bank; None for one side. Without elements: c1⁻ itself."""
+    if spec.negative is None:
+        return None
+    below = sets[:, index[spec.negative]]
+    if spec.n == 0:
+        return np.maximum(below, 0.0)
+    if spec.equal:
+        fc = sets[:, index["coulomb_level"]]
+    else:  # as `ModelSpec.coulomb_level` rounds it (ρ = 1 exactly for equal sides)
+        fc = np.array([c1[p] + float(k[p] @ r[p]) for p in range(sets.shape[0])])
+    return np.maximum(below, TINY) / np.maximum(fc, TINY)
+
+
+def sided_arrays(spec: ModelSpec, index: dict[str, int], sets: FloatArray, c1: FloatArray,
+                 r: FloatArray, rho: FloatArray | None) -> tuple[FloatArray, ...]:  # fmt: skip
+    """(c1⁻, r⁻) for the kernel: ρ·c1 and ρ·r (`negative_sides`' ρ of an element model),
+    c1⁻ itself without elements, or c1 and r themselves for one side."""
+    if rho is not None:
+        return rho * c1, np.ascontiguousarray(rho[:, None] * r)
+    alone = negative_sides(spec, index, sets, c1, r, r)  # no elements: c1⁻ (None: one side)
+    return (c1 if alone is None else alone), r

@@ -2,7 +2,7 @@
 
 `pooled_responses` simulates every record of a pooled fit for several parameter
 sets in one compiled call: task (p, i) runs the exact event kernel
-(`presliding.motion._event.run_events`) for parameter set p on record i, in
+(`presliding.motion._event.run_events_sided`, equal sides) for parameter set p on record i, in
 parallel over all tasks (``prange``), and writes position and velocity into
 row p of flat output arrays, each record at its own offset. One call evaluates
 the residual of every record; one more evaluates all the finite-difference
@@ -11,6 +11,11 @@ columns of a Jacobian.
 Record memories: ``mode`` 0 relaxed, 1 on the branch from saturation in
 −direction with elastic force fraction·F_m, 2 along the virgin curve
 (`presliding.friction.preload`).
+
+Asymmetric friction: c1n, sigman and rn are the Coulomb element, viscous coefficient
+and thresholds of sliding in −y (`presliding.motion._event.run_events_sided`; the
+memories by `preload_deformation_sided`). A symmetric fit passes the positive side's
+arrays again: one compiled signature, and the motion of the symmetric kernel bit for bit.
 """
 
 from __future__ import annotations
@@ -18,24 +23,26 @@ from __future__ import annotations
 import numba as nb
 import numpy as np
 
-from presliding.friction.preload import preload_deformation
+from presliding.friction.preload import preload_deformation_sided
 from presliding.hysteresis._jit import njit
-from presliding.motion._event import run_events
+from presliding.motion._event import run_events_sided
 
 RELAXED, BRANCH, VIRGIN = 0, 1, 2
 
 
 def _pooled_responses(  # pragma: no cover - compiled
-    mass, c1, sigma, k, r, offset, y0, v0, fraction, mode, direction,
-    t_all, t_off, ut_all, uv_all, u_off, max_events, o_y, o_v, status, n_rev,
+    mass, c1, c1n, sigma, sigman, k, r, rn, offset, y0, v0, fraction, mode, direction,
+    t_all, t_off, ut_all, uv_all, u_off, max_events, o_y, o_v, status, n_rev, damped,
 ):  # fmt: skip
     """Positions and velocities of every record for every parameter set.
 
     Parameters (P parameter sets, R records, N elements, S samples in all):
-    mass, c1, sigma (viscous), offset (P,); k, r (P, N); y0, v0, fraction (P, R); mode,
+    mass, c1, c1n, sigma, sigman (viscous), offset (P,); k, r, rn (P, N); y0, v0,
+    fraction (P, R); mode,
     direction (R,); t_all (S,) sample times, record i at t_off[i]:t_off[i+1];
     ut_all, uv_all the zero-order-hold pieces of u, record i at
-    u_off[i]:u_off[i+1]. Outputs o_y, o_v (P, S); status, n_rev (P, R).
+    u_off[i]:u_off[i+1]. Outputs o_y, o_v (P, S); status, n_rev (P, R). ``damped``: None
+    when every sigma and sigman is 0 (the damped pieces are then not compiled), else True.
     """
     n_par = mass.shape[0]
     n_rec = t_off.shape[0] - 1
@@ -50,7 +57,8 @@ def _pooled_responses(  # pragma: no cover - compiled
         u_val = uv_all[ua:ub] - offset[p]
         f = np.zeros(n_el)
         if mode[i] != RELAXED:
-            preload_deformation(k[p], r[p], fraction[p, i], direction[i], mode[i] == BRANCH, f)
+            preload_deformation_sided(k[p], r[p], rn[p], fraction[p, i], direction[i],
+                                      mode[i] == BRANCH, f)  # fmt: skip
         s = 1.0 if v0[p, i] > 0.0 else (-1.0 if v0[p, i] < 0.0 else 0.0)
         last_dir = s
         if s == 0.0 and mode[i] == BRANCH:
@@ -59,11 +67,12 @@ def _pooled_responses(  # pragma: no cover - compiled
         scratch = np.empty((6, n_t))
         none = np.empty(0)  # no viscous record, no piece record
         rev = np.empty((2, 8))
-        res = run_events(
-            mass[p], c1[p], k[p], r[p], f, y0[p, i], v0[p, i], last_dir, u_t, u_val, t_eval,
-            t_eval[n_t - 1], max_events, o_y[p, a:b], o_v[p, a:b], scratch[0], scratch[1],
-            scratch[2], scratch[3], scratch[4], scratch[5], rev[0], rev[1], sigma[p],
-            none, none,
+        # the sided kernel itself, which `simulate` compiles already
+        res = run_events_sided(
+            mass[p], c1[p], c1n[p], k[p], r[p], rn[p], f, y0[p, i], v0[p, i], last_dir, u_t,
+            u_val, t_eval, t_eval[n_t - 1], max_events, o_y[p, a:b], o_v[p, a:b], scratch[0],
+            scratch[1], scratch[2], scratch[3], scratch[4], scratch[5], rev[0], rev[1],
+            sigma[p], sigman[p], none, none, damped,
         )  # fmt: skip
         filled = res[1]
         for j in range(filled, n_t):  # only after an event limit: hold the last values
@@ -164,6 +173,27 @@ forward_columns = njit(cache=True)(_forward_columns)
 
 
 def pooled_responses(mass, *args):
-    """`_pooled_responses`, in parallel for several parameter sets."""
+    """`_pooled_responses`, in parallel for several parameter sets; the shapes of the
+    parameter arrays checked first (a mismatch would read past an array in compiled code)."""
+    c1, c1n, sigma, sigman, k, r, rn, offset = args[:8]
+    check_sets("pooled", {"mass": mass, "c1": c1, "c1n": c1n, "sigma": sigma, "sigman": sigman,
+                          "offset": offset}, {"k": k, "r": r, "rn": rn})  # fmt: skip
     kernel = pooled_responses_parallel if mass.shape[0] > 1 else pooled_responses_serial
-    kernel(mass, *args)
+    # its last argument: None when no set has a viscous term (the damped pieces are then
+    # not compiled, `presliding.motion._event`)
+    damped = True if np.any(sigma != 0.0) or np.any(sigman != 0.0) else None
+    kernel(*(mass, *args, damped))
+
+
+def check_sets(kernel: str, scalars: dict, banks: dict) -> None:
+    """Every per-set array of one length P, every bank (P, N) of one shape, else ValueError
+    (checked before a compiled kernel reads past an array)."""
+    n_par = next(iter(scalars.values())).shape[0]
+    shape = next(iter(banks.values())).shape
+    if any(a.shape != (n_par,) for a in scalars.values()) or not (
+        len(shape) == 2 and shape[0] == n_par and all(b.shape == shape for b in banks.values())
+    ):  # fmt: skip
+        got = ", ".join(f"{n} {a.shape}" for n, a in {**scalars, **banks}.items())
+        raise ValueError(
+            f"the {kernel} kernel's parameter arrays must share their sets and elements; got {got}."
+        )

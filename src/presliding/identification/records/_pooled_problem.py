@@ -1,8 +1,8 @@
 """The pooled output-error problem: records packed for one compiled call, residual, Jacobian.
 
 Parameters are named. Shared across records: ``mass``, the friction model's
-parameters (`ModelSpec`), ``viscous`` σ [N·s/m] and the force ``offset`` when
-asked.
+parameters (`ModelSpec`), ``viscous`` σ [N·s/m] (and σ⁻ ``viscous_negative`` of
+an asymmetric model) and the force ``offset`` when asked.
 Per record i (suffix ``_i`` from 1, none for a single `Measurement`):
 ``initial_position``, ``initial_velocity`` and, with a preload,
 ``preload_fraction`` (the initial elastic force over F_m).
@@ -35,7 +35,12 @@ from presliding.identification.intervals._covariance import Link
 from presliding.identification.problem._model_spec import TINY, ModelSpec
 from presliding.identification.records import _pooled_jacobian as pj
 from presliding.identification.records import _pooled_kernel as pk
-from presliding.identification.records._pooled_banks import banks_one_by_one, element_banks
+from presliding.identification.records._pooled_banks import (
+    banks_one_by_one,
+    element_banks,
+    negative_sides,
+    sided_arrays,
+)
 from presliding.identification.records._pooled_record import Record, difference_matrix
 from presliding.identification.solve._least_squares import _Map
 from presliding.motion._forcing import as_forcing
@@ -49,6 +54,10 @@ MODES = {"relaxed": pk.RELAXED, "saturated": pk.BRANCH, "preload": pk.BRANCH,
 
 class PooledProblem:
     """Residual and structured Jacobian of a pooled output-error fit (module notes)."""
+
+    #: the residual tests may try this model's siblings (more elements, an asymmetry, a
+    #: viscous term) to name a failed test's likely cause (`_residual_blocks.candidates`)
+    names_causes: bool = True
 
     def __init__(
         self,
@@ -117,8 +126,8 @@ class PooledProblem:
     @staticmethod
     def shared_names(spec: ModelSpec, offset: bool, viscous: bool) -> list[str]:
         """The parameters every record shares."""
-        return ["mass", *spec.names] + (["viscous"] if viscous else []) + (
-            ["offset"] if offset else [])  # fmt: skip
+        sigma = ["viscous", "viscous_negative"][: 2 if spec.negative else 1] if viscous else []
+        return ["mass", *spec.names] + sigma + (["offset"] if offset else [])
 
     @staticmethod
     def nuisance_kinds(initial_state: str) -> list[str]:
@@ -199,20 +208,25 @@ class PooledProblem:
 
     # ------------------------------------------------------------ simulation
     def unpack(self, sets: FloatArray, rigid: bool = False) -> tuple:
-        """Kernel arrays for parameter sets (rows of full parameter vectors)."""
+        """Kernel arrays for parameter sets (rows of full parameter vectors), both sides."""
         n_par = sets.shape[0]
         col = self.index
+        rho = None
         if self.spec.density is None and self.spec.n > 0:  # elements: all sets at once
             c1_all, k_arr, r_arr = element_banks(self.spec, self.index, sets)
+            rho = negative_sides(self.spec, self.index, sets, c1_all, k_arr, r_arr)
             if rigid:  # element 1 rigid-plastic (k_1 → ∞): its c_1 joins c1
                 c1_all = c1_all + k_arr[:, 0] * r_arr[:, 0]
                 k_arr, r_arr = k_arr[:, 1:], r_arr[:, 1:]
             k_arr, r_arr = np.ascontiguousarray(k_arr), np.ascontiguousarray(r_arr)
         else:
             c1_all, k_arr, r_arr = banks_one_by_one(self.spec, self.names, sets, rigid)
+        c1n, rn = sided_arrays(self.spec, self.index, sets, c1_all, r_arr, rho)
         mass = np.maximum(sets[:, col["mass"]], TINY)
         offset = sets[:, col["offset"]] if "offset" in col else np.zeros(n_par)
         sigma = np.maximum(sets[:, col["viscous"]], 0.0) if "viscous" in col else np.zeros(n_par)
+        sigman = np.maximum(sets[:, col["viscous_negative"]], 0.0) if "viscous_negative" in col \
+            else sigma  # fmt: skip
         per = len(self.shared) + np.arange(self.n_rec) * len(self.kinds)
         y0 = np.ascontiguousarray(sets[:, per])
         v0 = np.ascontiguousarray(sets[:, per + 1])
@@ -220,19 +234,20 @@ class PooledProblem:
             frac = np.clip(sets[:, per + 2], -1.0, 1.0)
         else:  # saturated: steady sliding in the direction of the first motion, F_el = d·F_m
             frac = np.repeat(self.direction[None, :], n_par, axis=0)
-        return mass, c1_all, sigma, k_arr, r_arr, offset, y0, v0, np.ascontiguousarray(frac)
+        return (mass, c1_all, c1n, sigma, sigman, k_arr, r_arr, rn, offset, y0, v0,
+                np.ascontiguousarray(frac))  # fmt: skip
 
     def simulate(self, sets: FloatArray, rigid: bool = False) -> tuple:
         """Positions, velocities as measured (P, S; `as_measured`), status and reversal
         counts (P, R)."""
-        mass, c1, sigma, k, r, offset, y0, v0, frac = self.unpack(np.atleast_2d(sets), rigid)
-        n_par, n_s = mass.shape[0], self.t_all.shape[0]
+        arrays = self.unpack(np.atleast_2d(sets), rigid)
+        n_par, n_s = arrays[0].shape[0], self.t_all.shape[0]
         o_y, o_v = np.empty((n_par, n_s)), np.empty((n_par, n_s))
         status = np.zeros((n_par, self.n_rec), dtype=np.int64)
         n_rev = np.zeros((n_par, self.n_rec), dtype=np.int64)
         pk.pooled_responses(
-            mass, c1, sigma, k, r, offset, y0, v0, frac, self.mode, self.direction, self.t_all,
-            self.t_off, self.ut_all, self.uv_all, self.u_off, MAX_EVENTS, o_y, o_v, status, n_rev,
+            *arrays, self.mode, self.direction, self.t_all, self.t_off, self.ut_all,
+            self.uv_all, self.u_off, MAX_EVENTS, o_y, o_v, status, n_rev,
         )  # fmt: skip
         self.as_measured(o_y, o_v)
         return o_y, o_v, status, n_rev

@@ -47,6 +47,8 @@ class Record:
     #: edge order of the difference quotient ``numpy.gradient(position, time)`` the velocity
     #: is (the model's velocity is then taken the same way); 0: a measured velocity
     difference: int = 0
+    #: whether the position was measured (False: the integral of a measured velocity)
+    measured_position: bool = True
 
 
 def difference_order(t: FloatArray, y: FloatArray, v: FloatArray) -> int:
@@ -106,4 +108,6 @@ def as_record(m: Measurement, velocity: str = "auto") -> Record:
                 order = 1
     y = m.position if m.position is not None else rt.integral(t, v)
     u = m.applied_force if m.applied_force is not None else np.zeros_like(t)
-    return Record(t, y, v, u, bool(np.any(u)), rt.initial_direction(v, u, y), order)
+    measured = m.position is not None
+    direction = rt.initial_direction(v, u, y if measured else None)
+    return Record(t, y, v, u, bool(np.any(u)), direction, order, measured)

@@ -12,6 +12,13 @@ element's force is set-valued). The grid is a nonparametric virgin curve
 G(s) = Σ_g w_g·min(s, r_g) of the elastic part, which `ModelSpec.start` turns
 into the model's parameters. Free records (u = 0) determine everything only
 per unit mass; the mass is then held at 1 (or its given value).
+
+An asymmetric model (`ModelSpec.negative`) is started per direction: its motion
+is exactly that of the symmetric model of the mean levels under
+u − (F_c⁺ − F_c⁻)/2 (`ModelSpec`), so the regression with a force offset is the
+regression per direction (sign(v) and a constant span the two directions'
+columns, F_c± = F̄_c ± offset); the offset is then turned into the two sides
+(their ratio kept within [1/3, 3]) and σ⁻ starts at σ.
 """
 
 from __future__ import annotations
@@ -64,7 +71,11 @@ def _solve(blocks: list, rhs: list, lower: FloatArray) -> FloatArray | None:
     # its columns' (the solution of unscaled forces·seconds came out otherwise)
     size = float(np.linalg.norm(b)) or 1.0
     with threadpool_limits(limits=1, user_api="blas"):  # a tall, thin problem
-        return lsq_linear(mat / scale, b / size, bounds=(lower / size, np.inf)).x * size / scale
+        # BVLS, an active-set method, ends at the exact bounded optimum: the start is the
+        # same in any consistent units to rounding (the trust-region method stopped on its
+        # tolerance, which on a nearly collinear grid moved k_1 by 5e-4 between unit systems)
+        fit = lsq_linear(mat / scale, b / size, bounds=(lower / size, np.inf), method="bvls")
+        return fit.x * size / scale
 
 
 def pooled_start(
@@ -74,11 +85,27 @@ def pooled_start(
     offset: bool,
     viscous: bool = False,
 ) -> dict[str, float]:
-    """Start values of the shared parameters (``mass``, the model's, ``viscous``, ``offset``).
+    """Start values of the shared parameters (``mass``, the model's, ``viscous``, ``offset``;
+    an asymmetric model's negative side, module notes).
 
     Two stages: m, F_c (and the offset) from the Coulomb law alone, which is
     robust; then, with that mass held, c1 and the grid stiffnesses.
     """
+    if spec.negative is None:
+        return _regression_start(records, spec, mass, offset, viscous)
+    start = _regression_start(records, spec, mass, True, viscous)  # the mean levels, an offset
+    half = start.pop("offset")
+    mean = spec.coulomb_level(start) if spec.n else start["coulomb"]
+    half = min(max(half, -0.5 * mean), 0.5 * mean)  # F_c⁻/F_c⁺ within [1/3, 3]
+    start = spec.sided(start, (mean - half) / (mean + half))
+    if viscous:
+        start["viscous_negative"] = start["viscous"]
+    return start
+
+
+def _regression_start(records: list[Record], spec: ModelSpec, mass: float | None, offset: bool,
+                      viscous: bool) -> dict[str, float]:  # fmt: skip
+    """The two stages of `pooled_start` (the symmetric model's start)."""
     span = max(float(np.ptp(r.position)) for r in records) or 1.0
     steps = np.concatenate([np.abs(np.diff(r.position)) for r in records])
     steps = steps[steps > 0]

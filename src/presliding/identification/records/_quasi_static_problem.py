@@ -12,7 +12,8 @@ set in one compiled call (`_quasi_static_kernel`). The residual layout,
 the structured Jacobian and the trust box are those of `PooledProblem`.
 
 A parameter set whose F_c is not above every |u − offset| has no quasi-static
-response: its residual is inf, so the solver rejects it.
+response: its residual is inf, so the solver rejects it (an asymmetric model: F_c⁺
+above every u, F_c⁻ above every −u).
 """
 
 from __future__ import annotations
@@ -52,6 +53,9 @@ class QuasiStaticProblem(PooledProblem):
         # position of its turning point, and the two could not be told apart)
         self.direction = -np.array([first_direction(r.applied_force, r.position) for r in records])
         self.u_max = max(float(np.max(np.abs(r.applied_force))) for r in records)
+        #: the largest applied force in +y and in −y (the floors of F_c⁺ and F_c⁻)
+        self.u_sides = (max(float(np.max(r.applied_force)) for r in records),
+                        max(float(np.max(-r.applied_force)) for r in records))  # fmt: skip
         self.u_all = np.ascontiguousarray(np.concatenate([r.applied_force for r in records]))
         modes = {"preload": qk.PRELOAD, "continuing": qk.CONTINUING, "relaxed": qk.RELAXED}
         self.qs_mode = np.full(self.n_rec, modes[initial_state], dtype=np.int64)
@@ -76,9 +80,11 @@ class QuasiStaticProblem(PooledProblem):
         """
         sets = np.atleast_2d(sets)
         n_par, n_s = sets.shape[0], self.t_all.shape[0]
-        banks = []
+        banks, ratios = [], np.ones(n_par)
         for p in range(n_par):
-            c1, k, r = self.spec.bank(dict(zip(self.names, sets[p], strict=True)))
+            q = dict(zip(self.names, sets[p], strict=True))
+            c1, k, r = self.spec.bank(q)
+            ratios[p] = self.spec.ratio(q)  # F_c⁻/F_c⁺ (1: one side)
             if rigid:
                 c1, k, r = c1 + k[0] * r[0], k[1:], r[1:]
             keep = k > TINY
@@ -88,6 +94,9 @@ class QuasiStaticProblem(PooledProblem):
         for p, (_, k, r) in enumerate(banks):
             k_arr[p, : k.shape[0]], r_arr[p, : r.shape[0]] = k, r
         c1_all = np.array([b[0] for b in banks])
+        c1n, rn = c1_all, r_arr  # one side: the same arrays
+        if self.spec.negative is not None:
+            c1n, rn = ratios * c1_all, np.ascontiguousarray(ratios[:, None] * r_arr)
         col = self.index
         offset = sets[:, col["offset"]] if "offset" in col else np.zeros(n_par)
         per = len(self.shared) + np.arange(self.n_rec) * len(self.kinds)
@@ -98,7 +107,7 @@ class QuasiStaticProblem(PooledProblem):
             frac = np.zeros((n_par, self.n_rec))
         o_y = np.zeros((n_par, n_s))
         status = np.zeros((n_par, self.n_rec), dtype=np.int64)
-        qk.quasi_static_positions(c1_all, k_arr, r_arr, offset, y0, frac, self.qs_mode,
+        qk.quasi_static_positions(c1_all, c1n, k_arr, r_arr, rn, offset, y0, frac, self.qs_mode,
                                   self.direction, self.u_all, self.t_off, o_y, status)  # fmt: skip
         empty = np.array([b[1].shape[0] == 0 or not b[0] + float(b[1] @ b[2]) > 0 for b in banks])
         status[empty] = qk.NO_RESPONSE

@@ -3,7 +3,9 @@
 `quasi_static_start` fits u = c1·sign(ẏ) + Σ_g w_g·stop_g(y) (+ offset) on the
 samples where the position moves (there the balance holds with equality),
 after each record's first reversal (an unknown earlier memory wiped out), and
-turns the weights into the model's parameters. `lift_density` scales a
+turns the weights into the model's parameters. An asymmetric model is the
+symmetric one of the mean levels under u − (F_c⁺ − F_c⁻)/2 (`ModelSpec`): its
+start is that fit with an offset, the offset turned into the two sides. `lift_density` scales a
 density's heights until its F_c exceeds every applied force (a start without
 a quasi-static response could not begin).
 """
@@ -22,6 +24,17 @@ __all__ = ["lift_density", "quasi_static_start"]
 
 def quasi_static_start(recs: list, spec: ModelSpec, offset: bool) -> dict[str, float]:
     """Start values from eq. 8 as a regression on the moving samples (module notes)."""
+    if spec.negative is None:
+        return _regression_start(recs, spec, offset)
+    start = _regression_start(recs, spec, True)  # the mean levels and their offset
+    half = start.pop("offset")
+    mean = spec.coulomb_level(start)
+    half = min(max(half, -0.5 * mean), 0.5 * mean)  # F_c⁻/F_c⁺ within [1/3, 3]
+    return spec.sided(start, (mean - half) / (mean + half))
+
+
+def _regression_start(recs: list, spec: ModelSpec, offset: bool) -> dict[str, float]:
+    """Eq. 8 as a regression: the symmetric model's start (with an offset when asked)."""
     from scipy.optimize import lsq_linear
     from threadpoolctl import threadpool_limits
 

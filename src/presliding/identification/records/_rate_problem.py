@@ -28,6 +28,9 @@ FloatArray = NDArray[np.float64]
 class RateProblem(PooledProblem):
     """Residual of a pooled fit of a rate-dependent family (module notes)."""
 
+    #: the PI model's siblings are not this family's: a failed residual test names no cause
+    names_causes = False
+
     def __init__(self, records: list[Record], spec: FamilySpec,
                  signal_weights: tuple[float, float], initial_state: str, *, offset: bool,
                  suffix: bool, viscous: bool = False, velocity: str = "auto",

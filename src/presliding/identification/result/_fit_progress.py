@@ -2,7 +2,8 @@
 
 Every ``fit_*`` function takes ``progress=``: False (the default: nothing, no
 cost), True (its own `presliding._progress.Progress` on stderr: a tqdm bar when
-stderr is a terminal, nothing otherwise, so logs and pipes stay clean), or a
+stderr is a terminal, tqdm's notebook bar in Jupyter, nothing otherwise, so logs and
+pipes stay clean), or a
 `Progress` that the caller owns and configured (the command line's, shared with
 reading the data and writing the outputs).
 `reporting` turns that argument into a `FitProgress`, which the fit and its
@@ -115,7 +116,7 @@ def reporting(progress: Any, name: str) -> Iterator[FitProgress]:
         if not progress:
             yield SILENT
             return
-        quiet = not progress_enabled()  # a bar on a terminal, silent elsewhere
+        quiet = not progress_enabled()  # a bar on a terminal or in a notebook, else silent
         with Progress(f"presliding {name}", unit="evaluation", quiet=quiet) as bar:
             yield FitProgress(bar)
     else:

@@ -9,6 +9,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from presliding._display import fill_attrs, fit_html, short_repr
+from presliding._interop import require
 from presliding.identification.result._fit_names import bound_text, bounds_lines, interval_text
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -54,12 +55,18 @@ class FitReport:
     search: Any
     interval_method: dict[str, str]
     alternatives: Any
+    asymmetry: Any
+    adequacy: Any
+
+    @property
+    def intervals_calibrated(self) -> bool:  # pragma: no cover - `FitResult` decides
+        return True
 
     def to_pandas(self) -> Any:
         """A pandas DataFrame of the parameters: value, unit, standard error, interval,
         fixed/tied; ``df.attrs`` holds the status, message, parameter ``units``, the
         model, its ``parameters``, the fit's kind, NRMSE and confidence level."""
-        import pandas as pd
+        pd = require("pandas", "`to_pandas()`")
 
         rows = []
         for n, v in self.parameters.items():
@@ -85,11 +92,13 @@ class FitReport:
         """A readable summary: status, parameters with units, errors and intervals, fit quality.
 
         Also, when present: the record-level bootstrap, strong correlations
-        (|ρ| >= 0.9), the notes and the cross-validation table.
+        (|ρ| >= 0.9), the notes, the test of an asymmetric fit against the
+        symmetric one and the cross-validation table.
         """
         pct = f"{100 * self.confidence_level:g} %"
         width = max([16, *(len(n) + 2 for n in self.parameters)])
         boot = self.bootstrap or {}
+        pct_note = "" if self.intervals_calibrated else " (not calibrated: see below)"
         lines = [
             f"{self.kind} fit: {self.status} — {self.message}",
             f"{self.measured.shape[0]} samples"
@@ -97,7 +106,8 @@ class FitReport:
             + f", {self.n_evaluations} evaluations",
             "",
             f"{'parameter':<{width}}{'value':>14} {'unit':<10}{'std. error':>11}   "
-            f"{pct + ' interval':<30}" + ("   bootstrap std. error and interval" if boot else ""),
+            f"{pct + ' interval' + pct_note:<30}"
+            + ("   bootstrap std. error and interval" if boot else ""),
         ]
         for n, v in self.parameters.items():
             se = self.standard_error[n]
@@ -126,21 +136,38 @@ class FitReport:
         lines += [
             "",
             f"residual RMS: {self.residual_rms:.6g} {self.signal_unit} ({self.signal_label})",
-            f"NRMSE (RMS / range): {100 * self.nrmse:.3f} %; "
-            f"relative residual ‖r‖/‖y − ȳ‖: {100 * self.relative_residual:.3f} %; "
+            f"NRMSE (RMS / range): {100 * self.nrmse:.3g} %; "
+            f"relative residual ‖r‖/‖y − ȳ‖: {100 * self.relative_residual:.3g} %; "
             f"explained variance {100 * (1 - self.relative_residual**2):.3f} %",
             f"model: {self.model!r}",
         ]
         lines += self.search.lines() if self.search is not None else []
+        lines += self._adequacy_lines()
         for alt in self.alternatives:
             lines.append(
                 f"another optimum (cost {alt.cost:.6g}, {alt.rise:+.3g} over the best): "
                 + alt.text(self.parameters, tuple(self.parameters))
             )
         lines += [f"note: {n}" for n in self.notes]
+        lines += self.asymmetry.lines() if self.asymmetry is not None else []
         if self.cross_validation is not None:
             lines += ["", self.cross_validation.report()]
         return "\n".join(lines)
+
+    def _adequacy_lines(self) -> list[str]:
+        """The residual tests' verdict and whether the intervals may be read as calibrated."""
+        out = []
+        if self.adequacy is not None:
+            levels = ", ".join(f"{x:.3g}" for x in self.adequacy.levels[:8])
+            more = " ..." if len(self.adequacy.levels) > 8 else ""
+            out.append(f"residual tests: {'passed' if self.adequacy.passed else 'failed'}; "
+                       f"residual RMS over the noise per record: {levels}{more}")  # fmt: skip
+            if not self.adequacy.passed:
+                out.append(f"  {self.adequacy.text()}")
+        if not self.intervals_calibrated:
+            out.append("intervals: not calibrated (the fit is not at an optimum of a model that "
+                       "describes the data); the numbers are the local ones")  # fmt: skip
+        return out
 
     def _correlation_lines(self) -> list[str]:
         corr = self.correlation
@@ -181,6 +208,6 @@ class FitReport:
         return plot_fit(
             self.abscissa, self.measured, self.fitted, ax=ax,
             xlabel=xlabel, ylabel=self._signal_text(),
-            title=f"{self.kind} fit (NRMSE {100 * self.nrmse:.2f} %)",
+            title=f"{self.kind} fit (NRMSE {100 * self.nrmse:.3g} %)",
             records=self.records, labels=labels,
         )  # fmt: skip

@@ -12,7 +12,8 @@ than on the true one. A local solve from such a minimum does not leave it
 (mass and forces 18–27 % low at a cost 19–21 % above the true valley's, a
 residual the noise-floor rule cannot tell from the floor); neither does a
 move of the shared parameters alone with the blocks kept, since the blocks
-belong to the wrong scale.
+belong to the wrong scale. The search's solve stops there short of a minimum,
+on a kink: the probe runs where that is so (`_probe_gate`).
 
 `scale_probe` moves along the scale from the best optimum: the shared model
 parameters multiplied by each factor of `SCALES` (up and down), every

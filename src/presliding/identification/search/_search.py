@@ -31,8 +31,10 @@ while at least one record is fitted within that factor of its own floor (so
 the model family reaches the floor on these data) or the starts did not all
 reach the best optimum (the cost has several minima there), is a
 ``"local_minimum"``; the message names the records furthest above their
-floors. Otherwise a fit far above the floor keeps its status, with a note
-that the model may not describe the data.
+floors. Records within the floor are no such sign when the residual tests
+point to a mechanism the model lacks or fail on most records (`_adequacy`):
+such a fit, like any other far above the floor, is judged by the residual tests
+(``"model_inadequate"``, rule ``adequacy`` of `_status`).
 """
 
 from __future__ import annotations
@@ -342,13 +344,15 @@ def same_point(problem: PooledProblem, a: Mapping[str, float], b: Mapping[str, f
     return True
 
 
-def floor_test(problem: PooledProblem, sol: Solution,
-               starts_agree: bool = True) -> tuple[Solution, tuple, float, float]:  # fmt: skip
-    """The noise-floor rule (module notes): the status, and the ratios it rests on."""
+def floor_test(problem: PooledProblem, sol: Solution, starts_agree: bool = True,
+               model_named: bool = False) -> tuple[Solution, tuple, float, float]:  # fmt: skip
+    """The noise-floor rule (module notes): the status, and the ratios it rests on. With
+    `model_named` (the residual tests point to a mechanism the model lacks, or most records
+    fail them: `_adequacy`) records within the floor are no sign of a better optimum."""
     ratios, pooled = floor_ratios(problem, sol.residual)
     sizes = np.array([problem.record_rows(i).shape[0] for i in range(problem.n_rec)])
     floor = float(np.sqrt(np.sum(record_floors(problem) * sizes) / np.sum(sizes)))
-    reach = bool(np.any(ratios <= FLOOR_FACTOR)) or not starts_agree
+    reach = (bool(np.any(ratios <= FLOOR_FACTOR)) and not model_named) or not starts_agree
     optimum = sol.status in ("converged", "not_identifiable", "at_bound")  # rules after it
     if optimum and pooled > FLOOR_FACTOR and reach:
         worst = [int(i) for i in np.argsort(-ratios) if ratios[i] > FLOOR_FACTOR]

@@ -52,6 +52,11 @@ class Solution:
     #: a solve whose errors were deferred (``errors=False``): returns the complete solution
     #: (`_least_squares.complete`); None when the errors are in
     pending: Any = field(default=None, repr=False, compare=False)
+    #: the residual tests of the fit's optimum (`_adequacy.Adequacy`; None: not run)
+    adequacy: Any = field(default=None, repr=False, compare=False)
+    #: free parameters whose profile stopped unresolved (`_profile`: the inner optimisations
+    #: disagree), their linearised intervals kept
+    unresolved: tuple[str, ...] = ()
 
 
 def name_list(names: Any, order: tuple[str, ...]) -> str:
