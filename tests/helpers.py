@@ -193,6 +193,32 @@ def random_preload_stops(seed: int, model: PIFriction, n_records: int = 4, sampl
     return out
 
 
+def rate_stops(model: Any, seed: int, n_records: int = 3, samples: int = 300, *,
+               mass: float = 2.0, substeps: int = 4, noise: float = 0.0,
+               dt: float = 1e-3):  # fmt: skip
+    """Stops of a rate-dependent model (GMS, LuGre, Dahl), simulated as `fit_response`
+    simulates them (`substeps` implicit steps per sample): steady sliding at v0, a force
+    against it for a while, then free; the position with Gaussian `noise`, the velocity its
+    difference quotient (exact without noise). Returns the records and each one's (y0, v0)."""
+    from presliding import Measurement, simulate
+
+    rng = np.random.default_rng(seed)
+    t = np.arange(samples) * dt
+    out, truth = [], []
+    for _ in range(n_records):
+        d = float(rng.choice([-1.0, 1.0]))
+        v0, y0 = d * rng.uniform(0.02, 0.06), rng.uniform(-1e-3, 1e-3)
+        u = np.where(t < rng.uniform(0.03, 0.08), -d * rng.uniform(0.1, 0.6), 0.0)
+        res = simulate(model, mass, applied_force=(t, u), initial_position=y0,
+                       initial_velocity=v0, initial_state="saturated", t_eval=t,
+                       method="implicit", step=dt / substeps)  # fmt: skip
+        y = res.position + noise * rng.standard_normal(samples)
+        v = np.gradient(y, t) if noise > 0 else res.velocity
+        out.append(Measurement(t, position=y, velocity=v, applied_force=u))
+        truth.append((y0, v0))
+    return out, truth
+
+
 def sine_records(seed: int, model: PIFriction, n_records: int = 4, samples: int = 500, *,
                  mass: float = 1.5, delay: int = 0, base: PIFriction | None = None):  # fmt: skip
     """Sine-driven records of issue 34's review design (smaller): each from a random preload

@@ -44,6 +44,11 @@ PRINTED: dict[tuple[str, int], list[tuple]] = {
     ("command_line", 1): [(r"^compiled kernels cached: (.*)$",
                            f"{_progress.LOCATION}" + (f" {_progress.FOLDER}" if _progress.FOLDER
                                                       else ""))],
+    ("rate_models", 0): [(r"stops at (\S+) s", 0.1668, 1e-3), (r"PI: (\S+) s", 0.1740, 1e-3)],
+    ("rate_models", 1): [(r"creeps (\S+) while", 1.276e-05, 1e-3),
+                         (r"J·u = (\S+)\)", 1.5e-05, 1e-9)],
+    ("rate_models", 2): [(r"lower BIC: (\S+) ", "gms"), (r"\| (\S+) \|", "not_identifiable"),
+                         (r"\| \S+ \| (\S+)$", "local_minimum")],
     ("control", 1): [(r"^(\d+) reversals", 5.0, 0.0),
                      (r"at rest from (\S+) s", 1.2248167712325622, 1e-6),
                      (r" s at (\S+)$", 0.05026722669232527, 1e-6)],
@@ -194,8 +199,9 @@ GUIDED = (
     "cross_validate", "PIBatch", "friction_batch", "simulate_loop", "PID(",
     "describing_function", "predict_limit_cycles", "FrictionNonlinearity", "retries=",
     "dask worker", "NUMBA_CACHE_DIR", "--units", "--window", "--sample-rate", ".mat",
-    "Exit status", ".presliding.lock", "progress=True", "CITATION.cff", "asymmetric=True",
-    "compare_fits", "register_family", "--compare",
+    "Exit status", ".presliding.lock", "progress=True", "CITATION.cff", "GMSFriction",
+    "CreepingFriction", 'family="gms"', "creep=True", "asymmetric=True", "compare_fits",
+    "register_family", "--compare",
 )  # fmt: skip
 
 

@@ -29,6 +29,7 @@ matplotlib.use("Agg")
 NOT_RESULTS = {
     "PID", "DiscreteController", "FrictionNonlinearity", "PIFriction", "CoulombFriction",
     "DahlFriction", "DahlState", "LuGreFriction", "LuGreState", "Density", "Discrete",
+    "GMSFriction", "GMSState", "CreepingFriction",
     "Exponential", "Uniform", "PiecewiseConstant", "Tabulated", "GeneralPIOperator",
     "MemoryState", "PIOperator", "PIState", "PIInverse", "PIBatch", "PIBatchState",
     "Measurement", "SegalmanIwan", "MindlinContact", "MicroslipBar", "SliderNetwork",

@@ -7,8 +7,11 @@ import pytest
 
 from presliding import (
     CoulombFriction,
+    CreepingFriction,
     DahlFriction,
     DahlState,
+    GMSFriction,
+    GMSState,
     LuGreFriction,
     LuGreState,
     PIFriction,
@@ -25,6 +28,8 @@ DENSITY_MODEL = PIFriction(0.3, density=Uniform(2.0, 0.5))
 COULOMB = CoulombFriction(0.5)
 DAHL = DahlFriction(1.0, 100.0)
 LUGRE = LuGreFriction(1.0, 1.5, 1e4, 100.0, 0.4, 0.01)
+GMS = GMSFriction(0.3, [100.0, 50.0], [0.2, 0.3], static_level=0.8, stribeck_velocity=0.01,
+                  lag_time=0.01)  # fmt: skip
 Y = [0.0, 0.01, -0.005, 0.002]
 T = [0.0, 0.1, 0.2, 0.3]
 WRONG_STATE = [
@@ -190,6 +195,89 @@ ENTRIES = {
         lambda **a: LuGreState(**a),
         {"last_input": 0.0, "last_time": 0.0, "bristle": 0.0, "velocity": 0.0},
         {"last_input": "real", "last_time": "real", "bristle": "real", "velocity": "real"},
+    ),
+    "GMSFriction": Entry(
+        lambda **a: GMSFriction(**a),
+        {
+            "coulomb": 0.3,
+            "stiffness": [100.0, 50.0],
+            "breakaway": [0.2, 0.3],
+            "static_level": 0.8,
+            "stribeck_velocity": 0.01,
+            "stribeck_exponent": 2.0,
+            "lag_time": 0.01,
+            "viscous": 0.0,
+        },
+        {
+            "coulomb": "nonnegative",
+            "stiffness": "positive_vector*",
+            "breakaway": "positive_vector*",
+            "static_level": "positive?",
+            "stribeck_velocity": "positive?",
+            "stribeck_exponent": "positive",
+            "lag_time": "nonnegative",
+            "viscous": "nonnegative",
+        },
+        [
+            ("static-below-coulomb", {"static_level": 0.5}, "static_level", False),
+            (
+                "no-stribeck-velocity",
+                {"stribeck_velocity": None, "static_level": 1.0},
+                "stribeck_velocity",
+                False,
+            ),
+            ("mismatch", {"breakaway": [0.2]}, "breakaway", False),
+            (
+                "no-friction",
+                {"coulomb": 0.0, "stiffness": [], "breakaway": [], "static_level": None},
+                "coulomb",
+                False,
+            ),
+        ],
+        needles={
+            "coulomb": "coulomb|static_level",
+            "stiffness": "stiffness|breakaway|static_level",
+            "breakaway": "breakaway|static_level",
+        },
+    ),
+    "GMSFriction.force": Entry(
+        lambda **a: GMS.force(**a),
+        {"displacement": Y, "time": T, "state": None},
+        {"displacement": "signal", "time": "signal", "state": "object?"},
+        [
+            ("time-decreasing", {"time": [0.0, 0.2, 0.1, 0.3]}, "time", False),
+            ("state-wrong-size", {"state": GMSState(0.0, -1.0, [0.0], [0.0])}, "state", False),
+            (
+                "state-beyond-static",
+                {"state": GMSState(0.0, -1.0, [1.0, 0.0], [0.0, 0.0])},
+                "state",
+                False,
+            ),
+            ("state-lugre", {"state": LUGRE.relaxed_state()}, "state", False),
+        ],
+        needles={"displacement": "displacement|time", "time": "time|displacement"},
+    ),
+    "GMSState": Entry(
+        lambda **a: GMSState(**a),
+        {
+            "last_input": 0.0,
+            "last_time": 0.0,
+            "forces": [0.1],
+            "slipping": [1.0],
+            "velocity": 0.0,
+            "direction": 1.0,
+        },
+        {"last_input": "real", "last_time": "real", "velocity": "real"},
+        [
+            ("slipping-half", {"slipping": [0.5]}, "slipping", False),
+            ("slipping-size", {"slipping": [0.0, 1.0]}, "slipping", False),
+            ("direction-two", {"direction": 2.0}, "direction", False),
+        ],
+    ),
+    "CreepingFriction": Entry(
+        lambda **a: CreepingFriction(**a),
+        {"friction": MODEL, "compliance": 1e-6, "creep_time": 0.1},
+        {"friction": "object", "compliance": "nonnegative", "creep_time": "nonnegative"},
     ),
     "compare": Entry(
         lambda **a: compare(**a),

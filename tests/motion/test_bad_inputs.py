@@ -7,6 +7,8 @@ import pytest
 
 from presliding import (
     DahlState,
+    GMSFriction,
+    LuGreFriction,
     MemoryState,
     PIFriction,
     PIState,
@@ -32,7 +34,41 @@ STATES = [
     ("state-float", {"initial_state": 1.0}, "initial_state", False),
 ]  # fmt: skip
 SIMULATE = {"model": MODEL, "mass": 1.0, "initial_velocity": 0.1, "t_end": 0.5}
+GMS = GMSFriction(0.3, [100.0, 50.0], [0.2, 0.3], static_level=0.8, stribeck_velocity=0.01,
+                  lag_time=0.01)  # fmt: skip
 ENTRIES = {
+    "simulate-gms": Entry(
+        lambda **a: simulate(**a),
+        {**SIMULATE, "model": GMS, "step": 1e-3},
+        {
+            "mass": "positive",
+            "applied_force": "real",
+            "initial_position": "real",
+            "initial_velocity": "real",
+            "t_end": "positive?",
+            "t_eval": "signal?",
+            "method": "choice",
+            "hold": "choice",
+            "step": "positive?",
+            "t_start": "real",
+            "rtol": "positive?",
+            "atol": "nonnegative",
+        },
+        [
+            *STATES[1:],
+            (
+                "state-lugre",
+                {"initial_state": LuGreFriction(1.0, 1.5, 1e4, 0.0, 0.0, 0.01).relaxed_state()},
+                "initial_state",
+                False,
+            ),
+            ("state-elsewhere", {"initial_state": GMS.relaxed_state(1.0)}, "initial_state", False),
+            ("event", {"method": "event"}, "method", False),
+            ("t_end-before-start", {"t_start": 1.0}, "t_end", False),
+            ("v0-1e200", {"initial_velocity": 1e200}, "initial_velocity", True),
+        ],
+        needles={"t_end": "t_end|step", "t_start": "t_start|t_end|step"},
+    ),
     "simulate": Entry(
         lambda **a: simulate(**a),
         SIMULATE,

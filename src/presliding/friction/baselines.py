@@ -18,7 +18,7 @@ References
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -123,16 +123,21 @@ class DahlFriction:
         σ0 > 0 [N/m], the rest stiffness dF/dy at F = 0.
     exponent : float, default 1.0
         α > 0, the shape of the curve (Dahl used α = 1 for ductile, α >= 1 in general).
+    viscous : float, keyword only
+        σ >= 0 [N·s/m], a viscous term σ·ẏ (default 0, Dahl's model). As for `PIFriction`,
+        `force` along a displacement path leaves it out; `presliding.simulate` includes it.
     """
 
     coulomb: float
     stiffness: float
     exponent: float = 1.0
+    viscous: float = field(default=0.0, kw_only=True)
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "coulomb", as_positive_scalar("coulomb", self.coulomb))
         object.__setattr__(self, "stiffness", as_positive_scalar("stiffness", self.stiffness))
         object.__setattr__(self, "exponent", as_positive_scalar("exponent", self.exponent))
+        object.__setattr__(self, "viscous", as_nonnegative_scalar("viscous", self.viscous))
 
     def relaxed_state(self, position: float = 0.0) -> DahlState:
         """Rest at `position` with zero force."""

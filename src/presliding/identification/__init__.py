@@ -14,6 +14,7 @@ fit_response.py     `fit_response`: simulated against measured motion, one or ma
 fit_quasi_static.py `fit_quasi_static`: position from a slow force (torque-driven presliding)
 fit_virgin.py       `fit_virgin_curve`: virgin curves from ramps or loops, pooled, quantised
 fit_result.py       `FitResult`, the public result of every fit
+rate_families.py    `fit_gms`, `fit_lugre`, `fit_dahl`: the rate families as fitters of a registry
 masing.py           `masing_check`, `MasingCheck`: do measured loops follow a virgin curve?
 prediction.py       `Prediction`, `count_reversals`: a fitted model on another record
 cross_validation.py `cross_validate`, `CrossValidation`: leave-one-record-out tables
@@ -47,6 +48,7 @@ May import: `presliding.measurement`, `presliding.motion`, `presliding.analysis`
 # first: the old paths of the modules that moved to `presliding.measurement`
 from presliding.identification import _moved  # noqa: F401  (registers the aliases)
 from presliding.identification import fit_presliding as _fit_presliding
+from presliding.identification import rate_families as _rate_families  # noqa: F401  (registers)
 from presliding.identification.cross_validation import CrossValidation, cross_validate
 from presliding.identification.families import CARRIES, FAMILIES, register_family
 from presliding.identification.fit_comparison import FitComparison, compare_fits

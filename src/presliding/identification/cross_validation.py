@@ -294,9 +294,11 @@ def cross_validate(
     from presliding.identification.fit_response import fit_response
 
     if isinstance(fit, str):
-        fit = {"response": fit_response, "quasi-static": fit_quasi_static}[
-            as_choice("fit", fit, ("response", "quasi-static"))
-        ]
+        by_name: dict[str, Callable[..., FitResult]] = {
+            "response": fit_response,
+            "quasi-static": fit_quasi_static,
+        }
+        fit = by_name[as_choice("fit", fit, ("response", "quasi-static"))]
     if not callable(fit):
         raise TypeError(f"`fit` must be a fit function or its name; got {type(fit).__name__}.")
     recs = list(records) if isinstance(records, Sequence) else None

@@ -26,7 +26,10 @@ A family whose fit carries another family's fit of the same records and options 
 The families shipped: ``"pi"`` (`fit_response`: the PI model of eq. 17, ``n_elements`` 4 by
 default, a count or ``"auto"``), ``"pi-asymmetric"`` (the same with ``asymmetric=True``: the
 two directions' levels; its fit carries the asymmetry test) and ``"coulomb"`` (Coulomb
-friction alone, ``n_elements=0``; with ``viscous=True`` Coulomb and viscous).
+friction alone, ``n_elements=0``; with ``viscous=True`` Coulomb and viscous); and, registered
+by `rate_families`, ``"gms"`` (generalized Maxwell-slip: the PI elements with a Stribeck curve
+and frictional lag, ``n_elements`` 4 by default), ``"lugre"`` and ``"dahl"`` (with a mass),
+each `fit_response(family=...)`.
 """
 
 from __future__ import annotations

@@ -68,6 +68,7 @@ def fit_quasi_static(
     density_cells: int = 32,
     min_coulomb_level: float | None = None,
     offset: bool = False,
+    creep: bool = False,
     asymmetric: bool = False,
     initial_state: str = "preload",
     initial: Mapping[str, float] | None = None,
@@ -93,6 +94,14 @@ def fit_quasi_static(
         A lower bound on F_c [N], besides the largest |u| (module notes).
     offset : bool, keyword only
         Fit a force offset (parameter ``offset``; the model sees u − offset).
+    creep : bool, keyword only
+        Put a Kelvin–Voigt element in series with the contact
+        (`presliding.friction.CreepingFriction`): the position gains y_c,
+        τ·ẏ_c + y_c = J·(u − offset), starting at rest with each record's first
+        force (parameters ``creep_compliance`` J >= 0 [m/N] and ``creep_time`` τ >= 0
+        [s], shared; the records' `time` is used). A joint that keeps moving under a
+        constant torque below break-away creeps to a limit this way; with J = 0 the
+        model is the PI model. The returned model is then a `CreepingFriction`.
     asymmetric : bool, keyword only
         Separate levels for the two directions (``coulomb_level_negative`` F_c⁻,
         bounded below by the largest −u; module notes); excludes `offset` and a
@@ -108,11 +117,16 @@ def fit_quasi_static(
     -------
     FitResult
         Position against the applied force, records one after the other; the
-        model is `PIFriction` (no mass: quasi-static), `predict` gives the
-        response of another record.
+        model is `PIFriction` (no mass: quasi-static; with ``creep=True`` a
+        `CreepingFriction`), `predict` gives the response of another record.
     """
     request = dict(locals())
     if check_flag("asymmetric", asymmetric):
+        if check_flag("creep", creep):
+            raise ValueError(
+                "`creep`=True fits one level for both directions; it is not available with "
+                "`asymmetric`=True; got creep=True, asymmetric=True."
+            )
         return fit_asymmetric(fit_quasi_static, request, check_quasi_static, asymmetric_parts)
     checked = check_quasi_static(request)
     problem, options = quasi_static_problem(checked)

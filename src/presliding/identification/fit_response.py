@@ -97,6 +97,8 @@ def fit_response(
     max_evaluations: int | None = None,
     tolerance: float = 1e-8,
     multistart: bool = True,
+    family: str = "pi",
+    substeps: int | None = None,
     progress: bool | Progress | FitProgress = False,
 ) -> FitResult:
     """Fit eq. 17 to one or many records by matching simulated to measured motion.
@@ -208,6 +210,22 @@ def fit_response(
     multistart : bool, keyword only
         Also try the spread start and test the rigid limit of the stiffest
         element (equal break-away forces; c1 and stiffnesses not fixed or tied).
+    family : {"pi", "gms", "lugre", "dahl"}, keyword only
+        The model family fitted: the PI model of eq. 17 (default); the generalized
+        Maxwell-slip model (`GMSFriction`: the PI elements with a Stribeck curve and a
+        frictional lag, parameters ``stribeck_drop`` F_S − F_C, ``stribeck_velocity``,
+        ``lag_time`` besides the PI model's; with the first and last 0 it is the PI
+        model); LuGre (`LuGreFriction`: ``coulomb``, ``stribeck_drop``, ``stiffness``
+        σ0, ``damping`` σ1, ``stribeck_velocity``; σ2 is ``viscous``) or Dahl
+        (`DahlFriction`, α = 1: ``coulomb``, ``stiffness``). The rate families are
+        simulated by the implicit step (`presliding.simulate`), `substeps` steps per
+        sample interval, and fitted by the same engine (starts, statuses, intervals,
+        `predict`); `density`, `prune`, `min_coulomb_level` (and, but for GMS,
+        `n_elements`, `equal_breakaway`, `coulomb_level`) are the PI model's options
+        and are refused with them (`_rate_plan`).
+    substeps : int, optional, keyword only
+        Implicit steps per sample interval of a rate family (default 4; the scheme
+        is first order). Refused with ``family="pi"`` (exact events).
     progress : bool or presliding._progress.Progress, keyword only
         Show the stages (starts, checks, bootstrap resamples) and the solver's
         evaluations with the cost: True draws a tqdm bar when stderr is a
@@ -222,6 +240,13 @@ def fit_response(
         bootstrap when it ran, and `predict` for other records.
     """
     request = dict(locals())
+    if family != "pi" or substeps is not None:
+        if check_flag("asymmetric", asymmetric):
+            raise ValueError(
+                "`asymmetric`=True fits the PI model's two directions (family 'pi'); the rate "
+                f"families have one level; got asymmetric=True with family {family!r}."
+            )
+        return _fit_rate(request)
     if check_flag("asymmetric", asymmetric):
         return fit_asymmetric(fit_response, request, check_response, asymmetric_parts)
     if isinstance(n_elements, str):
@@ -230,3 +255,17 @@ def fit_response(
     problem, options = response_problem(checked)
     plan = response_plan(checked, problem, options, refit_with=fit_response)
     return run_fit(problem, options, plan)
+
+
+def _fit_rate(request: dict) -> FitResult:
+    """`fit_response` of a rate family (`_rate_plan`); ``family="pi"`` refuses `substeps`."""
+    from presliding.identification.plans._rate_plan import check_rate, rate_plan, rate_problem
+
+    if request["family"] == "pi":
+        raise ValueError(
+            "`substeps` sets the implicit steps of a rate family (family 'gms', 'lugre' or "
+            f"'dahl'); got {request['substeps']!r} with family 'pi' (exact events)."
+        )
+    checked, spec, substeps = check_rate(request)
+    problem, options = rate_problem(checked, spec, substeps)
+    return run_fit(problem, options, rate_plan(checked, spec, pi_fit=fit_response))

@@ -32,7 +32,6 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from presliding._axes import as_axis, on_axis
-from presliding.friction.pi_friction import PIFriction
 from presliding.identification.intervals._alternatives import Alternative, hidden_optima
 from presliding.identification.intervals._profile import profile_solution
 from presliding.identification.judge._status import judge
@@ -86,9 +85,11 @@ class FitResult(FitReport, LmfitNames):
 
     Attributes
     ----------
-    model : PIFriction or None
+    model : PIFriction, GMSFriction, LuGreFriction, DahlFriction, CreepingFriction or None
         The identified friction model, ready to simulate (None if the fit failed
-        or the parameters do not form a valid model).
+        or the parameters do not form a valid model): a `PIFriction`, or the family
+        `fit_response(family=...)` fits, or with ``fit_quasi_static(creep=True)`` a
+        `CreepingFriction`.
     parameters, standard_error : dict name -> float
         Every parameter (free, fixed and tied) and its standard error (0 for
         fixed parameters, inf where the data do not determine it).
@@ -192,7 +193,7 @@ class FitResult(FitReport, LmfitNames):
         ``"not_identifiable"``).
     """
 
-    model: PIFriction | None
+    model: Any  # PIFriction | GMSFriction | LuGreFriction | DahlFriction | CreepingFriction | None
     parameters: dict[str, float]
     standard_error: dict[str, float]
     confidence_interval: dict[str, tuple[float, float]]
@@ -236,7 +237,7 @@ class FitResult(FitReport, LmfitNames):
 
     @classmethod
     def from_solution(
-        cls, sol: Solution, model: PIFriction | None, abscissa: Any, measured: Any, fitted: Any,
+        cls, sol: Solution, model: Any, abscissa: Any, measured: Any, fitted: Any,
         hint: str = "", rotary: bool = False, **labels: Any,
     ) -> FitResult:  # fmt: skip
         """Assemble a result from a `Solution` and the fitted signal.

@@ -264,6 +264,14 @@ _PARAMETER_UNITS = {
     "max_elastic_force": ("N", "N m"),
     "initial_stiffness": ("N/m", "N m/rad"),
     "breakaway_each": ("N", "N m"),
+    "stribeck_drop": ("N", "N m"),
+    "stribeck_velocity": ("m/s", "rad/s"),
+    "static_level": ("N", "N m"),
+    "static": ("N", "N m"),
+    "lag_time": ("s", "s"),
+    "damping": ("N s/m", "N m s/rad"),
+    "creep_compliance": ("m/N", "rad/(N m)"),
+    "creep_time": ("s", "s"),
 }
 
 

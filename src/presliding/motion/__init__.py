@@ -16,6 +16,9 @@ _implicit_loop.py     the implicit time loop of `simulate`: uniform steps, sampl
 _implicit_density.py  the implicit stepper for a density μ: set-up and runner
 _density_loop.py      its fused loop: Newton and commit with the memory in local variables
 _forcing.py           the applied force u(t): constant, callable or samples
+_rate_run.py          `simulate` of GMS, LuGre and Dahl friction: packing, initial state, run
+_rate_loop.py         their implicit time loop: uniform steps, samples off the steps
+_rate_step.py         their implicit step: the friction state advanced exactly, Brent's root
 
 May import: `presliding.friction`, `presliding.hysteresis` and the root's shared modules.
 It does not import `presliding.analysis` (a sibling layer).

@@ -211,21 +211,20 @@ def accuracy_target(rtol: Any, atol: Any) -> tuple[float, float] | None:
     return r, a
 
 
-def refine(run: Any, t0: float, t_end: float, n_steps: int, rtol: float, atol: float) -> Any:
+def refine(run: Any, t0: float, t_end: float, n_steps: int, rtol: float, atol: float,
+           max_steps: int = MAX_STEPS) -> Any:  # fmt: skip
     """Halve the implicit step until the step-doubling error estimate meets the target.
 
-    ``run(h)`` simulates with the step h. With the first-order scheme the error of
-    the finer of two runs is about their difference; the finer run is returned,
-    with the estimate (positions at the samples) and how the step was chosen.
+    ``run(h)`` simulates with the step h (at most `max_steps` steps). The error of the finer
+    of two runs is about their difference (first order); the finer run is returned, with
+    the estimate (positions at the samples) and how the step was chosen.
     """
     from dataclasses import replace
 
-    coarse = run((t_end - t0) / n_steps)
+    coarse, err = run((t_end - t0) / n_steps), np.inf  # no estimate before the first doubling
     while True:
-        if 2 * n_steps > MAX_STEPS:
-            fine = coarse
-            err = np.inf
-            met = False
+        if 2 * n_steps > max_steps:
+            fine, met = coarse, False
             break
         n_steps *= 2
         fine = run((t_end - t0) / n_steps)
@@ -242,9 +241,10 @@ def refine(run: Any, t0: float, t_end: float, n_steps: int, rtol: float, atol: f
         message = (f"{n_steps} implicit steps of {h:.3g}, chosen by step doubling for an "
                    f"estimated position error {err:.3g} <= {goal:.3g}")  # fmt: skip
         return replace(fine, message=message, error_estimate=err)
-    message = (f"the accuracy target was not met within {MAX_STEPS:.0e} steps: {n_steps} "
+    message = (f"the accuracy target was not met within {max_steps:.0e} steps: {n_steps} "
                f"steps of {h:.3g}")  # fmt: skip
-    return replace(fine, status=STATUS_ACCURACY_NOT_MET, message=message, error_estimate=err)
+    return replace(fine, status=STATUS_ACCURACY_NOT_MET, message=message,
+                   error_estimate=err if np.isfinite(err) else None)  # fmt: skip
 
 
 def check_energy(m: float, v0: float, e0: float) -> None:

@@ -30,9 +30,16 @@ from numpy.typing import ArrayLike, NDArray
 
 from presliding._display import figures_of, fill_attrs, result_html, short_repr
 from presliding._interop import require
-from presliding._validation import as_signal, check_increasing, check_same_length, renamed
+from presliding._validation import (
+    as_real_scalar,
+    as_signal,
+    check_increasing,
+    check_same_length,
+    renamed,
+)
 from presliding.friction._parts import elements
 from presliding.friction._sides import check_band, require_symmetric, shifted_bank, sides_of
+from presliding.friction.creep import CreepingFriction, creep_deflections
 from presliding.friction.pi_friction import PIFriction
 from presliding.hysteresis.inverse import PIInverse
 from presliding.hysteresis.operators import PIOperator, PIState
@@ -63,10 +70,13 @@ class QuasiStaticResponse:
         Equal to u (the balance holds at every sample) [N].
     final_state : PIState
         The friction memory after the last sample (pass it on to continue).
-    model : PIFriction
+    model : PIFriction or CreepingFriction
     status : str
         "success".
     message : str
+    creep_deflection : ndarray, shape (T,) or None
+        The Kelvin–Voigt element's deflection y_c [m] of a `CreepingFriction` (included
+        in `position`); None for a PIFriction.
     """
 
     time: FloatArray | None
@@ -74,9 +84,10 @@ class QuasiStaticResponse:
     position: FloatArray
     elastic_force: FloatArray
     final_state: PIState
-    model: PIFriction
+    model: PIFriction | CreepingFriction
     status: str = "success"
     message: str = "quasi-static balance solved exactly"
+    creep_deflection: FloatArray | None = None
 
     @property
     def success(self) -> bool:
@@ -95,6 +106,9 @@ class QuasiStaticResponse:
             applied_force=self.applied_force,
             position=self.position,
             elastic_force=self.elastic_force,
+            **(
+                {} if self.creep_deflection is None else {"creep_deflection": self.creep_deflection}
+            ),
             status=self.status,
             message=self.message,
             success=self.success,
@@ -167,20 +181,24 @@ def friction_inverse(model: PIFriction) -> PIInverse:
 
 
 def quasi_static_response(
-    model: PIFriction,
+    model: PIFriction | CreepingFriction,
     applied_force: ArrayLike,
     initial_state: PIState | str | None = None,
     *,
     time: ArrayLike | None = None,
+    initial_creep: float | None = None,
 ) -> QuasiStaticResponse:
     """Position under a slowly applied force, with inertia negligible (module notes).
 
     Parameters
     ----------
-    model : PIFriction
-        Finite elements (at least one) and the Coulomb element c1.
+    model : PIFriction or CreepingFriction
+        Finite elements (at least one) and the Coulomb element c1; or such a contact
+        in series with a Kelvin–Voigt element (`presliding.friction.CreepingFriction`),
+        whose creep deflection is added to the position.
     applied_force : array_like, shape (T,)
-        u [N], monotone between samples (the response is rate independent),
+        u [N], monotone between samples (the contact's response is rate independent;
+        the creep element takes u linear in time between samples),
         with |u| <= F_c = ``model.coulomb_level`` throughout.
     initial_state : PIState or "relaxed", optional
         The friction memory before the first sample (default: relaxed at y = 0).
@@ -188,7 +206,11 @@ def quasi_static_response(
         `presliding.friction.preloaded_state`; the elastic force of the memory is
         where the play of c1 starts.
     time : array_like, shape (T,), optional
-        Sample times [s], kept in the result (strictly increasing).
+        Sample times [s], kept in the result (strictly increasing); needed by a
+        `CreepingFriction` with creep (J > 0 and τ > 0).
+    initial_creep : float, optional, keyword only
+        The creep deflection y_c [m] at the first sample (a `CreepingFriction`);
+        default J·u_0, at rest with the first force.
 
     Returns
     -------
@@ -211,8 +233,17 @@ def quasi_static_response(
     >>> bool(np.all(np.abs(res.applied_force - res.elastic_force) <= 0.1 + 1e-12))
     True
     """
+    if isinstance(model, CreepingFriction):
+        return _creeping_response(model, applied_force, initial_state, time, initial_creep)
     if not isinstance(model, PIFriction):
-        raise TypeError(f"`model` must be a PIFriction; got {type(model).__name__}.")
+        raise TypeError(
+            f"`model` must be a PIFriction or CreepingFriction; got {type(model).__name__}."
+        )
+    if initial_creep is not None:
+        raise ValueError(
+            "`initial_creep` is the deflection of a CreepingFriction's creep element; got "
+            f"{initial_creep!r} with a {type(model).__name__}."
+        )
     u = as_signal("applied_force", applied_force)
     t = None
     if time is not None:
@@ -246,6 +277,32 @@ def quasi_static_response(
         fel = inverse.elastic_force(u_in, start)
         y, final = inverse.apply(u_in, start)
     return QuasiStaticResponse(t, u, y, fel, final, model)
+
+
+def _creeping_response(
+    model: CreepingFriction,
+    applied_force: ArrayLike,
+    initial_state: Any,
+    time: ArrayLike | None,
+    initial_creep: Any,
+) -> QuasiStaticResponse:
+    """The contact's response plus the creep deflection, integrated exactly (`creep`)."""
+    inner = quasi_static_response(model.friction, applied_force, initial_state, time=time)
+    u = inner.applied_force
+    if time is None and model.has_creep and model.creep_time > 0.0:
+        raise ValueError(
+            "`time` must be given for a CreepingFriction with creep (its deflection depends on "
+            "time); got None."
+        )
+    t = inner.time if inner.time is not None else np.zeros(u.shape[0])
+    start = np.full((1, 1), np.nan)
+    if initial_creep is not None:
+        start[0, 0] = as_real_scalar("initial_creep", initial_creep)
+    creep = np.zeros((1, u.shape[0]))
+    creep_deflections(np.array([model.compliance]), np.array([model.creep_time]),
+                      np.zeros(1), start, u, t, np.array([0, u.shape[0]]), creep)  # fmt: skip
+    return QuasiStaticResponse(inner.time, u, inner.position + creep[0], inner.elastic_force,
+                               inner.final_state, model, creep_deflection=creep[0])  # fmt: skip
 
 
 def _asymmetric_response(

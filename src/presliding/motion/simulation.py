@@ -66,15 +66,17 @@ from presliding._validation import (
     as_positive_scalar,
     as_real_scalar,
     as_si,
+    check_finite_derived,
 )
 from presliding.friction import _sides
 from presliding.friction._model_checks import check_finite_stiffness
+from presliding.friction.gms import GMSState
 from presliding.friction.pi_friction import PIFriction
 from presliding.hysteresis.general_pi import MemoryState
 from presliding.hysteresis.operators import PIState
 from presliding.motion import _implicit_density as _density
 from presliding.motion import _implicit_loop as _loop
-from presliding.motion import _run
+from presliding.motion import _rate_run, _run
 from presliding.motion._forcing import as_forcing
 from presliding.motion.batch import free_response, simulate_batch
 from presliding.motion.results import (
@@ -187,6 +189,10 @@ def simulate(
     >>> round(res.stop_time, 12), round(float(res.energy.viscous[-1]), 6)
     (0.972955074528, 3.486478)
     """
+    if isinstance(model, _rate_run.RATE_MODELS):
+        return _simulate_rate(model, mass, applied_force, initial_position, initial_velocity,
+                              initial_state, t_end, t_eval, method, hold, step, t_start, rtol,
+                              atol)  # fmt: skip
     _run.check_model(model, density_ok=True, asymmetric_ok=True)
     check_finite_stiffness(model.initial_stiffness, "`simulate`", model.density)
     m = as_positive_scalar("mass", mass, kind="mass")
@@ -262,6 +268,70 @@ def simulate(
                 t_end, y_end, float(out["v"]), out["f"].copy(), float(out["dir"]), stop_at,
                 out["piece"], _run.model_key(model, m)))  # fmt: skip
     return _result(out, m, e0, final_state, method, model)
+
+
+def _simulate_rate(
+    model: Any,
+    mass: Any,
+    applied_force: Any,
+    initial_position: Any,
+    initial_velocity: Any,
+    initial_state: Any,
+    t_end: Any,
+    t_eval: Any,
+    method: Any,
+    hold: Any,
+    step: Any,
+    t_start: Any,
+    rtol: Any,
+    atol: Any,
+) -> MotionResult:
+    """`simulate` for GMS, LuGre and Dahl friction: the implicit method (`_rate_run`)."""
+    m = as_positive_scalar("mass", mass, kind="mass")
+    y0 = as_real_scalar("initial_position", initial_position, kind="position")
+    v0 = as_real_scalar("initial_velocity", initial_velocity, kind="velocity")
+    t0 = as_real_scalar("t_start", t_start, kind="time")
+    applied_force = as_si("applied_force", applied_force, "force")
+    t_end = None if t_end is None else as_si("t_end", t_end, "time")
+    forcing = as_forcing(applied_force, hold, t0)
+    if as_choice("method", method, METHODS) == "event":
+        raise ValueError(
+            f"`method` 'event' needs the PI model's closed-form pieces; got a "
+            f"{type(model).__name__}, a rate-dependent model: use method='implicit' or 'auto'."
+        )
+    t_end, times = _run.time_grid(t0, t_end, t_eval)
+    step = None if step is None else as_positive_scalar("step", step)
+    n_steps = _run.step_count(t0, t_end, step)
+    target = _run.accuracy_target(rtol, atol)
+    if target is not None:
+        kw: dict[str, Any] = dict(applied_force=applied_force, initial_position=y0,
+                  initial_velocity=v0, initial_state=initial_state, t_end=t_end, t_eval=times,
+                  method="implicit", hold=hold, t_start=t0)  # fmt: skip
+        return _run.refine(lambda h: simulate(model, m, step=h, **kw), t0, t_end, n_steps,
+                           *target, max_steps=_rate_run.MAX_REFINED)  # fmt: skip
+    h = np.float64((t_end - t0) / n_steps)
+    with np.errstate(over="ignore", divide="ignore"):  # refused here, by name
+        scales = (1.0 / h, m / (h * h), _rate_run.force_scale(model) / np.float64(m))
+    check_finite_derived("step 1/h", scales[0], ("t_end", "step"))
+    check_finite_derived("implicit inertia m/h²", scales[1], ("mass", "step"))
+    check_finite_derived("acceleration F/m", scales[2], "mass")
+    u0 = float(forcing(np.array([t0]))[0])
+    z0, e0, last = _rate_run.initial_rate_state(model, initial_state, y0, v0, u0)
+    out, energy0, final_state = _rate_run.run_rate(
+        model, m, z0, e0, y0, v0, float(np.sign(v0)), forcing, times, t0, t_end, n_steps
+    )
+    if out["status"] != 0 or not (np.isfinite(out["y"]) and np.isfinite(out["v"])):
+        _run.motion_overflow(t_end)
+    if out["dir"] == 0.0 and isinstance(final_state, GMSState):  # never moved: the memory's
+        final_state = GMSState(
+            final_state.last_input,
+            final_state.last_time,
+            final_state.forces,
+            final_state.slipping,
+            0.0,
+            last,
+        )
+    return _result(out, m, energy0, final_state, "implicit", model)
 
 
 def _result(out: dict, m: float, e0: float, final_state: Any, method: str, model: PIFriction):

@@ -327,11 +327,15 @@ def consistent_level(sol: Solution, spec: Any) -> Solution:
     """
     if not spec.has_level_parameter or spec.n == 0 or sol.status == "failed":
         return sol
-    level, below = spec.model(sol.values).coulomb_levels  # F_c⁻ of an asymmetric model
+    model = spec.model(sol.values)  # PIFriction: F_c⁻ of an asymmetric model; a rate family: one
+    sides = hasattr(model, "coulomb_levels")
+    level, below = model.coulomb_levels if sides else (model.coulomb_level, 0.0)
     if level == sol.values["coulomb_level"]:
         return sol
     values = {**sol.values, "coulomb_level": float(level)}
-    if spec.negative is not None:  # the negative side's level the same way (ρ kept)
+    if (
+        getattr(spec, "negative", None) is not None
+    ):  # the negative side's level the same way (ρ kept)
         values[spec.negative] = float(below)
     return replace(sol, values=values)
 

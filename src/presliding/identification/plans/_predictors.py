@@ -36,11 +36,18 @@ def _rest(y: np.ndarray, v: np.ndarray | None, tol: float) -> float | None:
 
 
 class ResponsePredictor:
-    """Prediction of a record's motion by a pooled response fit."""
+    """Prediction of a record's motion by a pooled response fit.
 
-    def __init__(self, problem: pp.PooledProblem, values: dict[str, float]):
+    `fractions`: further preloads its own start is solved from with ``initial="fit"`` (the
+    best kept; the rate families': a preload saturated in the motion's direction holds its
+    local solve on its bound); none by default.
+    """
+
+    def __init__(self, problem: pp.PooledProblem, values: dict[str, float],
+                 fractions: tuple[float, ...] = ()):  # fmt: skip
         self.problem = problem
         self.shared = {x: values[x] for x in problem.shared}
+        self.fractions = fractions
 
     def predict(
         self, result: Any, measurement: Any, initial: str = "fit", tolerance: float | None = None
@@ -64,10 +71,14 @@ class ResponsePredictor:
             if not p.w_y:
                 fixed["initial_position"] = float(rec.position[0])
             sub.set_typical(start)
-            out = solve_least_squares(
-                sub.residual(), start, fixed=fixed, bounds=initial_bounds(sub, p.initial_state),
+            begins = [start] + [{**start, "preload_fraction": f} for f in self.fractions
+                                if p.initial_state == "preload"]  # fmt: skip
+            solves = [solve_least_squares(
+                sub.residual(), b, fixed=fixed, bounds=initial_bounds(sub, p.initial_state),
                 free_jacobian=sub.free_jacobian(), tolerance=1e-8, max_evaluations=200,
-            )  # fmt: skip
+            ) for b in begins]  # fmt: skip
+            out = min(solves, key=lambda o: np.inf if o.status == "failed" else float(
+                o.residual @ o.residual))  # fmt: skip
             if out.status == "failed":
                 status, message = "failed", f"initial conditions not found: {out.message}"
             else:

@@ -46,6 +46,8 @@ from typing import Any
 import numpy as np
 
 from presliding._validation import as_bounds, as_choice, as_count, as_positive_scalar, fmt
+from presliding.friction.creep import CreepingFriction
+from presliding.friction.pi_friction import PIFriction
 from presliding.identification._fit_engine import FitPlan, FitRun, Found
 from presliding.identification.checks._response_checks import (
     coalesced_split,
@@ -71,13 +73,20 @@ from presliding.identification.problem._fit_options import (
 from presliding.identification.problem._fit_problem import FitOptions, FitProblem
 from presliding.identification.problem._model_spec import DENSITIES, ModelSpec
 from presliding.identification.problem._parameters import (
+    check_flag,
     check_levels,
     check_sides,
     resolve_parameters,
 )
+from presliding.identification.records._creep_problem import CREEP, CreepQuasiStaticProblem
 from presliding.identification.records._quasi_static_errors import with_run_floor
 from presliding.identification.records._quasi_static_problem import QuasiStaticProblem
-from presliding.identification.records._quasi_static_start import lift_density, quasi_static_start
+from presliding.identification.records._quasi_static_start import (
+    CREEP_TIMES,
+    creep_start,
+    lift_density,
+    quasi_static_start,
+)
 from presliding.identification.records._residual_blocks import pooled_adequacy
 from presliding.identification.search._flat_probe import flat_probe
 from presliding.identification.search._nuisance_search import search_nuisance
@@ -117,6 +126,7 @@ class QuasiStaticRequest:
     bootstrap: int
     seed: int | None
     options: FitOptions
+    creep: bool = False
 
 
 def check_quasi_static(request: dict[str, Any]) -> QuasiStaticRequest:
@@ -147,6 +157,7 @@ def check_quasi_static(request: dict[str, Any]) -> QuasiStaticRequest:
     return QuasiStaticRequest(
         a["records"], recs, isinstance(a["records"], Measurement), spec, initial_state,
         a["offset"], fmin, initial, bounds, fixed, tied, bootstrap, a["seed"], options,
+        check_flag("creep", a.get("creep", False)),
     )  # fmt: skip
 
 
@@ -170,8 +181,10 @@ def _start_and_box(req: QuasiStaticRequest, records: QuasiStaticProblem) -> tupl
         if key not in names:
             raise ValueError(f"`initial` must name parameters of the fit; got {key!r}.")
         start[key] = float(val)
+    if req.creep:
+        start = {**creep_start(req.recs, spec, start), **start}
     start = {x: start[x] for x in names}
-    box = {**spec.bounds(), "offset": (-np.inf, np.inf)}
+    box = {**spec.bounds(), "offset": (-np.inf, np.inf), **dict.fromkeys(CREEP, (0.0, np.inf))}
     for i in range(records.n_rec):
         box[records.nuisance("initial_position", i)] = (-np.inf, np.inf)
         if preload:
@@ -193,8 +206,9 @@ def _start_and_box(req: QuasiStaticRequest, records: QuasiStaticProblem) -> tupl
 
 def quasi_static_problem(req: QuasiStaticRequest) -> tuple[FitProblem, FitOptions]:
     """The pooled quasi-static problem of a checked request, and its solves' options."""
-    records = QuasiStaticProblem(req.recs, req.spec, req.initial_state, offset=req.offset,
-                                 suffix=not req.single)  # fmt: skip
+    kind = CreepQuasiStaticProblem if req.creep else QuasiStaticProblem
+    records = kind(req.recs, req.spec, req.initial_state, offset=req.offset,
+                   suffix=not req.single)  # fmt: skip
     names = records.names
     check_enough(records.n_res, len(names) - len(req.fixed))
     start, box = _start_and_box(req, records)
@@ -295,6 +309,8 @@ def _starts(req: QuasiStaticRequest, run: FitRun) -> list[dict[str, float]]:
         extra, count = global_start(p.records, start, p.fixed, p.bounds, keep=1)
         run.evaluations += count
         starts += [{x: e[x] for x in p.names} for e in extra]
+    if req.creep and "creep_time" not in p.fixed and "creep_time" not in p.tied:
+        starts += [{**start, "creep_time": start["creep_time"] * f} for f in CREEP_TIMES]
     return starts
 
 
@@ -417,8 +433,13 @@ def _result(req: QuasiStaticRequest, run: FitRun, sol: Solution, boot: Any,
     units = {x: "1" for x in records.names if x.startswith("preload_fraction")}
     if spec.negative is not None:
         units["coulomb_level_ratio"] = "1"
+    contact = spec.model(values)
+    model: PIFriction | CreepingFriction = contact
+    if req.creep:
+        model = CreepingFriction(contact, max(values["creep_compliance"], 0.0),
+                                 max(values["creep_time"], 0.0))  # fmt: skip
     result = FitResult.from_solution(
-        sol, spec.model(values), records.u_all, np.concatenate([r.position for r in req.recs]),
+        sol, model, records.u_all, np.concatenate([r.position for r in req.recs]),
         o_y[0], kind="quasi-static", abscissa_label="applied force", signal_label="position",
         signal_unit="m", units={**units, **_UNITS}, derived=derived,
         rotary=common_axis(req.records) == "rotary",

@@ -95,7 +95,7 @@ from presliding.identification.solve._least_squares import LARGE_PROBLEM, Soluti
 from presliding.identification.solve._structured_lm import on_one_blas_thread
 from presliding.measurement.measurement import common_axis
 
-__all__ = ["asymmetric_parts", "response_plan", "response_problem"]
+__all__ = ["asymmetric_parts", "held_starts", "response_plan", "response_problem"]
 
 #: evaluations of a probe's short solve (`_probes`; solved on when it ends near the best)
 PROBE_EVALUATIONS = 40
@@ -107,6 +107,18 @@ RIGID_EVALUATIONS = 30
 RIGID_JUDGE = 10
 
 
+def held_starts(req: ResponseRequest, records: Any) -> dict[str, float]:
+    """`fixed` with each record's start held at its first sample where it is not fitted
+    (``fit_initial=False``; the position when only the velocity is compared)."""
+    fixed = dict(req.fixed)
+    for i, rec in enumerate(req.recs):
+        if not req.fit_initial:
+            fixed.setdefault(records.nuisance("initial_velocity", i), float(rec.velocity[0]))
+        if not req.fit_initial or req.signal == "velocity":
+            fixed.setdefault(records.nuisance("initial_position", i), float(rec.position[0]))
+    return fixed
+
+
 def response_problem(req: ResponseRequest) -> tuple[FitProblem, FitOptions]:
     """The pooled problem of a checked request, and the options of its solves."""
     spec, recs = req.spec, req.recs
@@ -114,12 +126,7 @@ def response_problem(req: ResponseRequest) -> tuple[FitProblem, FitOptions]:
         recs, spec, signal_weights(req.signal, recs, req.weights), req.initial_state,
         offset=req.offset, suffix=not req.single, viscous=req.viscous, velocity=req.velocity,
     )  # fmt: skip
-    names, fixed = records.names, dict(req.fixed)
-    for i, rec in enumerate(recs):
-        if not req.fit_initial:
-            fixed.setdefault(records.nuisance("initial_velocity", i), float(rec.velocity[0]))
-        if not req.fit_initial or req.signal == "velocity":
-            fixed.setdefault(records.nuisance("initial_position", i), float(rec.position[0]))
+    names, fixed = records.names, held_starts(req, records)
     check_enough(records.n_res, len(names) - len(fixed))
     start, box = start_and_box(records, spec, recs, fixed, req.forced, req.offset, req.viscous,
                                req.initial_state, req.initial, req.bounds, req.fmin)  # fmt: skip

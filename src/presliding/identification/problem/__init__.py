@@ -7,6 +7,7 @@ shares, and the residual. The separable fits (`fit_presliding`, `fit_motion`,
 
 Files
 -----
+_family_spec.py        the rate-dependent families (GMS, LuGre, Dahl) as named parameters
 _fit_options.py        the options every fit shares (level, evaluations, fixed, tied), checked
 _fit_problem.py        `FitProblem`: what a fit minimises (parameters, residual, Jacobian structure)
 _model_spec.py         the fitted models as named parameters (elements, densities)

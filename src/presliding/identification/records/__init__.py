@@ -8,6 +8,7 @@ as a regression over every record.
 
 Files
 -----
+_creep_problem.py         the pooled quasi-static residual with creep (a Kelvin–Voigt element)
 _penalty.py               the hinge row that keeps a derived F_c at or above `min_coulomb_level`
 _pooled_banks.py          the banks (c1, k_j, r_j) of many parameter sets as kernel arrays
 _pooled_jacobian.py       the finite differences of that Jacobian, records' columns together
@@ -19,6 +20,8 @@ _quasi_static_errors.py   the error floor of runs of equal quantised samples
 _quasi_static_kernel.py   compiled quasi-static positions of many records and parameter sets
 _quasi_static_problem.py  the pooled quasi-static residual
 _quasi_static_start.py    quasi-static start values (eq. 8 as a regression)
+_rate_kernel.py           compiled batched motions with GMS, LuGre or Dahl friction (implicit)
+_rate_problem.py          the pooled residual of a rate-dependent family
 _residual_blocks.py       a pooled residual as the adequacy tests read it; candidate mechanisms
 _response_tools.py        a record's first direction, integrals, equal-break-away stiffnesses
 

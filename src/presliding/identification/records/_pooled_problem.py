@@ -55,6 +55,10 @@ MODES = {"relaxed": pk.RELAXED, "saturated": pk.BRANCH, "preload": pk.BRANCH,
 class PooledProblem:
     """Residual and structured Jacobian of a pooled output-error fit (module notes)."""
 
+    #: the residual tests may try this model's siblings (more elements, an asymmetry, a
+    #: viscous term) to name a failed test's likely cause (`_residual_blocks.candidates`)
+    names_causes: bool = True
+
     def __init__(
         self,
         records: list[Record],

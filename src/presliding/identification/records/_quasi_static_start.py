@@ -93,3 +93,17 @@ def lift_density(spec: ModelSpec, start: dict[str, float], level: float,
         c1 = start["coulomb"] = 0.5 * level
     factor = (level - c1) / (fc - c1)
     return {x: v * factor if x in heights else v for x, v in start.items()}
+
+
+#: the further starts of a creep fit's time constant, as factors of its start (`creep_start`)
+CREEP_TIMES = (0.1, 10.0)
+
+
+def creep_start(recs: list, spec: ModelSpec, start: Mapping[str, float]) -> dict[str, float]:
+    """Start values of the creep element (`CreepingFriction`): τ a tenth of the median
+    record's duration, J a twentieth of the contact's compliance 1/Σ k_j at the start."""
+    duration = float(np.median([r.time[-1] - r.time[0] for r in recs]))
+    _, k, _ = spec.bank(start)
+    total = float(np.sum(k))
+    compliance = 0.05 / total if total > 0 else 0.0
+    return {"creep_compliance": compliance, "creep_time": 0.1 * max(duration, 1e-300)}

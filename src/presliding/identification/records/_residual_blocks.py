@@ -310,7 +310,7 @@ def pooled_adequacy(problem: Any, sol: Any) -> Adequacy | None:
     if result.passed:
         return result
     r = np.asarray(sol.residual, dtype=float)[: rec.n_res]
-    found = candidates(rec, sol.values, r)
+    found = candidates(rec, sol.values, r) if rec.names_causes else []
     return result.with_cause(score_causes(r, jac, found, floor_cost(rec, blocks)))
 
 

@@ -13,6 +13,7 @@ _model_order.py      ``n_elements="auto"``: the number of elements by BIC
 _nuisance_search.py  each record's own parameters searched on a grid, the shared ones held
 _probe_gate.py       whether the best needs the valleys' probes (floor, starts, stationarity)
 _probes.py           probes of the valleys next to the best optimum (engage, corner, split)
+_rate_search.py      the search of a rate family's fit: the PI fit, a batched grid, multistart
 _scale_probe.py      the probe along eq. 17's scale (mass and forces together, blocks re-searched)
 _search.py           the search step: starts, alternation, the noise-floor rule, its summary
 _threshold_search.py variable projection over the thresholds of a separable fit (its starts)
