@@ -36,6 +36,7 @@ from presliding.network._kernel_piece import (
     P_SMAP,
     P_STUCK,
     P_THR,
+    ROUNDING,
     build_piece,
     modal,
     parallel_groups,
@@ -45,7 +46,6 @@ ROW_LAYOUT = (("q", "n"), ("v", "n"), ("a", "n"), ("f", "n"), ("g", "c"), ("gd",
               ("lam", "c"), ("fel", "c"), ("mode", "c"), ("coulomb", "c"),
               ("hysteretic", "c"), ("viscous", "c"), ("kinetic", 1), ("potential", 1),
               ("elastic", 1), ("damping", 1), ("work", 1))  # fmt: skip
-EPS8 = 8.0 * np.finfo(np.float64).eps
 
 
 def row_width(n: int, n_c: int) -> int:
@@ -172,11 +172,14 @@ def _advance(pc, tau, mask, found, q, v, g, e, s, coul, hyst, work, forced, f, k
         for a in range(stuck.shape[0]):
             if mask[n_lin + group[a]]:
                 forced[stuck[a]] = np.sign(alpha[a]) * (1.0 if tg[group[a]] > 0 else -1.0)
+    rmax = np.zeros(n_c)  # the scale of a contact's deformations (and of their rounding)
+    for j in range(ek.shape[0]):
+        rmax[owner[j]] = max(rmax[owner[j]], er[j])
     for j in range(ek.shape[0]):
         if elastic[j]:
             dist = er[j] - s_el[j] * e[j]
             ej = e[j] + dg[owner[j]]
-            near = s_el[j] * ej >= er[j] * (1.0 - EPS8)
+            near = s_el[j] * ej >= er[j] - ROUNDING * (rmax[owner[j]] + abs(dg[owner[j]]))
             if near or (hit[owner[j]] and dist == dmin[owner[j]]):
                 ej = s_el[j] * er[j]
             e[j] = ej
@@ -200,7 +203,8 @@ def run_events(t, q, v, g, e, s, last, coul, hyst, work, iu, ft, fv, t_end, time
     """The event loop from the state (q, g, e, s, last, coul, hyst updated in place).
 
     Returns (status, t, v, work, events, samples filled, transitions (t, c, s),
-    reversals (t, c, g), whether a group of parallel contacts stuck).
+    reversals (t, c, g), whether a group of parallel contacts stuck, the certificate's
+    counts (cells, isolated, resolved, grazes, ends)).
     """
     n, n_c = w.shape
     d_max = n
@@ -216,6 +220,7 @@ def run_events(t, q, v, g, e, s, last, coul, hyst, work, iu, ft, fv, t_end, time
     tr, n_tr = np.empty((16, 3)), 0
     rv, n_rv = np.empty((16, 3)), 0
     events, filled, first, status, grouped = 0, 0, True, -1, False
+    counts = np.zeros(5, np.int64)
     while status < 0:
         f = fv[iu]
         v = decide(q, v, s, e, f, forced, k, w, minv_w, c1, sigma, ek, owner, reps, group, alpha,
@@ -240,7 +245,7 @@ def run_events(t, q, v, g, e, s, last, coul, hyst, work, iu, ft, fv, t_end, time
             status = 2
             break
         grouped = grouped or in_group
-        tau, mask = find_event(pc, t1 - t)
+        tau, mask = find_event(pc, t1 - t, counts)
         found = tau >= 0.0
         at_end = (not found) and t1 >= t_end
         if not found:
@@ -260,4 +265,5 @@ def run_events(t, q, v, g, e, s, last, coul, hyst, work, iu, ft, fv, t_end, time
         events += 1
         if events >= max_events:
             status = 1
-    return status, t, v, work, events, filled, tr[:n_tr].copy(), rv[:n_rv].copy(), grouped
+    return (status, t, v, work, events, filled, tr[:n_tr].copy(), rv[:n_rv].copy(), grouped,
+            counts)  # fmt: skip

@@ -28,9 +28,12 @@ from presliding.network._kernel_contacts import per_contact, take_columns
 
 EPS = np.finfo(np.float64).eps
 
+#: The rounding of a closed form's value, relative to the magnitudes of its terms.
+ROUNDING = 64.0 * EPS
+
 (P_DIM, P_OMEGA, P_INV, P_RIGID, P_VM, P_A0, P_A2, P_B, P_WB, P_OMAX, P_SLIDING, P_ELASTIC,
  P_KEL, P_CSAT, P_FEL0, P_LAM0, P_DMIN, P_STUCK, P_SMAP, P_H, P_H0, P_NLIN, P_C1S, P_SL,
- P_THR, P_GROUP, P_ALPHA, P_GSIZE, P_GFEL) = range(29)  # fmt: skip
+ P_THR, P_GROUP, P_ALPHA, P_GSIZE, P_GFEL, P_CURVP, P_CURVT, P_ERR, P_ERRD) = range(33)  # fmt: skip
 
 
 @njit(cache=True, error_model="numpy")
@@ -168,9 +171,31 @@ def build_piece(q0, v0, s, e, f, m, k, w, minv_w, c1, ek, er, owner):  # pragma:
             gfel[group[a]] += alpha[a] * fel0[stuck[a]]
             gc1[group[a]] += abs(alpha[a]) * c1[stuck[a]]
     hmat, h0, n_lin, thr = _events(q0, s, f, k, w, kel, lam0, gfel, dmin, sl, smap, b, wb, d)
+    cp, ct = _curvature(hmat, omega, rigid, vm, a0, d)
+    # magnitudes of the terms of ξ(0), ξ'(0) and h0 (their rounding is ε times these)
+    fs = np.abs(f) + np.abs(k) @ np.abs(q0)
+    for c in sl:
+        fs += np.abs(w[:, c]) * abs(lam0[c])
+    x0 = np.zeros(2 * d)
+    x1 = np.zeros(2 * d)
+    if d:
+        pa = np.abs(phi.T)
+        x0[d:] = pa @ (np.abs(mr) @ np.abs(zd0))
+        x1[:d] = x0[d:]
+        x1[d:] = pa @ (np.abs(ns.T) @ fs)
+    e0 = np.zeros(h0.shape[0])
+    for j in range(ek.shape[0]):  # a distance to a threshold rounds with the thresholds
+        for a in range(thr.shape[0]):
+            if owner[j] == thr[a]:
+                e0[sl.shape[0] + a] = max(e0[sl.shape[0] + a], er[j])
+    if smap.shape[0]:
+        e0[n_lin:] = np.abs(smap) @ fs + np.abs(gfel)
+    ah = np.abs(hmat)
+    e0 = ROUNDING * (e0 + ah @ x0)
+    e1 = ROUNDING * (ah @ x1)
     pc = (d, omega, inv, rigid, vm, a0, a0 * 2.0, b, wb, omax, sliding, elastic, kel, csat,
           fel0, lam0, dmin, stuck, smap, hmat, h0, n_lin, gc1, sl, thr, group, alpha, gsize,
-          gfel)  # fmt: skip
+          gfel, cp, ct, e0, e1)  # fmt: skip
     return pc, reps.shape[0] > rank, reps.shape[0] < stuck.shape[0]
 
 
@@ -207,6 +232,30 @@ def _events(q0, s, f, k, w, kel, lam0, gfel, dmin, sl, smap, b, wb, d
             h0[n_lin + a] = c0[a] - gfel[a]
             hmat[n_lin + a, :d] = hs[a]
     return hmat, h0, n_lin, thr
+
+
+@njit(cache=True, error_model="numpy")
+def _curvature(hmat, omega, rigid, vm, a0, d):  # pragma: no cover - compiled
+    """(P, T): each function's second derivative lies in [P − T, P + T] for all τ.
+
+    A mode of frequency ω > 0 adds a sinusoid A·cos ωτ + B·sin ωτ to function j
+    (A = −H_η·a/ω² + H_η̇·v, B = (H_η·v + H_η̇·a)/ω), whose second derivative is at most
+    ω²·√(A² + B²); a rigid mode adds the constant H_η·a."""
+    nf = hmat.shape[0]
+    cp = np.zeros(nf)
+    ct = np.zeros(nf)
+    for j in range(nf):
+        for i in range(d):
+            hh, gg = hmat[j, i], hmat[j, d + i]
+            if rigid[i]:
+                cp[j] += hh * a0[i]
+            else:
+                om = omega[i]
+                amp_c = -hh * a0[i] / (om * om) + gg * vm[i]
+                amp_s = (hh * vm[i] + gg * a0[i]) / om
+                ct[j] += om * om * np.sqrt(amp_c * amp_c + amp_s * amp_s)
+        ct[j] *= 1.0 + 1e-12
+    return cp, ct
 
 
 @njit(cache=True, error_model="numpy")

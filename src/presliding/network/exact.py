@@ -135,7 +135,7 @@ def _run_compiled(structure: NetworkStructure, net: Network, st: RunState, t_end
     fv = np.ascontiguousarray(structure.forcing_values, dtype=np.float64)
     iu = max(int(np.searchsorted(ft, st.t, side="right")) - 1, 0)
     c = np.ascontiguousarray
-    code, t, v, work, events, filled, tr, rv, grouped = run_events(
+    code, t, v, work, events, filled, tr, rv, grouped, counts = run_events(
         float(st.t), st.q, st.v, st.g, st.e, st.s, st.last, st.coulomb, st.hysteretic,
         float(st.work), iu, ft, fv, float(t_end), c(out.time, dtype=np.float64), rec,
         c(net.m), c(net.k), c(net.w), c(net.minv_w), net.cts.c1, net.cts.sigma, net.cts.k,
@@ -143,6 +143,7 @@ def _run_compiled(structure: NetworkStructure, net: Network, st: RunState, t_end
     )  # fmt: skip
     if code == 2:
         return None
+    st.cert.add(counts)
     st.t, st.v, st.work, st.n_events = float(t), v, float(work), int(events)
     st.redundant = bool(grouped)
     st.transitions = [(float(a), int(b), float(x)) for a, b, x in tr]
@@ -226,7 +227,7 @@ def _run(structure: NetworkStructure, net: Network, st: RunState, t_end: float, 
         pc, info = net.piece(st, f)
         if info["redundant"]:
             st.redundant = True
-        found = scan(net.event_functions(pc, info, st), t1 - st.t, pc.omega_max)
+        found = scan(net.event_functions(pc, info, st), t1 - st.t, pc.omega_max, st.cert)
         at_end = found is None and t1 >= t_end
         tau, trig = (t1 - st.t, None) if found is None else found
         _record(net, pc, info, st, out, st.t + tau, at_end)
