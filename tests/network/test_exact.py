@@ -231,3 +231,18 @@ def test_chunked_runs_equal_the_whole_run_in_the_compiled_loop():
     np.testing.assert_allclose(np.vstack([first.position, second.position[1:]]), whole.position,
                                rtol=0, atol=1e-12)  # fmt: skip
     np.testing.assert_array_equal(first.n_reversals + second.n_reversals, whole.n_reversals)
+
+
+def test_t_eval_is_counted_before_it_is_copied():
+    """1e9 samples (a float32 array of 4 GB, or a range) are refused before the copy that
+    ran out of memory; `simulate`'s cap of 10,000,000 samples holds here too."""
+    import time
+
+    s = chain_structure(2, 1.0, 1.0, PIFriction(1.0))
+    start = time.process_time()
+    with pytest.raises(ValueError, match="`t_eval` must have at most 10,000,000 samples; got "
+                                         "1,000,000,000"):  # fmt: skip
+        simulate_network(s, 1.0, t_eval=range(10**9))
+    with pytest.raises(ValueError, match="at most 10,000,000"):
+        simulate_network(s, 1.0, t_eval=np.broadcast_to(np.float32(0.5), (10**9,)))
+    assert time.process_time() - start < 0.5

@@ -15,6 +15,7 @@ from numpy.typing import NDArray
 
 from presliding.network._contact_problem import redundant_margin, solve_box_qp
 from presliding.network._events import ROUNDING, AffineEvents, Certificate
+from presliding.network._matrices import check_dense_size, issparse
 from presliding.network._piece import Contacts, Piece, null_space
 
 FloatArray = NDArray[np.float64]
@@ -47,10 +48,14 @@ class Network:
     """The structure's constant arrays, and the operations of the event loop on a state."""
 
     def __init__(self, structure: Any) -> None:
-        self.m = np.asarray(structure.mass)
-        self.c = np.asarray(structure.damping)
-        self.k = np.asarray(structure.stiffness)
-        self.w = np.asarray(structure.contacts)
+        n, n_c = structure.n_coordinates, structure.n_contacts
+        if structure.is_sparse:  # the exact path works on dense matrices
+            hint = "The exact path holds dense matrices; simulate_network_moreau takes sparse ones."
+            check_dense_size("structure", f"{n} coordinates", n, n_c, hint)
+        self.m, self.c, self.k, self.w = (
+            np.asarray(x.toarray()) if issparse(x) else np.asarray(x)
+            for x in (structure.mass, structure.damping, structure.stiffness, structure.contacts)
+        )
         self.cts = Contacts.of(structure.friction)
         self.minv_w = np.linalg.solve(self.m, self.w)
         self.n_c = self.w.shape[1]

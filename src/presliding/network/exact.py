@@ -34,7 +34,7 @@ from presliding._validation import (
 from presliding.network._events import scan
 from presliding.network._exact_kernel import ROW_LAYOUT, row_width, run_events
 from presliding.network._exact_run import Network, RunState
-from presliding.network._start import run_start
+from presliding.network._start import check_samples, run_start
 from presliding.network.results import NetworkResult, NetworkState, build_result
 from presliding.network.structure import NetworkStructure
 
@@ -100,6 +100,7 @@ def simulate_network(
     if t_eval is None:
         times = np.linspace(t0, t_end, 1001)
     else:
+        check_samples(t_eval, row_width(n, n_c))
         times = as_signal("t_eval", t_eval)
         if np.any(np.diff(times) < 0) or times[0] < t0 or times[-1] > t_end:
             raise ValueError(

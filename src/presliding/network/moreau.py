@@ -29,7 +29,7 @@ from presliding._validation import (
 )
 from presliding.network._moreau_kernel import moreau_loop
 from presliding.network._piece import Contacts
-from presliding.network._start import run_start
+from presliding.network._start import MAX_SAMPLES, run_start
 from presliding.network.results import NetworkEnergy, NetworkResult, NetworkState
 from presliding.network.structure import NetworkStructure
 
@@ -103,7 +103,7 @@ def simulate_network_moreau(
     theta = as_real_scalar("theta", theta)
     if not 0.5 <= theta <= 1.0:
         raise ValueError(f"`theta` must be in [0.5, 1]; got {fmt(theta)}.")
-    samples = as_count("samples", samples, minimum=2, maximum=10_000_000)
+    samples = as_count("samples", samples, minimum=2, maximum=MAX_SAMPLES)
     max_sweeps = as_count("max_sweeps", max_sweeps, minimum=1, maximum=1_000_000)
     tolerance = as_positive_scalar("tolerance", tolerance)
     start = run_start(np.asarray(structure.contacts), cts.k.shape[0], initial_position,
