@@ -23,6 +23,8 @@ _kernel_piece.py      compiled: a piece's modes (Cholesky + eigh) and affine eve
 _kernel_events.py     compiled: certified events on cells, Brent's method
 _kernel_contacts.py   compiled: the box QP over the Delassus matrix, the decision at rest
 _moreau_kernel.py     its compiled loop: θ-method, PGS on the Delassus matrix per step
+_moreau_sparse.py     its sparse loop: Gauss–Seidel on the velocities, no Ŵ⁻¹
+_matrices.py          the structure's matrices checked (dense or scipy.sparse), sizes first
 _plots.py             figures of a network result
 slider_network.py     `SliderNetwork`: springs, Coulomb sliders and stops (quasi-static)
 quasi_static.py       `quasi_static_network`: the exact piecewise-linear quasi-static response
