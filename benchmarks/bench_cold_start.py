@@ -27,6 +27,9 @@ With ``--one-core`` the demo runs pinned to one core (its second compiling
 process is then not started), which shows what that process contributes.
 
     python benchmarks/bench_cold_start.py [--rounds 1] [--one-core] [--no-profile] [--top 10]
+
+With ``--network`` it measures the first `simulate_network` instead (see
+``_cold_network.py``).
 """
 
 from __future__ import annotations
@@ -176,7 +179,16 @@ def main() -> int:
     parser.add_argument("--one-core", action="store_true", help="pin the demo to one core")
     parser.add_argument("--no-profile", action="store_true", help="no per-kernel table")
     parser.add_argument("--top", type=int, default=10, help="kernels listed (default 10)")
+    parser.add_argument(
+        "--network",
+        action="store_true",
+        help="the first simulate_network instead of the demo (_cold_network.py)",
+    )
     args = parser.parse_args()
+    if args.network:
+        from _cold_network import main as network_main
+
+        return network_main(args.rounds)
     import numba
 
     print(f"CPU: {cpu_name()}; {os.cpu_count()} cores; numba {numba.__version__}")

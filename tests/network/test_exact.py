@@ -246,3 +246,45 @@ def test_t_eval_is_counted_before_it_is_copied():
     with pytest.raises(ValueError, match="at most 10,000,000"):
         simulate_network(s, 1.0, t_eval=np.broadcast_to(np.float32(0.5), (10**9,)))
     assert time.process_time() - start < 0.5
+
+
+def test_on_a_cold_cache_the_general_loop_runs_while_a_second_process_compiles(monkeypatch):
+    """The first run does not wait a minute for the compiler: the general loop gives the
+    same events (and says so), one second process is started, and runs use the compiled
+    loop once it is cached."""
+    from presliding.network import _warm
+
+    s, v0 = _pi_chain()
+    te = np.linspace(0.0, 0.4, 201)
+    compiled = simulate_network(s, 0.4, None, v0, t_eval=te)
+    started = []
+    monkeypatch.setattr(_warm, "BACKGROUND", True)
+    monkeypatch.setattr(_warm, "_process", {})
+    monkeypatch.setattr(_warm, "_kernel", lambda: _kernel_with_index({}))
+    monkeypatch.setattr(_warm, "_start", lambda: started.append(1) or _warm._process.update(
+        compile=_Running()))  # fmt: skip
+    first = simulate_network(s, 0.4, None, v0, t_eval=te)
+    second = simulate_network(s, 0.4, None, v0, t_eval=te)
+    assert started == [1]  # one second process, not one per run
+    assert "a second process is compiling it" in first.message
+    assert first.n_events == compiled.n_events
+    np.testing.assert_allclose(first.position, compiled.position, rtol=0, atol=1e-12)
+    assert second.message == first.message
+    monkeypatch.setattr(_warm, "_kernel", lambda: _kernel_with_index({"signature": "entry"}))
+    third = simulate_network(s, 0.4, None, v0, t_eval=te)
+    assert "second process" not in third.message
+    np.testing.assert_array_equal(third.position, compiled.position)
+
+
+def _kernel_with_index(index):
+    """A stand-in for numba's dispatcher: nothing compiled here, `index` in its cache."""
+    from types import SimpleNamespace
+
+    cache_file = SimpleNamespace(_load_index=lambda: index)
+    return SimpleNamespace(overloads={}, _cache=SimpleNamespace(_cache_file=cache_file))
+
+
+class _Running:
+    @staticmethod
+    def poll():
+        return None

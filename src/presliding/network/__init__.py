@@ -22,6 +22,7 @@ _exact_kernel.py      the compiled event loop (undamped structures): pieces, eve
 _kernel_piece.py      compiled: a piece's modes (Cholesky + eigh) and affine event functions
 _kernel_events.py     compiled: certified events on cells, Brent's method
 _kernel_contacts.py   compiled: the box QP over the Delassus matrix, the decision at rest
+_warm.py              the compiled loop on a cold cache: compiled by a second process
 _moreau_kernel.py     its compiled loop: θ-method, PGS on the Delassus matrix per step
 _moreau_sparse.py     its sparse loop: Gauss–Seidel on the velocities, no Ŵ⁻¹
 _matrices.py          the structure's matrices checked (dense or scipy.sparse), sizes first

@@ -31,6 +31,7 @@ from presliding._validation import (
     check_size,
     check_type,
 )
+from presliding.network import _warm
 from presliding.network._events import scan
 from presliding.network._exact_kernel import ROW_LAYOUT, row_width, run_events
 from presliding.network._exact_run import Network, RunState
@@ -113,13 +114,16 @@ def simulate_network(
                   hysteretic=zeros.copy(), viscous=zeros.copy())  # fmt: skip
     out = _Samples(times, n, n_c, net.cts.k.shape[0])
     e_initial = _mechanical_energy(net, st.q, st.v, st.e)
-    ran = None if structure.is_damped else _run_compiled(structure, net, st, t_end, out, max_events)
+    compiled = not structure.is_damped and _warm.ready()
+    ran = _run_compiled(structure, net, st, t_end, out, max_events) if compiled else None
     if ran is None:  # damped structures, redundant stick sets: the general loop
         st = RunState(t=t0, q=start.q, v=start.v, g=start.g, e=start.e, s=start.s,
                       last=start.last, coulomb=zeros.copy(), hysteretic=zeros.copy(),
                       viscous=zeros.copy())  # fmt: skip
         out = _Samples(times, n, n_c, net.cts.k.shape[0])
         ran = _run(structure, net, st, t_end, out, max_events)
+        if not structure.is_damped and not compiled:
+            ran = (ran[0], ran[1].removesuffix(".") + _COLD)
     status, message = ran
     return build_result(structure, net, st, out, status, message, e_initial, t0)
 
@@ -259,6 +263,10 @@ def _note_transitions(st: RunState, before: FloatArray) -> None:
             st.last[c] = st.s[c]
 
 
+_COLD = (
+    "; the general loop ran (the same events): the compiled loop was not in numba's "
+    "cache, and a second process is compiling it for the next runs."
+)
 _GENERAL = (
     "; the contact forces are not unique (redundant contacts stuck together: W_S has "
     "dependent columns); the motion is unique, the forces shown are the minimum-norm "
