@@ -164,25 +164,36 @@ def _piece_state(rng, damped):
 
 
 @settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
-@given(seed=st.integers(0, 2**32 - 1), depth=st.floats(-1e-3, -1e-12))
-def test_a_dip_below_zero_between_any_samples_is_found_compiled(seed, depth):
+@given(seed=st.integers(0, 2**32 - 1), depth=st.floats(-1e-3, -1e-12), damped=st.booleans())
+def test_a_dip_below_zero_between_any_samples_is_found_compiled(seed, depth, damped):
     """A sliding contact's velocity shifted so that its lowest point on the piece dips
     `depth` (relative to its range, down to 1e-12) below zero: the compiled search stops
-    at or before that point (a fixed grid misses dips narrower than its cells)."""
+    at or before that point (a fixed grid misses dips narrower than its cells); damped
+    pieces too (complex modes, bounded per cell by |λ|²·|γ|·e^{Re λ·τ})."""
     from presliding.network._exact_run import Network
     from presliding.network._kernel_events import find_event
-    from presliding.network._kernel_piece import P_DIM, P_H0, P_NLIN, build_piece, event_values
+    from presliding.network._kernel_piece import (
+        P_DAMPED,
+        P_DIM,
+        P_H0,
+        P_NLIN,
+        build_piece,
+        event_values,
+    )
 
     rng = np.random.default_rng(seed)
-    s, q, v = _piece_state(rng, False)
+    s, q, v = _piece_state(rng, damped)
     net = Network(s)
     n_c = s.n_contacts
     modes = rng.choice([-1.0, 1.0], size=n_c)
     e = np.zeros(net.cts.k.shape[0])
     c = np.ascontiguousarray
     cts = net.cts
-    pc, _, _ = build_piece(q, v, modes, e, c(s.force_at(0.0)), c(net.m), c(net.k), c(net.w),
-                           c(net.minv_w), cts.c1, cts.k, cts.r, cts.owner)  # fmt: skip
+    pc, general, _ = build_piece(q, v, modes, e, c(s.force_at(0.0)), c(net.m), c(net.k),
+                                 c(net.w), c(net.minv_w), cts.c1, cts.k, cts.r, cts.owner,
+                                 c(net.c), cts.sigma, damped)  # fmt: skip
+    assume(not general)  # damped modes well conditioned (else the general loop runs it)
+    assert pc[P_DAMPED] == damped
     horizon = 6.0
     nf = pc[P_H0].shape[0]
     xi = np.empty(3 * pc[P_DIM])

@@ -16,10 +16,11 @@ _start.py             the start of a run (initial state, t_start, t_end), checke
 _piece.py             the closed form of one piece (modes, or a matrix exponential)
 _events.py            certified events: cells of the closed form with derivative bounds
 _contact_problem.py   stick/slip at an instant: the box QP over the Delassus matrix
-_exact_run.py         the event loop's operations on its state (damped structures, and
-                      stick sets with general redundancy)
-_exact_kernel.py      the compiled event loop (undamped structures): pieces, events, samples
+_exact_run.py         the event loop's operations on its state (stick sets with general
+                      redundancy, ill-conditioned damped modes)
+_exact_kernel.py      the compiled event loop: pieces, events, samples
 _kernel_piece.py      compiled: a piece's modes (Cholesky + eigh) and affine event functions
+_kernel_damped.py     compiled: damped pieces by complex modes, their dissipation
 _kernel_events.py     compiled: certified events on cells, Brent's method
 _kernel_contacts.py   compiled: the box QP over the Delassus matrix, the decision at rest
 _warm.py              the compiled loop on a cold cache: compiled by a second process

@@ -20,15 +20,19 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from presliding.network._kernel_damped import damped_bound
 from presliding.network._kernel_piece import (
     P_C1S,
+    P_COEF,
     P_CURVP,
     P_CURVT,
+    P_DAMPED,
     P_DIM,
     P_ERR,
     P_ERRD,
     P_H,
     P_H0,
+    P_LAM,
     P_NLIN,
     P_OMAX,
     ROUNDING,
@@ -228,9 +232,16 @@ def find_event(pc, horizon, counts):  # pragma: no cover - compiled
     a = 0.0
     out = np.empty(nf)
     todo = np.zeros(nf, np.bool_)
+    damped = pc[P_DAMPED]
+    bound = np.zeros(nf)
     while True:
         b = min(a + width, horizon)
         ell = 0.5 * (b - a)
+        if damped:  # the bounds of the cell (decaying modes)
+            damped_bound(pc[P_COEF], pc[P_LAM], a, b, bound)
+            for k in range(ns):
+                j = k if k < n_lin else n_lin + (k - n_lin) // 2
+                lo[k], hi[k] = -bound[j], bound[j]
         _sides(pc, b, hb, db, xi)
         all_safe, all_known, any_trig = True, True, False
         for k in range(ns):

@@ -28,6 +28,11 @@ from numpy.typing import NDArray
 
 FloatArray = NDArray[np.float64]
 
+#: Damped pieces whose eigenvector matrix has a larger condition number take the matrix
+#: exponential (their modal closed form would lose cond·ε: a defective matrix, e.g. a
+#: critically damped mode, has computed eigenvectors with cond about 1/√ε ≈ 7e7 or more).
+MAX_CONDITION = 1e6
+
 
 @dataclass
 class Contacts:
@@ -140,7 +145,7 @@ class Piece:
             self.amat, self.h, self.x0 = a, h, x0
             if entry is None:
                 lam, vec = np.linalg.eig(a)
-                modal = bool(np.linalg.cond(vec) < 1e8)
+                modal = bool(np.linalg.cond(vec) < MAX_CONDITION)
                 entry = (minv, lam, vec, modal, np.linalg.inv(vec) if modal else None)
                 if cache is not None:
                     cache[key] = entry

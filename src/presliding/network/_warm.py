@@ -1,6 +1,6 @@
 """The compiled event loop, ready or not: on a cold cache it is compiled in a second process.
 
-Compiling the undamped event loop (`presliding.network._exact_kernel.run_events`) costs
+Compiling the event loop (`presliding.network._exact_kernel.run_events`) costs
 about a minute of CPU (numba's front end over the piece construction, the contact
 decision and the event search), against milliseconds for a typical run once it is
 compiled. On a cold cache `simulate_network` does not wait for it: `ready` starts one
@@ -83,7 +83,7 @@ class _Done:
 
 
 def compile_now() -> None:
-    """Compile the undamped event loop in this process (with the argument types of every
+    """Compile the event loop in this process (with the argument types of every
     call), so that it is cached."""
     import numpy as np
 

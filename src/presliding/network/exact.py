@@ -114,15 +114,15 @@ def simulate_network(
                   hysteretic=zeros.copy(), viscous=zeros.copy())  # fmt: skip
     out = _Samples(times, n, n_c, net.cts.k.shape[0])
     e_initial = _mechanical_energy(net, st.q, st.v, st.e)
-    compiled = not structure.is_damped and _warm.ready()
+    compiled = _warm.ready()
     ran = _run_compiled(structure, net, st, t_end, out, max_events) if compiled else None
-    if ran is None:  # damped structures, redundant stick sets: the general loop
+    if ran is None:  # redundant stick sets, ill-conditioned damped modes: the general loop
         st = RunState(t=t0, q=start.q, v=start.v, g=start.g, e=start.e, s=start.s,
                       last=start.last, coulomb=zeros.copy(), hysteretic=zeros.copy(),
                       viscous=zeros.copy())  # fmt: skip
         out = _Samples(times, n, n_c, net.cts.k.shape[0])
         ran = _run(structure, net, st, t_end, out, max_events)
-        if not structure.is_damped and not compiled:
+        if not compiled:
             ran = (ran[0], ran[1].removesuffix(".") + _COLD)
     status, message = ran
     return build_result(structure, net, st, out, status, message, e_initial, t0)
@@ -130,8 +130,8 @@ def simulate_network(
 
 def _run_compiled(structure: NetworkStructure, net: Network, st: RunState, t_end: float,
                   out: _Samples, max_events: int) -> tuple[str, str] | None:  # fmt: skip
-    """The compiled event loop (undamped structures); None when it meets a redundant stick
-    set (the general loop runs instead)."""
+    """The compiled event loop; None when it meets a redundant stick set or damped modes
+    that are not well conditioned (the general loop runs instead)."""
     n, n_c = net.w.shape
     width = row_width(n, n_c)
     check_size("t_eval", out.time.shape[0], out.time.shape[0] * width)
@@ -140,16 +140,18 @@ def _run_compiled(structure: NetworkStructure, net: Network, st: RunState, t_end
     fv = np.ascontiguousarray(structure.forcing_values, dtype=np.float64)
     iu = max(int(np.searchsorted(ft, st.t, side="right")) - 1, 0)
     c = np.ascontiguousarray
-    code, t, v, work, events, filled, tr, rv, grouped, counts = run_events(
+    code, t, v, work, damp, events, filled, tr, rv, grouped, counts = run_events(
         float(st.t), st.q, st.v, st.g, st.e, st.s, st.last, st.coulomb, st.hysteretic,
-        float(st.work), iu, ft, fv, float(t_end), c(out.time, dtype=np.float64), rec,
-        c(net.m), c(net.k), c(net.w), c(net.minv_w), net.cts.c1, net.cts.sigma, net.cts.k,
-        net.cts.r, net.cts.owner, int(max_events),
+        st.viscous, float(st.work), float(st.damping), iu, ft, fv, float(t_end),
+        c(out.time, dtype=np.float64), rec, c(net.m), c(net.k), c(net.w), c(net.minv_w),
+        net.cts.c1, net.cts.sigma, c(net.c), net.cts.k, net.cts.r, net.cts.owner,
+        int(max_events),
     )  # fmt: skip
     if code == 2:
         return None
     st.cert.add(counts)
     st.t, st.v, st.work, st.n_events = float(t), v, float(work), int(events)
+    st.damping = float(damp)
     st.redundant = bool(grouped)
     st.transitions = [(float(a), int(b), float(x)) for a, b, x in tr]
     st.reversals = [(float(a), int(b), float(x)) for a, b, x in rv]
