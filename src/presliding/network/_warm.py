@@ -4,19 +4,19 @@ Compiling the event loop (`presliding.network._exact_kernel.run_events`) costs
 about a minute of CPU (numba's front end over the piece construction, the contact
 decision and the event search), against milliseconds for a typical run once it is
 compiled. On a cold cache `simulate_network` does not wait for it: `ready` starts one
-second process (running `main`, at low priority) that compiles
-the kernel into numba's on-disk cache, and the run takes the general loop
+second process (running `presliding.network.exact.compile_main`, at low priority)
+that compiles the kernel into numba's on-disk cache, and the run takes the general loop
 (`presliding.network._exact_run`: the same event rules in numpy, the same events, the
 same motion to rounding) meanwhile. Once the kernel is in the cache (loading it takes a
-few tenths of a second), every run uses it. `compile_now` compiles it in this process
-(`presliding precompile`). In process, as before, when ``BACKGROUND`` is False (or the
-environment sets ``PRESLIDING_NETWORK_COMPILE=process``), when numba cannot cache (a
-second process could not share its work) or when the JIT is disabled.
+few tenths of a second), every run uses it. `presliding.network.exact.compile_now`
+compiles it in this process (`presliding precompile`). In process, as before, when
+``BACKGROUND`` is False (or the environment sets ``PRESLIDING_NETWORK_COMPILE=process``),
+when numba cannot cache (a second process could not share its work) or when the JIT is
+disabled.
 """
 
 from __future__ import annotations
 
-import contextlib
 import os
 import subprocess
 import sys
@@ -27,7 +27,7 @@ BACKGROUND = os.environ.get("PRESLIDING_NETWORK_COMPILE", "background") != "proc
 
 _process: dict[str, Any] = {}
 #: The second process's program (the module as imported by the package, not ``__main__``).
-_CHILD = "from presliding.network import _warm; raise SystemExit(_warm.main())"
+_CHILD = "from presliding.network import exact; raise SystemExit(exact.compile_main())"
 
 
 def _kernel() -> Any:
@@ -80,32 +80,3 @@ class _Done:
 
     def poll(self) -> int:
         return 1
-
-
-def compile_now() -> None:
-    """Compile the event loop in this process (with the argument types of every
-    call), so that it is cached."""
-    import numpy as np
-
-    from presliding.friction import PIFriction
-    from presliding.network.exact import simulate_network
-    from presliding.network.structure import chain_structure
-
-    global BACKGROUND
-    before, BACKGROUND = BACKGROUND, False
-    try:
-        friction = PIFriction(0.2, [400.0, 150.0], [0.1, 0.15])
-        chain = chain_structure(2, 1.0, 1000.0, friction, forcing=([0.0, 0.02], [[0, 0], [0, 1]]))
-        simulate_network(chain, 0.05, initial_velocity=np.array([0.3, -0.2]))
-    finally:
-        BACKGROUND = before
-
-
-def main() -> int:
-    """The second process: compile at low priority, discard the result."""
-    with contextlib.suppress(AttributeError, OSError):  # not on every platform
-        os.nice(10)
-    global BACKGROUND
-    BACKGROUND = False  # never a third process
-    compile_now()
-    return 0

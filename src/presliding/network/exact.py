@@ -20,6 +20,8 @@ contacts all stick and that has no free coordinate keeps q exactly.
 
 from __future__ import annotations
 
+import contextlib
+import os
 from typing import Any
 
 import numpy as np
@@ -286,3 +288,28 @@ def _message(st: RunState, out: _Samples, redundant: str = _GENERAL) -> str:
     if st.redundant:
         text += redundant
     return text + "."
+
+
+def compile_now() -> None:
+    """Compile the event loop in this process (with the argument types of every call), so
+    that it is cached (`presliding precompile`)."""
+    from presliding.friction import PIFriction
+    from presliding.network.structure import chain_structure
+
+    before, _warm.BACKGROUND = _warm.BACKGROUND, False
+    try:
+        friction = PIFriction(0.2, [400.0, 150.0], [0.1, 0.15])
+        chain = chain_structure(2, 1.0, 1000.0, friction, forcing=([0.0, 0.02], [[0, 0], [0, 1]]))
+        simulate_network(chain, 0.05, initial_velocity=np.array([0.3, -0.2]))
+    finally:
+        _warm.BACKGROUND = before
+
+
+def compile_main() -> int:
+    """The second process of a cold cache (`presliding.network._warm`): compile at low
+    priority, discard the result."""
+    with contextlib.suppress(AttributeError, OSError):  # not on every platform
+        os.nice(10)
+    _warm.BACKGROUND = False  # never a third process
+    compile_now()
+    return 0
