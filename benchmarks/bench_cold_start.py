@@ -30,6 +30,9 @@ kernel. ``--no-profile`` leaves it out.
 
     python benchmarks/bench_cold_start.py [--entry demo simulate fit_response] [--rounds 1]
         [--no-profile] [--top 10]
+
+With ``--network`` it measures the first `simulate_network` instead (see
+``_cold_network.py``).
 """
 
 from __future__ import annotations
@@ -262,9 +265,18 @@ def main() -> int:
     parser.add_argument("--no-profile", action="store_true", help="no per-kernel table")
     parser.add_argument("--top", type=int, default=10, help="kernels listed (default 10)")
     parser.add_argument("--child", nargs=2, metavar=("ENTRY", "DATA"), help=argparse.SUPPRESS)
+    parser.add_argument(
+        "--network",
+        action="store_true",
+        help="the first simulate_network instead of the demo (_cold_network.py)",
+    )
     args = parser.parse_args()
     if args.child:
         return child(*args.child)
+    if args.network:
+        from _cold_network import main as network_main
+
+        return network_main(args.rounds)
     import numba
 
     print(f"CPU: {cpu_name()}; {os.cpu_count()} cores; numba {numba.__version__}")

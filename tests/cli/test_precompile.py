@@ -63,16 +63,18 @@ def test_the_routes_beyond_the_demo_run(name):
 
 
 def test_the_network_kernels_run_both_paths_of_a_small_chain(monkeypatch):
-    """What ``presliding precompile`` adds for networks: one exact and one Moreau–Jean run."""
+    """What ``presliding precompile`` adds to the demo: one exact run (its compiled loop),
+    and Moreau–Jean runs of a dense and a sparse chain (both of its loops)."""
     import presliding.network as network
+    import presliding.network.exact as exact
     from presliding.cli.precompile import network_kernels
 
     calls = []
-    for name in ("simulate_network", "simulate_network_moreau"):
-        real = getattr(network, name)
+    for module, name in ((exact, "simulate_network"), (network, "simulate_network_moreau")):
+        real = getattr(module, name)
         monkeypatch.setattr(
-            network, name, lambda *a, _f=real, _n=name, **k: calls.append((_n, _f(*a, **k)))
+            module, name, lambda *a, _f=real, _n=name, **k: calls.append((_n, _f(*a, **k)))
         )
     network_kernels()
-    assert [n for n, _ in calls] == ["simulate_network", "simulate_network_moreau"]
+    assert [n for n, _ in calls] == ["simulate_network"] + ["simulate_network_moreau"] * 2
     assert all(r.success for _, r in calls)

@@ -163,3 +163,21 @@ def test_motion_tools_refuse_the_infinitely_stiff_bar():
         ps.simulate(model, 1.0, initial_velocity=0.05, t_end=0.5)
     with pytest.raises(ValueError, match="finite stiffness"):
         ps.turning_points(model, 1.0, 0.05)
+
+
+def test_an_exponent_that_is_not_a_number_is_named():
+    """Not numpy's "could not convert string to float"."""
+    with pytest.raises(TypeError, match="`exponent` must be a real number; got 'a'"):
+        SegalmanIwan(2.0, 3.0, "a", 0.1)
+
+
+@pytest.mark.parametrize("slip_force", [3.0, 0.5])
+def test_an_exponent_beyond_floating_point_is_refused_on_construction(slip_force):
+    """χ = 1e6 puts R and φ_max^(χ+3) beyond 1e±300 (an OverflowError or a division by zero
+    before, in the density or later in amplitude_response); χ = 300 still works to the end."""
+    with pytest.raises(ValueError, match=r"`exponent` must keep the density .* got 1000000\.0"):
+        SegalmanIwan(2.0, slip_force, 1e6, 0.1)
+    from presliding import amplitude_response
+
+    res = amplitude_response(SegalmanIwan(2.0, 3.0, 300.0, 0.1), [0.5, 1.4, 50.0])
+    assert np.all(np.isfinite(res.dissipation)) and np.all(np.diff(res.dissipation) > 0)

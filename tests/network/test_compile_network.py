@@ -197,3 +197,13 @@ def test_the_replay_check_catches_a_wrong_operator():
     wrong = PIFriction(0.0, model.stiffness * (1 + 1e-6), threshold=model.threshold)
     with pytest.raises(ValueError, match="not reproduced"):
         _verify(net, np.array([0]), np.array([1.0]), wrong)
+
+
+@pytest.mark.parametrize("verify", ["yes", 1, "no"])
+def test_verify_must_be_a_bool(verify):
+    """`verify="yes"` (or "no", which is truthy too) was taken as True."""
+    net = SliderNetwork(2, springs=[(0, 1, 50.0)], sliders=[(1, -1, 1.0)],
+                        stops=[(0, -1, 100.0, 0.5)])  # fmt: skip
+    with pytest.raises(TypeError, match="`verify` must be a bool"):
+        compile_network(net, 0, verify=verify)
+    assert compile_network(net, 0, verify=np.False_).coulomb == 0.0

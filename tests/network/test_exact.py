@@ -194,11 +194,12 @@ def test_redundant_pair_from_rest_moves_as_one_combined_contact_over_a_long_run(
     assert a.energy.max_relative_residual <= 1e-11
 
 
-def _pi_chain():
-    model = PIFriction(0.2, [2e3, 1e3, 500.0, 200.0], [0.1, 0.1, 0.1, 0.1])
-    force = np.outer([1.0, -1.0, 1.0, -1.0], np.r_[np.zeros(5), 2.0])
-    s = chain_structure(6, 0.1, 2e3, model, forcing=([0.0, 0.1, 0.2, 0.3], force))
-    return s, 0.3 * np.sin(np.arange(6))
+def _pi_chain(damping=0.0, viscous=0.0, n=6, forced=True):
+    model = PIFriction(0.2, [2e3, 1e3, 500.0, 200.0], [0.1, 0.1, 0.1, 0.1], viscous=viscous)
+    force = np.outer([1.0, -1.0, 1.0, -1.0], np.r_[np.zeros(n - 1), 2.0])
+    s = chain_structure(n, 0.1, 2e3, model, damping=damping,
+                        forcing=([0.0, 0.1, 0.2, 0.3], force) if forced else 0.0)  # fmt: skip
+    return s, 0.3 * np.sin(np.arange(n))
 
 
 def test_compiled_loop_equals_the_general_loop(monkeypatch):
@@ -222,6 +223,71 @@ def test_compiled_loop_equals_the_general_loop(monkeypatch):
     assert fast.energy.max_relative_residual <= 1e-11
 
 
+@pytest.mark.parametrize(("n", "forced", "damping", "viscous"), [
+    (1, True, 0.5, 0.0), (2, False, 0.5, 0.0), (6, True, 0.5, 0.0), (3, True, 0.0, 0.3),
+    (10, False, 5.0, 0.3),
+])  # fmt: skip
+def test_compiled_loop_equals_the_general_loop_damped(monkeypatch, n, forced, damping, viscous):
+    """Damped structures (dashpots C, a sliding contact's viscous term σ_v) run the
+    compiled loop too (complex modes of the first-order system): the same events, motion,
+    forces and energies (the dissipations ∫q̇ᵀCq̇ and σ_v·∫ġ² included) as the general
+    loop to 1e-11 of each quantity's range."""
+    import presliding.network.exact as exact_module
+
+    s, v0 = _pi_chain(damping, viscous, n, forced)
+    ran = []
+    compiled = exact_module._run_compiled
+    monkeypatch.setattr(exact_module, "_run_compiled",
+                        lambda *args: ran.append(compiled(*args)) or ran[-1])  # fmt: skip
+    te = np.linspace(0.0, 0.4, 401)
+    fast = simulate_network(s, 0.4, None, v0, t_eval=te)
+    assert ran and ran[0] is not None  # the compiled loop ran to the end
+    monkeypatch.setattr(exact_module, "_run_compiled", lambda *args: None)
+    slow = simulate_network(s, 0.4, None, v0, t_eval=te)
+    assert fast.success and slow.success and fast.n_events == slow.n_events > 10
+    assert slow.energy.damping[-1] > 0.0 or not damping
+    assert np.all(slow.energy.viscous[-1] > 0.0) or not viscous
+
+    def close(a, b):
+        scale = max(float(np.max(np.abs(b))), 1e-300)
+        np.testing.assert_allclose(a, b, rtol=0, atol=1e-11 * scale)
+
+    for name in ("position", "velocity", "contact_force", "elastic_force", "contact_mode"):
+        close(getattr(fast, name), getattr(slow, name))
+    for name in ("coulomb", "hysteretic", "viscous", "damping", "kinetic", "work"):
+        close(getattr(fast.energy, name), getattr(slow.energy, name))
+    for a, b in zip(fast.reversal_times, slow.reversal_times, strict=True):
+        np.testing.assert_allclose(a, b, rtol=0, atol=1e-12)
+    for key in ("isolated", "resolved", "ends"):
+        assert fast.certification[key] == slow.certification[key]
+    cert = fast.certification
+    assert cert["isolated"] + cert["resolved"] + cert["ends"] == fast.n_events + 1
+    assert fast.energy.max_relative_residual <= 1e-11
+
+
+def test_ill_conditioned_damped_modes_take_the_general_loop(monkeypatch):
+    """A critically damped piece (m = k = 1, c = 2: a double eigenvalue −1, one
+    eigenvector) has no modal closed form: the compiled loop hands the run to the general
+    loop (its matrix exponential), which gives the result."""
+    import presliding.network.exact as exact_module
+
+    s = NetworkStructure(1.0, 1.0, [[1.0]], [PIFriction(0.5)], damping=2.0)
+    ran = []
+    compiled = exact_module._run_compiled
+    monkeypatch.setattr(exact_module, "_run_compiled",
+                        lambda *args: ran.append(compiled(*args)) or ran[-1])  # fmt: skip
+    res = simulate_network(s, 5.0, [3.0], [2.0], t_eval=[0.0, 5.0])
+    assert ran == [None] and res.success and res.n_events == 1
+    # x + 0.5 = (3.5 + 5.5·t)·e^{−t} stops at t1 = 4/11; then x − 0.5 creeps to 0 from x1
+    t1 = 4.0 / 11.0
+    x1 = 5.5 * math.exp(-t1) - 0.5
+    np.testing.assert_allclose(res.reversal_times[0], [t1], rtol=1e-12)
+    np.testing.assert_allclose(res.reversal_displacements[0], [x1], rtol=1e-12)
+    x5 = 0.5 + (x1 - 0.5) * (1.0 + (5.0 - t1)) * math.exp(-(5.0 - t1))
+    np.testing.assert_allclose(res.position[-1, 0], x5, rtol=1e-10)
+    assert res.energy.max_relative_residual <= 1e-10
+
+
 def test_chunked_runs_equal_the_whole_run_in_the_compiled_loop():
     s, v0 = _pi_chain()
     t = np.linspace(0.0, 0.4, 401)
@@ -231,3 +297,63 @@ def test_chunked_runs_equal_the_whole_run_in_the_compiled_loop():
     np.testing.assert_allclose(np.vstack([first.position, second.position[1:]]), whole.position,
                                rtol=0, atol=1e-12)  # fmt: skip
     np.testing.assert_array_equal(first.n_reversals + second.n_reversals, whole.n_reversals)
+
+
+def test_t_eval_is_counted_before_it_is_copied():
+    """1e9 samples (a float32 array of 4 GB, or a range) are refused before the copy that
+    ran out of memory; `simulate`'s cap of 10,000,000 samples holds here too."""
+    import time
+
+    s = chain_structure(2, 1.0, 1.0, PIFriction(1.0))
+    start = time.process_time()
+    with pytest.raises(ValueError, match="`t_eval` must have at most 10,000,000 samples; got "
+                                         "1,000,000,000"):  # fmt: skip
+        simulate_network(s, 1.0, t_eval=range(10**9))
+    with pytest.raises(ValueError, match="at most 10,000,000"):
+        simulate_network(s, 1.0, t_eval=np.broadcast_to(np.float32(0.5), (10**9,)))
+    assert time.process_time() - start < 0.5
+
+
+@pytest.mark.parametrize("damping", [0.0, 0.5])
+def test_on_a_cold_cache_the_general_loop_runs_while_a_second_process_compiles(
+    monkeypatch, damping
+):
+    """The first run does not wait a minute for the compiler: the general loop gives the
+    same events (and says so), one second process is started, and runs use the compiled
+    loop once it is cached (undamped and damped structures alike)."""
+    from presliding.network import _warm
+
+    s, v0 = _pi_chain(damping)
+    te = np.linspace(0.0, 0.4, 201)
+    compiled = simulate_network(s, 0.4, None, v0, t_eval=te)
+    started = []
+    monkeypatch.setattr(_warm, "BACKGROUND", True)
+    monkeypatch.setattr(_warm, "_process", {})
+    monkeypatch.setattr(_warm, "_kernel", lambda: _kernel_with_index({}))
+    monkeypatch.setattr(_warm, "_start", lambda: started.append(1) or _warm._process.update(
+        compile=_Running()))  # fmt: skip
+    first = simulate_network(s, 0.4, None, v0, t_eval=te)
+    second = simulate_network(s, 0.4, None, v0, t_eval=te)
+    assert started == [1]  # one second process, not one per run
+    assert "a second process is compiling it" in first.message
+    assert first.n_events == compiled.n_events
+    np.testing.assert_allclose(first.position, compiled.position, rtol=0, atol=1e-11)
+    assert second.message == first.message
+    monkeypatch.setattr(_warm, "_kernel", lambda: _kernel_with_index({"signature": "entry"}))
+    third = simulate_network(s, 0.4, None, v0, t_eval=te)
+    assert "second process" not in third.message
+    np.testing.assert_array_equal(third.position, compiled.position)
+
+
+def _kernel_with_index(index):
+    """A stand-in for numba's dispatcher: nothing compiled here, `index` in its cache."""
+    from types import SimpleNamespace
+
+    cache_file = SimpleNamespace(_load_index=lambda: index)
+    return SimpleNamespace(overloads={}, _cache=SimpleNamespace(_cache_file=cache_file))
+
+
+class _Running:
+    @staticmethod
+    def poll():
+        return None

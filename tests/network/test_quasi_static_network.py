@@ -138,3 +138,31 @@ def test_bad_input_is_named(build, match):
 def test_network_type_is_checked():
     with pytest.raises(TypeError, match="network"):
         quasi_static_network("chain", displacement={0: [1.0]})
+
+
+def test_a_chain_too_large_is_refused_before_it_is_built():
+    """1e8 sliders reached 5.8 GB before; now the size (and the memory a network of that
+    size needs: rows, expanded form, solver) is checked first."""
+    import time
+
+    k, c = np.ones(10**7), np.ones(10**7 + 1)
+    start = time.process_time()
+    with pytest.raises(ValueError, match=r"`stiffness` must ask for at most .* got "
+                                         r"'20,000,000 elements'.*GiB"):  # fmt: skip
+        from presliding import _validation
+
+        limit = _validation.MAX_ALLOCATION_BYTES
+        _validation.MAX_ALLOCATION_BYTES = 10**9  # a machine with 1 GB to spare
+        try:
+            SliderNetwork.chain(k, c)
+        finally:
+            _validation.MAX_ALLOCATION_BYTES = limit
+    assert time.process_time() - start < 0.5
+
+
+def test_a_notebook_shows_a_slider_network_as_a_table():
+    net = SliderNetwork(3, springs=[(0, 1, 50.0), (1, 2, 20.0)], sliders=[(2, GROUND, 1.0)],
+                        stops=[(0, GROUND, 100.0, 0.5)])  # fmt: skip
+    page = net._repr_html_()
+    assert "<table>" in page and "stops" in page and "N/m" in page
+    assert repr(net) == "SliderNetwork(n_nodes=3, springs=2, sliders=1, stops=1)"

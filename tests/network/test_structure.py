@@ -92,3 +92,102 @@ def test_per_contact_sums_with_contacts_without_elements():
                                   [0.0, -7.0, 0.0, -8.0, 0.0])  # fmt: skip
     trailing = Contacts.of(models[1:3])
     np.testing.assert_array_equal(trailing.per_contact(values[:3]), [7.0, 0.0])
+
+
+@pytest.mark.parametrize(
+    ("build", "error", "match"),
+    [
+        (lambda: chain_structure(2, 1.0, -1.0, COULOMB), ValueError,
+         r"`spring` must be nonnegative; got -1\.0 at index 0"),
+        (lambda: chain_structure(3, [1.0, 2.0], 1.0, COULOMB), ValueError,
+         r"`mass` must be a number or one value per mass \(3\); got shape \(2,\)"),
+        (lambda: chain_structure(3, 1.0, 1.0, COULOMB, damping=[1.0, -1.0, 0.0]), ValueError,
+         "`damping` must be nonnegative"),
+        (lambda: chain_structure(2, [1.0, 0.0], 1.0, COULOMB), ValueError,
+         "`mass` must be positive"),
+        (lambda: chain_structure(2, 1.0, 1.0, COULOMB, sparse="yes"), TypeError, "`sparse`"),
+        (lambda: modal_structure([1.0, 2.0], [1.0, 2.0, 3.0], COULOMB), ValueError,
+         r"`mode_shapes` must have shape \(2, n_c\)"),
+        (lambda: modal_structure([1.0, 2.0], [[1.0, 0.0], [0.0, 0.0]], COULOMB), ValueError,
+         "`mode_shapes` must not have a zero column"),
+        (lambda: modal_structure([1.0, 2.0], [[1.0], [0.0]], COULOMB, damping_ratios=[0.1] * 3),
+         ValueError, r"`damping_ratios` must be a number or one per mode \(2\)"),
+        (lambda: modal_structure([[1.0, 2.0]], [[1.0], [0.0]], COULOMB), ValueError,
+         "`frequencies` must be one or more numbers"),
+        (lambda: multi_contact_structure(1.0, 1.0, []), ValueError,
+         "`friction` must hold at least one model"),
+        (lambda: multi_contact_structure([1.0, 2.0], 1.0, [COULOMB]), ValueError,
+         "`mass` must be one number"),
+    ],
+)  # fmt: skip
+def test_the_helpers_name_their_own_arguments(build, error, match):
+    """Not `stiffness` for `spring`, not `contacts` for `mode_shapes` or `friction`, and no
+    numpy broadcast or reshape message."""
+    with pytest.raises(error, match=match):
+        build()
+
+
+def test_a_dense_chain_too_large_is_refused_before_allocating():
+    """30,000 masses ask for 7·n² = 6.3e9 numbers (50 GB) of dense matrices: refused with
+    the size and the memory, pointing to sparse=True, in no time (nothing allocated)."""
+    import time
+
+    start = time.process_time()
+    with pytest.raises(ValueError, match=r"`n_masses` must ask for at most .*got 30000.*"
+                                         r"GiB.*sparse=True"):  # fmt: skip
+        chain_structure(30000, 1.0, 1.0, COULOMB)
+    with pytest.raises(ValueError, match="got 200000"):
+        chain_structure(200000, 1.0, 1.0, COULOMB)
+    assert time.process_time() - start < 0.5
+
+
+def test_a_sparse_chain_holds_the_same_structure_and_runs_exactly():
+    import scipy.sparse
+
+    model = PIFriction(0.5, [300.0], [0.2])
+    dense = chain_structure(4, [1.0, 2.0, 1.5, 1.0], 100.0, model, damping=0.5)
+    sparse = chain_structure(4, [1.0, 2.0, 1.5, 1.0], 100.0, model, damping=0.5, sparse=True)
+    assert sparse.is_sparse and not dense.is_sparse
+    for name in ("mass", "stiffness", "damping", "contacts"):
+        assert scipy.sparse.issparse(getattr(sparse, name))
+        np.testing.assert_array_equal(getattr(sparse, name).toarray(), getattr(dense, name))
+    big = chain_structure(200_000, 1.0, 1.0, COULOMB, sparse=True)
+    assert big.n_coordinates == 200_000 and big.stiffness.nnz == 3 * 200_000 - 2
+    from presliding.network import simulate_network
+
+    a = simulate_network(dense, 1.0, None, [0.3, 0.0, -0.2, 0.1])
+    b = simulate_network(sparse, 1.0, None, [0.3, 0.0, -0.2, 0.1])
+    np.testing.assert_array_equal(a.position, b.position)
+    with pytest.raises(ValueError, match="exact path holds dense matrices"):
+        simulate_network(big, 1.0)
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "match"),
+    [
+        ({"mass": "sparse_indefinite"}, "mass` must be positive definite; its LDLᵀ"),
+        ({"stiffness": "sparse_asymmetric"}, "stiffness` must be symmetric"),
+        ({"contacts": "sparse_zero_column"}, "zero column; column 1"),
+    ],
+)
+def test_sparse_matrices_are_checked_like_dense_ones(kwargs, match):
+    import scipy.sparse
+
+    bad = {"sparse_indefinite": scipy.sparse.diags_array([1.0, -1.0]),
+           "sparse_asymmetric": scipy.sparse.csr_array([[1.0, 0.5], [0.0, 1.0]]),
+           "sparse_zero_column": scipy.sparse.csr_array([[1.0, 0.0], [0.0, 0.0]])}  # fmt: skip
+    args = {"mass": scipy.sparse.identity(2), "stiffness": scipy.sparse.identity(2),
+            "contacts": scipy.sparse.identity(2)}  # fmt: skip
+    args.update({k: bad[v] for k, v in kwargs.items()})
+    with pytest.raises(ValueError, match=match):
+        NetworkStructure(args["mass"], args["stiffness"], args["contacts"], [COULOMB] * 2)
+
+
+def test_repr_is_short_and_a_notebook_shows_a_table():
+    """A 300-mass chain's repr was 19 kB (every matrix printed)."""
+    s = chain_structure(300, 1.0, 10.0, PIFriction(0.5, [100.0, 50.0], [0.1, 0.1]))
+    text = repr(s)
+    assert len(text) < 200
+    assert text.startswith("NetworkStructure(n=300, n_contacts=300, n_elements=600")
+    page = s._repr_html_()
+    assert "<table>" in page and "coordinates" in page and "300" in page and "N/m" not in text

@@ -19,6 +19,7 @@ from presliding.cli.common import (
     record_outputs,
     write_csv,
 )
+from presliding.model_io import MAX_SAMPLES
 
 #: The specification file, printed by ``presliding network --help``.
 SCHEMA = """\
@@ -37,22 +38,25 @@ SCHEMA = """\
   breakaway = [0.2, 0.3]           # c_j [N] (or threshold = [...] r_j [m])
   viscous = 0.0                    # σ_v [N s/m] (optional)
   [forcing]                        # optional
-  values = [0.0, 0.0, 3.0]         # f [N], constant; or with times: one row per time
-  times = [0.0, 0.5]               # optional: f = values[i] on [times[i], times[i+1])
+  values = [0.0, 0.0, 3.0]         # f [N] on each coordinate, constant; or with times,
+  # times = [0.0, 0.5]             # one row per time: values = [[0, 0, 3], [0, 0, 0]],
+                                   # f = values[i] on [times[i], times[i+1])
   [motion]
   t_end = 1.0                      # [s]
   initial_position = [0, 0, 0]     # [m] (optional)
   initial_velocity = [0.2, 0, 0]   # [m/s] (optional)
-  samples = 1001                   # (optional)
+  samples = 1001                   # (optional, 2 to 10,000,000)
   method = "exact"                 # or "moreau" (time stepping; needs step)
-  step = 1e-4                      # Moreau–Jean step [s]
+  # step = 1e-4                    # method = "moreau": its step [s]
+  # chain only: sparse = true in [structure] keeps the matrices sparse (long chains,
+  # method = "moreau")
 """
 
 OUTPUTS = ("network.csv", "hysteresis.png", "timeline.png", "energy.png", "report.md",
            "report.html")  # fmt: skip
 _KEYS = {
     "structure": {"kind", "n_masses", "mass", "spring", "damping", "stiffness", "contacts",
-                  "frequencies", "mode_shapes", "damping_ratios"},
+                  "frequencies", "mode_shapes", "damping_ratios", "sparse"},
     "forcing": {"values", "times"},
     "motion": {"t_end", "initial_position", "initial_velocity", "samples", "method", "step"},
 }  # fmt: skip
@@ -108,10 +112,14 @@ def load_spec(path: Path) -> dict[str, Any]:
         if not isinstance(data["contact"], list):
             raise UserError(f"{path}: `contact` must be an array of tables ([[contact]]).")
         models = [_friction(path, t, f"contact[{i}]") for i, t in enumerate(data["contact"])]
-    forcing: Any = 0.0
+    forcing: Any = None
     if "values" in fo:
         forcing = (fo["times"], fo["values"]) if "times" in fo else fo["values"]
+    elif "times" in fo:
+        raise UserError(f"{path}: `forcing.times` needs `forcing.values` (one row per time).")
     kind = st.get("kind", "chain")
+    if "sparse" in st and kind != "chain":
+        raise UserError(f"{path}: `structure.sparse` is for kind = 'chain'; got kind = {kind!r}.")
 
     def need(key: str) -> Any:
         if key not in st:
@@ -125,31 +133,37 @@ def load_spec(path: Path) -> dict[str, Any]:
                 n = need("n_masses")
             structure = chain_structure(
                 n, st.get("mass", 1.0), st.get("spring", 0.0), models,
-                damping=st.get("damping", 0.0), forcing=forcing,
+                damping=st.get("damping", 0.0), sparse=st.get("sparse", False),
             )  # fmt: skip
         elif kind == "multi_contact":
             ms = models if isinstance(models, list) else [models]
             structure = multi_contact_structure(
                 st.get("mass", 1.0), st.get("stiffness", 0.0), ms,
-                damping=st.get("damping", 0.0), forcing=forcing,
+                damping=st.get("damping", 0.0),
             )  # fmt: skip
         elif kind == "modal":
             structure = modal_structure(need("frequencies"), need("mode_shapes"), models,
-                                        damping_ratios=st.get("damping_ratios", 0.0),
-                                        forcing=forcing)  # fmt: skip
+                                        damping_ratios=st.get("damping_ratios", 0.0))  # fmt: skip
         elif kind == "matrices":
             w = np.asarray(need("contacts"), dtype=float)
             ms = models if isinstance(models, list) else [models] * (w.shape[1] if w.ndim == 2
                                                                       else 1)  # fmt: skip
             structure = NetworkStructure(need("mass"), need("stiffness"), w, ms,
-                                         damping=st.get("damping"), forcing=forcing)  # fmt: skip
+                                         damping=st.get("damping"))  # fmt: skip
         else:
             raise UserError(f"{path}: `structure.kind` must be 'chain', 'multi_contact', "
                             f"'modal' or 'matrices'; got {kind!r}.")  # fmt: skip
     except (TypeError, ValueError) as exc:
         if isinstance(exc, UserError):
             raise
-        raise UserError(f"{path}: [structure] {exc}") from None
+        text = str(exc).replace("Pass sparse=True", "Set sparse = true in [structure] (with "
+                                "method = 'moreau')")  # fmt: skip
+        raise UserError(f"{path}: [structure] {text}") from None
+    if forcing is not None:
+        try:
+            structure = structure.with_forcing(forcing)
+        except (TypeError, ValueError) as exc:
+            raise UserError(f"{path}: [forcing] {exc}") from None
     t_end = mo.get("t_end")
     if isinstance(t_end, bool) or not isinstance(t_end, (int, float)) or not math.isfinite(t_end):
         raise UserError(f"{path}: `motion.t_end` must be a finite number; got {t_end!r}.")
@@ -158,9 +172,18 @@ def load_spec(path: Path) -> dict[str, Any]:
         raise UserError(f"{path}: `motion.method` must be 'exact' or 'moreau'; got {method!r}.")
     if method == "moreau" and "step" not in mo:
         raise UserError(f"{path}: `motion.step` is needed with method = 'moreau'.")
+    if method == "exact" and "step" in mo:
+        raise UserError(f"{path}: `motion.step` is the step of method = 'moreau'; the exact "
+                        "method has none: remove it, or set method = 'moreau'.")  # fmt: skip
+    samples = mo.get("samples", 1001)
+    if isinstance(samples, bool) or not isinstance(samples, int) or samples < 2:
+        raise UserError(f"{path}: `motion.samples` must be a whole number >= 2; got {samples!r}.")
+    if samples > MAX_SAMPLES:
+        raise UserError(f"{path}: `motion.samples` must be at most {MAX_SAMPLES:,}; got "
+                        f"{samples:,}.")  # fmt: skip
     return {"structure": structure, "t_end": float(t_end), "method": method,
             "q0": mo.get("initial_position"), "v0": mo.get("initial_velocity"),
-            "samples": mo.get("samples", 1001), "step": mo.get("step")}  # fmt: skip
+            "samples": samples, "step": mo.get("step")}  # fmt: skip
 
 
 def add_parser(sub: Any, parents: list) -> argparse.ArgumentParser:
@@ -195,8 +218,7 @@ def run(args: argparse.Namespace) -> int:
     s = spec["structure"]
     try:
         if spec["method"] == "exact":
-            samples = int(spec["samples"])
-            t_eval = np.linspace(0.0, spec["t_end"], samples) if samples >= 2 else None
+            t_eval = np.linspace(0.0, spec["t_end"], spec["samples"])
             res = simulate_network(s, spec["t_end"], spec["q0"], spec["v0"], t_eval=t_eval)
         else:
             res = simulate_network_moreau(s, spec["t_end"], spec["step"], spec["q0"], spec["v0"],

@@ -110,12 +110,13 @@ def network_kernels() -> None:
     import numpy as np
 
     from presliding import PIFriction
-    from presliding.network import chain_structure, simulate_network, simulate_network_moreau
+    from presliding.network import chain_structure, exact, simulate_network_moreau
 
+    exact.compile_now()  # in this process (a run on a cold cache leaves it to a second one)
     friction = PIFriction(0.2, [400.0, 150.0], [0.1, 0.15])
-    chain = chain_structure(2, 1.0, 1000.0, friction)
-    simulate_network(chain, 0.05, initial_velocity=np.array([0.3, -0.2]))
-    simulate_network_moreau(chain, 0.05, 1e-3, initial_velocity=np.array([0.3, -0.2]))
+    for sparse in (False, True):
+        chain = chain_structure(2, 1.0, 1000.0, friction, sparse=sparse)
+        simulate_network_moreau(chain, 0.05, 1e-3, initial_velocity=np.array([0.3, -0.2]))
 
 
 #: What `run` compiles beyond the demo, in order: (progress name, route)

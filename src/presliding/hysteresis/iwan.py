@@ -27,13 +27,22 @@ from typing import Any, ClassVar
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from presliding._validation import as_nonnegative_scalar, as_positive_scalar, as_real_array, fmt
+from presliding._validation import (
+    as_nonnegative_scalar,
+    as_positive_scalar,
+    as_real_array,
+    as_real_scalar,
+    fmt,
+)
 from presliding.hysteresis._density_base import Density
 from presliding.hysteresis._density_primitives import MINDLIN, POWER
 
 __all__ = ["MicroslipBar", "MindlinContact", "SegalmanIwan"]
 
 FloatArray = NDArray[np.float64]
+
+#: |ln| of the largest and smallest numbers a density's parameters may reach (1e±300).
+_LOG_RANGE = 300.0 * math.log(10.0)
 
 
 def _amplitudes(name: str, value: ArrayLike, upper: float | None = None) -> Any:
@@ -84,13 +93,25 @@ class SegalmanIwan(Density):
     def __post_init__(self) -> None:
         k = as_positive_scalar("stiffness", self.stiffness)
         f = as_positive_scalar("slip_force", self.slip_force)
-        chi = float(self.exponent)
-        if not (math.isfinite(chi) and chi > -1.0):
+        chi = as_real_scalar("exponent", self.exponent)
+        if not chi > -1.0:
             raise ValueError(f"`exponent` must be a finite number > -1; got {fmt(self.exponent)}.")
         beta = as_nonnegative_scalar("mass_ratio", self.mass_ratio)
         for name, val in (("stiffness", k), ("slip_force", f), ("exponent", chi)):
             object.__setattr__(self, name, val)
         object.__setattr__(self, "mass_ratio", beta)
+        # R·r^χ and its moments up to φ_max^(χ+3) must be floating-point numbers
+        log_phi = math.log(self.max_threshold)
+        log_r = math.log(f * (chi + 1.0) / self._denominator) - (chi + 2.0) * log_phi
+        worst = max(abs(log_r), abs((chi + 3.0) * log_phi))
+        if not worst < _LOG_RANGE:
+            raise ValueError(
+                f"`exponent` must keep the density R·r^χ within floating point (R and "
+                f"φ_max^(χ+3) between 1e-300 and 1e300); got {fmt(self.exponent)}, for which "
+                f"R = 10^{log_r / math.log(10.0):.4g} and φ_max^(χ+3) = "
+                f"10^{(chi + 3.0) * log_phi / math.log(10.0):.4g} (φ_max = "
+                f"{self.max_threshold:.6g} m)."
+            )
         par = np.array([self.max_threshold, self.height, chi])
         self._freeze(par, np.array([[self.point_mass]]))
 

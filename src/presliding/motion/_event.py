@@ -38,6 +38,17 @@ last argument ``damped``, None when σ = 0 on both sides (numba then removes
 every ``damped is None`` branch by its type before it compiles, and the damped
 closed forms are never compiled) or True otherwise. A first undamped motion
 compiles about half the code it did with both kinds of piece.
+
+No event is found on a grid, so none can hide between samples: a piece has one
+degree of freedom, so its velocity v(t) = v0·c(t) + a0·g(t) solves a homogeneous
+second-order equation, whose zeros are π/ω_d apart (under-damped; the closed form
+atan2 gives the first) or single (critical, over-damped, parabolic); the
+displacement increases until that rest (v > 0 there), so the time to an element's
+threshold is the unique root of an increasing function on [0, t_rest] (closed form,
+or bracketed Newton with bisection); and at rest under a constant u nothing changes
+until u does. `presliding.control` runs this kernel one period at a time, and the
+batches of `presliding.motion._batch_events` call it too
+(tests/motion/test_event_roots.py checks the first roots against dense samples).
 """
 
 from __future__ import annotations

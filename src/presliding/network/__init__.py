@@ -14,15 +14,19 @@ moreau.py             `simulate_network_moreau`: Moreau–Jean time stepping (ma
 results.py            `NetworkResult`, `NetworkEnergy`, `NetworkState`
 _start.py             the start of a run (initial state, t_start, t_end), checked once
 _piece.py             the closed form of one piece (modes, or a matrix exponential)
-_events.py            events on a grid of the closed form, refined by Brent's method
+_events.py            certified events: cells of the closed form with derivative bounds
 _contact_problem.py   stick/slip at an instant: the box QP over the Delassus matrix
-_exact_run.py         the event loop's operations on its state (damped structures, and
-                      stick sets with general redundancy)
-_exact_kernel.py      the compiled event loop (undamped structures): pieces, events, samples
+_exact_run.py         the event loop's operations on its state (stick sets with general
+                      redundancy, ill-conditioned damped modes)
+_exact_kernel.py      the compiled event loop: pieces, events, samples
 _kernel_piece.py      compiled: a piece's modes (Cholesky + eigh) and affine event functions
-_kernel_events.py     compiled: events on a grid of the closed form, Brent's method
+_kernel_damped.py     compiled: damped pieces by complex modes, their dissipation
+_kernel_events.py     compiled: certified events on cells, Brent's method
 _kernel_contacts.py   compiled: the box QP over the Delassus matrix, the decision at rest
+_warm.py              the compiled loop on a cold cache: compiled by a second process
 _moreau_kernel.py     its compiled loop: θ-method, PGS on the Delassus matrix per step
+_moreau_sparse.py     its sparse loop: Gauss–Seidel on the velocities, no Ŵ⁻¹
+_matrices.py          the structure's matrices checked (dense or scipy.sparse), sizes first
 _plots.py             figures of a network result
 slider_network.py     `SliderNetwork`: springs, Coulomb sliders and stops (quasi-static)
 quasi_static.py       `quasi_static_network`: the exact piecewise-linear quasi-static response

@@ -14,6 +14,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from presliding.network._contact_problem import redundant_margin, solve_box_qp
+from presliding.network._events import ROUNDING, AffineEvents, Certificate
+from presliding.network._matrices import check_dense_size, issparse
 from presliding.network._piece import Contacts, Piece, null_space
 
 FloatArray = NDArray[np.float64]
@@ -39,19 +41,27 @@ class RunState:
     n_events: int = 0
     transitions: list[tuple[float, int, float]] = field(default_factory=list)
     reversals: list[tuple[float, int, float]] = field(default_factory=list)
+    cert: Certificate = field(default_factory=Certificate)
 
 
 class Network:
     """The structure's constant arrays, and the operations of the event loop on a state."""
 
     def __init__(self, structure: Any) -> None:
-        self.m = np.asarray(structure.mass)
-        self.c = np.asarray(structure.damping)
-        self.k = np.asarray(structure.stiffness)
-        self.w = np.asarray(structure.contacts)
+        n, n_c = structure.n_coordinates, structure.n_contacts
+        if structure.is_sparse:  # the exact path works on dense matrices
+            hint = "The exact path holds dense matrices; simulate_network_moreau takes sparse ones."
+            check_dense_size("structure", f"{n} coordinates", n, n_c, hint)
+        self.m, self.c, self.k, self.w = (
+            np.asarray(x.toarray()) if issparse(x) else np.asarray(x)
+            for x in (structure.mass, structure.damping, structure.stiffness, structure.contacts)
+        )
         self.cts = Contacts.of(structure.friction)
         self.minv_w = np.linalg.solve(self.m, self.w)
         self.n_c = self.w.shape[1]
+        # the largest threshold of each contact: the scale of its deformations' rounding
+        self.rmax = np.zeros(self.n_c)
+        np.maximum.at(self.rmax, self.cts.owner, self.cts.r)
         # decompositions by stick/slip/elastic pattern: patterns recur in oscillations
         self.cache: dict[bytes, Any] = {}
         self.stick_cache: dict[bytes, Any] = {}
@@ -176,34 +186,17 @@ class Network:
                 "margin": margin}  # fmt: skip
 
     def event_functions(self, pc: Piece, info: dict[str, Any], st: RunState
-                        ) -> Any:  # fmt: skip
+                        ) -> AffineEvents:  # fmt: skip
         """h(τ) for `scan`: the event functions and which are strict (built once per piece)."""
         if "event_fun" in info:
             return info["event_fun"]
         info["event_fun"] = fun = self._event_functions(pc, info, st)
         return fun
 
-    def _event_functions(self, pc: Piece, info: dict[str, Any], st: RunState) -> Any:
+    def _event_functions(self, pc: Piece, info: dict[str, Any], st: RunState) -> AffineEvents:
+        """The event functions as affine maps of the piece's native coordinates ξ(τ)."""
         sl = np.flatnonzero(info["sliding"])
         thr = sl[np.isfinite(info["dmin"][sl])]
-        s = st.s
-        if not info["redundant"]:
-            return self._affine_functions(pc, info, st, sl, thr)
-
-        def fun(tau: FloatArray) -> tuple[FloatArray, NDArray[np.bool_]]:
-            vals = self.contact_values(pc, info, st, tau)
-            cols = [s[sl] * vals["gd"][:, sl], info["dmin"][thr] - s[thr] * vals["dg"][:, thr],
-                    vals["margin"]]  # fmt: skip
-            strict = np.concatenate([np.zeros(sl.size + thr.size, bool),
-                                     np.ones(vals["margin"].shape[1], bool)])  # fmt: skip
-            return np.hstack(cols), strict
-
-        fun.layout = (sl, thr)  # type: ignore[attr-defined]
-        return fun
-
-    def _affine_functions(self, pc: Piece, info: dict[str, Any], st: RunState,
-                          sl: NDArray[np.int64], thr: NDArray[np.int64]) -> Any:  # fmt: skip
-        """The event functions as affine maps of the piece's native coordinates ξ(τ)."""
         n = self.w.shape[0]
         az, azd = pc.maps()
         nt = np.eye(n) if pc.nullsp is None else pc.nullsp.T
@@ -215,8 +208,7 @@ class Network:
         cols = [s[sl] * gdmap[:, sl], -s[thr] * dgmap[:, thr]]
         consts = [np.zeros(sl.size), info["dmin"][thr]]
         stuck = info["stuck"]
-        n_m = stuck.size
-        if n_m:
+        if stuck.size:  # the Coulomb forces τ = λ_S − F_el,S of the stuck contacts
             slide = info["sliding"]
             wl = self.w[:, slide]
             pmat = info["stick_map"].T
@@ -225,28 +217,28 @@ class Network:
             r0 = pc.f - self.k @ st.q - wl @ info["lam0"][slide]
             cols.append(rmap @ pmat)
             consts.append(r0 @ pmat - info["fel0"][stuck])
-        hmat = np.hstack(cols)
-        h0 = np.concatenate(consts)
-        n_lin = sl.size + thr.size
         c1s = self.cts.c1[stuck]
-        strict = np.concatenate([np.zeros(n_lin, bool), np.ones(n_m, bool)])
+        # magnitudes of the terms at τ = 0 (their rounding is ε times these)
+        slide = info["sliding"]
+        fs = np.abs(pc.f) + np.abs(self.k) @ np.abs(st.q) + np.abs(self.w[:, slide]) @ np.abs(
+            info["lam0"][slide])  # fmt: skip
+        x0, x0d = pc.rounding_scales(fs)
+        scale0 = [np.zeros(sl.size), self.rmax[thr]]
+        if stuck.size:
+            scale0.append(fs @ np.abs(info["stick_map"].T) + np.abs(info["fel0"][stuck]))
+        hmat = np.hstack(cols)
+        err = (x0 @ np.abs(hmat) + np.concatenate(scale0), x0d @ np.abs(hmat))
+        lp = None
+        if info["redundant"]:
+            fel_s, snull = info["fel0"][stuck], info["stick_null"]
 
-        def fun(tau: FloatArray) -> tuple[FloatArray, NDArray[np.bool_]]:
-            vals = pc.native(tau) @ hmat + h0
-            if n_m:
-                vals[:, n_lin:] = c1s - np.abs(vals[:, n_lin:])
-            return vals, strict
+            def lp(tau_s: FloatArray) -> float:
+                """The margin of the minimum-norm forces if admissible, else the LP's."""
+                low = float(np.min(c1s - np.abs(tau_s)))
+                return low if low >= 0.0 else redundant_margin(tau_s + fel_s, snull, fel_s, c1s)[0]
 
-        def column(j: int) -> Any:
-            """Function j alone, at one time (for the root refinement)."""
-            cj = h0[j]  # the same products as `fun` (no change of rounding)
-            if j < n_lin:
-                return lambda t: float((pc.native_one(t)[None, :] @ hmat)[0, j] + cj)
-            c1j = c1s[j - n_lin]
-            return lambda t: float(c1j - abs((pc.native_one(t)[None, :] @ hmat)[0, j] + cj))
-
-        fun.layout = (sl, thr)  # type: ignore[attr-defined]
-        fun.column = column  # type: ignore[attr-defined]
+        fun = AffineEvents(pc, hmat, np.concatenate(consts), sl.size + thr.size, c1s, lp, err)
+        fun.layout = (sl, thr)
         return fun
 
     def advance(self, pc: Piece, info: dict[str, Any], st: RunState, tau: float,
@@ -282,8 +274,9 @@ class Network:
                     for c, tsc in zip(stuck[trig[n1 + n2 :]], tau_s[trig[n1 + n2 :]], strict=True):
                         forced[int(c)] = 1.0 if tsc > 0 else -1.0
         dist = cts.r - s_el * st.e
-        # an element reaching its threshold is set exactly (also one within rounding of it)
-        near = s_el * e >= cts.r * (1.0 - 8.0 * np.finfo(float).eps)
+        # an element reaching its threshold is set exactly (also one within rounding of it:
+        # of its contact's deformations and of the piece's displacement added to them)
+        near = s_el * e >= cts.r - ROUNDING * (self.rmax + np.abs(dg))[cts.owner]
         snap = el & (near | (hit[cts.owner] & (dist == info["dmin"][cts.owner])))
         st.e = np.where(snap, s_el * cts.r, e)
         st.t = st.t + tau

@@ -119,7 +119,7 @@ def per_contact(values, owner, n_c):  # pragma: no cover - compiled
 
 @njit(cache=True, error_model="numpy")
 def decide(q, v, s, e, f, forced, k, w, minv_w, c1, sigma, ek, owner, reps, group, alpha,
-           gc1):  # pragma: no cover - compiled  # fmt: skip
+           gc1, cmat, damped):  # pragma: no cover - compiled  # fmt: skip
     """New modes s of the contacts at rest (in place; v projected onto their constraint).
 
     ``forced``: NaN, or the mode a contact is given (0: decided with no tolerance).
@@ -154,6 +154,8 @@ def decide(q, v, s, e, f, forced, k, w, minv_w, c1, sigma, ek, owner, reps, grou
             if s[c] != 0.0:
                 lam[c] = s[c] * c1[c] + fel[c] + sigma[c] * gd[c]
         r0 = f - k @ q - w @ lam
+        if damped:
+            r0 -= cmat @ v
         mw = take_columns(minv_w, zero)
         gmat = take_columns(w, zero).T @ mw
         b = mw.T @ r0

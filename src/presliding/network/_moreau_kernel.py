@@ -28,7 +28,7 @@ _JIT: JitFlags = {"cache": True, "error_model": "numpy"}
 
 
 @njit(**_JIT)
-def _matvec(ptr, idx, val, x, out):  # pragma: no cover - compiled
+def matvec(ptr, idx, val, x, out):  # pragma: no cover - compiled
     for i in range(ptr.shape[0] - 1):
         acc = 0.0
         for p in range(ptr[i], ptr[i + 1]):
@@ -37,11 +37,18 @@ def _matvec(ptr, idx, val, x, out):  # pragma: no cover - compiled
 
 
 @njit(**_JIT)
-def _local(ut, gcc, h, c1, sig, k, r, e, lo, hi):  # pragma: no cover - compiled
-    """(u, P) of one contact: u = ũ − G_cc·P, P = h·λ(u)."""
-    fel0 = 0.0
-    for j in range(lo, hi):
-        fel0 += k[j] * e[j]
+def elastic_forces(k, e, estart, out):  # pragma: no cover - compiled
+    """F_el,c = Σ_j k_j·e_j of every contact (into out)."""
+    for c in range(out.shape[0]):
+        acc = 0.0
+        for j in range(estart[c], estart[c + 1]):
+            acc += k[j] * e[j]
+        out[c] = acc
+
+
+@njit(**_JIT)
+def local_step(ut, gcc, h, c1, sig, k, r, e, lo, hi, fel0):  # pragma: no cover - compiled
+    """(u, P) of one contact: u = ũ − G_cc·P, P = h·λ(u); fel0 its elastic force."""
     psi0 = gcc * h * fel0
     if abs(ut - psi0) <= gcc * h * c1:
         return 0.0, ut / gcc
@@ -72,6 +79,47 @@ def _local(ut, gcc, h, c1, sig, k, r, e, lo, hi):  # pragma: no cover - compiled
 
 
 @njit(**_JIT)
+def contacts_step(u, h, g, e, coul, hyst, visc, c1, sig, ek, er, estart
+                  ):  # pragma: no cover - compiled  # fmt: skip
+    """Move the contacts by their step velocities u: g, the elements (clipped at ±r) and
+    the dissipated energies."""
+    for c in range(g.shape[0]):
+        if u[c] != 0.0:
+            g[c] += h * u[c]
+            coul[c] += c1[c] * h * abs(u[c])
+            visc[c] += sig[c] * h * u[c] * u[c]
+            for j in range(estart[c], estart[c + 1]):
+                x = e[j] + h * u[c]
+                e[j] = min(max(x, -er[j]), er[j])
+                hyst[c] += ek[j] * er[j] * abs(x - e[j])
+
+
+@njit(**_JIT)
+def sample(row, q, v, acc, g, p, u, e, coul, hyst, visc, damp, work, h, ek, estart, o_q, o_v,
+           o_a, o_g, o_lam, o_fel, o_ee, o_mode, o_en, o_sd):  # pragma: no cover  # fmt: skip
+    """Write the state into sample row `row`."""
+    o_q[row] = q
+    o_v[row] = v
+    o_a[row] = acc
+    ee = 0.0
+    for c in range(g.shape[0]):
+        fel = 0.0
+        for j in range(estart[c], estart[c + 1]):
+            fel += ek[j] * e[j]
+            ee += 0.5 * ek[j] * e[j] * e[j]
+        o_fel[row, c] = fel
+        o_g[row, c] = g[c]
+        o_lam[row, c] = p[c] / h
+        o_mode[row, c] = 0.0 if u[c] == 0.0 else math.copysign(1.0, u[c])
+        o_en[row, 0, c] = coul[c]
+        o_en[row, 1, c] = hyst[c]
+        o_en[row, 2, c] = visc[c]
+    o_ee[row] = ee
+    o_sd[row, 0] = damp
+    o_sd[row, 1] = work
+
+
+@njit(**_JIT)
 def moreau_loop(  # pragma: no cover - compiled
     n_steps, h, theta, t0, q, v, g, e, p,
     wi_p, wi_i, wi_v, b_p, b_i, b_v, wt_p, wt_i, wt_v, g_p, g_i, g_v, gdiag,
@@ -93,6 +141,7 @@ def moreau_loop(  # pragma: no cover - compiled
     bp = np.empty(n)
     gp = np.empty(n_c)
     vt = np.empty(n)
+    fel0 = np.empty(n_c)
     coul = np.zeros(n_c)
     hyst = np.zeros(n_c)
     visc = np.zeros(n_c)
@@ -106,20 +155,21 @@ def moreau_loop(  # pragma: no cover - compiled
         while iu + 1 < f_t.shape[0] and f_t[iu + 1] <= t:
             iu += 1
         # the free motion
-        _matvec(c_p, c_i, c_v, v, tmp)
+        matvec(c_p, c_i, c_v, v, tmp)
         for i in range(n):
             tmp2[i] = q[i] + h * theta * v[i]
-        _matvec(k_p, k_i, k_v, tmp2, rhs)
+        matvec(k_p, k_i, k_v, tmp2, rhs)
         for i in range(n):
             rhs[i] = h * (f_v[iu, i] - tmp[i] - rhs[i])
-        _matvec(wi_p, wi_i, wi_v, rhs, dfree)
+        matvec(wi_p, wi_i, wi_v, rhs, dfree)
         for i in range(n):
             vfree[i] = v[i] + dfree[i]
-        _matvec(wt_p, wt_i, wt_v, vfree, u)
+        matvec(wt_p, wt_i, wt_v, vfree, u)
         # warm start: u = u_free − G·P
-        _matvec(g_p, g_i, g_v, p, gp)
+        matvec(g_p, g_i, g_v, p, gp)
         for c in range(n_c):
             u[c] -= gp[c]
+        elastic_forces(ek, e, estart, fel0)
         sweeps = 0
         scale = 1e-300
         for c in range(n_c):
@@ -129,8 +179,8 @@ def moreau_loop(  # pragma: no cover - compiled
             change = 0.0
             for c in range(n_c):
                 ut = u[c] + gdiag[c] * p[c]
-                uc, pc = _local(ut, gdiag[c], h, c1[c], sig[c], ek, er, e, estart[c],
-                                estart[c + 1])  # fmt: skip
+                uc, pc = local_step(ut, gdiag[c], h, c1[c], sig[c], ek, er, e, estart[c],
+                                    estart[c + 1], fel0[c])  # fmt: skip
                 d = pc - p[c]
                 if d != 0.0:
                     for q_ in range(g_p[c], g_p[c + 1]):
@@ -146,7 +196,7 @@ def moreau_loop(  # pragma: no cover - compiled
                 break
         most = max(most, sweeps)
         # the new velocity, positions, contacts and elements
-        _matvec(b_p, b_i, b_v, p, bp)
+        matvec(b_p, b_i, b_v, p, bp)
         stuck_all = True
         for c in range(n_c):
             if u[c] != 0.0:
@@ -160,43 +210,16 @@ def moreau_loop(  # pragma: no cover - compiled
             q[i] += h * vt[i]
             work += h * vt[i] * f_v[iu, i]
             v[i] = vn
-        _matvec(c_p, c_i, c_v, vt, tmp)
+        matvec(c_p, c_i, c_v, vt, tmp)
         for i in range(n):
             damp += h * vt[i] * tmp[i]
-        for c in range(n_c):
-            if u[c] != 0.0:
-                g[c] += h * u[c]
-                coul[c] += c1[c] * h * abs(u[c])
-                visc[c] += sig[c] * h * u[c] * u[c]
-                for j in range(estart[c], estart[c + 1]):
-                    x = e[j] + h * u[c]
-                    e[j] = min(max(x, -er[j]), er[j])
-                    hyst[c] += ek[j] * er[j] * abs(x - e[j])
+        contacts_step(u, h, g, e, coul, hyst, visc, c1, sig, ek, er, estart)
         row = -1
         if (step + 1) % every == 0:
             row = (step + 1) // every
         elif step == n_steps - 1:
             row = o_q.shape[0] - 1
         if row >= 0:
-            for i in range(n):
-                o_q[row, i] = q[i]
-                o_v[row, i] = v[i]
-                o_a[row, i] = tmp2[i]
-            ee = 0.0
-            for c in range(n_c):
-                fel = 0.0
-                for j in range(estart[c], estart[c + 1]):
-                    fel += ek[j] * e[j]
-                    ee += 0.5 * ek[j] * e[j] * e[j]
-                o_fel[row, c] = fel
-            o_ee[row] = ee
-            for c in range(n_c):
-                o_g[row, c] = g[c]
-                o_lam[row, c] = p[c] / h
-                o_mode[row, c] = 0.0 if u[c] == 0.0 else math.copysign(1.0, u[c])
-                o_en[row, 0, c] = coul[c]
-                o_en[row, 1, c] = hyst[c]
-                o_en[row, 2, c] = visc[c]
-            o_sd[row, 0] = damp
-            o_sd[row, 1] = work
+            sample(row, q, v, tmp2, g, p, u, e, coul, hyst, visc, damp, work, h, ek, estart,
+                   o_q, o_v, o_a, o_g, o_lam, o_fel, o_ee, o_mode, o_en, o_sd)  # fmt: skip
     return most, capped

@@ -28,6 +28,11 @@ from numpy.typing import NDArray
 
 FloatArray = NDArray[np.float64]
 
+#: Damped pieces whose eigenvector matrix has a larger condition number take the matrix
+#: exponential (their modal closed form would lose cond·ε: a defective matrix, e.g. a
+#: critically damped mode, has computed eigenvectors with cond about 1/√ε ≈ 7e7 or more).
+MAX_CONDITION = 1e6
+
 
 @dataclass
 class Contacts:
@@ -140,7 +145,7 @@ class Piece:
             self.amat, self.h, self.x0 = a, h, x0
             if entry is None:
                 lam, vec = np.linalg.eig(a)
-                modal = bool(np.linalg.cond(vec) < 1e8)
+                modal = bool(np.linalg.cond(vec) < MAX_CONDITION)
                 entry = (minv, lam, vec, modal, np.linalg.inv(vec) if modal else None)
                 if cache is not None:
                     cache[key] = entry
@@ -149,7 +154,8 @@ class Piece:
             self.omega_max = float(np.max(np.abs(lam)))
             if self.modal:  # x(t) = V·(e^{Λt}·c0 + t·φ1(Λt)·d), φ1(z) = (e^z − 1)/z
                 self.lam, self.vec, self.c0, self.dd = lam, vec, vinv @ x0, vinv @ h
-        self.kr, self.cr, self.br = kr, cr, br
+                self.vinv = vinv
+        self.kr, self.cr, self.br, self.zd0 = kr, cr, br, zd0
 
     # ---------------------------------------------------------------- evaluation
     def native(self, tau: FloatArray) -> FloatArray:
@@ -188,6 +194,83 @@ class Piece:
         out[:d] = self.vm * s1 + self.a2 * sh * sh
         out[d:] = self.vm * np.cos(wt) + self.a0 * s1
         return out
+
+    def native_rate(self, t: float) -> FloatArray:
+        """dξ/dτ at one time, shape (2·dim,): [η̇, η̈] (modes) or ẋ (damped)."""
+        d = self.dim
+        if d == 0:
+            return np.zeros(0)
+        if self.damped:
+            return self._first_order(np.array([t]))[1][0]
+        wt = self.omega * t
+        s1 = np.sin(wt) * self.inv_omega
+        if self.any_rigid:
+            s1[self.rigid] = t
+        cs = np.cos(wt)
+        out = np.empty(2 * d)
+        out[:d] = self.vm * cs + self.a0 * s1
+        out[d:] = self.a0 * cs - self.vm * self.omega * self.omega * s1
+        return out
+
+    def rounding_scales(self, force_scale: FloatArray) -> tuple[FloatArray, FloatArray]:
+        """(|ξ(0)|, |ξ'(0)|) as sums of the magnitudes of the terms they are computed from
+        (their rounding is ε times these), with `force_scale` the magnitudes of the
+        terms of the force f − K·q0 − W_L·λ0_L (shape (n,))."""
+        d = self.dim
+        if d == 0:
+            return np.zeros(0), np.zeros(0)
+        ns = np.abs(self.nullsp) if self.nullsp is not None else None
+        fr = force_scale if ns is None else force_scale @ ns
+        v = np.abs(self.zd0)
+        if not self.damped:
+            base = np.abs(self.phi.T)
+            v = base @ (np.abs(self.mr) @ v)
+            return np.concatenate([np.zeros(d), v]), np.concatenate([v, base @ fr])
+        acc = np.abs(np.linalg.inv(self.mr)) @ (fr + np.abs(self.cr) @ v)
+        x0, x1 = np.concatenate([np.zeros(d), v]), np.concatenate([v, acc])
+        if not self.modal:  # the matrix exponential: x(0) = x0, ẋ(0) = A·x0 + h
+            return x0, x1
+        # x = V·(e^{Λτ}·c0 + τ·φ1(Λτ)·d): at τ = 0 the terms V·c0 and V·(Λ·c0 + d)
+        vabs, iabs = np.abs(self.vec), np.abs(self.vinv)
+        c0 = iabs @ x0
+        return x0 + vabs @ c0, x1 + vabs @ (np.abs(self.lam) * c0 + iabs @ np.concatenate(
+            [np.zeros(d), acc]))  # fmt: skip
+
+    def curvature(self, rows: FloatArray, a: float, b: float) -> tuple[FloatArray, FloatArray]:
+        """(P, T): the second derivative of every linear function ξ·rows[:, r] of the
+        native coordinates lies in [P − T, P + T] on [a, b] (rows: shape (2·dim, R)).
+
+        Undamped: a mode of frequency ω > 0 adds a sinusoid of amplitude R to the function
+        (R from its initial velocity and constant force), bounded in second derivative by
+        ω²·R; a rigid mode (ω = 0) adds the parabola's constant a·H. Damped (modal): the
+        terms γ·e^{λτ} bounded by |γ|·|λ|²·max(e^{Re λ·a}, e^{Re λ·b}). Without modes (a
+        defective matrix): |rows·A·ẋ(τ)| <= ‖Aᵀrows‖·‖ẋ(a)‖·e^{‖A‖·(b − a)}.
+        """
+        d = self.dim
+        n_r = rows.shape[1]
+        if d == 0 or n_r == 0:
+            return np.zeros(n_r), np.zeros(n_r)
+        if not self.damped:
+            hh, gg = rows[:d], rows[d:]
+            om = self.omega[:, None]
+            v, acc = self.vm[:, None], self.a0[:, None]
+            rig = self.rigid
+            p = (hh[rig] * acc[rig]).sum(axis=0)
+            fl = ~rig
+            safe = np.where(fl, self.omega, 1.0)[:, None]
+            amp_c = -hh * acc / (safe * safe) + gg * v
+            amp_s = (hh * v + gg * acc) / safe
+            t = (np.hypot(amp_c, amp_s)[fl] * (om[fl] ** 2)).sum(axis=0)
+            return p, t * (1.0 + 1e-12)
+        if self.modal:
+            lam = self.lam
+            coef = np.abs(rows.T @ self.vec) * np.abs((lam * self.c0 + self.dd) * lam)
+            grow = np.exp(np.maximum(lam.real * a, lam.real * b))
+            return np.zeros(n_r), (coef @ grow) * (1.0 + 1e-12)
+        xd = self._first_order(np.array([a]))[1][0]
+        big = float(np.linalg.norm(self.amat, 2))
+        t = np.linalg.norm(self.amat.T @ rows, axis=0) * float(np.linalg.norm(xd))
+        return np.zeros(n_r), t * np.exp(big * (b - a)) * (1.0 + 1e-12)
 
     def maps(self) -> tuple[FloatArray, FloatArray]:
         """(A_z, A_ż), shapes (2·dim, dim): z = ξ·A_z, ż = ξ·A_ż."""

@@ -13,10 +13,36 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from presliding._validation import as_real_scalar, as_state_vector, check_time_span, fmt
+from presliding._validation import (
+    as_real_scalar,
+    as_state_vector,
+    check_size,
+    check_time_span,
+    fmt,
+)
 from presliding.network.results import NetworkState
 
 FloatArray = NDArray[np.float64]
+
+#: The most samples a run returns (`t_eval`, `samples`), as `simulate` and its files allow.
+MAX_SAMPLES = 10_000_000
+
+
+def check_samples(t_eval: Any, width: int) -> int:
+    """The number of samples of `t_eval`, checked (at most `MAX_SAMPLES`, and their rows of
+    `width` numbers within memory) before it is copied or converted."""
+    shape = t_eval.shape if isinstance(t_eval, np.ndarray) else None
+    if shape is None:
+        try:
+            count = len(t_eval)
+        except TypeError:
+            count = 1
+    else:
+        count = int(np.prod(shape)) if len(shape) != 1 else int(shape[0])
+    if count > MAX_SAMPLES:
+        raise ValueError(f"`t_eval` must have at most {MAX_SAMPLES:,} samples; got {count:,}.")
+    check_size("t_eval", f"{count} samples", 2.0 * count * (width + 1), what="sampled values")
+    return count
 
 
 @dataclass

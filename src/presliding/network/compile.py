@@ -157,6 +157,8 @@ def compile_network(network: SliderNetwork, load: Any, *, verify: bool | None = 
     ([100.0, 50.0], [0.005, 0.02])
     """
     check_type("network", network, SliderNetwork)
+    if verify is not None:
+        check_type("verify", verify, (bool, np.bool_))
     nodes, coef = _load(network, load)
     _check_sign(coef)
     with threadpool_limits(1):  # small dense solves: threads only cost

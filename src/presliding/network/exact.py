@@ -20,6 +20,8 @@ contacts all stick and that has no free coordinate keeps q exactly.
 
 from __future__ import annotations
 
+import contextlib
+import os
 from typing import Any
 
 import numpy as np
@@ -31,10 +33,11 @@ from presliding._validation import (
     check_size,
     check_type,
 )
+from presliding.network import _warm
 from presliding.network._events import scan
 from presliding.network._exact_kernel import ROW_LAYOUT, row_width, run_events
 from presliding.network._exact_run import Network, RunState
-from presliding.network._start import run_start
+from presliding.network._start import check_samples, run_start
 from presliding.network.results import NetworkResult, NetworkState, build_result
 from presliding.network.structure import NetworkStructure
 
@@ -100,6 +103,7 @@ def simulate_network(
     if t_eval is None:
         times = np.linspace(t0, t_end, 1001)
     else:
+        check_samples(t_eval, row_width(n, n_c))
         times = as_signal("t_eval", t_eval)
         if np.any(np.diff(times) < 0) or times[0] < t0 or times[-1] > t_end:
             raise ValueError(
@@ -112,21 +116,24 @@ def simulate_network(
                   hysteretic=zeros.copy(), viscous=zeros.copy())  # fmt: skip
     out = _Samples(times, n, n_c, net.cts.k.shape[0])
     e_initial = _mechanical_energy(net, st.q, st.v, st.e)
-    ran = None if structure.is_damped else _run_compiled(structure, net, st, t_end, out, max_events)
-    if ran is None:  # damped structures, redundant stick sets: the general loop
+    compiled = _warm.ready()
+    ran = _run_compiled(structure, net, st, t_end, out, max_events) if compiled else None
+    if ran is None:  # redundant stick sets, ill-conditioned damped modes: the general loop
         st = RunState(t=t0, q=start.q, v=start.v, g=start.g, e=start.e, s=start.s,
                       last=start.last, coulomb=zeros.copy(), hysteretic=zeros.copy(),
                       viscous=zeros.copy())  # fmt: skip
         out = _Samples(times, n, n_c, net.cts.k.shape[0])
         ran = _run(structure, net, st, t_end, out, max_events)
+        if not compiled:
+            ran = (ran[0], ran[1].removesuffix(".") + _COLD)
     status, message = ran
     return build_result(structure, net, st, out, status, message, e_initial, t0)
 
 
 def _run_compiled(structure: NetworkStructure, net: Network, st: RunState, t_end: float,
                   out: _Samples, max_events: int) -> tuple[str, str] | None:  # fmt: skip
-    """The compiled event loop (undamped structures); None when it meets a redundant stick
-    set (the general loop runs instead)."""
+    """The compiled event loop; None when it meets a redundant stick set or damped modes
+    that are not well conditioned (the general loop runs instead)."""
     n, n_c = net.w.shape
     width = row_width(n, n_c)
     check_size("t_eval", out.time.shape[0], out.time.shape[0] * width)
@@ -135,15 +142,18 @@ def _run_compiled(structure: NetworkStructure, net: Network, st: RunState, t_end
     fv = np.ascontiguousarray(structure.forcing_values, dtype=np.float64)
     iu = max(int(np.searchsorted(ft, st.t, side="right")) - 1, 0)
     c = np.ascontiguousarray
-    code, t, v, work, events, filled, tr, rv, grouped = run_events(
+    code, t, v, work, damp, events, filled, tr, rv, grouped, counts = run_events(
         float(st.t), st.q, st.v, st.g, st.e, st.s, st.last, st.coulomb, st.hysteretic,
-        float(st.work), iu, ft, fv, float(t_end), c(out.time, dtype=np.float64), rec,
-        c(net.m), c(net.k), c(net.w), c(net.minv_w), net.cts.c1, net.cts.sigma, net.cts.k,
-        net.cts.r, net.cts.owner, int(max_events),
+        st.viscous, float(st.work), float(st.damping), iu, ft, fv, float(t_end),
+        c(out.time, dtype=np.float64), rec, c(net.m), c(net.k), c(net.w), c(net.minv_w),
+        net.cts.c1, net.cts.sigma, c(net.c), net.cts.k, net.cts.r, net.cts.owner,
+        int(max_events),
     )  # fmt: skip
     if code == 2:
         return None
+    st.cert.add(counts)
     st.t, st.v, st.work, st.n_events = float(t), v, float(work), int(events)
+    st.damping = float(damp)
     st.redundant = bool(grouped)
     st.transitions = [(float(a), int(b), float(x)) for a, b, x in tr]
     st.reversals = [(float(a), int(b), float(x)) for a, b, x in rv]
@@ -226,7 +236,7 @@ def _run(structure: NetworkStructure, net: Network, st: RunState, t_end: float, 
         pc, info = net.piece(st, f)
         if info["redundant"]:
             st.redundant = True
-        found = scan(net.event_functions(pc, info, st), t1 - st.t, pc.omega_max)
+        found = scan(net.event_functions(pc, info, st), t1 - st.t, pc.omega_max, st.cert)
         at_end = found is None and t1 >= t_end
         tau, trig = (t1 - st.t, None) if found is None else found
         _record(net, pc, info, st, out, st.t + tau, at_end)
@@ -257,6 +267,10 @@ def _note_transitions(st: RunState, before: FloatArray) -> None:
             st.last[c] = st.s[c]
 
 
+_COLD = (
+    "; the general loop ran (the same events): the compiled loop was not in numba's "
+    "cache, and a second process is compiling it for the next runs."
+)
 _GENERAL = (
     "; the contact forces are not unique (redundant contacts stuck together: W_S has "
     "dependent columns); the motion is unique, the forces shown are the minimum-norm "
@@ -274,3 +288,28 @@ def _message(st: RunState, out: _Samples, redundant: str = _GENERAL) -> str:
     if st.redundant:
         text += redundant
     return text + "."
+
+
+def compile_now() -> None:
+    """Compile the event loop in this process (with the argument types of every call), so
+    that it is cached (`presliding precompile`)."""
+    from presliding.friction import PIFriction
+    from presliding.network.structure import chain_structure
+
+    before, _warm.BACKGROUND = _warm.BACKGROUND, False
+    try:
+        friction = PIFriction(0.2, [400.0, 150.0], [0.1, 0.15])
+        chain = chain_structure(2, 1.0, 1000.0, friction, forcing=([0.0, 0.02], [[0, 0], [0, 1]]))
+        simulate_network(chain, 0.05, initial_velocity=np.array([0.3, -0.2]))
+    finally:
+        _warm.BACKGROUND = before
+
+
+def compile_main() -> int:
+    """The second process of a cold cache (`presliding.network._warm`): compile at low
+    priority, discard the result."""
+    with contextlib.suppress(AttributeError, OSError):  # not on every platform
+        os.nice(10)
+    _warm.BACKGROUND = False  # never a third process
+    compile_now()
+    return 0

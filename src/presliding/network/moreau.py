@@ -13,7 +13,7 @@ order in the step.
 from __future__ import annotations
 
 import math
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 import scipy.sparse
@@ -28,8 +28,9 @@ from presliding._validation import (
     fmt,
 )
 from presliding.network._moreau_kernel import moreau_loop
+from presliding.network._moreau_sparse import primal_loop
 from presliding.network._piece import Contacts
-from presliding.network._start import run_start
+from presliding.network._start import MAX_SAMPLES, run_start
 from presliding.network.results import NetworkEnergy, NetworkResult, NetworkState
 from presliding.network.structure import NetworkStructure
 
@@ -39,9 +40,11 @@ FloatArray = NDArray[np.float64]
 
 
 def _csr(a: Any, drop: float = 1e-18) -> tuple[Any, Any, Any]:
-    """CSR arrays of `a`, entries below `drop` times its largest entry dropped."""
-    scale = float(np.max(np.abs(a), initial=0.0))
-    m = scipy.sparse.csr_matrix(np.where(np.abs(a) > drop * scale, a, 0.0))
+    """CSR arrays of `a` (dense or sparse), entries below `drop` times its largest entry
+    dropped."""
+    m = scipy.sparse.csr_matrix(a, dtype=np.float64, copy=True)
+    scale = float(np.max(np.abs(m.data), initial=0.0))
+    m.data[np.abs(m.data) <= drop * scale] = 0.0
     m.eliminate_zeros()
     return (np.ascontiguousarray(m.indptr, dtype=np.int64),
             np.ascontiguousarray(m.indices, dtype=np.int64),
@@ -103,11 +106,12 @@ def simulate_network_moreau(
     theta = as_real_scalar("theta", theta)
     if not 0.5 <= theta <= 1.0:
         raise ValueError(f"`theta` must be in [0.5, 1]; got {fmt(theta)}.")
-    samples = as_count("samples", samples, minimum=2, maximum=10_000_000)
+    samples = as_count("samples", samples, minimum=2, maximum=MAX_SAMPLES)
     max_sweeps = as_count("max_sweeps", max_sweeps, minimum=1, maximum=1_000_000)
     tolerance = as_positive_scalar("tolerance", tolerance)
-    start = run_start(np.asarray(structure.contacts), cts.k.shape[0], initial_position,
-                      initial_velocity, initial_state, t_start, t_end)  # fmt: skip
+    w = structure.contacts
+    start = run_start(w, cts.k.shape[0], initial_position, initial_velocity, initial_state,
+                      t_start, t_end)  # fmt: skip
     t0, t_end, q, v, g, e, last = (start.t0, start.t_end, start.q, start.v, start.g, start.e,
                                    start.last)  # fmt: skip
     n_steps = check_size("step", step, math.ceil((t_end - t0) / h * (1 - 1e-12)), what="steps")
@@ -115,20 +119,13 @@ def simulate_network_moreau(
     every = max(1, n_steps // (samples - 1))
     rows = n_steps // every + 1 + (1 if n_steps % every else 0)
     check_size("samples", samples, rows * (2 * n + 6 * n_c))
-    check_size("structure", n, float(n) * n, what="entries of Ŵ⁻¹")
-    m, k, w = structure.mass, structure.stiffness, structure.contacts
-    c = np.asarray(structure.damping, dtype=np.float64)
-    what = m + h * theta * c + (h * theta) ** 2 * k
-    wi = np.linalg.inv(what)
-    b = wi @ w
-    gmat = w.T @ b
-    gmat = 0.5 * (gmat + gmat.T)
-    rigid = bool(np.linalg.matrix_rank(w) == n)
+    separable = _separable(w) if structure.is_sparse else None
+    m, k, damping = structure.mass, structure.stiffness, cast(Any, structure.damping)
     out = {name: np.zeros(shape) for name, shape in (
         ("q", (rows, n)), ("v", (rows, n)), ("a", (rows, n)), ("g", (rows, n_c)),
         ("lam", (rows, n_c)), ("fel", (rows, n_c)), ("ee", (rows,)), ("mode", (rows, n_c)),
         ("en", (rows, 3, n_c)), ("sd", (rows, 2)))}  # fmt: skip
-    e_initial = float(0.5 * v @ m @ v + 0.5 * q @ k @ q + 0.5 * np.sum(cts.k * e * e))
+    e_initial = float(0.5 * v @ (m @ v) + 0.5 * q @ (k @ q) + 0.5 * np.sum(cts.k * e * e))
     out["q"][0], out["v"][0], out["g"][0] = q, v, g
     out["mode"][0] = np.sign(v @ w)
     out["fel"][0] = cts.per_contact(cts.k * e)
@@ -137,15 +134,51 @@ def simulate_network_moreau(
     ft = np.ascontiguousarray(structure.forcing_times, dtype=np.float64)
     fv = np.ascontiguousarray(structure.forcing_values, dtype=np.float64)
     q, v, g, e = (np.ascontiguousarray(a, dtype=np.float64) for a in (q, v, g, e))
-    most, capped = moreau_loop(
-        n_steps, h, theta, t0, q, v, g, e, p, *_csr(wi), *_csr(b), *_csr(w.T), *_csr(gmat),
-        np.ascontiguousarray(np.diag(gmat)), *_csr(c), *_csr(k), ft, fv,
-        cts.c1, cts.sigma, cts.k, cts.r, cts.start, tolerance, max_sweeps, rigid, every,
-        out["q"], out["v"], out["a"], out["g"], out["lam"], out["fel"], out["ee"], out["mode"],
-        out["en"], out["sd"],
-    )  # fmt: skip
+    o = [out[name] for name in ("q", "v", "a", "g", "lam", "fel", "ee", "mode", "en", "sd")]
+    shared = (cts.c1, cts.sigma, cts.k, cts.r, cts.start, tolerance, max_sweeps)
+    if separable is not None:  # sparse: Gauss–Seidel on the velocities
+        what = scipy.sparse.csr_array(m + (h * theta) * damping + (h * theta) ** 2 * k)
+        most, capped = primal_loop(
+            n_steps, h, theta, t0, q, v, g, e, p, *_csr(what), *_csr(damping),
+            *_csr(k), ft, fv, *separable, *shared, every, *o,
+        )  # fmt: skip
+    else:
+        md, kd, wd, cd = (np.asarray(cast(Any, x).toarray()) if scipy.sparse.issparse(x)
+                          else np.asarray(x) for x in (m, k, w, damping))  # fmt: skip
+        wi = np.linalg.inv(md + h * theta * cd + (h * theta) ** 2 * kd)
+        b = wi @ wd
+        gmat = wd.T @ b
+        gmat = 0.5 * (gmat + gmat.T)
+        rigid = bool(np.linalg.matrix_rank(wd) == n)
+        most, capped = moreau_loop(
+            n_steps, h, theta, t0, q, v, g, e, p, *_csr(wi), *_csr(b), *_csr(wd.T),
+            *_csr(gmat), np.ascontiguousarray(np.diag(gmat)), *_csr(cd), *_csr(kd), ft, fv,
+            *shared, rigid, every, *o,
+        )  # fmt: skip
     return _result(structure, cts, out, t0, h, every, rows, q, v, g, e, last, e_initial,
                    n_steps, int(most), int(capped))  # fmt: skip
+
+
+def _separable(w: Any) -> tuple[NDArray[np.int64], FloatArray] | None:
+    """(the contact of each coordinate (−1: none), α_c) when each contact acts on one
+    coordinate and each coordinate carries at most one (w_c = α_c·e_i); None otherwise
+    (the dense Delassus path runs, its Ŵ⁻¹ checked for size)."""
+    n, n_c = w.shape
+    col = scipy.sparse.csc_array(w)
+    col.eliminate_zeros()
+    rows = col.indices
+    if np.any(np.diff(col.indptr) != 1) or np.unique(rows).shape[0] != n_c:
+        check_size("structure", f"{n} coordinates", 3.0 * n * n, what="entries of Ŵ⁻¹",
+                   )  # fmt: skip
+        return None
+    contact_of = np.full(n, -1, dtype=np.int64)
+    contact_of[rows] = np.arange(n_c, dtype=np.int64)
+    return contact_of, np.ascontiguousarray(col.data, dtype=np.float64)
+
+
+def _quadratic(x: FloatArray, a: Any) -> FloatArray:
+    """xᵀ·A·x of every row of x (A dense or sparse)."""
+    return np.asarray(np.sum((a @ x.T).T * x, axis=1))
 
 
 def _result(structure: NetworkStructure, cts: Contacts, out: dict[str, FloatArray], t0: float,
@@ -178,15 +211,17 @@ def _result(structure: NetworkStructure, cts: Contacts, out: dict[str, FloatArra
             stops[c] = time[starts[-1]]
     gd = np.where(mode == 0.0, 0.0, out["v"] @ w)
     en = NetworkEnergy(
-        kinetic=0.5 * np.einsum("ti,ij,tj->t", out["v"], m, out["v"]),
-        potential=0.5 * np.einsum("ti,ij,tj->t", out["q"], k, out["q"]),
+        kinetic=0.5 * _quadratic(out["v"], m),
+        potential=0.5 * _quadratic(out["q"], k),
         elastic=out["ee"], coulomb=out["en"][:, 0, :], hysteretic=out["en"][:, 1, :],
         viscous=out["en"][:, 2, :], damping=out["sd"][:, 0], work=out["sd"][:, 1],
         initial=e_initial,
     )  # fmt: skip
     status = "success" if capped == 0 else "not_converged"
-    message = (f"{n_steps} steps of {h!r} s (θ-method with Moreau–Jean contacts); PGS used at "
-               f"most {most} sweeps per step")  # fmt: skip
+    solver = ("Gauss–Seidel on the velocities (sparse)" if structure.is_sparse and
+              _separable(w) is not None else "PGS")  # fmt: skip
+    message = (f"{n_steps} steps of {h!r} s (θ-method with Moreau–Jean contacts); {solver} "
+               f"used at most {most} sweeps per step")  # fmt: skip
     if capped:
         message += f"; {capped} steps stopped at max_sweeps without converging"
     final = NetworkState(float(time[-1]), q.copy(), v.copy(), g.copy(), e.copy(),

@@ -136,6 +136,16 @@ class NetworkResult(ResultMixin):
         Events (exact path) or steps (Moreau–Jean).
     method : str
         "event" or "moreau".
+    certification : dict or None
+        How the exact path certified its events (None for Moreau–Jean): ``cells``
+        proved free of events (every event function's lower bound over the cell, from
+        its values, slopes and a bound of its second derivative from the modal
+        amplitudes, is nonnegative), ``isolated`` events (a root isolated on its cell:
+        one sign change and a slope of one sign, refined by Brent's method),
+        ``resolved`` events (a trigger found on a cell of the time resolution, ~1e-15 s:
+        an event at the start of a piece), ``ends`` (pieces ended by a change of f or
+        the end, their whole span proved free of events) and ``grazes`` (cells at the
+        time resolution where a function came within rounding of zero, not an event).
     """
 
     time: FloatArray
@@ -160,6 +170,7 @@ class NetworkResult(ResultMixin):
     n_events: int
     method: str
     structure: Any
+    certification: dict[str, int] | None = None
 
     @property
     def success(self) -> bool:
@@ -199,6 +210,7 @@ class NetworkResult(ResultMixin):
             f"  coordinates {self.position.shape[1]}, contacts {self.contact_force.shape[1]}, "
             f"events {self.n_events}, t = {self.time[0]:.6g} .. {self.time[-1]:.6g} s",
             f"  energy balance: max |residual| / scale = {self.energy.max_relative_residual:.2e}",
+            *([] if self.certification is None else [f"  {_certified(self.certification)}"]),
             "  contact  reversals  stop time [s]   Coulomb [J]   hysteretic [J]  viscous [J]",
         ]
         for c in range(self.contact_force.shape[1]):
@@ -225,6 +237,15 @@ class NetworkResult(ResultMixin):
         from presliding.network._plots import plot_network
 
         return plot_network(self, kind=kind, ax=ax)
+
+
+def _certified(counts: dict[str, int]) -> str:
+    return (
+        f"events certified: {counts['isolated']} isolated (one root on its cell), "
+        f"{counts['resolved']} resolved to 1e-15 s, {counts['ends']} piece ends; "
+        f"{counts['cells']} cells proved free of events, {counts['grazes']} grazes of zero "
+        "within rounding"
+    )
 
 
 def _intervals(transitions: list[tuple[float, int, float]], c: int, t_end: float) -> FloatArray:
@@ -266,5 +287,5 @@ def build_result(structure: Any, net: Any, st: Any, out: Any, status: str, messa
         stick_intervals=stick, reversal_times=rev_t, reversal_displacements=rev_g,
         stop_times=stops, energy=energy, final_state=final, forces_unique=not st.redundant,
         status=status, message=message, n_events=st.n_events, method=method,
-        structure=structure,
+        structure=structure, certification=st.cert.counts(),
     )  # fmt: skip

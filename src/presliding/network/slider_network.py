@@ -16,7 +16,13 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from presliding._validation import as_count, as_parameter_vector, check_same_length, fmt
+from presliding._validation import (
+    as_count,
+    as_parameter_vector,
+    check_same_length,
+    check_size,
+    fmt,
+)
 
 __all__ = ["GROUND", "SliderNetwork"]
 
@@ -25,6 +31,27 @@ IntArray = NDArray[np.int64]
 
 #: The node index of the fixed ground.
 GROUND = -1
+
+#: Numbers a network needs per element (spring, slider or stop), checked before it is
+#: built: its rows and their checks (13 measured while a chain is built), the expanded
+#: form (12) and the quasi-static solver's sparse matrices.
+FOOTPRINT = 32
+
+
+def _check_elements(name: str, count: int) -> None:
+    check_size(name, f"{count:,} elements", float(FOOTPRINT) * count, what="numbers")
+
+
+def _rows_in(value: Any) -> int:
+    if value is None:
+        return 0
+    shape = value.shape if isinstance(value, np.ndarray) else None
+    if shape is None:
+        try:
+            return len(value)
+        except TypeError:
+            return 1
+    return int(shape[0]) if len(shape) else 1
 
 
 def _rows(name: str, value: Any, width: int) -> FloatArray:
@@ -88,6 +115,8 @@ class SliderNetwork:
 
     def __post_init__(self) -> None:
         n = as_count("n_nodes", self.n_nodes, minimum=1)
+        count = sum(_rows_in(x) for x in (self.springs, self.sliders, self.stops))
+        _check_elements("springs, sliders and stops", n + count)
         sp = _rows("springs", self.springs, 3)
         sl = _rows("sliders", self.sliders, 3)
         st = _rows("stops", self.stops, 4)
@@ -124,6 +153,7 @@ class SliderNetwork:
             c = np.full(N + 1, tau * L / N); c[[0, -1]] /= 2
             SliderNetwork.chain(np.full(N, EA * N / L), c)
         """
+        _check_elements("stiffness", 2 * _rows_in(stiffness))
         k = as_parameter_vector("stiffness", stiffness)
         c = as_parameter_vector("slip_force", slip_force, positive=False)
         if c.shape[0] != k.shape[0] + 1:
@@ -168,3 +198,20 @@ class SliderNetwork:
             f"SliderNetwork(n_nodes={self.n_nodes}, springs={self.springs.shape[0]}, "
             f"sliders={self.sliders.shape[0]}, stops={self.stops.shape[0]})"
         )
+
+    def _repr_html_(self) -> str:
+        from presliding._display import result_html
+
+        def span(values: FloatArray) -> str:
+            if values.size == 0:
+                return "none"
+            lo, hi = float(np.min(values)), float(np.max(values))
+            return f"{lo:.6g}" if lo == hi else f"{lo:.6g} … {hi:.6g}"
+
+        st = self.stops
+        rows = [("nodes", str(self.n_nodes), ""), ("springs", str(self.springs.shape[0]), ""),
+                ("sliders", str(self.sliders.shape[0]), ""), ("stops", str(st.shape[0]), ""),
+                ("spring stiffness", span(self.springs[:, 2]), "N/m"),
+                ("slip force", span(np.concatenate([self.sliders[:, 2], st[:, 3]])), "N"),
+                ("stop stiffness", span(st[:, 2]), "N/m")]  # fmt: skip
+        return result_html(self, rows, title="SliderNetwork", show_model=False)

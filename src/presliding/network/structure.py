@@ -16,43 +16,28 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
+import scipy.sparse
 from numpy.typing import ArrayLike, NDArray
 
-from presliding._validation import as_list, as_real_array, check_increasing, check_type, fmt
+from presliding._validation import (
+    as_count,
+    as_list,
+    as_real_array,
+    check_increasing,
+    check_size,
+    check_type,
+    fmt,
+)
 from presliding.friction.pi_friction import PIFriction
+from presliding.network._matrices import as_contacts, check_dense_size, issparse, square
 
 __all__ = ["NetworkStructure", "chain_structure", "modal_structure", "multi_contact_structure"]
 
 FloatArray = NDArray[np.float64]
 
 
-def square_matrix(name: str, value: Any, n: int | None, *, definite: bool) -> FloatArray:
-    """A read-only symmetric n × n matrix, positive definite or semidefinite (a scalar is a
-    1 × 1 one, a vector its diagonal; n None: any size). Also `JointedStructure`'s check."""
-    arr = as_real_array(name, value)
-    if arr.ndim == 0:
-        arr = arr.reshape(1, 1)
-    if arr.ndim == 1:
-        arr = np.diag(arr)
-    if arr.ndim != 2 or arr.shape[0] != arr.shape[1] or (n is not None and arr.shape[0] != n):
-        want = "(n, n)" if n is None else f"({n}, {n})"
-        raise ValueError(f"`{name}` must be a square matrix of shape {want}; got {arr.shape}.")
-    scale = float(np.max(np.abs(arr), initial=0.0))
-    if not np.allclose(arr, arr.T, rtol=0.0, atol=1e-12 * scale):
-        raise ValueError(f"`{name}` must be symmetric; got {fmt(arr)}.")
-    arr = 0.5 * (arr + arr.T)
-    low = float(np.min(np.linalg.eigvalsh(arr))) if arr.size else 0.0
-    if definite and not (low > 1e-13 * scale and scale > 0.0):
-        raise ValueError(f"`{name}` must be positive definite; its smallest eigenvalue is {low!r}.")
-    if not definite and low < -1e-12 * scale:
-        raise ValueError(
-            f"`{name}` must be positive semidefinite; its smallest eigenvalue is {low!r}."
-        )
-    arr.setflags(write=False)
-    return arr
-
-
-_square = square_matrix
+#: The symmetric (semi)definite matrix check, also `JointedStructure`'s (`_matrices.square`).
+square_matrix = square
 
 
 def _forcing(value: Any, n: int) -> tuple[FloatArray, FloatArray]:
@@ -130,23 +115,28 @@ class NetworkStructure:
                      forcing: Any = 0.0) -> None: ...  # fmt: skip
 
     def __post_init__(self) -> None:
-        m = _square("mass", self.mass, None, definite=True)
+        sparse = any(issparse(x) for x in (self.mass, self.stiffness, self.damping,
+                                           self.contacts))  # fmt: skip
+        if not sparse:  # the sizes of the dense checks, before anything is copied
+            shape_m, shape_w = np.shape(self.mass), np.shape(self.contacts)
+            n0 = shape_m[0] if len(shape_m) else 1
+            check_dense_size("mass", fmt(shape_m), n0, shape_w[-1] if len(shape_w) else 1,
+                             "Pass scipy.sparse matrices for a large structure.")  # fmt: skip
+        m = square("mass", self.mass, None, definite=True)
         n = m.shape[0]
-        k = _square("stiffness", self.stiffness, n, definite=False)
-        c = _square("damping", np.zeros((n, n)) if self.damping is None else self.damping, n,
-                    definite=False)  # fmt: skip
-        w = as_real_array("contacts", self.contacts)
-        if w.ndim == 1 and n == 1:
-            w = w.reshape(1, -1)
-        if w.ndim != 2 or w.shape[0] != n or w.shape[1] == 0:
-            raise ValueError(
-                f"`contacts` must have shape ({n}, n_c) with n_c >= 1 (one column per contact); "
-                f"got {w.shape}."
-            )
-        zero = ~np.any(w != 0.0, axis=0)
-        if zero.any():
-            col = int(np.argmax(zero))
-            raise ValueError(f"`contacts` must not have a zero column; column {col} is zero.")
+        k = square("stiffness", self.stiffness, n, definite=False)
+        if self.damping is None:
+            c = scipy.sparse.csr_array((n, n)) if sparse else np.zeros((n, n))
+            if not sparse:
+                c.setflags(write=False)
+        else:
+            c = square("damping", self.damping, n, definite=False)
+        if sparse:  # all sparse (CSR) when one is
+            m, k, c = (x if issparse(x) else square(name, scipy.sparse.csr_array(x), n,
+                                                     definite=name == "mass")
+                       for name, x in (("mass", m), ("stiffness", k), ("damping", c)))  # fmt: skip
+        w = as_contacts(scipy.sparse.csr_array(self.contacts) if sparse and not issparse(
+            self.contacts) else self.contacts, n)  # fmt: skip
         models = tuple(as_list("friction", self.friction))
         if len(models) != w.shape[1]:
             raise ValueError(
@@ -164,8 +154,6 @@ class NetworkStructure:
                     f"`friction[{i}]` must have a Coulomb element c1 > 0 (a contact that can "
                     f"stick); got coulomb={model.coulomb!r}."
                 )
-        w = np.ascontiguousarray(w)
-        w.setflags(write=False)
         times, vals = _forcing(self.forcing, n)
         for name, value in (("mass", m), ("stiffness", k), ("damping", c), ("contacts", w),
                             ("friction", models), ("forcing_times", times),
@@ -200,7 +188,46 @@ class NetworkStructure:
     @property
     def is_damped(self) -> bool:
         """True when C ≠ 0 or a contact has a viscous term."""
-        return bool(np.any(self.damping != 0.0) or np.any(self.viscous > 0.0))
+        c: Any = self.damping
+        structural = bool(np.any(c.data != 0.0)) if issparse(c) else bool(np.any(c != 0.0))
+        return structural or bool(np.any(self.viscous > 0.0))
+
+    @property
+    def is_sparse(self) -> bool:
+        """True when M, C, K and W are scipy.sparse (CSR) matrices."""
+        return issparse(self.mass)
+
+    @property
+    def n_elements(self) -> int:
+        """Stop elements of all contacts together."""
+        return int(sum(0 if f.stiffness is None else f.stiffness.shape[0] for f in self.friction))
+
+    def _summary(self) -> list[tuple[str, str, str]]:
+        n_f = self.forcing_times.shape[0]
+        t0 = self.forcing_times[0]
+        force = "constant" if n_f == 1 else f"{n_f} values held from t = {t0:g} s"
+        return [("coordinates", str(self.n_coordinates), ""),
+                ("contacts", str(self.n_contacts), ""),
+                ("elements", str(self.n_elements), ""),
+                ("damped", str(self.is_damped), ""),
+                ("sparse", str(self.is_sparse), ""),
+                ("forcing", force, "N")]  # fmt: skip
+
+    def __repr__(self) -> str:
+        c1 = self.coulomb
+        return (
+            f"NetworkStructure(n={self.n_coordinates}, n_contacts={self.n_contacts}, "
+            f"n_elements={self.n_elements}, coulomb={_range(c1)}, damped={self.is_damped}, "
+            f"sparse={self.is_sparse}, forcing_changes={self.forcing_times.shape[0] - 1})"
+        )
+
+    def _repr_html_(self) -> str:
+        from presliding._display import result_html
+
+        c1 = self.coulomb
+        rows = [*self._summary(), ("Coulomb c1", _range(c1), "N"),
+                ("breakaway F_c", _range(self.breakaway_level), "N")]  # fmt: skip
+        return result_html(self, rows, title="NetworkStructure", show_model=False)
 
     def force_at(self, t: float) -> FloatArray:
         """The applied force f(t) [N]."""
@@ -213,10 +240,33 @@ class NetworkStructure:
                                 damping=self.damping, forcing=forcing)  # fmt: skip
 
 
+def _range(values: FloatArray) -> str:
+    if values.size == 0:
+        return "none"
+    lo, hi = float(np.min(values)), float(np.max(values))
+    return f"{lo:.6g}" if lo == hi else f"{lo:.6g} … {hi:.6g}"
+
+
 def _models(friction: PIFriction | Sequence[PIFriction], n_c: int) -> list[PIFriction]:
     if isinstance(friction, PIFriction):
         return [friction] * n_c
     return as_list("friction", friction)
+
+
+def _per_mass(name: str, value: Any, n: int, *, positive: bool) -> FloatArray:
+    """A scalar or one value per mass (n,), positive or nonnegative."""
+    arr = as_real_array(name, value)
+    if arr.ndim == 0:
+        arr = np.full(n, float(arr))
+    elif arr.shape != (n,):
+        raise ValueError(f"`{name}` must be a number or one value per mass ({n}); got shape "
+                         f"{arr.shape}.")  # fmt: skip
+    bad = ~(arr > 0.0) if positive else arr < 0.0
+    if bad.any():
+        i = int(np.argmax(bad))
+        rule = "positive" if positive else "nonnegative"
+        raise ValueError(f"`{name}` must be {rule}; got {fmt(arr[i])} at index {i}.")
+    return arr
 
 
 def chain_structure(
@@ -227,32 +277,46 @@ def chain_structure(
     *,
     damping: float | ArrayLike = 0.0,
     forcing: Any = 0.0,
+    sparse: bool = False,
 ) -> NetworkStructure:
     """A chain of masses: mass i tied to mass i−1 by spring i (mass 0 to the ground), each
     mass on its own contact with the ground (g_i = q_i).
 
-    ``mass``, ``spring`` and ``damping`` (dashpots parallel to the springs) are scalars or
-    one value per mass; ``friction`` one model for all contacts or one per mass.
+    ``mass`` (> 0), ``spring`` and ``damping`` (dashpots parallel to the springs, >= 0) are
+    scalars or one value per mass; ``friction`` one model for all contacts or one per
+    mass. ``sparse=True`` builds scipy.sparse (CSR) matrices: memory linear in the size,
+    for `simulate_network_moreau` on long chains (dense matrices take 7·n² numbers).
     """
-    if isinstance(n_masses, bool) or not isinstance(n_masses, int | np.integer) or n_masses < 1:
-        raise ValueError(f"`n_masses` must be a positive integer; got {fmt(n_masses)}.")
-    n = int(n_masses)
-    m = np.broadcast_to(as_real_array("mass", mass), (n,)).astype(float)
-    ks = np.broadcast_to(as_real_array("spring", spring), (n,)).astype(float)
-    cs = np.broadcast_to(as_real_array("damping", damping), (n,)).astype(float)
+    n = as_count("n_masses", n_masses, minimum=1)
+    check_type("sparse", sparse, (bool, np.bool_))
+    if not sparse:
+        check_dense_size("n_masses", n, n, n, "Pass sparse=True for a chain of this size "
+                         "(scipy.sparse matrices, linear in the size).")  # fmt: skip
+    else:
+        check_size("n_masses", n, 12.0 * n, what="matrix entries")
+    m = _per_mass("mass", mass, n, positive=True)
+    ks = _per_mass("spring", spring, n, positive=False)
+    cs = _per_mass("damping", damping, n, positive=False)
+    models = _models(friction, n)
 
-    def band(values: FloatArray) -> FloatArray:
-        out = np.zeros((n, n))
-        for i in range(n):
-            out[i, i] += values[i]
-            if i > 0:
-                out[i - 1, i - 1] += values[i]
-                out[i, i - 1] -= values[i]
-                out[i - 1, i] -= values[i]
+    def band(values: FloatArray) -> Any:
+        upper = np.concatenate([values[1:], [0.0]])  # spring i+1 ties mass i to mass i+1
+        diag = values + upper
+        off = -values[1:]
+        if sparse:
+            return scipy.sparse.diags_array([off, diag, off], offsets=[-1, 0, 1], format="csr")
+        out = np.diag(diag)
+        idx = np.arange(n - 1)
+        out[idx, idx + 1] = off
+        out[idx + 1, idx] = off
         return out
 
-    return NetworkStructure(np.diag(m), band(ks), np.eye(n), _models(friction, n),
-                            damping=band(cs), forcing=forcing)  # fmt: skip
+    if sparse:
+        mm: Any = scipy.sparse.diags_array(m, format="csr")
+        w: Any = scipy.sparse.identity(n, format="csr")
+    else:
+        mm, w = np.diag(m), np.eye(n)
+    return NetworkStructure(mm, band(ks), w, models, damping=band(cs), forcing=forcing)
 
 
 def multi_contact_structure(
@@ -265,8 +329,16 @@ def multi_contact_structure(
 ) -> NetworkStructure:
     """One mass on a spring to the ground and on several contacts (all with g = q)."""
     models = as_list("friction", friction)
-    return NetworkStructure([[mass]], [[stiffness]], np.ones((1, len(models))), models,
-                            damping=[[damping]], forcing=forcing)  # fmt: skip
+    if not models:
+        raise ValueError("`friction` must hold at least one model (one per contact); got none.")
+    args = {}
+    for name, value in (("mass", mass), ("stiffness", stiffness), ("damping", damping)):
+        arr = as_real_array(name, value)
+        if arr.size != 1:
+            raise ValueError(f"`{name}` must be one number (one mass); got shape {arr.shape}.")
+        args[name] = arr.reshape(1, 1)
+    return NetworkStructure(args["mass"], args["stiffness"], np.ones((1, len(models))), models,
+                            damping=args["damping"], forcing=forcing)  # fmt: skip
 
 
 def modal_structure(
@@ -283,13 +355,34 @@ def modal_structure(
     displacement of contact c per unit of mode i, so g_c = Σ_i φ_ic q_i; ``damping_ratios``
     ζ_i give C = diag(2 ζ_i ω_i).
     """
-    w = as_real_array("frequencies", frequencies).reshape(-1)
+    w = as_real_array("frequencies", frequencies)
+    if w.ndim > 1 or w.size == 0:
+        raise ValueError(f"`frequencies` must be one or more numbers (one per mode); got shape "
+                         f"{w.shape}.")  # fmt: skip
+    w = w.reshape(-1)
+    n = w.shape[0]
+    check_dense_size("frequencies", f"{n} modes", n, n)
+    if np.any(w < 0):
+        raise ValueError(f"`frequencies` must be nonnegative; got {fmt(w[w < 0][0])}.")
     phi = as_real_array("mode_shapes", mode_shapes)
-    if phi.ndim == 1:
-        phi = phi.reshape(w.shape[0], -1)
-    zeta = np.broadcast_to(as_real_array("damping_ratios", damping_ratios), w.shape)
-    if np.any(w < 0) or np.any(zeta < 0):
-        raise ValueError("`frequencies` and `damping_ratios` must be nonnegative.")
-    return NetworkStructure(np.eye(w.shape[0]), np.diag(w * w), phi,
-                            _models(friction, phi.shape[1] if phi.ndim == 2 else 0),
+    if phi.ndim == 1 and n == 1:
+        phi = phi.reshape(1, -1)
+    if phi.ndim != 2 or phi.shape[0] != n or phi.shape[1] == 0:
+        raise ValueError(
+            f"`mode_shapes` must have shape ({n}, n_c): one row per mode (the {n} frequencies), "
+            f"one column per contact; got shape {phi.shape}."
+        )
+    zero = ~np.any(phi != 0.0, axis=0)
+    if zero.any():
+        raise ValueError(f"`mode_shapes` must not have a zero column (a contact no mode moves); "
+                         f"column {int(np.argmax(zero))} is zero.")  # fmt: skip
+    zeta = as_real_array("damping_ratios", damping_ratios)
+    if zeta.ndim == 0:
+        zeta = np.full(n, float(zeta))
+    if zeta.shape != (n,):
+        raise ValueError(f"`damping_ratios` must be a number or one per mode ({n}); got shape "
+                         f"{zeta.shape}.")  # fmt: skip
+    if np.any(zeta < 0):
+        raise ValueError(f"`damping_ratios` must be nonnegative; got {fmt(zeta[zeta < 0][0])}.")
+    return NetworkStructure(np.eye(n), np.diag(w * w), phi, _models(friction, phi.shape[1]),
                             damping=np.diag(2.0 * zeta * w), forcing=forcing)  # fmt: skip
