@@ -219,6 +219,39 @@ def test_each_room_opens_with_its_map(room):
     assert f"{room.rsplit('.', 1)[1]}/" in (parent.__doc__ or "")
 
 
+MAX_MODULES_IN_A_FOLDER = 20
+
+
+def _module_counts(top: Path) -> dict[str, int]:
+    """The number of .py modules of each package folder below `top` (``__init__.py`` left out)."""
+    return {
+        init.parent.relative_to(top.parent).as_posix(): sum(
+            1 for p in init.parent.glob("*.py") if p.name != "__init__.py"
+        )
+        for init in top.rglob("__init__.py")
+        if "__pycache__" not in init.parts
+    }
+
+
+def test_no_folder_holds_several_steps(tmp_path):
+    """No package folder under ``src/presliding`` holds more than 20 modules: a folder over
+    about 20 holds several steps and is split into rooms (identification's, the command
+    line's). Counted: the folder's own ``*.py`` files, ``__init__.py`` left out (it is the
+    folder's map, not a step), sub-packages not (they are counted as folders of their own).
+    The same count over a folder of 21 modules is seen to exceed the limit."""
+    counts = _module_counts(PACKAGE)
+    assert counts["presliding"] > 0 and counts["presliding/cli"] > 0
+    assert {f: n for f, n in counts.items() if n > MAX_MODULES_IN_A_FOLDER} == {}
+    grown = tmp_path / "presliding" / "layer"
+    grown.mkdir(parents=True)
+    for name in ["__init__", *(f"m{i}" for i in range(MAX_MODULES_IN_A_FOLDER + 1))]:
+        (grown / f"{name}.py").write_text("", encoding="utf-8")
+    (grown.parent / "__init__.py").write_text("", encoding="utf-8")
+    too_many = _module_counts(grown.parent)
+    assert too_many == {"presliding": 0, "presliding/layer": MAX_MODULES_IN_A_FOLDER + 1}
+    assert {f for f, n in too_many.items() if n > MAX_MODULES_IN_A_FOLDER} == {"presliding/layer"}
+
+
 OLD_PATHS = {
     "operators": ["PIOperator", "PIState", "play", "stop"],
     "general_pi": ["GeneralPIOperator", "MemoryState"],

@@ -154,7 +154,7 @@ def test_python_control_is_core_and_the_main_job_needs_no_extra():
         "import sys\n"
         f"for name in {blocked!r}:\n"
         "    sys.modules[name] = None\n"
-        "from presliding.cli import demo, demo_hunting, demo_sections\n"
+        "from presliding.cli.demo import command, hunting, sections\n"
         "import presliding.control.limit_cycles, presliding.control.iosys\n"
     )
     run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,

@@ -7,7 +7,7 @@ import pytest
 
 from presliding.cli import main
 from presliding.cli.example_data import _FOLDER, COMMANDS, FILES, TRUTH, generate
-from presliding.cli.fit_figure import figure_title
+from presliding.cli.fitting.fit_figure import figure_title
 from presliding.model_io import load_model
 
 

@@ -9,7 +9,8 @@ def test_the_precompile_command_runs_the_demo_and_every_route_into_nothing_but_t
     monkeypatch, tmp_path, capsys
 ):
     """The demo's work and each further route, no files left, and it is documented."""
-    from presliding.cli import demo, main, precompile
+    from presliding.cli import main, precompile
+    from presliding.cli.demo import command as demo
 
     ran = []
     monkeypatch.setattr(demo, "run_demo", lambda out, quiet, desc: ran.append((out, desc)) or [])
@@ -28,7 +29,8 @@ def test_the_precompile_command_runs_the_demo_and_every_route_into_nothing_but_t
 def test_precompile_speaks_as_itself_not_as_the_demo(monkeypatch, tmp_path, capsys):
     """Its progress lines name ``presliding precompile`` (they said "presliding demo")."""
     from presliding import _progress
-    from presliding.cli import demo, main, precompile
+    from presliding.cli import main, precompile
+    from presliding.cli.demo import command as demo
 
     monkeypatch.setattr(_progress, "_isatty", lambda stream: False)  # plain lines
     parts = []

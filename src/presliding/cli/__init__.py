@@ -4,26 +4,25 @@ Files
 -----
 commands.py     the argument parser and `main` (also ``python -m presliding``)
 common.py       user errors, input and output paths, CSV tables, figures
-demo.py, demo_sections.py, _demo_common.py   ``presliding demo``: the built-in main job
-demo_hunting.py ``presliding demo``'s hunting part: predicted against simulated cycle
-simulate.py     ``presliding simulate``
-analyze.py      ``presliding analyze``
-fit.py          ``presliding fit``: one-file kinds, the model file, column roles as notes
-fit_options.py  the options of ``presliding fit``, and which kinds use each
-command_line.py the command line that reruns a run as given (a model's "identified by")
-inputs/         reading records: column roles, files, --segments, virgin runs
-example_data.py ``presliding example-data``: small records to try the commands on
 _parsers.py     the options of ``demo``, ``simulate``, ``analyze``, ``sweep``, ``precompile``
-fit_pooled.py   ``presliding fit FILE ...`` for response, quasi-static and virgin fits
-fit_figure.py   the figure of a fit
-records.py      records from files or --join groups; --header, --decimal, --axis, --join
-predict.py      ``presliding predict MODEL FILE ...`` and ``fit --hold-out``: held-out records
-sweep.py, sweep_spec.py     ``presliding sweep`` and its specification files
-loop.py         ``presliding loop``: a PID loop, its exact response and limit cycles
-network.py      ``presliding network``: a structure with friction contacts, report, figures
-ring_down.py    ``presliding ring-down FILE``: a free decay's ω(A), ζ(A) and a fitted joint
+command_line.py the command line that reruns a run as given (a model's "identified by")
 report.py       Markdown and HTML reports
+example_data.py ``presliding example-data``: small records to try the commands on
 precompile.py   `presliding precompile`: every compiled route into numba's cache, no files
+example_files/  the records ``presliding example-data`` writes (shipped with the package)
+
+Rooms (each command in the room of what it does; each room's ``__init__`` is its map):
+
+demo/           ``presliding demo``: the built-in main job, its parts, figures and report
+inputs/         reading records: column roles, files, --segments, virgin runs
+fitting/        ``fit``, ``predict``, ``ring-down``: models fitted to measured records
+simulation/     ``simulate``, ``analyze``, ``loop``, ``network``: a model file run
+sweeping/       ``sweep``: a quantity of the free motion over a grid of parameters
+
+The top holds the shared ground of the commands (the parser, errors, paths, reports) and
+the commands that need no room. A room may import `inputs` and the shared modules at the
+top, never another command's room; the top's `commands`, `_parsers` and `precompile` import
+the rooms to dispatch, to read a schema and to run the demo.
 
 May import every layer below it.
 """

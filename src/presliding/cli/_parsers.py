@@ -156,7 +156,7 @@ def add_sweep(
 ) -> argparse.ArgumentParser:
     """The `sweep` sub-command's options."""
     fmt = argparse.RawDescriptionHelpFormatter
-    from presliding.cli.sweep_spec import SCHEMA
+    from presliding.cli.sweeping.sweep_spec import SCHEMA
 
     sweep = sub.add_parser(
         "sweep",

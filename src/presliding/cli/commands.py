@@ -125,36 +125,36 @@ def _build_parser() -> argparse.ArgumentParser:
     _parsers.add_demo(sub, common, writes).set_defaults(handler=_cmd_demo)
     _parsers.add_simulate(sub, common, writes).set_defaults(handler=_cmd_simulate)
     _parsers.add_analyze(sub, common, writes).set_defaults(handler=_cmd_analyze)
-    from presliding.cli.fit_options import add_fit_parser
+    from presliding.cli.fitting.fit_options import add_fit_parser
 
     add_fit_parser(sub, [common, writes], fmt, _cmd_fit)
 
     _parsers.add_sweep(sub, common, writes).set_defaults(handler=_cmd_sweep)
     _parsers.add_precompile(sub, common, writes).set_defaults(handler=_cmd_precompile)
 
-    from presliding.cli.loop import add_parser as add_loop_parser
+    from presliding.cli.simulation.loop import add_parser as add_loop_parser
 
     add_loop_parser(sub, [common, writes]).set_defaults(handler=_cmd_loop)
 
-    from presliding.cli.network import add_parser as add_network_parser
+    from presliding.cli.simulation.network import add_parser as add_network_parser
 
     add_network_parser(sub, [common, writes]).set_defaults(handler=_cmd_network)
 
-    from presliding.cli.predict import add_parser as add_predict_parser
+    from presliding.cli.fitting.predict import add_parser as add_predict_parser
 
     add_predict_parser(sub, [common, writes]).set_defaults(handler=_cmd_predict)
 
     from presliding.cli.example_data import add_parser as add_example_parser
 
     add_example_parser(sub, [common, writes]).set_defaults(handler=_cmd_example_data)
-    from presliding.cli.ring_down import add_parser as add_ring_down_parser
+    from presliding.cli.fitting.ring_down import add_parser as add_ring_down_parser
 
     add_ring_down_parser(sub, [common, writes]).set_defaults(handler=_cmd_ring_down)
     return parser
 
 
 def _cmd_ring_down(args: argparse.Namespace) -> int:
-    from presliding.cli.ring_down import run
+    from presliding.cli.fitting.ring_down import run
 
     return run(args)
 
@@ -166,14 +166,14 @@ def _cmd_example_data(args: argparse.Namespace) -> int:
 
 
 def _cmd_predict(args: argparse.Namespace) -> int:
-    from presliding.cli.predict import run
+    from presliding.cli.fitting.predict import run
 
     return run(args)
 
 
 def _cmd_demo(args: argparse.Namespace) -> int:
     from presliding.cli.common import check_folder, check_outputs, record_outputs
-    from presliding.cli.demo import DEMO_OUTPUTS, run_demo
+    from presliding.cli.demo.command import DEMO_OUTPUTS, run_demo
 
     out = check_folder(args.output)
     outputs = [out / name for name in DEMO_OUTPUTS]
@@ -195,51 +195,51 @@ def _cmd_precompile(args: argparse.Namespace) -> int:
 
 
 def _cmd_simulate(args: argparse.Namespace) -> int:
-    from presliding.cli.simulate import run
+    from presliding.cli.simulation.simulate import run
 
     return run(args)
 
 
 def _cmd_analyze(args: argparse.Namespace) -> int:
-    from presliding.cli.analyze import run
+    from presliding.cli.simulation.analyze import run
 
     return run(args)
 
 
 def _cmd_fit(args: argparse.Namespace) -> int:
     from presliding.cli.command_line import rerun_line
-    from presliding.cli.fit_options import check_fit_options
-    from presliding.cli.records import check_sources
+    from presliding.cli.fitting.fit_options import check_fit_options
+    from presliding.cli.fitting.records import check_sources
 
     # the command as given (model.toml's "identified by"), before anything is read
     args.command_line = rerun_line(args, args.command_parser, "fit")
     check_fit_options(args)
     check_sources(args)
     if args.kind in ("response", "quasi-static", "virgin"):
-        from presliding.cli.fit_pooled import run_pooled
+        from presliding.cli.fitting.fit_pooled import run_pooled
 
         return run_pooled(args)
-    from presliding.cli.fit import run
-    from presliding.cli.records import prepare_single
+    from presliding.cli.fitting.fit import run
+    from presliding.cli.fitting.records import prepare_single
 
     prepare_single(args)
     return run(args)
 
 
 def _cmd_sweep(args: argparse.Namespace) -> int:
-    from presliding.cli.sweep import run
+    from presliding.cli.sweeping.sweep import run
 
     return run(args)
 
 
 def _cmd_loop(args: argparse.Namespace) -> int:
-    from presliding.cli.loop import run
+    from presliding.cli.simulation.loop import run
 
     return run(args)
 
 
 def _cmd_network(args: argparse.Namespace) -> int:
-    from presliding.cli.network import run
+    from presliding.cli.simulation.network import run
 
     return run(args)
 

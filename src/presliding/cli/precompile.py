@@ -21,7 +21,7 @@ def run(args: Any) -> int:
     from pathlib import Path
 
     from presliding import _numba_cache
-    from presliding.cli.demo import run_demo
+    from presliding.cli.demo.command import run_demo
 
     compiled: list[str] = []
     with tempfile.TemporaryDirectory() as tmp, _numba_cache.compiling(compiled.append):

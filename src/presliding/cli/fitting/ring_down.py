@@ -36,7 +36,7 @@ OUTPUTS = ("ring_down.csv", "joint.json", "ring_down.png", "report.md")
 def add_parser(sub: Any, parents: list) -> argparse.ArgumentParser:
     """The ``ring-down`` sub-parser (its handler is set by `presliding.cli.commands`)."""
     from presliding.cli.common import checked
-    from presliding.cli.records import add_data_options
+    from presliding.cli.fitting.records import add_data_options
 
     p = sub.add_parser(
         "ring-down",

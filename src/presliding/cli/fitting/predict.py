@@ -46,7 +46,7 @@ COLUMNS = ("file", "start", "NRMSE %", "reversals measured", "reversals predicte
 def add_parser(sub: Any, parents: list) -> argparse.ArgumentParser:
     """The ``predict`` sub-parser (its handler is set by `presliding.cli.commands`)."""
     from presliding.cli.common import checked
-    from presliding.cli.records import add_data_options
+    from presliding.cli.fitting.records import add_data_options
 
     p = sub.add_parser(
         "predict",
@@ -216,8 +216,8 @@ def _predict_all(
 def _read_cut(args: argparse.Namespace, files: list[Path], joins: list) -> tuple:
     """The records of `files` and --join groups, cut by --segments: (pieces, labels, cuts,
     the files' names, the notes on their columns)."""
+    from presliding.cli.fitting.records import read_file, read_join
     from presliding.cli.inputs.cuts import cut_records, segment_options
-    from presliding.cli.records import read_file, read_join
 
     options = segment_options(args)
     records = [read_file(args, p) for p in files] + [read_join(args, g) for g in joins]
@@ -283,7 +283,7 @@ def _write_table(path: Path, labels: list[str], pairs: list[tuple[Any, Any]]) ->
 def run(args: argparse.Namespace) -> int:
     """Load the model, read every record (as its [data] table says), predict, write the
     table, figures and report."""
-    from presliding.cli.records import check_sources, input_files
+    from presliding.cli.fitting.records import check_sources, input_files
     from presliding.cli.report import Section, write_report
 
     args.kind = "predict"  # the signals a motion prediction reads (those of --kind response)

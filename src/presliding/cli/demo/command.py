@@ -11,7 +11,7 @@ Six parts, each a figure and a report section:
 5. an identification round trip: loops simulated, noise added, parameters fitted
    (section 4) and compared with the truth;
 6. hunting: a PI loop's limit cycle predicted by the describing function against the
-   exact sampled-data loop (`presliding.cli.demo_hunting`).
+   exact sampled-data loop (`presliding.cli.demo.hunting`).
 
 It takes a few seconds once the compiled kernels are cached (the first run
 compiles them, about 13 s of CPU on a 2-core machine, and says so). Progress goes
@@ -28,7 +28,7 @@ from typing import Any
 import numpy as np
 
 from presliding._progress import Progress
-from presliding.cli._demo_common import (
+from presliding.cli.demo._common import (
     FIGURE3_FIRST_STIFFNESS,
     STOP_COULOMB,
     STOP_LEVEL,
@@ -310,8 +310,8 @@ def run_demo(out_dir: Path, *, quiet: bool = True, desc: str = "presliding demo"
     command in the progress lines (``presliding precompile`` runs the demo too)."""
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
-    from presliding.cli.demo_hunting import hunting_figure, hunting_part, hunting_section
-    from presliding.cli.demo_sections import (
+    from presliding.cli.demo.hunting import hunting_figure, hunting_part, hunting_section
+    from presliding.cli.demo.sections import (
         density_figure,
         density_part,
         density_section,

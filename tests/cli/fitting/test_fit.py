@@ -10,8 +10,8 @@ from scipy import io
 
 import presliding as ps
 from presliding.cli import main
-from presliding.cli.fit import model_problem, parse_window
-from presliding.cli.simulate import read_applied_force
+from presliding.cli.fitting.fit import model_problem, parse_window
+from presliding.cli.simulation.simulate import read_applied_force
 from presliding.model_io import load_model
 from presliding.signals import piecewise_linear
 from tests.helpers import one_error_line
@@ -188,10 +188,12 @@ def test_progress_on_a_terminal_unless_quiet_and_the_same_model(tmp_path, capsys
     np.savetxt(path, np.column_stack([t, y, f]), delimiter=",", comments="",
                header="time,position,friction_force")  # fmt: skip
     options = ("--search", "global", "--seed", "3")
-    monkeypatch.setattr("presliding.cli.fit.PROGRESS_DELAY", 0.0)
+    monkeypatch.setattr("presliding.cli.fitting.fit.PROGRESS_DELAY", 0.0)
     assert _fit(tmp_path, path, *options, out="piped") == 0
     assert capsys.readouterr().err == ""
-    monkeypatch.setattr("presliding.cli.fit.progress_enabled", lambda quiet=False: not quiet)
+    monkeypatch.setattr(
+        "presliding.cli.fitting.fit.progress_enabled", lambda quiet=False: not quiet
+    )
     assert _fit(tmp_path, path, *options, out="loud") == 0
     lines = capsys.readouterr().err.splitlines()
     assert lines[0] == "presliding fit: [1/3] reading loops.csv"

@@ -1,6 +1,6 @@
 """``presliding sweep``: a quantity of the free motion over a grid of parameters.
 
-Reads a specification (schema in `presliding.cli.sweep_spec`), evaluates the
+Reads a specification (schema in `presliding.cli.sweeping.sweep_spec`), evaluates the
 quantity on every grid point with `presliding.sweep.sweep` (local worker
 processes, or a Dask cluster with ``--scheduler``) and writes ``sweep.csv``,
 ``sweep.png`` and ``report.md``/``report.html`` to the output folder.
@@ -26,7 +26,7 @@ from presliding.cli.common import (
     new_figure,
     record_outputs,
 )
-from presliding.cli.sweep_spec import AXES, QUANTITIES, SweepSpec, load_spec
+from presliding.cli.sweeping.sweep_spec import AXES, QUANTITIES, SweepSpec, load_spec
 from presliding.friction._parts import elements
 from presliding.sweep._tasks import evaluate_chunk
 

@@ -8,7 +8,7 @@ from typing import Any
 
 import numpy as np
 
-from presliding.cli._demo_common import _figure, _save
+from presliding.cli.demo._common import _figure, _save
 from presliding.cli.report import Section
 from presliding.friction.pi_friction import PIFriction
 from presliding.plotting import place_legend

@@ -255,7 +255,7 @@ def pooled_header(args: argparse.Namespace, records: list[Any], labels: list[str
     if result.status != "converged":
         lines.append(f"NOT CONVERGED: status {result.status}. Check the report before using it.")
     lines.append(f"status {result.status}, NRMSE {100 * result.nrmse:.3g} %")
-    from presliding.cli.fit import column_roles
+    from presliding.cli.fitting.fit import column_roles
 
     lines.append(f"data: {len(records)} records pooled (each with its own start, not kept here)")
     lines += column_roles(records, labels)

@@ -10,10 +10,10 @@ import pytest
 from matplotlib.image import imread
 
 from presliding import analysis
-from presliding.cli import demo as _demo
-from presliding.cli import demo_sections as _demo_sections
 from presliding.cli import main
 from presliding.cli.common import LOCK, MANIFEST
+from presliding.cli.demo import command as _demo
+from presliding.cli.demo import sections as _demo_sections
 
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
 #: Figure sizes in pixels (width, height): figsize × DPI of `_demo`. Matplotlib rounds

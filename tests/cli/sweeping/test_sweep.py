@@ -14,8 +14,8 @@ import pytest
 import presliding as ps
 from presliding import analysis
 from presliding.cli import main
-from presliding.cli.sweep import chunk_size, default_workers
-from presliding.cli.sweep_spec import load_spec
+from presliding.cli.sweeping.sweep import chunk_size, default_workers
+from presliding.cli.sweeping.sweep_spec import load_spec
 from presliding.sweep._tasks import evaluate_chunk
 from tests.helpers import one_error_line
 
@@ -354,7 +354,7 @@ def _failing_chunk(task, **columns):
 
 
 def test_a_failed_chunk_exits_1_and_writes_nothing(tmp_path, capsys, monkeypatch):
-    monkeypatch.setattr("presliding.cli.sweep.evaluate_chunk", _failing_chunk)
+    monkeypatch.setattr("presliding.cli.sweeping.sweep.evaluate_chunk", _failing_chunk)
     spec = _write(tmp_path, TWO_AXES)
     assert main(["sweep", str(spec), "-o", str(tmp_path / "o"), "--workers", "1"]) == 1
     one_error_line(capsys, "presliding sweep: failed:", "RuntimeError: no motion here")

@@ -1,7 +1,7 @@
 """``presliding fit FILE [FILE ...] --kind response | quasi-static | virgin``: pooled fits.
 
 Every file is read as one record with the same column, unit and scale options
-(`presliding.cli.fit.read_measurement`). The records are fitted together:
+(`presliding.cli.fitting.fit.read_measurement`). The records are fitted together:
 shared physics, each record's own start (`fit_response`, `fit_quasi_static`),
 or one virgin curve from all ramps or loops (`fit_virgin_curve`, loops when a
 record reverses, else loading ramps). With two or more records of a response
@@ -11,7 +11,7 @@ model families are fitted to the same records instead (`compare_fits`): the
 table goes to ``comparison.csv`` and the report, the family of least BIC is the
 fit reported, and the ``--hold-out`` files are predicted by every family.
 
-Outputs and exit codes as for the other kinds (`presliding.cli.fit`).
+Outputs and exit codes as for the other kinds (`presliding.cli.fitting.fit`).
 """
 
 from __future__ import annotations
@@ -36,8 +36,8 @@ __all__ = ["fit_records", "run_pooled"]
 
 
 def _read_all(args: argparse.Namespace) -> list[Any]:
-    """Files, --join groups and --segments pieces (`presliding.cli.records`)."""
-    from presliding.cli.records import read_records
+    """Files, --join groups and --segments pieces (`presliding.cli.fitting.records`)."""
+    from presliding.cli.fitting.records import read_records
 
     records, args.record_labels, args.cuts = read_records(args)
     return records
@@ -45,7 +45,7 @@ def _read_all(args: argparse.Namespace) -> list[Any]:
 
 def _options(args: argparse.Namespace, records: list[Any]) -> dict[str, Any]:
     """Keyword options of the library fit, from the command line."""
-    from presliding.cli.fit import DEFAULT_ELEMENTS
+    from presliding.cli.fitting.fit import DEFAULT_ELEMENTS
 
     n = DEFAULT_ELEMENTS[args.kind] if args.elements is None else args.elements
     if n == "auto" and args.kind != "response":
@@ -141,7 +141,7 @@ def _compare(args: argparse.Namespace, records: list[Any], options: dict[str, An
     --elements goes to each family whose fitter takes ``n_elements``."""
     import inspect
 
-    from presliding.cli.predict import _read_cut
+    from presliding.cli.fitting.predict import _read_cut
     from presliding.identification.families import FAMILIES
     from presliding.identification.fit_comparison import compare_fits
 
@@ -178,9 +178,9 @@ def _comparison_csv(path: Path, comparison: Any) -> None:
 
 def run_pooled(args: argparse.Namespace) -> int:
     """Read every file, fit them together, write model.toml, fit.png and the report."""
-    from presliding.cli.fit import explained, fit_progress, model_problem
-    from presliding.cli.fit_options import check_record_count
-    from presliding.cli.records import data_names, input_files
+    from presliding.cli.fitting.fit import explained, fit_progress, model_problem
+    from presliding.cli.fitting.fit_options import check_record_count
+    from presliding.cli.fitting.records import data_names, input_files
 
     folder = check_folder(args.output)
     paths = {"model": folder / "model.toml", "figure": folder / "fit.png",
@@ -243,8 +243,8 @@ def _write_model(args: argparse.Namespace, records: list[Any], result: Any, path
                  problem: str) -> list[Path]:  # fmt: skip
     """model.toml (its header lists the command, the cut and every record); none for a fit
     that must not be used (an earlier run's is removed)."""
-    from presliding.cli.fit import _header, _motion_settings, data_settings
-    from presliding.cli.records import input_files, pooled_header
+    from presliding.cli.fitting.fit import _header, _motion_settings, data_settings
+    from presliding.cli.fitting.records import input_files, pooled_header
     from presliding.model_io import MeasurementTerms, MotionSettings, save_model
 
     if problem:  # an earlier run's model.toml would be taken for this fit's
@@ -272,10 +272,10 @@ def _sections(args: argparse.Namespace, records: list[Any], result: Any, cv: Any
               paths: dict[str, Path], problem: str, names: str) -> tuple[list, list]:  # fmt: skip
     """The report's sections (result, segments, held-out files, cross-validation) and the
     figures written for them."""
-    from presliding.cli.fit_figure import save_fit_figure
+    from presliding.cli.fitting.fit_figure import save_fit_figure
+    from presliding.cli.fitting.predict import held_out_section
+    from presliding.cli.fitting.records import input_files
     from presliding.cli.inputs.cuts import save_segments_figure
-    from presliding.cli.predict import held_out_section
-    from presliding.cli.records import input_files
     from presliding.cli.report import Section
 
     first = argparse.Namespace(**{**vars(args), "data": input_files(args)[0]})
@@ -312,6 +312,6 @@ def _sections(args: argparse.Namespace, records: list[Any], result: Any, cv: Any
 
 def data_labels(args: argparse.Namespace) -> list[str]:
     """The names of the files (or --join groups) read, before any cut."""
-    from presliding.cli.records import data_names
+    from presliding.cli.fitting.records import data_names
 
     return data_names(args)

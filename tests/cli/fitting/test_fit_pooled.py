@@ -79,8 +79,10 @@ def test_user_errors(tmp_path, capsys, extra, needle):
 
 
 def test_pooled_fits_show_each_left_out_record(tmp_path, capsys, monkeypatch):
-    monkeypatch.setattr("presliding.cli.fit.PROGRESS_DELAY", 0.0)
-    monkeypatch.setattr("presliding.cli.fit.progress_enabled", lambda quiet=False: not quiet)
+    monkeypatch.setattr("presliding.cli.fitting.fit.PROGRESS_DELAY", 0.0)
+    monkeypatch.setattr(
+        "presliding.cli.fitting.fit.progress_enabled", lambda quiet=False: not quiet
+    )
     paths = _stop_files(tmp_path, 2)
     args = ["fit", *paths, "--kind", "response", "--elements", "2"]
     code = main([*args, "-o", str(tmp_path / "a")])  # two short stops: 0 or 1 (see the report)

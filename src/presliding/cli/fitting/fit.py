@@ -248,14 +248,15 @@ def _header(args: argparse.Namespace, meas: Any, result: Any) -> str:
 
 def run(args: argparse.Namespace) -> int:
     """Read, fit, write model.toml, fit.png and the report; print the fit report."""
-    from presliding.cli.fit_figure import save_fit_figure
+    from presliding.cli.fitting.fit_figure import save_fit_figure
     from presliding.cli.report import Section, write_report
     from presliding.model_io import MeasurementTerms, save_model
 
     joined = bool(getattr(args, "join", None))
     if isinstance(args.data, list) and len(args.data) != 1 and not joined:
         raise UserError(f"--kind {args.kind} takes one data file; got {len(args.data)}.")
-    # the files read, and a reader for a --join group: `presliding.cli.records.prepare_single`
+    # the files read, and a reader for a --join group:
+    # `presliding.cli.fitting.records.prepare_single`
     first = args.data[0] if isinstance(args.data, list) and args.data else args.data
     inputs = list(getattr(args, "inputs", None) or [first])
     if isinstance(args.data, list):

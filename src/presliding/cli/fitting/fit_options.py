@@ -96,7 +96,7 @@ def add_fit_parser(
     sub: Any, parents: Sequence[argparse.ArgumentParser], fmt: Any, handler: Callable[..., int]
 ) -> argparse.ArgumentParser:
     """Add the ``fit`` sub-parser with every option; returns it."""
-    from presliding.cli.fit import FIT_DESCRIPTION, FIT_EPILOG
+    from presliding.cli.fitting.fit import FIT_DESCRIPTION, FIT_EPILOG
 
     fit = sub.add_parser(
         "fit",
@@ -111,7 +111,7 @@ def add_fit_parser(
     fit.add_argument("-o", "--output", type=Path, default=Path("presliding-fit"),
                      help="output folder (default: ./presliding-fit)")  # fmt: skip
     _add_pooled_options(fit)
-    from presliding.cli.records import add_data_options
+    from presliding.cli.fitting.records import add_data_options
 
     add_data_options(fit)
     fit.set_defaults(handler=handler, command_parser=fit)

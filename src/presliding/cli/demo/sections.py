@@ -7,8 +7,8 @@ from typing import Any
 
 import numpy as np
 
-from presliding.cli._demo_common import STOP_MASS, STOP_SPEED, _figure, _plural, _save
 from presliding.cli.common import tidy_fit_axes
+from presliding.cli.demo._common import STOP_MASS, STOP_SPEED, _figure, _plural, _save
 from presliding.cli.report import Section
 from presliding.friction._parts import density_of
 from presliding.friction.pi_friction import PIFriction
