@@ -78,7 +78,7 @@ def test_bad_specification_is_one_line_naming_the_field(tmp_path, capsys, edit, 
 def test_the_help_example_runs(tmp_path):
     """The specification printed by `presliding network --help` is a working file (it had
     `values = [0.0, 0.0, 3.0]` with two `times`, and `step` with method = "exact")."""
-    from presliding.cli.network import SCHEMA
+    from presliding.cli.simulation.network import SCHEMA
 
     spec = tmp_path / "spec.toml"
     spec.write_text("\n".join(line[2:] for line in SCHEMA.splitlines()))
