@@ -134,16 +134,18 @@ def test_fit_with_held_out_files(tmp_path, capsys):
 
 
 def _ramp_files(tmp_path, retreat_quanta=4):
-    """Quantised loading ramps of both signs, no time column, retreats of several counts."""
+    """Quantised loading ramps of both signs, no time column, the encoder jittering back by
+    several counts where the contact slides (the force stays the virgin curve's: these
+    samples are on it, so a virgin-curve fit describes every one)."""
     model = ps.PIFriction(0.1, [1e4, 3e3, 1e3], breakaway=[0.2, 0.2, 0.2])
     rng = np.random.default_rng(4)
     paths = []
     for k, sign in enumerate((1.0, -1.0, 1.0)):
         y = sign * np.linspace(0.0, 8e-4, 400)
-        for i in rng.choice(np.arange(50, 390), 3, replace=False):
+        f = model.force(1e-6 * np.round(y / 1e-6))[0]
+        for i in rng.choice(np.arange(150, 390), 3, replace=False):  # beyond every threshold
             y[i : i + 3] -= sign * retreat_quanta * 1e-6
         y = 1e-6 * np.round(y / 1e-6)
-        f = model.force(y)[0]
         path = tmp_path / f"ramp{k}.txt"
         np.savetxt(path, np.column_stack([y * 1e6, f]), delimiter="\t", fmt="%.9g")
         paths.append(str(path))

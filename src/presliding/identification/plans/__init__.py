@@ -8,7 +8,8 @@ Files
 -----
 _asymmetric_plan.py    ``asymmetric=True``: the symmetric fit, then the asymmetric one from it
 _predictors.py         how each fit predicts another record
-_quasi_static_plan.py  `fit_quasi_static` as a problem and its search, checks, result
+_quasi_static_plan.py  `fit_quasi_static` as a problem and its search, checks, refit
+_quasi_static_result.py the public result of a quasi-static fit (model, preloads, predictor)
 _rate_plan.py          `fit_response(family=...)`: GMS, LuGre, Dahl as a problem, search, result
 _response_box.py       a pooled response fit's start values and bounds (regression, records, user)
 _response_plan.py      `fit_response` as a problem and its search, checks, refit, result

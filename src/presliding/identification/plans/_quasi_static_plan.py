@@ -45,9 +45,7 @@ from typing import Any
 
 import numpy as np
 
-from presliding._validation import as_bounds, as_choice, as_count, as_positive_scalar, fmt
-from presliding.friction.creep import CreepingFriction
-from presliding.friction.pi_friction import PIFriction
+from presliding._validation import as_bounds, as_choice, as_count, as_positive_scalar
 from presliding.identification._fit_engine import FitPlan, FitRun, Found
 from presliding.identification.checks._response_checks import (
     coalesced_split,
@@ -58,6 +56,7 @@ from presliding.identification.checks._response_checks import (
 )
 from presliding.identification.checks._split_check import undetermined_split
 from presliding.identification.plans._asymmetric_plan import Parts
+from presliding.identification.plans._quasi_static_result import level_floor, quasi_static_result
 from presliding.identification.plans._response_setup import (
     MAX_BOOTSTRAP,
     check_model_values,
@@ -79,7 +78,6 @@ from presliding.identification.problem._parameters import (
     resolve_parameters,
 )
 from presliding.identification.records._creep_problem import CREEP, CreepQuasiStaticProblem
-from presliding.identification.records._quasi_static_errors import with_run_floor
 from presliding.identification.records._quasi_static_problem import QuasiStaticProblem
 from presliding.identification.records._quasi_static_start import (
     CREEP_TIMES,
@@ -99,13 +97,12 @@ from presliding.identification.search._search import (
     same_point,
 )
 from presliding.identification.solve._least_squares import Solution
-from presliding.measurement.measurement import Measurement, common_axis
+from presliding.measurement.measurement import Measurement
 
 __all__ = ["STATES", "asymmetric_parts", "check_quasi_static", "quasi_static_plan",
            "quasi_static_problem"]  # fmt: skip
 
 STATES = ("preload", "continuing", "relaxed")
-_UNITS = {"height": "N/m^2", "max_threshold": "m", "length": "m", "preload": "N"}
 
 
 @dataclass(frozen=True)
@@ -161,18 +158,11 @@ def check_quasi_static(request: dict[str, Any]) -> QuasiStaticRequest:
     )  # fmt: skip
 
 
-def _level_floor(req: QuasiStaticRequest, records: QuasiStaticProblem) -> float:
-    """The lower bound of F_c: the largest |u| (without an offset) and `min_coulomb_level`;
-    of F_c⁺ an asymmetric model's: the largest u."""
-    largest = records.u_sides[0] if req.spec.negative else records.u_max
-    return max(req.fmin, largest * (1 + 1e-9)) if not req.offset else req.fmin
-
-
 def _start_and_box(req: QuasiStaticRequest, records: QuasiStaticProblem) -> tuple[dict, dict]:
     """Start values and bounds of every parameter, in the order of the names."""
     names, spec, preload = records.names, req.spec, req.initial_state == "preload"
     start = quasi_static_start(req.recs, spec, req.offset)
-    floor = _level_floor(req, records)
+    floor = level_floor(req, records)
     for i, rec in enumerate(req.recs):
         start[records.nuisance("initial_position", i)] = float(rec.position[0])
         if preload:
@@ -225,8 +215,9 @@ def quasi_static_plan(req: QuasiStaticRequest) -> FitPlan:
     """The quasi-static fit's own steps (module notes)."""
     return FitPlan(
         search=partial(_search, req), checks=(partial(_split, req), partial(_plateau, req)),
-        refit=partial(_relaxed, req), result=partial(_result, req), bootstrap=req.bootstrap,
-        seed=req.seed, adequacy=lambda run, sol: pooled_adequacy(run.problem, sol),
+        refit=partial(_relaxed, req), result=partial(quasi_static_result, req),
+        bootstrap=req.bootstrap, seed=req.seed,
+        adequacy=lambda run, sol: pooled_adequacy(run.problem, sol),
     )  # fmt: skip
 
 
@@ -237,7 +228,7 @@ def asymmetric_parts(req: QuasiStaticRequest) -> Parts:
     own = req.initial_state == "preload" and not any(
         x in problem.fixed or x in problem.tied for x in problem.names)  # fmt: skip
     prepare = partial(record_starts, problem.records) if own else None
-    return Parts(problem, options, (partial(_relabel, req),), partial(_result, req),
+    return Parts(problem, options, (partial(_relabel, req),), partial(quasi_static_result, req),
                  req.bootstrap, req.seed, prepare, partial(_search, req))  # fmt: skip
 
 
@@ -405,63 +396,3 @@ def _plateau(req: QuasiStaticRequest, run: FitRun, sol: Solution) -> Solution:
     if spec.density is not None or not spec.equal or spec.n < 2 or _shaped(req):
         return sol
     return undetermined_split(sol, run.solve, spec.k_names)
-
-
-def _result(req: QuasiStaticRequest, run: FitRun, sol: Solution, boot: Any,
-            summary: Any) -> Any:  # fmt: skip
-    """The public result: position against the applied force (module notes)."""
-    from presliding.identification.fit_result import FitResult
-    from presliding.identification.plans._predictors import QuasiStaticPredictor
-
-    records, spec, values = run.problem.records, req.spec, sol.values
-    sol = with_run_floor(sol, records)  # errors of parameters fixed by runs of equal samples
-    o_y, _, status, _ = records.simulate(np.array([values[x] for x in records.names]))
-    if np.any(status != 0) and sol.status == "converged":
-        sol = replace(sol, status="failed", message="no quasi-static response at the optimum")
-    derived = {"coulomb_level": spec.coulomb_level(values)} if not spec.has_level_parameter else {}
-    fm = spec.coulomb_level(values) - max(values["coulomb"], 0.0)
-    mid, shift = fm, 0.0
-    if spec.negative is not None:  # c1⁻, ρ = F_c⁻/F_c⁺; a preload about the mid band
-        rho = spec.ratio(values)
-        derived.update(coulomb_negative=rho * max(values["coulomb"], 0.0),
-                       coulomb_level_ratio=rho)  # fmt: skip
-        mid, shift = 0.5 * (1.0 + rho) * fm, 0.5 * (1.0 - rho) * fm
-    if req.initial_state == "preload":
-        for i in range(records.n_rec):
-            x = records.nuisance("preload_fraction", i)
-            derived[x.replace("preload_fraction", "preload")] = values[x] * mid + shift
-    units = {x: "1" for x in records.names if x.startswith("preload_fraction")}
-    if spec.negative is not None:
-        units["coulomb_level_ratio"] = "1"
-    contact = spec.model(values)
-    model: PIFriction | CreepingFriction = contact
-    if req.creep:
-        model = CreepingFriction(contact, max(values["creep_compliance"], 0.0),
-                                 max(values["creep_time"], 0.0))  # fmt: skip
-    result = FitResult.from_solution(
-        sol, model, records.u_all, np.concatenate([r.position for r in req.recs]),
-        o_y[0], kind="quasi-static", abscissa_label="applied force", signal_label="position",
-        signal_unit="m", units={**units, **_UNITS}, derived=derived,
-        rotary=common_axis(req.records) == "rotary",
-        model_hint=lambda: _masing_note(spec.model(values), req.recs),
-    )  # fmt: skip
-    floor = _level_floor(req, records)
-    if floor > 0 and spec.has_level_parameter and values["coulomb_level"] <= floor * (1 + 1e-6):
-        note = (f"F_c sits on its lower bound {fmt(floor)} (the largest applied force or "
-                "`min_coulomb_level`): the loops do not determine it")  # fmt: skip
-        result = replace(result, notes=(note,))
-    flat = {x: "profile" for x in spec.k_names  # a plateau's ends: points of the profile
-            if result.interval_method.get(x) == "wald"
-            and not np.isfinite(result.standard_error[x])}  # fmt: skip
-    if flat:
-        result = replace(result, interval_method={**result.interval_method, **flat})
-    spans = tuple(zip(records.t_off[:-1].tolist(), records.t_off[1:].tolist(), strict=True))
-    return replace(result, records=spans if records.n_rec > 1 else (), bootstrap=boot,
-                   predictor=QuasiStaticPredictor(records, values), search=summary)  # fmt: skip
-
-
-def _masing_note(model: Any, recs: list) -> str:
-    """masing_check's verdict on the records' loops (position against applied force)."""
-    from presliding.identification.masing import masing_verdict
-
-    return masing_verdict(model, [(r.position, r.applied_force) for r in recs])
