@@ -6,9 +6,9 @@ empty ``NUMBA_CACHE_DIR`` and runs, in fresh processes:
 1. cold: a 10-mass chain on 10 PI contacts (undamped), 1 s, 201 samples: the process's
    CPU time (user + system, its children included) and the first call's own CPU time.
    On a cold cache the call takes the general loop and starts one second process that
-   compiles the event loop into the cache (`presliding.network._warm`);
+   compiles the event loop into the cache (`presliding.network.events._warm`);
 2. the second process's own CPU time, measured alone
-   (`presliding.network.exact.compile_main` on a second empty cache: what the machine
+   (`presliding.network.events.exact.compile_main` on a second empty cache: what the machine
    spends once);
 3. warm: the same script again once the kernel is cached (waiting for the second
    process), the median of two processes;
@@ -71,7 +71,7 @@ def _compile_alone(cache: Path) -> tuple[float, float]:
     """(CPU, wall) of the second process alone, on an empty cache."""
     env = dict(os.environ, NUMBA_CACHE_DIR=str(cache), PRESLIDING_NETWORK_COMPILE="process")
     before, start = _children_cpu(), time.perf_counter()
-    child = "from presliding.network import exact; raise SystemExit(exact.compile_main())"
+    child = "from presliding.network.events import exact; raise SystemExit(exact.compile_main())"
     subprocess.run([sys.executable, "-c", child], env=env, check=True)
     return _children_cpu() - before, time.perf_counter() - start
 

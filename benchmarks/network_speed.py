@@ -25,7 +25,7 @@ import time
 
 import numpy as np
 
-import presliding.network.exact as exact_module
+import presliding.network.events.exact as exact_module
 from presliding import PIFriction
 from presliding.network import chain_structure, simulate_network, simulate_network_moreau
 

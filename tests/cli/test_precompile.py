@@ -68,7 +68,7 @@ def test_the_network_kernels_run_both_paths_of_a_small_chain(monkeypatch):
     """What ``presliding precompile`` adds to the demo: one exact run (its compiled loop),
     and Moreau–Jean runs of a dense and a sparse chain (both of its loops)."""
     import presliding.network as network
-    import presliding.network.exact as exact
+    import presliding.network.events.exact as exact
     from presliding.cli.precompile import network_kernels
 
     calls = []

@@ -8,6 +8,6 @@ import pytest
 
 @pytest.fixture(autouse=True)
 def _compile_in_process(monkeypatch: pytest.MonkeyPatch) -> None:
-    from presliding.network import _warm
+    from presliding.network.events import _warm
 
     monkeypatch.setattr(_warm, "BACKGROUND", False)

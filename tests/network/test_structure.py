@@ -81,7 +81,7 @@ def test_mass_on_several_contacts_and_modal_model():
 
 
 def test_per_contact_sums_with_contacts_without_elements():
-    from presliding.network._piece import Contacts
+    from presliding.network._contacts import Contacts
 
     models = [PIFriction(1.0), PIFriction(1.0, [1.0, 2.0, 3.0], [1.0, 1.0, 1.0]), PIFriction(1.0),
               PIFriction(1.0, [4.0], [1.0]), PIFriction(1.0)]  # fmt: skip

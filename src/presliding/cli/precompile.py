@@ -110,7 +110,8 @@ def network_kernels() -> None:
     import numpy as np
 
     from presliding import PIFriction
-    from presliding.network import chain_structure, exact, simulate_network_moreau
+    from presliding.network import chain_structure, simulate_network_moreau
+    from presliding.network.events import exact
 
     exact.compile_now()  # in this process (a run on a cold cache leaves it to a second one)
     friction = PIFriction(0.2, [400.0, 150.0], [0.1, 0.15])

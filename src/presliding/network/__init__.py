@@ -9,43 +9,38 @@ Files
 -----
 structure.py          `NetworkStructure` (M, C, K, W, models, f) and helpers: a chain, a
                       mass on several contacts, a modal model with contacts
-exact.py              `simulate_network`: exact event-driven motion
-moreau.py             `simulate_network_moreau`: Moreau–Jean time stepping (many contacts)
 results.py            `NetworkResult`, `NetworkEnergy`, `NetworkState`
 _start.py             the start of a run (initial state, t_start, t_end), checked once
-_piece.py             the closed form of one piece (modes, or a matrix exponential)
-_events.py            certified events: cells of the closed form with derivative bounds
-_contact_problem.py   stick/slip at an instant: the box QP over the Delassus matrix
-_exact_run.py         the event loop's operations on its state (stick sets with general
-                      redundancy, ill-conditioned damped modes)
-_exact_kernel.py      the compiled event loop: pieces, events, samples
-_kernel_piece.py      compiled: a piece's modes (Cholesky + eigh) and affine event functions
-_kernel_damped.py     compiled: damped pieces by complex modes, their dissipation
-_kernel_events.py     compiled: certified events on cells, Brent's method
-_kernel_contacts.py   compiled: the box QP over the Delassus matrix, the decision at rest
-_warm.py              the compiled loop on a cold cache: compiled by a second process
-_moreau_kernel.py     its compiled loop: θ-method, PGS on the Delassus matrix per step
-_moreau_sparse.py     its sparse loop: Gauss–Seidel on the velocities, no Ŵ⁻¹
+_contacts.py          the contacts' constant data (Coulomb, viscous, elements), both paths
 _matrices.py          the structure's matrices checked (dense or scipy.sparse), sizes first
 _plots.py             figures of a network result
-slider_network.py     `SliderNetwork`: springs, Coulomb sliders and stops (quasi-static)
-quasi_static.py       `quasi_static_network`: the exact piecewise-linear quasi-static response
-_qs_solver.py         the event-driven active-set solution of the sweeping process
-compile.py            `compile_network`: a network driven through one input as a `PIFriction`
-compile_joints.py     `compile_structure`: a structure with joints loaded along one vector as a
-                      linear spring plus a PI operator (force-driven, order-preservation checked)
+_moved.py             the old module paths (``presliding.network.exact``, ...) kept as aliases
+
+Rooms
+-----
+events/               exact event-driven motion (`simulate_network`): closed-form pieces,
+                      certified events, the contact decision, the compiled event loop
+stepping/             Moreau–Jean time stepping (`simulate_network_moreau`), dense and sparse
+sliders/              quasi-static networks of springs, Coulomb sliders and stops
+                      (`SliderNetwork`, `quasi_static_network`)
+reduction/            a network or a structure with joints driven through one input as one PI
+                      operator (`compile_network`, `compile_structure`)
+
+Data flows one way: the shared ground above imports no room; `events` and `stepping` run a
+`NetworkStructure` and do not import each other; `reduction` builds on `sliders`.
 
 May import: `presliding.friction`, `presliding.hysteresis` and the root's shared modules.
 It does not import `presliding.motion` or `presliding.analysis` (sibling layers).
 """
 
-from presliding.network.compile import compile_network, network_virgin_curve
-from presliding.network.compile_joints import CompiledStructure, compile_structure
-from presliding.network.exact import simulate_network
-from presliding.network.moreau import simulate_network_moreau
-from presliding.network.quasi_static import QuasiStaticNetworkResult, quasi_static_network
+from presliding.network import _moved  # noqa: F401  (registers the old module paths)
+from presliding.network.events.exact import simulate_network
+from presliding.network.reduction.compile import compile_network, network_virgin_curve
+from presliding.network.reduction.compile_joints import CompiledStructure, compile_structure
 from presliding.network.results import NetworkEnergy, NetworkResult, NetworkState
-from presliding.network.slider_network import GROUND, SliderNetwork
+from presliding.network.sliders.quasi_static import QuasiStaticNetworkResult, quasi_static_network
+from presliding.network.sliders.slider_network import GROUND, SliderNetwork
+from presliding.network.stepping.moreau import simulate_network_moreau
 from presliding.network.structure import (
     NetworkStructure,
     chain_structure,

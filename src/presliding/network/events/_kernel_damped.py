@@ -21,7 +21,7 @@ import math
 import numpy as np
 from numba import njit
 
-from presliding.network._piece import MAX_CONDITION  # beyond it: the general loop
+from presliding.network.events._piece import MAX_CONDITION  # beyond it: the general loop
 
 
 @njit(cache=True, error_model="numpy")

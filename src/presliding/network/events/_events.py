@@ -13,7 +13,7 @@ first-order state), so each is a closed form with known rates and amplitudes:
 
 `scan` walks (0, horizon] cell by cell. On a cell [a, b] every smooth side h has values
 and slopes at both ends and its second derivative in [P − T, P + T]
-(`presliding.network._piece.Piece.curvature`: from the modal amplitudes, |h''| <=
+(`presliding.network.events._piece.Piece.curvature`: from the modal amplitudes, |h''| <=
 Σ|A_i|·ω_i²), so h >= the quadratic lower bound from each end over its half of the cell.
 A cell is certified free of events when every side's bound is >= 0 and no side triggers
 at b; it holds exactly one root of a side that triggers at b when that side's slope is

@@ -32,7 +32,7 @@ from numpy.typing import NDArray
 from scipy.sparse import csgraph
 from scipy.sparse.linalg import splu
 
-from presliding.network.slider_network import GROUND, SliderNetwork
+from presliding.network.sliders.slider_network import GROUND, SliderNetwork
 
 FloatArray = NDArray[np.float64]
 

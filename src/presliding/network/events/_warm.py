@@ -1,14 +1,14 @@
 """The compiled event loop, ready or not: on a cold cache it is compiled in a second process.
 
-Compiling the event loop (`presliding.network._exact_kernel.run_events`) costs
+Compiling the event loop (`presliding.network.events._exact_kernel.run_events`) costs
 about a minute of CPU (numba's front end over the piece construction, the contact
 decision and the event search), against milliseconds for a typical run once it is
 compiled. On a cold cache `simulate_network` does not wait for it: `ready` starts one
-second process (running `presliding.network.exact.compile_main`, at low priority)
+second process (running `presliding.network.events.exact.compile_main`, at low priority)
 that compiles the kernel into numba's on-disk cache, and the run takes the general loop
-(`presliding.network._exact_run`: the same event rules in numpy, the same events, the
+(`presliding.network.events._exact_run`: the same event rules in numpy, the same events, the
 same motion to rounding) meanwhile. Once the kernel is in the cache (loading it takes a
-few tenths of a second), every run uses it. `presliding.network.exact.compile_now`
+few tenths of a second), every run uses it. `presliding.network.events.exact.compile_now`
 compiles it in this process (`presliding precompile`). In process, as before, when
 ``BACKGROUND`` is False (or the environment sets ``PRESLIDING_NETWORK_COMPILE=process``),
 when numba cannot cache (a second process could not share its work) or when the JIT is
@@ -27,11 +27,11 @@ BACKGROUND = os.environ.get("PRESLIDING_NETWORK_COMPILE", "background") != "proc
 
 _process: dict[str, Any] = {}
 #: The second process's program (the module as imported by the package, not ``__main__``).
-_CHILD = "from presliding.network import exact; raise SystemExit(exact.compile_main())"
+_CHILD = "from presliding.network.events import exact; raise SystemExit(exact.compile_main())"
 
 
 def _kernel() -> Any:
-    from presliding.network._exact_kernel import run_events
+    from presliding.network.events._exact_kernel import run_events
 
     return run_events
 

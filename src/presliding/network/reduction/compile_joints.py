@@ -33,7 +33,7 @@ from scipy.linalg import LinAlgError, LinAlgWarning, solve
 
 from presliding._validation import as_list, as_real_array, check_type, fmt
 from presliding.friction import PIFriction
-from presliding.network.compile import VERIFY_RTOL, verification_history
+from presliding.network.reduction.compile import VERIFY_RTOL, verification_history
 
 __all__ = ["CompiledStructure", "compile_structure"]
 

@@ -2,7 +2,7 @@
 
 First order, no event location: one convex velocity-level contact problem per step,
 solved by projected Gauss–Seidel on the Delassus matrix in a compiled loop (see
-`presliding.network._moreau_kernel`; the per-contact law is solved exactly, so a
+`presliding.network.stepping._moreau_kernel`; the per-contact law is solved exactly, so a
 contact below break-away has u = 0.0 and does not creep). The θ-method treats the
 smooth forces (θ = 1/2 by default); the contact law acts on the velocity at the end
 of the step. Use it for structures with many contacts where the exact path
@@ -27,11 +27,11 @@ from presliding._validation import (
     check_type,
     fmt,
 )
-from presliding.network._moreau_kernel import moreau_loop
-from presliding.network._moreau_sparse import primal_loop
-from presliding.network._piece import Contacts
+from presliding.network._contacts import Contacts
 from presliding.network._start import MAX_SAMPLES, run_start
 from presliding.network.results import NetworkEnergy, NetworkResult, NetworkState
+from presliding.network.stepping._moreau_kernel import moreau_loop
+from presliding.network.stepping._moreau_sparse import primal_loop
 from presliding.network.structure import NetworkStructure
 
 __all__ = ["simulate_network_moreau"]

@@ -13,10 +13,11 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from presliding.network._contact_problem import redundant_margin, solve_box_qp
-from presliding.network._events import ROUNDING, AffineEvents, Certificate
+from presliding.network._contacts import Contacts
 from presliding.network._matrices import check_dense_size, issparse
-from presliding.network._piece import Contacts, Piece, null_space
+from presliding.network.events._contact_problem import redundant_margin, solve_box_qp
+from presliding.network.events._events import ROUNDING, AffineEvents, Certificate
+from presliding.network.events._piece import Piece, null_space
 
 FloatArray = NDArray[np.float64]
 

@@ -7,7 +7,7 @@ import pytest
 from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
-import presliding.network.exact as exact_module
+import presliding.network.events.exact as exact_module
 from presliding import PIFriction
 from presliding.network import (
     NetworkStructure,
@@ -170,9 +170,9 @@ def test_a_dip_below_zero_between_any_samples_is_found_compiled(seed, depth, dam
     `depth` (relative to its range, down to 1e-12) below zero: the compiled search stops
     at or before that point (a fixed grid misses dips narrower than its cells); damped
     pieces too (complex modes, bounded per cell by |λ|²·|γ|·e^{Re λ·τ})."""
-    from presliding.network._exact_run import Network
-    from presliding.network._kernel_events import find_event
-    from presliding.network._kernel_piece import (
+    from presliding.network.events._exact_run import Network
+    from presliding.network.events._kernel_events import find_event
+    from presliding.network.events._kernel_piece import (
         P_DAMPED,
         P_DIM,
         P_H0,
@@ -219,8 +219,8 @@ def test_a_dip_below_zero_between_any_samples_is_found_compiled(seed, depth, dam
 def test_a_dip_below_zero_between_any_samples_is_found_damped(seed, depth):
     """The same for a damped piece (the general loop: modal exponentials, certified with
     |λ|²·|γ|·e^{Re λ·τ})."""
-    from presliding.network._events import Certificate, scan
-    from presliding.network._exact_run import Network, RunState
+    from presliding.network.events._events import Certificate, scan
+    from presliding.network.events._exact_run import Network, RunState
 
     rng = np.random.default_rng(seed)
     s, q, v = _piece_state(rng, True)

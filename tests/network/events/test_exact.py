@@ -205,7 +205,7 @@ def _pi_chain(damping=0.0, viscous=0.0, n=6, forced=True):
 def test_compiled_loop_equals_the_general_loop(monkeypatch):
     """Undamped structures run the compiled loop; the general loop (damped structures)
     gives the same motion, forces and energy to 1e-12."""
-    import presliding.network.exact as exact_module
+    import presliding.network.events.exact as exact_module
 
     s, v0 = _pi_chain()
     te = np.linspace(0.0, 0.4, 801)
@@ -232,7 +232,7 @@ def test_compiled_loop_equals_the_general_loop_damped(monkeypatch, n, forced, da
     compiled loop too (complex modes of the first-order system): the same events, motion,
     forces and energies (the dissipations ∫q̇ᵀCq̇ and σ_v·∫ġ² included) as the general
     loop to 1e-11 of each quantity's range."""
-    import presliding.network.exact as exact_module
+    import presliding.network.events.exact as exact_module
 
     s, v0 = _pi_chain(damping, viscous, n, forced)
     ran = []
@@ -269,7 +269,7 @@ def test_ill_conditioned_damped_modes_take_the_general_loop(monkeypatch):
     """A critically damped piece (m = k = 1, c = 2: a double eigenvalue −1, one
     eigenvector) has no modal closed form: the compiled loop hands the run to the general
     loop (its matrix exponential), which gives the result."""
-    import presliding.network.exact as exact_module
+    import presliding.network.events.exact as exact_module
 
     s = NetworkStructure(1.0, 1.0, [[1.0]], [PIFriction(0.5)], damping=2.0)
     ran = []
@@ -321,7 +321,7 @@ def test_on_a_cold_cache_the_general_loop_runs_while_a_second_process_compiles(
     """The first run does not wait a minute for the compiler: the general loop gives the
     same events (and says so), one second process is started, and runs use the compiled
     loop once it is cached (undamped and damped structures alike)."""
-    from presliding.network import _warm
+    from presliding.network.events import _warm
 
     s, v0 = _pi_chain(damping)
     te = np.linspace(0.0, 0.4, 201)

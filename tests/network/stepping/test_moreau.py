@@ -12,7 +12,7 @@ from presliding.network import (
     simulate_network,
     simulate_network_moreau,
 )
-from tests.network.test_energy import _random_structure
+from tests.network.events.test_energy import _random_structure
 
 PI = PIFriction(0.5, [1e4, 2e3, 500.0, 100.0], [0.2, 0.3, 0.1, 0.1])
 

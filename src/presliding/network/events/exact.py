@@ -5,11 +5,11 @@
 Between events every contact sticks (w_cᵀq̇ = 0, a constraint) or slides in a fixed
 direction with a fixed set of elastic elements, and the force is constant: the
 motion is a closed form (modes of the constrained system, or a matrix exponential
-when damped; `presliding.network._piece`). Events (`presliding.network._events`): a
+when damped; `presliding.network.events._piece`). Events (`presliding.network.events._events`): a
 contact velocity reaching zero, a stuck contact's Coulomb force reaching c1 (its
 break-away), an element reaching its threshold, a change of f. At each event the
 contacts at rest decide stick or slip together by one box-constrained QP over the
-Delassus matrix G = W_Zᵀ M⁻¹ W_Z (`presliding.network._contact_problem`). With a
+Delassus matrix G = W_Zᵀ M⁻¹ W_Z (`presliding.network.events._contact_problem`). With a
 redundant stick set (W_S without full column rank) the motion is unique but the
 contact forces are not: the result says so (``forces_unique`` False, the message),
 and reports the distribution that leaves the largest margin to slip.
@@ -33,11 +33,11 @@ from presliding._validation import (
     check_size,
     check_type,
 )
-from presliding.network import _warm
-from presliding.network._events import scan
-from presliding.network._exact_kernel import ROW_LAYOUT, row_width, run_events
-from presliding.network._exact_run import Network, RunState
 from presliding.network._start import check_samples, run_start
+from presliding.network.events import _warm
+from presliding.network.events._events import scan
+from presliding.network.events._exact_kernel import ROW_LAYOUT, row_width, run_events
+from presliding.network.events._exact_run import Network, RunState
 from presliding.network.results import NetworkResult, NetworkState, build_result
 from presliding.network.structure import NetworkStructure
 
@@ -306,7 +306,7 @@ def compile_now() -> None:
 
 
 def compile_main() -> int:
-    """The second process of a cold cache (`presliding.network._warm`): compile at low
+    """The second process of a cold cache (`presliding.network.events._warm`): compile at low
     priority, discard the result."""
     with contextlib.suppress(AttributeError, OSError):  # not on every platform
         os.nice(10)

@@ -22,8 +22,8 @@ from threadpoolctl import threadpool_limits
 
 from presliding._validation import check_type, fmt
 from presliding.friction import PIFriction
-from presliding.network._qs_solver import EventSolver
-from presliding.network.slider_network import SliderNetwork
+from presliding.network.sliders._qs_solver import EventSolver
+from presliding.network.sliders.slider_network import SliderNetwork
 
 __all__ = ["compile_network", "network_virgin_curve"]
 

@@ -21,8 +21,8 @@ from presliding._display import fill_attrs
 from presliding._interop import require
 from presliding._validation import as_count, as_signal, check_type, fmt
 from presliding.hysteresis._results import ResultMixin
-from presliding.network._qs_solver import EventLimit, EventSolver, Path
-from presliding.network.slider_network import SliderNetwork
+from presliding.network.sliders._qs_solver import EventLimit, EventSolver, Path
+from presliding.network.sliders.slider_network import SliderNetwork
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes

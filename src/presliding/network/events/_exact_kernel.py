@@ -3,7 +3,7 @@
 One call runs every event: the stick/slip decision at rest (`_kernel_contacts.decide`),
 the closed-form piece (`_kernel_piece.build_piece`), its first event
 (`_kernel_events.find_event`), the samples inside the piece and the move of the state
-to the event, with the same rules as the operations of `presliding.network._exact_run`
+to the event, with the same rules as the operations of `presliding.network.events._exact_run`
 (which run redundant stick sets and damped pieces without a well-conditioned modal
 form). Damped pieces (C or a sliding contact's σ_v acting on the motion) are the
 complex modes of `_kernel_damped`, with their dissipation in closed form. The samples
@@ -18,10 +18,10 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from presliding.network._kernel_contacts import decide
-from presliding.network._kernel_damped import dissipation
-from presliding.network._kernel_events import find_event
-from presliding.network._kernel_piece import (
+from presliding.network.events._kernel_contacts import decide
+from presliding.network.events._kernel_damped import dissipation
+from presliding.network.events._kernel_events import find_event
+from presliding.network.events._kernel_piece import (
     P_ALPHA,
     P_B,
     P_C1S,

@@ -5,8 +5,8 @@ import pytest
 
 from presliding import PIFriction, SegalmanIwan
 from presliding.network import GROUND, SliderNetwork, compile_network, compile_structure
-from presliding.network.compile import network_force
-from presliding.network.compile_joints import _structure, replay
+from presliding.network.reduction.compile import network_force
+from presliding.network.reduction.compile_joints import _structure, replay
 
 HISTORY = np.array([0.0, 1.0, -0.7, 0.45, -0.2, 0.3, -0.05, 0.6, -1.1, 0.35, 0.1, -0.4, 1.3])
 

@@ -1,6 +1,6 @@
 """The compiled Moreau–Jean loop of a sparse structure: Gauss–Seidel on the velocities.
 
-The step of `presliding.network._moreau_kernel` (the θ-method for the smooth forces, the
+The step of `presliding.network.stepping._moreau_kernel` (the θ-method for the smooth forces, the
 contacts at the end of the step) without the Delassus matrix, whose inverse Ŵ⁻¹ is dense
 even for a chain: the new velocity v' minimises the strictly convex
 
@@ -20,7 +20,7 @@ from __future__ import annotations
 import numpy as np
 
 from presliding.hysteresis._jit import JitFlags, njit
-from presliding.network._moreau_kernel import (
+from presliding.network.stepping._moreau_kernel import (
     contacts_step,
     elastic_forces,
     local_step,

@@ -1,6 +1,6 @@
 """Compiled certified event location of a piece: cells of the closed form, then Brent.
 
-The same rules as `presliding.network._events.scan`: each side of each event function
+The same rules as `presliding.network.events._events.scan`: each side of each event function
 (the velocities and threshold distances; c1 ∓ τ of every stick margin) has its second
 derivative in [P − T, P + T] over the whole piece (`_kernel_piece._curvature`: a mode
 of frequency ω adds at most ω²·(its amplitude) to it, a rigid mode a constant), so
@@ -20,8 +20,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from presliding.network._kernel_damped import damped_bound
-from presliding.network._kernel_piece import (
+from presliding.network.events._kernel_damped import damped_bound
+from presliding.network.events._kernel_piece import (
     P_C1S,
     P_COEF,
     P_CURVP,
@@ -189,7 +189,7 @@ def _lowest(h, d, k, ell):  # pragma: no cover - compiled
 def find_event(pc, horizon, counts):  # pragma: no cover - compiled
     """(τ, mask) of the first event in (0, horizon]; τ = −1 when there is none.
 
-    Certified on cells (as `presliding.network._events.scan`): every side's second
+    Certified on cells (as `presliding.network.events._events.scan`): every side's second
     derivative lies in [P − T, P + T] (the piece's modal bounds), so its quadratic lower
     bounds from both ends prove a cell free of events, or its slope bounds prove one
     root. ``counts`` (cells, isolated, resolved, grazes, ends) are added to in place.

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from presliding.network._contact_problem import redundant_margin, solve_box_qp
+from presliding.network.events._contact_problem import redundant_margin, solve_box_qp
 
 
 @pytest.mark.parametrize("seed", range(20))

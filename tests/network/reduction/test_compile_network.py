@@ -10,7 +10,7 @@ from hypothesis import strategies as st
 import presliding as ps
 from presliding import MicroslipBar, PIFriction, amplitude_response
 from presliding.network import GROUND, SliderNetwork, compile_network, network_virgin_curve
-from presliding.network.compile import network_force
+from presliding.network.reduction.compile import network_force
 
 HISTORY = np.array([0.0, 1.0, -0.7, 0.45, -0.2, 0.3, -0.05, 0.6, -1.1, 0.35, 0.1, -0.4, 1.3])
 
@@ -189,7 +189,7 @@ def test_a_chain_converges_to_the_microslip_bar_as_n_to_the_minus_two():
 
 
 def test_the_replay_check_catches_a_wrong_operator():
-    from presliding.network.compile import _verify
+    from presliding.network.reduction.compile import _verify
 
     net = _chain4(1)
     model = compile_network(net, 0, verify=True)

@@ -1,6 +1,6 @@
 """Compiled closed-form pieces of a network, and their event functions.
 
-The compiled counterpart of `presliding.network._piece`. Undamped (C = 0, σ_v = 0: the
+The compiled counterpart of `presliding.network.events._piece`. Undamped (C = 0, σ_v = 0: the
 pieces are sums of harmonic modes): with Δq = N·z (N an orthonormal basis of the
 null space of W_Sᵀ, S the stuck contacts; N = I when none sticks), the modes of
 K_r·φ = ω²·M_r·φ (M_r = NᵀMN, K_r = Nᵀ(K + W_L K_el W_Lᵀ)N, through the Cholesky factor
@@ -17,7 +17,7 @@ group's Coulomb force T, shared in proportion to each c1_c (one of the distribut
 that hold the structure: these forces are not unique).
 
 Damped (C ≠ 0 or a sliding contact's σ_v): the first-order system of [z, ż] by its
-complex modes (`presliding.network._kernel_damped`), B = N, and the event functions
+complex modes (`presliding.network.events._kernel_damped`), B = N, and the event functions
 affine in [z, ż] (the stick forces with −C·q̇ − W_L·σ_L·ġ_L). A piece is the tuple
 returned by `build_piece` (`P_*` name its fields).
 """
@@ -27,8 +27,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from presliding.network._kernel_contacts import per_contact, take_columns
-from presliding.network._kernel_damped import damped_extras, damped_modes, damped_native
+from presliding.network.events._kernel_contacts import per_contact, take_columns
+from presliding.network.events._kernel_damped import damped_extras, damped_modes, damped_native
 
 EPS = np.finfo(np.float64).eps
 
@@ -206,7 +206,7 @@ def build_piece(q0, v0, s, e, f, m, k, w, minv_w, c1, ek, er, owner, cmat, sigma
 def _damped_piece(q0, v0, s, f, k, w, kel, csat, fel0, lam0, dmin, stuck, sl, smap, sliding,
                   elastic, reps, group, alpha, gsize, rank, ns, mr, kr, br, zd0, cr, c1, ek,
                   er, owner, cmat, sigma):  # pragma: no cover - compiled  # fmt: skip
-    """The piece of a damped structure (`presliding.network._kernel_damped`)."""
+    """The piece of a damped structure (`presliding.network.events._kernel_damped`)."""
     n = w.shape[0]
     d = n - rank
     ok = True

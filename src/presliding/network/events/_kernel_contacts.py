@@ -1,9 +1,9 @@
 """Compiled stick/slip decision at an instant: the box QP over the Delassus matrix.
 
-The compiled counterpart of `presliding.network._contact_problem.solve_box_qp` (the same
+The compiled counterpart of `presliding.network.events._contact_problem.solve_box_qp` (the same
 steps: the clipped least-squares start polished on its active set, else projected
 Gauss–Seidel to convergence and polished), and the decision of the contacts at rest
-(`decide`) that the event loop of `presliding.network._exact_kernel` calls at every
+(`decide`) that the event loop of `presliding.network.events._exact_kernel` calls at every
 event. Arrays are checked by the caller before these run.
 """
 
