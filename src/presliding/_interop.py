@@ -138,6 +138,7 @@ SI_UNITS: dict[str, tuple[str, ...]] = {
     "frequency": ("Hz",),
     "angular frequency": ("rad/s",),
     "modal amplitude": ("m*kg**0.5",),  # a mass-normalised mode's coordinate
+    "compliance": ("m/N", "rad/(N*m)"),
 }
 
 #: The kind of each physical argument of the public API, by the argument's name (the name
@@ -150,7 +151,7 @@ QUANTITY_KINDS: dict[str, str] = {
          "threshold_negative", "thresholds", "max_threshold", "length", "slip_displacement",
          "amplitude", "amplitudes", "reference", "last_input", "play", "base", "turning",
          "contact_displacement", "deformation", "reversal_positions", "reversal_tolerance",
-         "bristle", "breaks", "grid", "atol", "plastic"),
+         "bristle", "breaks", "grid", "atol", "plastic", "initial_creep"),
         "position",
     ),
     **dict.fromkeys(
@@ -161,7 +162,8 @@ QUANTITY_KINDS: dict[str, str] = {
     **dict.fromkeys(
         ("coulomb", "coulomb_negative", "breakaway", "breakaway_negative", "coulomb_level",
          "min_coulomb_level", "applied_force", "elastic_force", "force", "force_amplitude",
-         "slip_force", "static", "limit", "feedforward", "friction_force", "axial_stiffness"),
+         "slip_force", "static", "limit", "feedforward", "friction_force", "axial_stiffness",
+         "static_level", "forces"),
         "force",
     ),
     **dict.fromkeys(("stiffness", "spring", "kp"), "stiffness"),
@@ -171,11 +173,12 @@ QUANTITY_KINDS: dict[str, str] = {
     **dict.fromkeys(
         ("time", "t", "t_end", "t_start", "t_eval", "dt", "step", "time_step", "settle_time",
          "filter_time", "tracking_time", "start", "end", "after", "reversal_times",
-         "last_time", "lead_in", "duration", "trim"),
+         "last_time", "lead_in", "duration", "trim", "creep_time", "lag_time"),
         "time",
     ),
     **dict.fromkeys(("height", "heights", "values"), "density of stiffness"),
     "shear_strength": "force per length",
+    "compliance": "compliance",
     **dict.fromkeys(("cutoff", "sample_rate"), "frequency"),
     **dict.fromkeys(("frequencies", "frequency", "band"), "angular frequency"),
 }  # fmt: skip

@@ -23,6 +23,7 @@ from presliding._validation import (
     as_count,
     as_list,
     as_real_array,
+    as_real_scalar,
     check_increasing,
     check_size,
     check_type,
@@ -230,7 +231,8 @@ class NetworkStructure:
         return result_html(self, rows, title="NetworkStructure", show_model=False)
 
     def force_at(self, t: float) -> FloatArray:
-        """The applied force f(t) [N]."""
+        """The applied force f(t) [N] at time `t` [s]."""
+        t = as_real_scalar("t", t)
         i = max(int(np.searchsorted(self.forcing_times, t, side="right")) - 1, 0)
         return np.asarray(self.forcing_values[i])
 
