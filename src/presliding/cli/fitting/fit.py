@@ -153,6 +153,9 @@ def model_problem(result: Any, meas: Any) -> str:
         return f"the fit's status is {result.status}"
     if result.model is None:
         return "the fitted parameters do not form a valid model"
+    if not hasattr(result.model, "is_discrete"):  # GMS, LuGre, Dahl, creep: no model file yet
+        return (f"model files hold PI friction; the {type(result.model).__name__} fit's "
+                "parameters, intervals and status are in the report and fit.json")  # fmt: skip
     values = np.array(list(result.parameters.values()), dtype=float)
     if not np.all(np.isfinite(values)):
         return "some fitted parameters are not finite"
