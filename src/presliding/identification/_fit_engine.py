@@ -89,6 +89,7 @@ class Found:
     n_starts_at_best: int = 1
     search_evaluations: int = 0  # residual evaluations of the nuisance searches
     note: str = ""  # what the search says of the starts it compared (direct problems)
+    lower_unsolved: bool = False  # a start went below the best, its solve stopped short
 
 
 Step = Callable[[FitRun, Solution], Solution]
@@ -183,7 +184,9 @@ def judge(
     every = failing == records.n_rec  # no record fits
     named = cause or 2 * failing >= records.n_rec > 0 < failing
     sol, ratios, floor, over = floor_test(records, sol, agree or cause or every, named)
-    status, message = adequacy_verdict(sol.status, sol.message, tested, agree or every)
+    # failing tests are the model's whatever the starts, unless a start is known to go lower
+    apart = found.lower_unsolved or not (agree or every)
+    status, message = adequacy_verdict(sol.status, sol.message, tested, not apart)
     sol = replace(sol, status=status, message=message, adequacy=tested)
     summary = SearchSummary(found.n_starts, found.n_starts_at_best, floor, over, ratios,
                             found.search_evaluations)  # fmt: skip

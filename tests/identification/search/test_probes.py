@@ -10,6 +10,7 @@ from presliding.identification.search._probes import (
     CORNER,
     corner_starts,
     engage_starts,
+    merge_starts,
     split_starts,
 )
 from tests.helpers import stop_records
@@ -29,6 +30,31 @@ def test_an_element_that_never_engaged_is_re_engaged_at_the_saturation_force():
     assert lowered["coulomb_level"] == pytest.approx(0.3 + 0.75 * 1.2)
     assert kept["coulomb_level"] == 1.5
     assert engage_starts({**values, "stiffness_4": 60.0}, K) == []  # 1.2 % of the largest
+
+
+def _elements(values, k_names):
+    """Each element's (threshold, break-away force) of equal break-away forces."""
+    c = (values["coulomb_level"] - values["coulomb"]) / len(k_names)
+    return sorted((c / values[x], c) for x in k_names)
+
+
+def test_the_coalesced_starts_are_models_a_model_with_more_elements_contains():
+    """The valley of the example stops: two elements that slide, two that hold break-away
+    force at thresholds beyond the records' swing (1.5 m and 360 m)."""
+    values = {"coulomb_level": 0.6917, "coulomb": 0.3195, "stiffness_1": 2690.0,
+              "stiffness_2": 1528.0, "stiffness_3": 0.0614, "stiffness_4": 2.6e-4}  # fmt: skip
+    one, lowered, pairs = merge_starts(values, K, live=[0, 1], reachable=0.3722)
+    total = sum(values[x] for x in K)
+    for start in (one, lowered):  # one threshold, the stiffness at small amplitude kept
+        assert all(start[x] == pytest.approx(total / 4) for x in K)
+    assert one["coulomb_level"] == values["coulomb_level"] and lowered["coulomb_level"] == 0.3722
+    # the two that slide, each split into two copies: their thresholds and forces kept
+    was = _elements(values, K)[:2]
+    now = _elements(pairs, K)
+    np.testing.assert_allclose([r for r, _ in now], np.repeat([r for r, _ in was], 2))
+    assert sum(c for _, c in now) == pytest.approx(sum(c for _, c in was))
+    assert len(merge_starts(values, K, live=[0, 1, 2], reachable=0.3722)) == 2  # 3 ∤ 4
+    assert merge_starts(values, K[:1], live=[0], reachable=0.3722) == []
 
 
 def test_the_rigid_corner_and_the_split_moves():

@@ -14,9 +14,10 @@ the options. `response_plan` gives the fit's own steps:
   quotient it stopped in a basin 5–7 % above the optimum (the rule allows
   3 × the floor) on seeds where the exact one went on to the optimum;
   the polish moves the parameters only by the quotient's bias. A pooled fit
-  then probes the neighbouring valleys from the best optimum (`_probes`: an
-  element that never engaged re-engaged and the rigid corner left, where the best
-  has such an element; each a short solve of `PROBE_EVALUATIONS`, solved on when
+  then probes the neighbouring valleys from the best optimum (`_probes`: the
+  elements coalesced, where the best is above the floor or holds elements that never
+  slide; an element that never engaged re-engaged and the rigid corner left, where the
+  best has such an element; each a short solve of `PROBE_EVALUATIONS`, solved on when
   it ends near the best). Where the best is not known to be the optimum
   (`_probe_gate`: above the noise floor, starts that ended apart, or a search
   whose solve stopped short of a minimum), it moves the element split, steps
@@ -59,6 +60,7 @@ from presliding.identification.checks._response_checks import (
     spread_start,
     stiffest_first,
 )
+from presliding.identification.judge._status import OPTIMUM
 from presliding.identification.plans._asymmetric_plan import Parts
 from presliding.identification.plans._response_box import start_and_box
 from presliding.identification.plans._response_request import ResponseRequest
@@ -79,6 +81,7 @@ from presliding.identification.search._probe_gate import needs_probes, predicted
 from presliding.identification.search._probes import (
     corner_starts,
     engage_starts,
+    merge_starts,
     solve_probes,
     split_starts,
 )
@@ -86,6 +89,7 @@ from presliding.identification.search._scale_probe import scale_probe, scaled_na
 from presliding.identification.search._search import (
     SAME_OPTIMUM,
     adaptive_search,
+    at_floor,
     cost,
     exact_velocity_stands_in,
     global_start,
@@ -224,7 +228,8 @@ def _search(req: ResponseRequest, flags: _Flags, run: FitRun) -> Found:
         run.stage("search: probes of the neighbouring valleys from the best optimum")
         with rec.exact_velocity_compared() if polish else nullcontext():  # the search's own
             decrease = predicted_decrease(sol, searched.values)  # cost, where its solve ended
-        sol, n_starts, at_best = _probe(req, run, sol, n_starts, at_best, decrease)
+        sol, n_starts, at_best, short = _probe(req, run, sol, n_starts, at_best, decrease)
+        return Found(sol, n_starts, at_best, count, lower_unsolved=short)
     return Found(sol, n_starts, at_best, count)
 
 
@@ -238,24 +243,42 @@ def _elements_carry(sol: Solution) -> bool:
 
 
 def _probe(req: ResponseRequest, run: FitRun, sol: Solution, n_starts: int, at_best: int,
-           decrease: float) -> tuple[Solution, int, int]:  # fmt: skip
-    """The probes of `_probes` from the best optimum: an element that never engaged
-    re-engaged and the rigid corner left (each solved on when it ends near the best); then,
-    where the best is not known to be the optimum (`_probe_gate.needs_probes`, `decrease`
-    the Gauss–Newton decrease where the search's solve ended), the valleys' probes
-    (`_valley_probes`)."""
+           decrease: float) -> tuple[Solution, int, int, bool]:  # fmt: skip
+    """The probes of `_probes` from the best optimum: the elements coalesced (`_merged`),
+    an element that never engaged re-engaged and the rigid corner left (each solved on when
+    it ends near the best); then, where the best is not known to be the optimum
+    (`_probe_gate.needs_probes`, `decrease` the Gauss–Newton decrease where the search's
+    solve ended), the valleys' probes (`_valley_probes`). Last: whether a coalesced start
+    went below the best but its solve stopped short of an optimum (the best is then kept,
+    and a better optimum of this model is known to exist: ``local_minimum``)."""
     p, k_names = run.problem, req.spec.k_names
     assert run.options.max_evaluations is not None
     budget = min(PROBE_EVALUATIONS, run.options.max_evaluations)  # the user's cap holds
-    moved = engage_starts(sol.values, k_names) + corner_starts(sol.values, k_names)
     solve = partial(run.solve, errors=False)  # errors only for the best (`complete`)
-    best, probes = solve_probes(p.records, solve, moved, sol, budget)
+    best, probes = solve_probes(p.records, solve, _merged(req, run, sol), sol, budget)
+    short = best is not sol and best.status not in OPTIMUM
+    best = sol if short else best
+    moved = engage_starts(best.values, k_names) + corner_starts(best.values, k_names)
+    best, engaged = solve_probes(p.records, solve, moved, best, budget)
+    probes += engaged
     best = complete(best)
     if needs_probes(p.records, best, best is sol and at_best == n_starts, decrease):
         best, probes = _valley_probes(req, run, solve, sol, best, probes, budget)
     at = sum(1 for t in probes if same_point(p.records, t.values, best.values)
              or cost(t) <= cost(best) * (1.0 + SAME_OPTIMUM))  # fmt: skip
-    return complete(best), n_starts + len(probes), at + (at_best if best is sol else 0)
+    return complete(best), n_starts + len(probes), at + (at_best if best is sol else 0), short
+
+
+def _merged(req: ResponseRequest, run: FitRun, sol: Solution) -> list[dict[str, float]]:
+    """The coalesced elements' starts (`_probes.merge_starts`), where the best is above the
+    noise floor or holds elements that never slide in the data (break-away force that may
+    never act): a model with more elements than the data need contains the coalesced one."""
+    rec = run.problem.records
+    pruned = prune_elements(rec, sol, req.spec)
+    if not pruned.dead and at_floor(rec, sol):
+        return []
+    live = [j for j in range(req.spec.n) if j not in pruned.dead]
+    return merge_starts(sol.values, req.spec.k_names, live, pruned.reachable)
 
 
 def _valley_probes(req: ResponseRequest, run: FitRun, solve: Callable[..., Solution],

@@ -23,6 +23,17 @@ The moves (elements of equal break-away force, stiffnesses ``k_names``):
 * `corner_starts`: the rigid corner, the stiffest element more than `CORNER`
   times the next one (its break-away force joins c1): k_1 reduced to twice
   the next element's.
+* `merge_starts`: the elements coalesced, which a model with more elements than
+  the data need contains exactly (elements of one threshold act as one). A
+  search can end instead in a valley where surplus elements hold break-away
+  force at thresholds the records never reach (k → 0, or springs beyond the
+  largest swing), while the elements that slide share what is left: F_c then
+  counts force that never acts. The starts give every element the total
+  stiffness's share, K/n (one threshold: the stiffness the records see at
+  small amplitude kept), once with F_c kept (the force of all the elements
+  sliding together kept) and once with F_c lowered to the reachable level;
+  and, where the m < n elements that slide divide n, each of them
+  split into n/m copies of its threshold (F_c lowered to c1 and their share).
 * `split_starts`: the element split, the least determined direction: a
   tenth of the smaller stiffness moved between neighbouring elements, both
   ways (`SPLIT_SHARES`).
@@ -54,6 +65,7 @@ __all__ = [
     "SPLIT_SHARES",
     "corner_starts",
     "engage_starts",
+    "merge_starts",
     "other_valley",
     "solve_probes",
     "split_starts",
@@ -108,6 +120,27 @@ def corner_starts(values: Mapping[str, float], k_names: Sequence[str]) -> list[d
     if len(ranked) < 2 or not ranked[1][0] > 0 or ranked[0][0] / ranked[1][0] < CORNER:
         return []
     return [{**values, ranked[0][1]: 2.0 * ranked[1][0]}]
+
+
+def merge_starts(values: Mapping[str, float], k_names: Sequence[str], live: Sequence[int],
+                 reachable: float) -> list[dict[str, float]]:  # fmt: skip
+    """Starts with the elements coalesced (module notes); `live` the indices of the elements
+    that slide in the data, `reachable` the F_c they and c1 reach."""
+    k = np.array([values[x] for x in k_names], dtype=float)
+    n, total = k.size, float(np.sum(k))
+    if n < 2 or not total > 0 or "coulomb_level" not in values:
+        return []
+    one = {**values, **{x: total / n for x in k_names}}
+    starts = [one]
+    if values["coulomb"] < reachable < values["coulomb_level"]:
+        starts.append({**one, "coulomb_level": float(reachable)})
+    m = len(live)
+    if 1 < m < n and n % m == 0:
+        copies = np.repeat(k[list(live)] * m / n, n // m)  # each threshold kept: F_c lowered
+        c1, fc = values["coulomb"], values["coulomb_level"]
+        starts.append({**values, **{x: float(c) for x, c in zip(k_names, copies, strict=True)},
+                       "coulomb_level": c1 + m / n * (fc - c1)})  # fmt: skip
+    return starts
 
 
 def other_valley(problem, solve: Callable[..., Solution], t: Solution, sol: Solution,
