@@ -60,6 +60,7 @@ from presliding.identification.checks._response_checks import (
     spread_start,
     stiffest_first,
 )
+from presliding.identification.judge._adequacy import LEVEL
 from presliding.identification.judge._status import OPTIMUM
 from presliding.identification.plans._asymmetric_plan import Parts
 from presliding.identification.plans._response_box import start_and_box
@@ -271,9 +272,13 @@ def _probe(req: ResponseRequest, run: FitRun, sol: Solution, n_starts: int, at_b
 
 def _merged(req: ResponseRequest, run: FitRun, sol: Solution) -> list[dict[str, float]]:
     """The coalesced elements' starts (`_probes.merge_starts`), where the best is above the
-    noise floor or holds elements that never slide in the data (break-away force that may
-    never act): a model with more elements than the data need contains the coalesced one."""
+    noise floor, or holds elements that never slide in the data (break-away force that may
+    never act) with a record above `_adequacy.LEVEL` times its floor (the level test's
+    bound; a best within it is left alone: its probes would cost more than its search): a
+    model with more elements than the data need contains the coalesced one."""
     rec = run.problem.records
+    if at_floor(rec, sol, record_factor=LEVEL):
+        return []
     pruned = prune_elements(rec, sol, req.spec)
     if not pruned.dead and at_floor(rec, sol):
         return []
