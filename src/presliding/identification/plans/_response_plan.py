@@ -61,6 +61,7 @@ from presliding.identification.checks._response_checks import (
     stiffest_first,
 )
 from presliding.identification.judge._adequacy import LEVEL
+from presliding.identification.judge._noise_floor import floor_ratios
 from presliding.identification.judge._status import OPTIMUM
 from presliding.identification.plans._asymmetric_plan import Parts
 from presliding.identification.plans._response_box import start_and_box
@@ -88,9 +89,9 @@ from presliding.identification.search._probes import (
 )
 from presliding.identification.search._scale_probe import scale_probe, scaled_names
 from presliding.identification.search._search import (
+    FLOOR_FACTOR,
     SAME_OPTIMUM,
     adaptive_search,
-    at_floor,
     cost,
     exact_velocity_stands_in,
     global_start,
@@ -277,10 +278,11 @@ def _merged(req: ResponseRequest, run: FitRun, sol: Solution) -> list[dict[str, 
     bound; a best within it is left alone: its probes would cost more than its search): a
     model with more elements than the data need contains the coalesced one."""
     rec = run.problem.records
-    if at_floor(rec, sol, record_factor=LEVEL):
+    ratios, pooled = floor_ratios(rec, sol.residual)  # whatever the solve's status said
+    if pooled <= FLOOR_FACTOR and np.all(ratios <= LEVEL):
         return []
     pruned = prune_elements(rec, sol, req.spec)
-    if not pruned.dead and at_floor(rec, sol):
+    if not pruned.dead and pooled <= FLOOR_FACTOR and np.all(ratios <= FLOOR_FACTOR):
         return []
     live = [j for j in range(req.spec.n) if j not in pruned.dead]
     return merge_starts(sol.values, req.spec.k_names, live, pruned.reachable)
