@@ -9,10 +9,13 @@ four elements of the truth's threshold is the truth itself.
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import pytest
 
 from presliding import fit_response
 from presliding.cli.example_data import _FOLDER, TRUTH
+from presliding.identification.plans import _response_plan as rp
 from presliding.measurement.measurement import Measurement
 
 
@@ -36,3 +39,22 @@ def test_surplus_elements_of_the_example_stops_coalesce_at_the_truth(stops):
     r = [(level - fit.parameters["coulomb"]) / 4 / fit.parameters[f"stiffness_{j}"]
          for j in range(1, 5)]  # fmt: skip
     assert r == pytest.approx([truth["breakaway"][0] / truth["stiffness"][0]] * 4, rel=0.01)
+
+
+def test_a_lower_start_whose_solve_stopped_short_makes_a_local_minimum(stops, monkeypatch):
+    """The coalesced start's solve stopped on its cap below the valley: the valley is kept
+    (an optimum) and its failing residual tests are the search's, not the model's."""
+    original, calls = rp.solve_probes, []
+
+    def capped(problem, solve, starts, best, *a, **k):
+        found, probes = original(problem, solve, starts, best, *a, **k)
+        calls.append(found is not best)
+        if len(calls) == 1 and found is not best:  # the coalesced starts: stopped short
+            found = replace(found, status="max_evaluations")
+        return found, probes
+
+    monkeypatch.setattr(rp, "solve_probes", capped)
+    fit = fit_response(stops, 4, signal="position")
+    assert calls[0]  # the coalesced start went below the valley
+    assert fit.status == "local_minimum", fit.message
+    assert "rule search" in fit.message and fit.parameters["coulomb_level"] > 0.68
