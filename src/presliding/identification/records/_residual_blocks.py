@@ -6,10 +6,12 @@ model the data give (`_noise_floor`): a position's white variance and quantum
 (a record that hardly moves takes the others' quantum: one encoder); a velocity
 that is the difference quotient of the position carries the position's noise
 through the quotient D (its whiteness read on the position's residual, where
-that noise is white); a measured velocity its own. The independence test
-correlates each block with the applied force, the model's velocity and its
-sign (for a quasi-static fit: the force, the model's position increments and
-their sign).
+that noise is white, with the positions' own sensitivity J_y to the parameters,
+`position_sensitivity`, when the position is not compared: the parameters' error
+J_y·Δθ, slow there, is no sign of a model that is wrong); a measured velocity
+its own. The independence test correlates each block with the applied force,
+the model's velocity and its sign (for a quasi-static fit: the force, the
+model's position increments and their sign).
 
 `candidates` gives the residual's directions of the mechanisms the model may
 lack (`_adequacy.score_causes`): an asymmetry by direction (c1 and the
@@ -24,7 +26,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Mapping
 from dataclasses import replace
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 from numpy.typing import NDArray
@@ -43,7 +45,7 @@ from presliding.identification.records._pooled_record import difference_matrix
 
 FloatArray = NDArray[np.float64]
 
-__all__ = ["candidates", "pooled_adequacy", "residual_blocks"]
+__all__ = ["candidates", "pooled_adequacy", "position_sensitivity", "residual_blocks"]
 
 #: thresholds tried for one more element, geometric between these shares of the largest swing
 ELEMENT_RANGE = (1e-3, 0.5)
@@ -73,10 +75,12 @@ def _row_slices(problem: PooledProblem) -> dict[tuple[int, str], slice]:
     return out
 
 
-def residual_blocks(problem: PooledProblem, values: Mapping[str, float],
-                    jacobian: Any = None, covariance: Any = None) -> list[Block]:  # fmt: skip
+def residual_blocks(problem: PooledProblem, values: Mapping[str, float], jacobian: Any = None,
+                    covariance: Any = None, positions: Any = None) -> list[Block]:  # fmt: skip
     """The blocks of the pooled residual at `values` (module notes), with the fit's
-    `jacobian` (weighted rows, every parameter) and parameter `covariance` when given."""
+    `jacobian` (weighted rows, every parameter) and parameter `covariance` when given;
+    `positions`: ∂y/∂θ of the simulated positions (S, same columns), the path
+    sensitivity of a velocity block that is the quotient of an uncompared position."""
     p = np.array([values[x] for x in problem.names], dtype=float)[None]
     o_y, o_v, status, _ = problem.simulate(p)
     if np.any(status != 0):
@@ -110,9 +114,10 @@ def residual_blocks(problem: PooledProblem, values: Mapping[str, float],
             jv = rows(i, "velocity")
             if rec.difference:
                 d = difference_matrix(rec.time, rec.difference)
+                jp = None if positions is None or problem.w_y else positions[a:b]
                 out.append(Block(i, "velocity", v_res, var_y, d, q_y[i], still_y,
                                  None if problem.w_y else y_res, regressors,
-                                 not problem.w_y, jv, None, covariance))  # fmt: skip
+                                 not problem.w_y, jv, jp, covariance))  # fmt: skip
             else:
                 white = not (problem.w_y and rec.measured_position)
                 out.append(Block(i, "velocity", v_res, white_variance(rec.velocity, q_v[i]),
@@ -300,7 +305,10 @@ def pooled_adequacy(problem: Any, sol: Any) -> Adequacy | None:
     keep = [j for j, n in enumerate(problem.names) if n not in problem.fixed]
     jac = np.where(np.isfinite(jac), jac, 0.0)[:, keep]
     cov = None if sol.covariance is None else np.asarray(sol.covariance)[np.ix_(keep, keep)]
-    blocks = residual_blocks(rec, sol.values, jac, cov)
+    free = [problem.names[j] for j in keep]
+    paths = position_sensitivity(problem, sol.values, free) if cov is not None and any(
+        r.difference for r in rec.records) and rec.w_v and not rec.w_y else None  # fmt: skip
+    blocks = residual_blocks(rec, sol.values, jac, cov, paths)
     if not blocks:
         return None
     blocks = [b for b in blocks if _measured(b, rec)]
@@ -312,6 +320,36 @@ def pooled_adequacy(problem: Any, sol: Any) -> Adequacy | None:
     r = np.asarray(sol.residual, dtype=float)[: rec.n_res]
     found = candidates(rec, sol.values, r) if rec.names_causes else []
     return result.with_cause(score_causes(r, jac, found, floor_cost(rec, blocks)))
+
+
+def position_sensitivity(problem: Any, values: Mapping[str, float],
+                         free: list[str]) -> FloatArray | None:  # fmt: skip
+    """∂y/∂θ (S, len(free)) of the simulated positions at `values` by central differences
+    within the bounds (one batched simulation): the path of a velocity compared through the
+    difference quotient of a position that is not compared is that position's residual,
+    whose share of the parameters' error J_y·Δθ the whiteness test allows for."""
+    from types import SimpleNamespace
+
+    from presliding.identification.records._pooled_jacobian import difference_steps
+
+    rec: PooledProblem = problem.records
+    x = np.array([values[n] for n in free], dtype=float)
+    lo = np.array([problem.bounds.get(n, (-np.inf, np.inf))[0] for n in free], dtype=float)
+    hi = np.array([problem.bounds.get(n, (-np.inf, np.inf))[1] for n in free], dtype=float)
+    up, down = difference_steps(x, lo, hi, rec.typical(cast(Any, SimpleNamespace(free=free))), True)
+    base = np.array([values[n] for n in rec.names], dtype=float)
+    col = [rec.names.index(n) for n in free]
+    sets = np.repeat(base[None], 2 * len(free), axis=0)
+    for j, c in enumerate(col):
+        sets[2 * j, c] += up[j]
+        sets[2 * j + 1, c] -= down[j]
+    o_y, _, status, _ = rec.simulate(sets)
+    if np.any(status != 0):
+        return None
+    span = up + down
+    with np.errstate(divide="ignore", invalid="ignore"):
+        jac = np.where(span[:, None] > 0, (o_y[0::2] - o_y[1::2]) / span[:, None], 0.0)
+    return np.ascontiguousarray(jac.T)
 
 
 def _more_elements(threshold: float) -> Callable[[float], str]:
