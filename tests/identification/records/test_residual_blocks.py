@@ -37,7 +37,8 @@ def test_a_quotient_velocity_s_path_carries_the_position_sensitivity():
         for k in problem.kinds:
             values[problem.nuisance(k, i)] = n[k]
     problem.set_typical(values)
-    free = ["mass", "coulomb", "stiffness_1", *[problem.nuisance(k, 1) for k in problem.kinds]]
+    free = ["mass", "coulomb", "stiffness_1", problem.nuisance("initial_velocity", 0),
+            *[problem.nuisance(k, 1) for k in problem.kinds]]  # fmt: skip
     paths = position_sensitivity(SimpleNamespace(records=problem, bounds={}), values, free)
     assert paths is not None and paths.shape == (problem.t_all.shape[0], len(free))
     base = np.array([values[x] for x in problem.names])

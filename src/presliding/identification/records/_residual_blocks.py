@@ -24,6 +24,7 @@ on a sibling problem with that mechanism added at zero, at the optimum.
 
 from __future__ import annotations
 
+from collections import Counter
 from collections.abc import Callable, Mapping
 from dataclasses import replace
 from typing import Any, cast
@@ -325,9 +326,11 @@ def pooled_adequacy(problem: Any, sol: Any) -> Adequacy | None:
 def position_sensitivity(problem: Any, values: Mapping[str, float],
                          free: list[str]) -> FloatArray | None:  # fmt: skip
     """∂y/∂θ (S, len(free)) of the simulated positions at `values` by central differences
-    within the bounds (one batched simulation): the path of a velocity compared through the
-    difference quotient of a position that is not compared is that position's residual,
-    whose share of the parameters' error J_y·Δθ the whiteness test allows for."""
+    within the bounds: the path of a velocity compared through the difference quotient of
+    a position that is not compared is that position's residual, whose share of the
+    parameters' error, J_y·Δθ, the whiteness test allows for. One batched simulation; the
+    records' own parameters move together (the j-th of every record in one set: each acts
+    on its own record's rows alone), as in the fit's structured Jacobian."""
     from types import SimpleNamespace
 
     from presliding.identification.records._pooled_jacobian import difference_steps
@@ -336,20 +339,34 @@ def position_sensitivity(problem: Any, values: Mapping[str, float],
     x = np.array([values[n] for n in free], dtype=float)
     lo = np.array([problem.bounds.get(n, (-np.inf, np.inf))[0] for n in free], dtype=float)
     hi = np.array([problem.bounds.get(n, (-np.inf, np.inf))[1] for n in free], dtype=float)
-    up, down = difference_steps(x, lo, hi, rec.typical(cast(Any, SimpleNamespace(free=free))), True)
+    typical = rec.typical(cast(Any, SimpleNamespace(free=free)))
+    up, down = difference_steps(x, lo, hi, typical, True)
+    owner = [rec.record_of.get(n) for n in free]
+    group: list[int] = []  # the set each column moves in
+    seen: Counter[int] = Counter()
+    for i in owner:
+        group.append(len(group) if i is None else -1 - seen[i])
+        if i is not None:
+            seen[i] += 1
+    labels = sorted(set(group))
     base = np.array([values[n] for n in rec.names], dtype=float)
-    col = [rec.names.index(n) for n in free]
-    sets = np.repeat(base[None], 2 * len(free), axis=0)
-    for j, c in enumerate(col):
-        sets[2 * j, c] += up[j]
-        sets[2 * j + 1, c] -= down[j]
+    sets = np.repeat(base[None], 2 * len(labels), axis=0)
+    for j, n in enumerate(free):
+        g = labels.index(group[j])
+        sets[2 * g, rec.names.index(n)] += up[j]
+        sets[2 * g + 1, rec.names.index(n)] -= down[j]
     o_y, _, status, _ = rec.simulate(sets)
     if np.any(status != 0):
         return None
-    span = up + down
-    with np.errstate(divide="ignore", invalid="ignore"):
-        jac = np.where(span[:, None] > 0, (o_y[0::2] - o_y[1::2]) / span[:, None], 0.0)
-    return np.ascontiguousarray(jac.T)
+    out = np.zeros((rec.t_all.shape[0], len(free)))
+    for j, i in enumerate(owner):
+        span = up[j] + down[j]
+        if not span > 0:
+            continue
+        g = labels.index(group[j])
+        rows = slice(None) if i is None else slice(int(rec.t_off[i]), int(rec.t_off[i + 1]))
+        out[rows, j] = (o_y[2 * g, rows] - o_y[2 * g + 1, rows]) / span
+    return out
 
 
 def _more_elements(threshold: float) -> Callable[[float], str]:
