@@ -183,7 +183,9 @@ def judge(
     every = failing == records.n_rec  # no record fits
     named = cause or 2 * failing >= records.n_rec > 0 < failing
     sol, ratios, floor, over = floor_test(records, sol, agree or cause or every, named)
-    status, message = adequacy_verdict(sol.status, sol.message, tested, agree or every)
+    status, message = adequacy_verdict(
+        sol.status, sol.message, tested, agree or every, some_fit=0 < failing < records.n_rec
+    )
     sol = replace(sol, status=status, message=message, adequacy=tested)
     summary = SearchSummary(found.n_starts, found.n_starts_at_best, floor, over, ratios,
                             found.search_evaluations)  # fmt: skip
