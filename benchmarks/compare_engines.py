@@ -25,7 +25,7 @@ noise floor and, for a pruned fit, its number of elements and the note.
 
 Run::
 
-    python benchmarks/compare_engines.py old=/work/wt/old-engine/src now=src \\
+    python benchmarks/compare_engines.py old=../old-engine/src now=src \\
         [--repeats 3] [--cases stops0,stops1,stops2,servo,servo-preload,servo-prune]
 
 An engine given as ``label=path``; without any, this checkout's ``src`` alone.

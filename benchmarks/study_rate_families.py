@@ -26,7 +26,14 @@ start fitted (`FitResult.predict`). Printed: the share of seeds each family wins
 statuses of each family's fits (the PI fit's status on data it cannot describe), the
 median CPU time of each family's fit (time.process_time).
 
-Run: python benchmarks/study_rate_families.py [stops|loops|both] [seeds]
+A third design, ``adequacy``, asks whether the residual tests cry wolf on correctly
+specified fits whose velocity is the central difference quotient of a noisy, quantised
+position: GMS stops simulated with the very steps the fit takes (4 per sample, the
+preload branch family) fitted by ``family="gms"``, and sine-driven records of a PI model
+(2 elements, random preloads) fitted by the PI model. Printed: each fit's statuses, the
+share called ``model_inadequate`` and the median CPU time per fit.
+
+Run: python benchmarks/study_rate_families.py [stops|loops|adequacy|both] [seeds]
 """
 
 from __future__ import annotations
@@ -107,7 +114,56 @@ def _run(kind: str, seeds: int) -> None:
               f"{statistics.median(cpu[name]):.2f} s per fit")  # fmt: skip
 
 
+def _sines(seed: int, n_records: int = 4, samples: int = 500) -> list:
+    """Sine-driven records of the PI truth (`gms_truth().pi_friction`) from random preloads;
+    a 1 µm encoder with 0.2 µm noise, the velocity its central difference quotient."""
+    import numpy as np
+
+    from presliding import Measurement, preloaded_state, simulate
+
+    model = gms_truth().pi_friction
+    rng = np.random.default_rng(seed)
+    t = np.arange(samples) * 1e-3
+    out = []
+    for _ in range(n_records):
+        amp = rng.uniform(0.5, 1.6) * model.coulomb_level * rng.choice([-1.0, 1.0])
+        u = amp * np.sin(2 * np.pi * rng.uniform(1.5, 4.0) * t)
+        d = float(np.sign(amp))
+        state = preloaded_state(model, rng.uniform(-0.8, 0.8) * model.max_elastic_force,
+                                direction=d, position=0.0)  # fmt: skip
+        res = simulate(model, 1.5, applied_force=(t, u), initial_velocity=d * 0.01,
+                       initial_state=state, t_eval=t)  # fmt: skip
+        y = 1e-6 * np.round((res.position + 2e-7 * rng.standard_normal(samples)) / 1e-6)
+        out.append(Measurement(t, position=y, velocity=np.gradient(y, t), applied_force=u))
+    return out
+
+
+def _adequacy(seeds: int) -> None:
+    designs = {
+        "gms stops": (lambda s: rate_stops(gms_truth(), 300 + s, n_records=4, samples=400,
+                                           substeps=4),
+                      {"n_elements": 2, "family": "gms", "substeps": 4}),
+        "pi sines": (lambda s: _sines(400 + s), {"n_elements": 2}),
+    }  # fmt: skip
+    for name, (make, options) in designs.items():
+        statuses: Counter = Counter()
+        cpu = []
+        for seed in range(seeds):
+            records = make(seed)
+            t0 = time.process_time()
+            result = fit_response(records, initial_state="preload", **options)
+            cpu.append(time.process_time() - t0)
+            statuses[result.status] += 1
+        print(f"adequacy, {name} (correctly specified): {seeds} seeds, statuses "
+              f"{dict(statuses)}; model_inadequate in "
+              f"{100 * statuses['model_inadequate'] / seeds:.0f} %; median CPU "
+              f"{statistics.median(cpu):.2f} s per fit", flush=True)  # fmt: skip
+
+
 def main(kind: str = "both", seeds: int = 40) -> None:
+    if kind == "adequacy":
+        _adequacy(seeds)
+        return
     for k in ("stops", "loops") if kind == "both" else (kind,):
         _run(k, seeds)
 

@@ -48,7 +48,7 @@ PRINTED: dict[tuple[str, int], list[tuple]] = {
     ("rate_models", 1): [(r"creeps (\S+) while", 1.276e-05, 1e-3),
                          (r"J·u = (\S+)\)", 1.5e-05, 1e-9)],
     ("rate_models", 2): [(r"lower BIC: (\S+) ", "gms"), (r"\| (\S+) \|", "not_identifiable"),
-                         (r"\| \S+ \| (\S+)$", "local_minimum")],
+                         (r"\| \S+ \| (\S+)$", "model_inadequate")],
     ("control", 1): [(r"^(\d+) reversals", 5.0, 0.0),
                      (r"at rest from (\S+) s", 1.2248167712325622, 1e-6),
                      (r" s at (\S+)$", 0.05026722669232527, 1e-6)],

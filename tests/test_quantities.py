@@ -182,6 +182,9 @@ def _calls(folder: Any) -> dict[str, tuple[Callable[..., Any], dict[str, Any]]]:
     meas = ps.Measurement(T, position=Y, applied_force=MODEL.force(Y)[0])
     records = _records()
     lugre = ps.LuGreFriction(1.0, 1.5, 1e5, 300.0, 0.4, 0.01)
+    gms = ps.GMSFriction(0.2, [1e4, 2e3], [0.3, 0.3], static_level=1.2,
+                         stribeck_velocity=1e-3, lag_time=5e-3)  # fmt: skip
+    creeping = ps.CreepingFriction(MODEL, 2e-6, 0.1)
     operator = ps.PIOperator([1e-3, 2e-3], [500.0, 10.0])
     gpi = ps.GeneralPIOperator(DENSITIES["Uniform"])
     batch = ps.PIBatch([[1e-3, 2e-3]], [[500.0, 10.0]])
@@ -331,6 +334,24 @@ def _calls(folder: Any) -> dict[str, tuple[Callable[..., Any], dict[str, Any]]]:
         "LuGreFriction.stribeck": (lugre.stribeck, dict(velocity=0.1)),
         "LuGreState": (ps.LuGreState, dict(last_input=0.0, last_time=0.0, bristle=0.0,
                                            velocity=0.0)),
+        "GMSFriction": (ps.GMSFriction, dict(coulomb=0.2, stiffness=[1e4, 2e3],
+                                             breakaway=[0.3, 0.3], static_level=1.2,
+                                             stribeck_velocity=1e-3, lag_time=5e-3,
+                                             viscous=0.1)),
+        "GMSFriction.force": (gms.force, dict(displacement=1e-3 * Y, time=T)),
+        "GMSFriction.relaxed_state": (gms.relaxed_state, dict(position=0.1, time=0.5)),
+        "GMSFriction.saturated_state": (gms.saturated_state, dict(position=0.1, time=0.5,
+                                                                  direction=-1.0,
+                                                                  velocity=-1e-3)),
+        "GMSFriction.steady_force": (gms.steady_force, dict(velocity=[1e-3, -1e-3])),
+        "GMSFriction.stribeck": (gms.stribeck, dict(velocity=[1e-3, -1e-3])),
+        "GMSState": (ps.GMSState, dict(last_input=0.0, last_time=0.0, forces=[0.1, -0.3],
+                                       slipping=[0.0, -1.0], velocity=-1e-3,
+                                       direction=-1.0)),
+        "CreepingFriction": (ps.CreepingFriction, dict(friction=MODEL, compliance=2e-6,
+                                                       creep_time=0.1)),
+        "quasi_static_response (creep)": (ps.quasi_static_response, dict(
+            model=creeping, applied_force=0.5 * Y, time=T, initial_creep=1e-7)),
         "Tabulated": None,  # built by Tabulated.build / Density.from_function
         "Tabulated.build": (ps.Tabulated.build, dict(function=lambda r: 1e7, max_threshold=1e-3,
                                                      rtol=1e-6)),
@@ -526,3 +547,33 @@ def test_quantities_in_other_units_give_what_si_numbers_give():
     fit = ps.fit_presliding(y_mm, Q(force * 1e3, "mN"), n_elements=2)
     plain = ps.fit_presliding(Y, force, n_elements=2)
     assert fit.parameters == pytest.approx(plain.parameters, rel=1e-9)
+
+
+def test_the_rate_models_in_other_units_give_what_si_numbers_give():
+    """GMS, creep and their states in mN, N/mm, ms, mm/s and µm/N: the SI model's numbers."""
+    si = ps.GMSFriction(0.2, [1e4, 2e3], [0.3, 0.3], static_level=1.2, stribeck_velocity=1e-3,
+                        lag_time=5e-3, viscous=0.1)  # fmt: skip
+    gms = ps.GMSFriction(Q(200.0, "mN"), Q([10.0, 2.0], "N/mm"), Q([300.0, 300.0], "mN"),
+                         static_level=Q(1200.0, "mN"), stribeck_velocity=Q(1.0, "mm/s"),
+                         lag_time=Q(5.0, "ms"), viscous=Q(1e-4, "N*s/mm"))  # fmt: skip
+    assert repr(gms) == repr(si)
+    y, t = 1e-3 * Y, T
+    want, _ = si.force(y, t)
+    got, _ = gms.force(Q(y * 1e3, "mm"), Q(t * 1e3, "ms"))
+    assert got == pytest.approx(want, rel=1e-12, abs=1e-15)
+    assert gms.steady_force(Q([1.0, -2.0], "mm/s")) == pytest.approx(
+        si.steady_force([1e-3, -2e-3]), rel=1e-14)  # fmt: skip
+    state = gms.saturated_state(Q(100.0, "mm"), Q(500.0, "ms"), -1.0, Q(-1.0, "mm/s"))
+    plain = si.saturated_state(0.1, 0.5, -1.0, -1e-3)
+    assert (state.last_input, state.last_time, state.velocity) == pytest.approx((0.1, 0.5, -1e-3))
+    assert state.forces == pytest.approx(plain.forces, rel=1e-14)
+    assert ps.GMSState(Q(1.0, "mm"), Q(2.0, "ms"), Q([100.0], "mN"), [0.0]).forces[0] == 0.1
+    creeping = ps.CreepingFriction(MODEL, Q(2.0, "um/N"), Q(100.0, "ms"))
+    assert (creeping.compliance, creeping.creep_time) == pytest.approx((2e-6, 0.1), rel=1e-14)
+    u = 0.5 * Y
+    a = ps.quasi_static_response(creeping, u, time=T, initial_creep=Q(0.1, "um"))
+    b = ps.quasi_static_response(ps.CreepingFriction(MODEL, 2e-6, 0.1), u, time=T,
+                                 initial_creep=1e-7)  # fmt: skip
+    assert a.position == pytest.approx(b.position, rel=1e-12, abs=1e-18)
+    with pytest.raises(ValueError, match=r"`initial_creep` must be a position \(a Quantity"):
+        ps.quasi_static_response(creeping, u, time=T, initial_creep=Q(1.0, "s"))

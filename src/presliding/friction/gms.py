@@ -145,7 +145,7 @@ class GMSFriction:
     >>> fast = GMSFriction(0.2, [1e4, 2e3], [0.3, 0.3], static_level=1.2,
     ...                    stribeck_velocity=1e-3, lag_time=5e-3)
     >>> [round(float(x), 6) for x in fast.steady_force([0.0005, 0.01])]
-    [1.111520, 0.8]
+    [1.11152, 0.8]
     """
 
     coulomb: float
@@ -289,20 +289,22 @@ class GMSFriction:
 
     # ------------------------------------------------------------------ states
     def relaxed_state(self, position: float = 0.0, time: float = 0.0) -> GMSState:
-        """Rest at `position` and `time` with every element unloaded and sticking."""
+        """Rest at `position` [m] and `time` [s] with every element unloaded and sticking."""
         n = self.n_elements
-        return GMSState(position, time, np.zeros(n), np.zeros(n))
+        y0, t0 = as_real_scalar("position", position), as_real_scalar("time", time)
+        return GMSState(y0, t0, np.zeros(n), np.zeros(n))
 
     def saturated_state(self, position: float = 0.0, time: float = 0.0,
                         direction: float = 1.0, velocity: float = 0.0) -> GMSState:  # fmt: skip
         """Steady sliding in `direction` at `velocity`: every element slipping at its slip
         force c_i·ŝ(|velocity|)."""
+        y0, t0 = as_real_scalar("position", position), as_real_scalar("time", time)
         if direction not in (-1.0, 1.0):
             raise ValueError(f"`direction` must be −1 or +1; got {fmt(direction)}.")
         v = as_real_scalar("velocity", velocity)
         shat = float(self.stribeck(v)) / self.coulomb_level
         f = direction * self.breakaway * shat
-        return GMSState(position, time, f, np.full(self.n_elements, float(direction)), v,
+        return GMSState(y0, t0, f, np.full(self.n_elements, float(direction)), v,
                         direction)  # fmt: skip
 
     def elastic_energy(self, state: GMSState) -> float:

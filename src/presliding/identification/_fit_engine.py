@@ -186,7 +186,9 @@ def judge(
     sol, ratios, floor, over = floor_test(records, sol, agree or cause or every, named)
     # failing tests are the model's whatever the starts, unless a start is known to go lower
     apart = found.lower_unsolved or not (agree or every)
-    status, message = adequacy_verdict(sol.status, sol.message, tested, not apart)
+    status, message = adequacy_verdict(
+        sol.status, sol.message, tested, not apart, some_fit=0 < failing < records.n_rec
+    )
     sol = replace(sol, status=status, message=message, adequacy=tested)
     summary = SearchSummary(found.n_starts, found.n_starts_at_best, floor, over, ratios,
                             found.search_evaluations)  # fmt: skip

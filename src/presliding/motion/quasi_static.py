@@ -287,6 +287,9 @@ def _creeping_response(
     initial_creep: Any,
 ) -> QuasiStaticResponse:
     """The contact's response plus the creep deflection, integrated exactly (`creep`)."""
+    start = np.full((1, 1), np.nan)
+    if initial_creep is not None:
+        start[0, 0] = as_real_scalar("initial_creep", initial_creep)
     inner = quasi_static_response(model.friction, applied_force, initial_state, time=time)
     u = inner.applied_force
     if time is None and model.has_creep and model.creep_time > 0.0:
@@ -295,9 +298,6 @@ def _creeping_response(
             "time); got None."
         )
     t = inner.time if inner.time is not None else np.zeros(u.shape[0])
-    start = np.full((1, 1), np.nan)
-    if initial_creep is not None:
-        start[0, 0] = as_real_scalar("initial_creep", initial_creep)
     creep = np.zeros((1, u.shape[0]))
     creep_deflections(np.array([model.compliance]), np.array([model.creep_time]),
                       np.zeros(1), start, u, t, np.array([0, u.shape[0]]), creep)  # fmt: skip

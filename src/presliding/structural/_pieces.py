@@ -19,7 +19,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from presliding._validation import as_real_array, fmt
+from presliding._validation import as_real_array, as_si, fmt
 from presliding.structural.structure import JointedStructure
 
 FloatArray = NDArray[np.float64]
@@ -31,6 +31,7 @@ MAX_CONDITION = 1e9
 
 def harmonic_force(force: Any, n: int) -> NDArray[np.complex128]:
     """F̂ of a harmonic force (a real vector: F̂·cos Ωt), checked: nonzero, shape (n,)."""
+    force = as_si("force", force)  # a Quantity in N (complex too) before numpy sees it
     arr = np.asarray(force)
     if arr.dtype.kind == "c":
         parts = np.stack([arr.real, arr.imag])

@@ -213,3 +213,32 @@ def test_two_elements_fitted_to_data_from_one_are_not_identifiable():
     from presliding.identification.judge._status import exit_code
 
     assert exit_code(res.status) == 1
+
+
+def _failed(records, cause=None):
+    from presliding.identification.judge._adequacy import Adequacy, Cause, Finding
+
+    found = tuple(Finding("level", i, "position", 3.0, 1.5, 0, "") for i in records)
+    named = None if cause is None else Cause(cause, 20.0, 0.5, 1.0, f"a {cause}")
+    return Adequacy(found, tuple(3.0 for _ in records), len(records), named)
+
+
+@pytest.mark.parametrize(
+    ("adequacy", "agree", "some_fit", "expected"),
+    [
+        (_failed([0, 1, 2]), True, False, "model_inadequate"),  # every record, starts agree
+        (_failed([1]), True, True, "local_minimum"),  # others pass: their own valley likely
+        (_failed([0, 1, 2]), False, False, "local_minimum"),  # the starts ended apart
+        (_failed([1], "delay"), True, True, "model_inadequate"),  # a mechanism is named
+        (_failed([0, 1], "asymmetry"), False, True, "model_inadequate"),
+    ],
+)
+def test_rule_adequacy_tells_the_model_from_a_valley(adequacy, agree, some_fit, expected):
+    """A model whose tests fail is inadequate where a mechanism is named or every record
+    fails with starts that agree; with no mechanism named, other records of the same shared
+    model passing (or starts that ended apart) make a better optimum likely."""
+    from presliding.identification.judge._status import adequacy_verdict
+
+    status, message = adequacy_verdict("converged", "", adequacy, agree, some_fit=some_fit)
+    assert status == expected
+    assert message.startswith("rule " + ("search" if expected == "local_minimum" else "adequacy"))

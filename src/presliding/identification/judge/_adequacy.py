@@ -233,6 +233,8 @@ def whiteness(block: Block) -> tuple[float, int, float]:
     drift = np.zeros(LAGS)
     jac, cov = block.path_sensitivity, _finite(block.covariance)
     if jac is not None and cov is not None and jac.shape[0] == n:
+        used = np.flatnonzero(np.any(jac != 0.0, axis=0))  # a record's own and the shared
+        jac, cov = jac[:, used], cov[np.ix_(used, used)]  # (the other records' add nothing)
         for i, lag in enumerate(lags.tolist()):  # E ½·((J_{t+k} − J_t)·Δθ)² over t
             d = jac[lag:] - jac[:-lag]
             drift[i] = 0.5 * float(np.sum((d.T @ d) * cov)) / (n - lag)

@@ -123,22 +123,22 @@ def exit_code(status: str) -> int:
     return EXIT_CODES.get(status, 1)
 
 
-def adequacy_verdict(status: str, message: str, adequacy: Any,
-                     starts_agree: bool = True) -> tuple[str, str]:  # fmt: skip
+def adequacy_verdict(status: str, message: str, adequacy: Any, starts_agree: bool = True,
+                     some_fit: bool = False) -> tuple[str, str]:  # fmt: skip
     """Rule ``adequacy`` (module table): an optimum whose residuals fail the tests of
-    `_adequacy` is ``model_inadequate``; with starts that ended apart while a record sits
-    above its floor and no mechanism named, a better optimum is likely instead
-    (``local_minimum``)."""
+    `_adequacy` is ``model_inadequate``; where a record sits above its floor and no
+    mechanism is named, while the starts ended apart or other records of the same shared
+    model pass (`some_fit`), a better optimum is likely instead (``local_minimum``)."""
     if status not in OPTIMUM or adequacy is None or adequacy.passed:
         return status, message
     old = "" if status == "converged" else message
     off_floor = any(f.test == "level" for f in adequacy.findings)
-    if off_floor and not starts_agree and adequacy.cause is None:
-        text = (
-            "local minimum: the starts ended apart and the residual stays above the noise "
-            f"floor, so a better optimum of this model is likely; {adequacy.text()}"
-        )
-        return "local_minimum", _rule("search", text, old)
+    if off_floor and adequacy.cause is None and (some_fit or not starts_agree):
+        why = ("other records pass the tests with the same shared model and no mechanism it "
+               "lacks explains the rest" if some_fit else "the starts ended apart and the "
+               "residual stays above the noise floor")  # fmt: skip
+        text = f"local minimum: {why}, so a better optimum of this model is likely; "
+        return "local_minimum", _rule("search", text + adequacy.text(), old)
     text = f"model inadequate: {adequacy.text()}"
     return "model_inadequate", _rule("adequacy", text, old)
 

@@ -6,10 +6,12 @@ model the data give (`_noise_floor`): a position's white variance and quantum
 (a record that hardly moves takes the others' quantum: one encoder); a velocity
 that is the difference quotient of the position carries the position's noise
 through the quotient D (its whiteness read on the position's residual, where
-that noise is white); a measured velocity its own. The independence test
-correlates each block with the applied force, the model's velocity and its
-sign (for a quasi-static fit: the force, the model's position increments and
-their sign).
+that noise is white, with the positions' own sensitivity J_y to the parameters,
+`position_sensitivity`, when the position is not compared: the parameters' error
+J_y·Δθ, slow there, is no sign of a model that is wrong); a measured velocity
+its own. The independence test correlates each block with the applied force,
+the model's velocity and its sign (for a quasi-static fit: the force, the
+model's position increments and their sign).
 
 `candidates` gives the residual's directions of the mechanisms the model may
 lack (`_adequacy.score_causes`): an asymmetry by direction (c1 and the
@@ -22,9 +24,10 @@ on a sibling problem with that mechanism added at zero, at the optimum.
 
 from __future__ import annotations
 
+from collections import Counter
 from collections.abc import Callable, Mapping
 from dataclasses import replace
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 from numpy.typing import NDArray
@@ -43,7 +46,7 @@ from presliding.identification.records._pooled_record import difference_matrix
 
 FloatArray = NDArray[np.float64]
 
-__all__ = ["candidates", "pooled_adequacy", "residual_blocks"]
+__all__ = ["candidates", "pooled_adequacy", "position_sensitivity", "residual_blocks"]
 
 #: thresholds tried for one more element, geometric between these shares of the largest swing
 ELEMENT_RANGE = (1e-3, 0.5)
@@ -73,10 +76,12 @@ def _row_slices(problem: PooledProblem) -> dict[tuple[int, str], slice]:
     return out
 
 
-def residual_blocks(problem: PooledProblem, values: Mapping[str, float],
-                    jacobian: Any = None, covariance: Any = None) -> list[Block]:  # fmt: skip
+def residual_blocks(problem: PooledProblem, values: Mapping[str, float], jacobian: Any = None,
+                    covariance: Any = None, positions: Any = None) -> list[Block]:  # fmt: skip
     """The blocks of the pooled residual at `values` (module notes), with the fit's
-    `jacobian` (weighted rows, every parameter) and parameter `covariance` when given."""
+    `jacobian` (weighted rows, every parameter) and parameter `covariance` when given;
+    `positions`: ∂y/∂θ of the simulated positions (S, same columns), the path
+    sensitivity of a velocity block that is the quotient of an uncompared position."""
     p = np.array([values[x] for x in problem.names], dtype=float)[None]
     o_y, o_v, status, _ = problem.simulate(p)
     if np.any(status != 0):
@@ -110,9 +115,10 @@ def residual_blocks(problem: PooledProblem, values: Mapping[str, float],
             jv = rows(i, "velocity")
             if rec.difference:
                 d = difference_matrix(rec.time, rec.difference)
+                jp = None if positions is None or problem.w_y else positions[a:b]
                 out.append(Block(i, "velocity", v_res, var_y, d, q_y[i], still_y,
                                  None if problem.w_y else y_res, regressors,
-                                 not problem.w_y, jv, None, covariance))  # fmt: skip
+                                 not problem.w_y, jv, jp, covariance))  # fmt: skip
             else:
                 white = not (problem.w_y and rec.measured_position)
                 out.append(Block(i, "velocity", v_res, white_variance(rec.velocity, q_v[i]),
@@ -300,7 +306,10 @@ def pooled_adequacy(problem: Any, sol: Any) -> Adequacy | None:
     keep = [j for j, n in enumerate(problem.names) if n not in problem.fixed]
     jac = np.where(np.isfinite(jac), jac, 0.0)[:, keep]
     cov = None if sol.covariance is None else np.asarray(sol.covariance)[np.ix_(keep, keep)]
-    blocks = residual_blocks(rec, sol.values, jac, cov)
+    free = [problem.names[j] for j in keep]
+    paths = position_sensitivity(problem, sol.values, free) if cov is not None and any(
+        r.difference for r in rec.records) and rec.w_v and not rec.w_y else None  # fmt: skip
+    blocks = residual_blocks(rec, sol.values, jac, cov, paths)
     if not blocks:
         return None
     blocks = [b for b in blocks if _measured(b, rec)]
@@ -312,6 +321,52 @@ def pooled_adequacy(problem: Any, sol: Any) -> Adequacy | None:
     r = np.asarray(sol.residual, dtype=float)[: rec.n_res]
     found = candidates(rec, sol.values, r) if rec.names_causes else []
     return result.with_cause(score_causes(r, jac, found, floor_cost(rec, blocks)))
+
+
+def position_sensitivity(problem: Any, values: Mapping[str, float],
+                         free: list[str]) -> FloatArray | None:  # fmt: skip
+    """∂y/∂θ (S, len(free)) of the simulated positions at `values` by central differences
+    within the bounds: the path of a velocity compared through the difference quotient of
+    a position that is not compared is that position's residual, whose share of the
+    parameters' error, J_y·Δθ, the whiteness test allows for. One batched simulation; the
+    records' own parameters move together (the j-th of every record in one set: each acts
+    on its own record's rows alone), as in the fit's structured Jacobian."""
+    from types import SimpleNamespace
+
+    from presliding.identification.records._pooled_jacobian import difference_steps
+
+    rec: PooledProblem = problem.records
+    x = np.array([values[n] for n in free], dtype=float)
+    lo = np.array([problem.bounds.get(n, (-np.inf, np.inf))[0] for n in free], dtype=float)
+    hi = np.array([problem.bounds.get(n, (-np.inf, np.inf))[1] for n in free], dtype=float)
+    typical = rec.typical(cast(Any, SimpleNamespace(free=free)))
+    up, down = difference_steps(x, lo, hi, typical, True)
+    owner = [rec.record_of.get(n) for n in free]
+    group: list[int] = []  # the set each column moves in
+    seen: Counter[int] = Counter()
+    for i in owner:
+        group.append(len(group) if i is None else -1 - seen[i])
+        if i is not None:
+            seen[i] += 1
+    labels = sorted(set(group))
+    base = np.array([values[n] for n in rec.names], dtype=float)
+    sets = np.repeat(base[None], 2 * len(labels), axis=0)
+    for j, n in enumerate(free):
+        g = labels.index(group[j])
+        sets[2 * g, rec.names.index(n)] += up[j]
+        sets[2 * g + 1, rec.names.index(n)] -= down[j]
+    o_y, _, status, _ = rec.simulate(sets)
+    if np.any(status != 0):
+        return None
+    out = np.zeros((rec.t_all.shape[0], len(free)))
+    for j, i in enumerate(owner):
+        span = up[j] + down[j]
+        if not span > 0:
+            continue
+        g = labels.index(group[j])
+        rows = slice(None) if i is None else slice(int(rec.t_off[i]), int(rec.t_off[i + 1]))
+        out[rows, j] = (o_y[2 * g, rows] - o_y[2 * g + 1, rows]) / span
+    return out
 
 
 def _more_elements(threshold: float) -> Callable[[float], str]:

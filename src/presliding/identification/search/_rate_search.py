@@ -17,7 +17,10 @@ stays there. So the search
    the drop as a share of F_C with F_C lowered by none, half or all of it, the lag
    (GMS), σ0 (LuGre, Dahl) — every candidate in one batched compiled call;
 4. runs the adaptive multistart of `_search` from the best candidate, with the next two
-   as its further starts (made only while the fit stays above the noise floor).
+   as its further starts (made only while the fit stays above the noise floor); values
+   the caller gives in ``initial`` make the first start (on the base, clipped to the
+   bounds), the grid's two best the further ones (they were overwritten by the PI fit's
+   and the grid's values before: a start from the truth was not one).
 """
 
 from __future__ import annotations
@@ -159,12 +162,16 @@ def rate_search(req: Any, spec: FamilySpec, pi_fit: Callable[..., Any],
     costs[~np.isfinite(costs)] = np.inf
     order = [int(i) for i in np.argsort(costs, kind="stable")]
     run.evaluations += len(grid)
+    starts = [grid[i] for i in order[: 1 + FURTHER]]
+    if req.initial:  # the caller's start is the first, the grid's best the further ones
+        own = {**base, **{x: float(v) for x, v in req.initial.items() if x in free}}
+        starts = [{x: float(np.clip(own[x], *p.bounds[x])) for x in p.names}, *starts]
 
     def further() -> Iterator[tuple[dict[str, float], int]]:
-        for i in order[1 : 1 + FURTHER]:
-            yield grid[i], 0
+        for start in starts[1 : 1 + FURTHER]:
+            yield start, 0
 
     short = min(run.options.max_evaluations or 40, 12 + 2 * len(rec.shared))
-    sol, n_starts, at_best, count = adaptive_search(rec, run.solve, grid[order[0]], further,
+    sol, n_starts, at_best, count = adaptive_search(rec, run.solve, starts[0], further,
                                                     p.fixed, p.bounds, short)  # fmt: skip
     return sol, n_starts, at_best, count
