@@ -45,7 +45,10 @@ def test_a_creep_fit_recovers_creeping_loops_that_the_pi_model_cannot_follow():
     assert isinstance(fit.model, CreepingFriction) and fit.model.has_creep
     assert fit.units["creep_compliance"] == "m/N" and fit.units["creep_time"] == "s"
     plain = fit_quasi_static(records, n_elements=2, initial_state="relaxed")
-    assert plain.status == "local_minimum" and fit.bic < plain.bic
+    # the PI model cannot creep: its residuals fail the tests on every record (the model, not
+    # the search, is what cannot fit)
+    assert plain.status == "model_inadequate" and fit.bic < plain.bic
+    assert fit.status != "model_inadequate"
     assert plain.search.residual_over_floor > 10.0 * fit.search.residual_over_floor
     loops = [(r.position, r.applied_force) for r in records]
     assert not masing_check(PI, loops).passed  # the creep breaks Masing's rule
