@@ -44,15 +44,22 @@ def test_surplus_elements_of_the_example_stops_coalesce_at_the_truth(stops):
 def test_a_lower_start_whose_solve_stopped_short_makes_a_local_minimum(stops, monkeypatch):
     """The coalesced start's solve stopped on its cap below the valley: the valley is kept
     (an optimum) and its failing residual tests are the search's, not the model's."""
-    original, calls = rp.solve_probes, []
+    original, calls, merged = rp.solve_probes, [], []
+    original_merged = rp._merged
+
+    def recording(*args):
+        merged.append(original_merged(*args))
+        return merged[-1]
 
     def capped(problem, solve, starts, best, *a, **k):
         found, probes = original(problem, solve, starts, best, *a, **k)
-        calls.append(found is not best)
-        if len(calls) == 1 and found is not best:  # the coalesced starts: stopped short
-            found = replace(found, status="max_evaluations")
+        if merged and starts is merged[-1]:  # the coalesced starts: stopped short
+            calls.append(found is not best)
+            if found is not best:
+                found = replace(found, status="max_evaluations")
         return found, probes
 
+    monkeypatch.setattr(rp, "_merged", recording)
     monkeypatch.setattr(rp, "solve_probes", capped)
     fit = fit_response(stops, 4, signal="position")
     assert calls[0]  # the coalesced start went below the valley

@@ -246,26 +246,31 @@ def _elements_carry(sol: Solution) -> bool:
 
 def _probe(req: ResponseRequest, run: FitRun, sol: Solution, n_starts: int, at_best: int,
            decrease: float) -> tuple[Solution, int, int, bool]:  # fmt: skip
-    """The probes of `_probes` from the best optimum: the elements coalesced (`_merged`),
-    an element that never engaged re-engaged and the rigid corner left (each solved on when
-    it ends near the best); then, where the best is not known to be the optimum
-    (`_probe_gate.needs_probes`, `decrease` the Gauss–Newton decrease where the search's
-    solve ended), the valleys' probes (`_valley_probes`). Last: whether a coalesced start
-    went below the best but its solve stopped short of an optimum (the best is then kept,
-    and a better optimum of this model is known to exist: ``local_minimum``)."""
+    """The probes of `_probes` from the best optimum: an element that never engaged
+    re-engaged and the rigid corner left (each solved on when it ends near the best); then,
+    where the best is not known to be the optimum (`_probe_gate.needs_probes`, `decrease`
+    the Gauss–Newton decrease where the search's solve ended), the valleys' probes
+    (`_valley_probes`); then, where the best still fails the residual tests or sits far
+    above the floor, the elements coalesced (`_merged`; from a lower optimum there, the
+    engage and corner probes again). Last: whether a coalesced start went below the best
+    but its solve stopped short of an optimum (the best is then kept, and a better optimum
+    of this model is known to exist: ``local_minimum``)."""
     p, k_names = run.problem, req.spec.k_names
     assert run.options.max_evaluations is not None
     budget = min(PROBE_EVALUATIONS, run.options.max_evaluations)  # the user's cap holds
     solve = partial(run.solve, errors=False)  # errors only for the best (`complete`)
-    best, probes = solve_probes(p.records, solve, _merged(req, run, sol), sol, budget)
-    short = best is not sol and best.status not in OPTIMUM
-    best = sol if short else best
-    moved = engage_starts(best.values, k_names) + corner_starts(best.values, k_names)
-    best, engaged = solve_probes(p.records, solve, moved, best, budget)
-    probes += engaged
+    moved = engage_starts(sol.values, k_names) + corner_starts(sol.values, k_names)
+    best, probes = solve_probes(p.records, solve, moved, sol, budget)
     best = complete(best)
     if needs_probes(p.records, best, best is sol and at_best == n_starts, decrease):
         best, probes = _valley_probes(req, run, solve, sol, best, probes, budget)
+    merged, more = solve_probes(p.records, solve, _merged(req, run, best), best, budget)
+    probes += more
+    short = merged is not best and merged.status not in OPTIMUM
+    if merged is not best and not short:  # the coalesced valley: its dead elements engaged
+        moved = engage_starts(merged.values, k_names) + corner_starts(merged.values, k_names)
+        best, again = solve_probes(p.records, solve, moved, merged, budget)
+        probes += again
     at = sum(1 for t in probes if same_point(p.records, t.values, best.values)
              or cost(t) <= cost(best) * (1.0 + SAME_OPTIMUM))  # fmt: skip
     return complete(best), n_starts + len(probes), at + (at_best if best is sol else 0), short
@@ -275,8 +280,9 @@ def _merged(req: ResponseRequest, run: FitRun, sol: Solution) -> list[dict[str, 
     """The coalesced elements' starts (`_probes.merge_starts`), where the best is above the
     noise floor, or holds elements that never slide in the data (break-away force that may
     never act) with a record above `_adequacy.LEVEL` times its floor (the level test's
-    bound; a best within it is left alone: its probes would cost more than its search): a
-    model with more elements than the data need contains the coalesced one."""
+    bound) and residuals that fail the tests (`pooled_adequacy`; a best that passes them is
+    left alone: its probes would cost more than its search): a model with more elements
+    than the data need contains the coalesced one."""
     rec = run.problem.records
     ratios, pooled = floor_ratios(rec, sol.residual)  # whatever the solve's status said
     if pooled <= FLOOR_FACTOR and np.all(ratios <= LEVEL):
@@ -284,6 +290,10 @@ def _merged(req: ResponseRequest, run: FitRun, sol: Solution) -> list[dict[str, 
     pruned = prune_elements(rec, sol, req.spec)
     if not pruned.dead and pooled <= FLOOR_FACTOR and np.all(ratios <= FLOOR_FACTOR):
         return []
+    if pooled <= FLOOR_FACTOR and np.all(ratios <= FLOOR_FACTOR):  # near the floor: only
+        tested = pooled_adequacy(run.problem, sol)  # where the residual tests would fail
+        if tested is None or tested.passed:
+            return []
     live = [j for j in range(req.spec.n) if j not in pruned.dead]
     return merge_starts(sol.values, req.spec.k_names, live, pruned.reachable)
 
