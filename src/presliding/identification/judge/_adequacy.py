@@ -281,6 +281,10 @@ def independence(block: Block, z_limit: float) -> Finding | None:
     sigma = float(np.sqrt(block.noise))
     still = np.zeros(n, dtype=bool) if block.still is None else block.still
     cov = _finite(block.covariance)
+    sens = block.sensitivity
+    if sens is not None and cov is not None:  # the block's own columns (the others are 0)
+        used = np.flatnonzero(np.any(sens != 0.0, axis=0))
+        sens, cov = np.ascontiguousarray(sens[:, used]), cov[np.ix_(used, used)]
     best: tuple[float, int, str] = (0.0, 0, "")
     for name, x in block.regressors.items():
         x = np.asarray(x, dtype=float)
@@ -289,9 +293,9 @@ def independence(block: Block, z_limit: float) -> Finding | None:
         shifted = lagged(x, LAGS)
         a = shifted if block.quotient is None else np.asarray(block.quotient.T @ shifted)
         sd = _colored_sd(r, shifted) if block.colored else sigma * np.linalg.norm(a, axis=0)
-        if block.sensitivity is not None and cov is not None:  # and J·Δθ's share: Σ_t J_t·x_t
-            g = block.sensitivity.T @ shifted
-            sd = sd + np.sqrt(np.maximum(np.einsum("ik,ij,jk->k", g, cov, g), 0.0))
+        if sens is not None and cov is not None:  # and J·Δθ's share: Σ_t J_t·x_t
+            g = sens.T @ shifted
+            sd = sd + np.sqrt(np.maximum(np.sum(g * (cov @ g), axis=0), 0.0))
         allowance = 0.5 * block.quantum * np.abs(a[still]).sum(axis=0)
         with np.errstate(divide="ignore", invalid="ignore"):
             z = np.where(sd > 0, (np.abs(r @ shifted) - allowance) / sd, 0.0)
