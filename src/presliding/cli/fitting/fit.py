@@ -34,6 +34,7 @@ from presliding.cli.common import (
 )
 from presliding.cli.inputs.columns import ALIASES
 from presliding.cli.inputs.files import parse_window, read_measurement
+from presliding.friction.pi_friction import PIFriction
 
 DEFAULT_ELEMENTS = {"presliding": 3, "motion": 0, "response": 4, "quasi-static": 3, "virgin": 3}
 #: The help text of `presliding fit` (description and examples).
@@ -153,15 +154,16 @@ def model_problem(result: Any, meas: Any) -> str:
         return f"the fit's status is {result.status}"
     if result.model is None:
         return "the fitted parameters do not form a valid model"
-    if not hasattr(result.model, "is_discrete"):  # GMS, LuGre, Dahl, creep: no model file yet
+    if not isinstance(result.model, PIFriction):  # what `save_model` writes (GMS, LuGre, ...)
         return (f"model files hold PI friction; the {type(result.model).__name__} fit's "
-                "parameters, intervals and status are in the report and fit.json")  # fmt: skip
+                "parameters, intervals and status are in the report")  # fmt: skip
     values = np.array(list(result.parameters.values()), dtype=float)
     if not np.all(np.isfinite(values)):
         return "some fitted parameters are not finite"
-    if result.model.is_discrete and result.model.n_elements and meas.position is not None:
+    threshold = result.model.threshold  # None for a density
+    if threshold is not None and result.model.n_elements and meas.position is not None:
         travel = float(np.ptp(meas.position))
-        big = float(np.max(result.model.threshold))
+        big = float(np.max(threshold))
         if big > ABSURD_TRAVEL * travel:
             return (
                 f"a threshold of {big:.3g} is {big / travel:.3g} times the measured travel "
